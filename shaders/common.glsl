@@ -1,0 +1,50 @@
+// Declarations shared by the mesh and fur passes. Must match `FrameUniforms` in
+// src/render/uniforms.rs (std140) and the bindings in src/render/renderer.rs.
+#ifndef COMMON_GLSL
+#define COMMON_GLSL
+
+#include "strands.glsl"
+
+layout(set = 0, binding = 0, std140) uniform Frame {
+    mat4 view_proj;
+    mat4 inv_view_proj;
+    mat4 model;          // head transform H
+    vec4 eye;            // xyz camera position, w = world size of a pixel at distance 1
+    vec4 light;          // xyz unit vector towards the light, w = intensity
+    vec4 root_color;     // rgb, w = root occlusion (darkening at the root, 0..1)
+    vec4 tip_color;
+    vec4 skin_color;
+    vec4 shading;        // Kd, Ks, specular exponent p, ambient
+    vec4 lod;            // hairs per unit area, full-density distance, max level, cull margin
+    vec4 hair;           // width, minimum width in pixels, jitter radius, length jitter
+    vec4 viewport;       // width, height, 1/width, 1/height
+    uvec4 strands;       // vertices per strand, strands per row, fixed level (0 = adaptive), flags
+} frame;
+
+const uint FLAG_CULL = 1u;
+
+layout(set = 0, binding = 1, rgba32f) uniform readonly image2D strand_positions;
+
+layout(set = 0, binding = 2, std430) readonly buffer Ownership {
+    uint owner_mask[];
+};
+
+vec3 strand_vertex(uint strand, uint vertex) {
+    return imageLoad(strand_positions, strand_texel(strand, vertex, frame.strands.x, frame.strands.y)).xyz;
+}
+
+uint hash_u32(uint x) {
+    x ^= x >> 16;
+    x *= 0x7feb352du;
+    x ^= x >> 15;
+    x *= 0x846ca68bu;
+    x ^= x >> 16;
+    return x;
+}
+
+// Uniform in [0, 1).
+float hash_unit(uint x) {
+    return float(hash_u32(x) >> 8) / 16777216.0;
+}
+
+#endif

@@ -1,0 +1,101 @@
+#version 450
+// Fur pass, tessellation control: how many interpolated hairs this triangle gets.
+//
+// Hairs per unit area at full density is `frame.lod.x`; beyond the full-density
+// distance D = frame.lod.y the density falls with the square of the distance, so
+// hairs per pixel stay roughly constant:  lod(d) = min(1, (D / d)²).
+// An edge of length L gets outer level ceil(L · sqrt(density · lod)): the hair spacing
+// along it. The inner level n is chosen so the ~3n²/4 points of a triangle with area A
+// match A · density · lod:  n = ceil(sqrt(4/3 · A · density · lod)).
+// Levels are clamped to [1, device max]. Back-facing triangles (by more than the cull
+// margin) and triangles whose master hairs are all outside one clip plane get level 0
+// and cost nothing further. Edge levels depend only on the edge, so both triangles
+// sharing it generate the same points there (the owner draws them, see fur.tese).
+#include "common.glsl"
+
+layout(vertices = 3) out;
+
+layout(location = 0) in uint v_hair[];
+layout(location = 0) out uint c_hair[];
+layout(location = 1) patch out uint p_mask;
+
+float lod_factor(vec3 p) {
+    float d = max(distance(p, frame.eye.xyz), 1e-6);
+    float r = frame.lod.y / d;
+    return min(1.0, r * r);
+}
+
+float edge_level(vec3 a, vec3 b) {
+    float spacing_inv = sqrt(frame.lod.x * lod_factor((a + b) * 0.5));
+    return clamp(ceil(distance(a, b) * spacing_inv), 1.0, frame.lod.z);
+}
+
+// True when every master-hair vertex of the patch lies outside one clip plane.
+bool outside_view(uint h0, uint h1, uint h2) {
+    uint V = frame.strands.x;
+    uint all_out = 0x3fu;
+    for (uint k = 0u; k < V; ++k) {
+        uint hairs[3] = uint[3](h0, h1, h2);
+        for (int j = 0; j < 3; ++j) {
+            vec4 c = frame.view_proj * vec4(strand_vertex(hairs[j], k), 1.0);
+            float w = abs(c.w) * 1.05 + 1e-6;
+            uint code = 0u;
+            code |= c.x < -w ? 1u : 0u;
+            code |= c.x > w ? 2u : 0u;
+            code |= c.y < -w ? 4u : 0u;
+            code |= c.y > w ? 8u : 0u;
+            code |= c.z < 0.0 ? 16u : 0u;
+            code |= c.z > c.w ? 32u : 0u;
+            all_out &= code;
+        }
+        if (all_out == 0u) {
+            return false;
+        }
+    }
+    return true;
+}
+
+void main() {
+    c_hair[gl_InvocationID] = v_hair[gl_InvocationID];
+    if (gl_InvocationID != 0) {
+        return;
+    }
+    uint h0 = v_hair[0], h1 = v_hair[1], h2 = v_hair[2];
+    p_mask = owner_mask[gl_PrimitiveID];
+
+    uint fixed_level = frame.strands.z;
+    if (fixed_level > 0u) {
+        float l = float(fixed_level);
+        gl_TessLevelOuter[0] = l;
+        gl_TessLevelOuter[1] = l;
+        gl_TessLevelOuter[2] = l;
+        gl_TessLevelInner[0] = l;
+        return;
+    }
+
+    uint V = frame.strands.x;
+    vec3 r0 = strand_vertex(h0, 0u), r1 = strand_vertex(h1, 0u), r2 = strand_vertex(h2, 0u);
+    bool culled = false;
+    if ((frame.strands.w & FLAG_CULL) != 0u) {
+        vec3 growth = strand_vertex(h0, V - 1u) + strand_vertex(h1, V - 1u) + strand_vertex(h2, V - 1u)
+                    - (r0 + r1 + r2);
+        vec3 n = cross(r1 - r0, r2 - r0);
+        n *= dot(n, growth) < 0.0 ? -1.0 : 1.0;   // orient along the fur, whatever the winding
+        vec3 to_eye = frame.eye.xyz - (r0 + r1 + r2) / 3.0;
+        float facing = dot(normalize(n), normalize(to_eye));
+        culled = facing < -frame.lod.w || outside_view(h0, h1, h2);
+    }
+    if (culled) {
+        gl_TessLevelOuter[0] = 0.0;
+        gl_TessLevelOuter[1] = 0.0;
+        gl_TessLevelOuter[2] = 0.0;
+        gl_TessLevelInner[0] = 0.0;
+        return;
+    }
+    gl_TessLevelOuter[0] = edge_level(r1, r2);
+    gl_TessLevelOuter[1] = edge_level(r2, r0);
+    gl_TessLevelOuter[2] = edge_level(r0, r1);
+    float area = 0.5 * length(cross(r1 - r0, r2 - r0));
+    float hairs = area * frame.lod.x * lod_factor((r0 + r1 + r2) / 3.0);
+    gl_TessLevelInner[0] = clamp(ceil(sqrt(hairs * 4.0 / 3.0)), 1.0, frame.lod.z);
+}

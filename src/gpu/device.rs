@@ -1,0 +1,359 @@
+//! Physical-device selection and the logical device with its queue, allocator and
+//! command pool.
+
+use std::ffi::CStr;
+use std::mem::ManuallyDrop;
+use std::sync::{Arc, Mutex, MutexGuard};
+
+use ash::{ext, vk};
+use gpu_allocator::vulkan::{Allocator, AllocatorCreateDesc};
+
+use super::instance::Instance;
+use crate::error::{Error, Result, VkContext};
+
+/// How long a single submission may run before it counts as hung.
+const SUBMIT_TIMEOUT_S: u64 = 600;
+
+/// What the chosen physical device offers that the renderer cares about.
+#[derive(Clone, Debug)]
+pub struct DeviceInfo {
+    pub name: String,
+    pub device_type: vk::PhysicalDeviceType,
+    pub limits: vk::PhysicalDeviceLimits,
+    /// Nanoseconds per timestamp tick.
+    pub timestamp_period: f32,
+    pub timestamps: bool,
+    pub pipeline_statistics: bool,
+}
+
+/// The logical device. Shared through `Arc` by every resource created from it.
+pub struct Device {
+    pub(crate) instance: Arc<Instance>,
+    pub(crate) physical: vk::PhysicalDevice,
+    pub(crate) raw: ash::Device,
+    pub(crate) queue: vk::Queue,
+    pub(crate) queue_family: u32,
+    pub(crate) info: DeviceInfo,
+    debug_utils: Option<ext::debug_utils::Device>,
+    allocator: ManuallyDrop<Mutex<Allocator>>,
+    command_pool: Mutex<vk::CommandPool>,
+}
+
+/// Optional requirement: a surface the chosen queue family must be able to present to.
+pub struct PresentTarget<'a> {
+    pub surface_fn: &'a ash::khr::surface::Instance,
+    pub surface: vk::SurfaceKHR,
+}
+
+impl Device {
+    /// Picks the best device that supports everything the fur pipeline needs and
+    /// creates it. `extensions` are extra device extensions (the swapchain's).
+    pub fn new(
+        instance: Arc<Instance>,
+        present: Option<PresentTarget<'_>>,
+        extensions: &[&'static CStr],
+    ) -> Result<Arc<Self>> {
+        let (physical, queue_family, info) = select_physical_device(&instance, present.as_ref())?;
+        log::info!("using {} ({:?})", info.name, info.device_type);
+
+        let priorities = [1.0];
+        let queue_infos = [vk::DeviceQueueCreateInfo::default()
+            .queue_family_index(queue_family)
+            .queue_priorities(&priorities)];
+        let features = vk::PhysicalDeviceFeatures::default()
+            .tessellation_shader(true)
+            .geometry_shader(true)
+            .pipeline_statistics_query(info.pipeline_statistics);
+        let mut features13 = vk::PhysicalDeviceVulkan13Features::default()
+            .dynamic_rendering(true)
+            .synchronization2(true);
+        let mut features12 = vk::PhysicalDeviceVulkan12Features::default().host_query_reset(true);
+        let extension_names: Vec<_> = extensions.iter().map(|e| e.as_ptr()).collect();
+        let create_info = vk::DeviceCreateInfo::default()
+            .queue_create_infos(&queue_infos)
+            .enabled_features(&features)
+            .enabled_extension_names(&extension_names)
+            .push_next(&mut features13)
+            .push_next(&mut features12);
+        let raw = unsafe { instance.raw.create_device(physical, &create_info, None) }
+            .vk("vkCreateDevice")?;
+        let queue = unsafe { raw.get_device_queue(queue_family, 0) };
+
+        let allocator = Allocator::new(&AllocatorCreateDesc {
+            instance: instance.raw.clone(),
+            device: raw.clone(),
+            physical_device: physical,
+            debug_settings: Default::default(),
+            buffer_device_address: false,
+            allocation_sizes: Default::default(),
+        });
+        let allocator = match allocator {
+            Ok(a) => a,
+            Err(source) => {
+                unsafe { raw.destroy_device(None) };
+                return Err(Error::Allocation {
+                    name: "allocator".into(),
+                    source,
+                });
+            }
+        };
+        let pool_info = vk::CommandPoolCreateInfo::default()
+            .queue_family_index(queue_family)
+            .flags(vk::CommandPoolCreateFlags::RESET_COMMAND_BUFFER);
+        let command_pool = match unsafe { raw.create_command_pool(&pool_info, None) } {
+            Ok(pool) => pool,
+            Err(result) => {
+                drop(allocator);
+                unsafe { raw.destroy_device(None) };
+                return Err(Error::Vulkan {
+                    call: "vkCreateCommandPool",
+                    result,
+                });
+            }
+        };
+        let debug_utils = instance
+            .debug_utils
+            .as_ref()
+            .map(|_| ext::debug_utils::Device::new(&instance.raw, &raw));
+        Ok(Arc::new(Self {
+            instance,
+            physical,
+            raw,
+            queue,
+            queue_family,
+            info,
+            debug_utils,
+            allocator: ManuallyDrop::new(Mutex::new(allocator)),
+            command_pool: Mutex::new(command_pool),
+        }))
+    }
+
+    pub fn raw(&self) -> &ash::Device {
+        &self.raw
+    }
+
+    pub fn info(&self) -> &DeviceInfo {
+        &self.info
+    }
+
+    pub fn instance(&self) -> &Arc<Instance> {
+        &self.instance
+    }
+
+    pub fn queue(&self) -> vk::Queue {
+        self.queue
+    }
+
+    pub fn queue_family(&self) -> u32 {
+        self.queue_family
+    }
+
+    pub fn physical(&self) -> vk::PhysicalDevice {
+        self.physical
+    }
+
+    pub(crate) fn allocator(&self) -> MutexGuard<'_, Allocator> {
+        // A poisoned lock only means another thread panicked mid-allocation; the
+        // allocator's state is still consistent enough to free memory on shutdown.
+        self.allocator.lock().unwrap_or_else(|e| e.into_inner())
+    }
+
+    /// Gives a Vulkan object a name that validation messages and debuggers show.
+    pub fn set_name<H: vk::Handle>(&self, handle: H, name: &str) {
+        let Some(debug_utils) = &self.debug_utils else {
+            return;
+        };
+        let Ok(name) = std::ffi::CString::new(name) else {
+            return;
+        };
+        let info = vk::DebugUtilsObjectNameInfoEXT::default()
+            .object_handle(handle)
+            .object_name(&name);
+        // Naming is best-effort diagnostics: a failure is not worth aborting for.
+        let _ = unsafe { debug_utils.set_debug_utils_object_name(&info) };
+    }
+
+    /// Opens a named, labelled region in a command buffer (shown by debuggers).
+    pub fn begin_label(&self, cmd: vk::CommandBuffer, name: &str) {
+        if let (Some(debug_utils), Ok(name)) = (&self.debug_utils, std::ffi::CString::new(name)) {
+            let label = vk::DebugUtilsLabelEXT::default().label_name(&name);
+            unsafe { debug_utils.cmd_begin_debug_utils_label(cmd, &label) };
+        }
+    }
+
+    pub fn end_label(&self, cmd: vk::CommandBuffer) {
+        if let Some(debug_utils) = &self.debug_utils {
+            unsafe { debug_utils.cmd_end_debug_utils_label(cmd) };
+        }
+    }
+
+    /// Records commands with `record`, submits them and waits for completion.
+    pub fn submit_once<T>(&self, record: impl FnOnce(vk::CommandBuffer) -> Result<T>) -> Result<T> {
+        let pool = self.command_pool.lock().unwrap_or_else(|e| e.into_inner());
+        let alloc_info = vk::CommandBufferAllocateInfo::default()
+            .command_pool(*pool)
+            .level(vk::CommandBufferLevel::PRIMARY)
+            .command_buffer_count(1);
+        let cmd = unsafe { self.raw.allocate_command_buffers(&alloc_info) }
+            .vk("vkAllocateCommandBuffers")?[0];
+        let result = (|| {
+            let begin = vk::CommandBufferBeginInfo::default()
+                .flags(vk::CommandBufferUsageFlags::ONE_TIME_SUBMIT);
+            unsafe { self.raw.begin_command_buffer(cmd, &begin) }.vk("vkBeginCommandBuffer")?;
+            let value = record(cmd)?;
+            unsafe { self.raw.end_command_buffer(cmd) }.vk("vkEndCommandBuffer")?;
+            let fence = unsafe { self.raw.create_fence(&vk::FenceCreateInfo::default(), None) }
+                .vk("vkCreateFence")?;
+            let cmds = [cmd];
+            let submit = vk::SubmitInfo::default().command_buffers(&cmds);
+            let submitted = unsafe { self.raw.queue_submit(self.queue, &[submit], fence) }
+                .vk("vkQueueSubmit")
+                .and_then(|_| self.wait_fence(fence));
+            unsafe { self.raw.destroy_fence(fence, None) };
+            submitted.map(|_| value)
+        })();
+        unsafe { self.raw.free_command_buffers(*pool, &[cmd]) };
+        result
+    }
+
+    /// Waits for a fence with the project's hang timeout.
+    pub fn wait_fence(&self, fence: vk::Fence) -> Result<()> {
+        match unsafe {
+            self.raw
+                .wait_for_fences(&[fence], true, SUBMIT_TIMEOUT_S * 1_000_000_000)
+        } {
+            Ok(()) => Ok(()),
+            Err(vk::Result::TIMEOUT) => Err(Error::Timeout(SUBMIT_TIMEOUT_S)),
+            Err(result) => Err(Error::Vulkan {
+                call: "vkWaitForFences",
+                result,
+            }),
+        }
+    }
+
+    /// Waits until the device has finished all work.
+    pub fn wait_idle(&self) -> Result<()> {
+        unsafe { self.raw.device_wait_idle() }.vk("vkDeviceWaitIdle")
+    }
+}
+
+impl Drop for Device {
+    fn drop(&mut self) {
+        unsafe {
+            // Nothing useful can be done about a lost device while tearing down.
+            let _ = self.raw.device_wait_idle();
+            let pool = *self
+                .command_pool
+                .get_mut()
+                .unwrap_or_else(|e| e.into_inner());
+            self.raw.destroy_command_pool(pool, None);
+            // The allocator frees its memory blocks through the device: drop it first.
+            ManuallyDrop::drop(&mut self.allocator);
+            self.raw.destroy_device(None);
+        }
+    }
+}
+
+/// Scores every physical device and returns the best usable one, or an error listing
+/// why each device was rejected.
+fn select_physical_device(
+    instance: &Instance,
+    present: Option<&PresentTarget<'_>>,
+) -> Result<(vk::PhysicalDevice, u32, DeviceInfo)> {
+    let devices =
+        unsafe { instance.raw.enumerate_physical_devices() }.vk("vkEnumeratePhysicalDevices")?;
+    if devices.is_empty() {
+        return Err(Error::NoSuitableDevice(
+            "  the Vulkan loader reports no devices (is a driver such as mesa-vulkan-drivers installed?)"
+                .into(),
+        ));
+    }
+    let mut rejections = Vec::new();
+    let mut best: Option<(u32, vk::PhysicalDevice, u32, DeviceInfo)> = None;
+    for physical in devices {
+        let props = unsafe { instance.raw.get_physical_device_properties(physical) };
+        let name = props
+            .device_name_as_c_str()
+            .map(|n| n.to_string_lossy().into_owned())
+            .unwrap_or_else(|_| "unnamed device".into());
+        let features = unsafe { instance.raw.get_physical_device_features(physical) };
+        let mut f13 = vk::PhysicalDeviceVulkan13Features::default();
+        let mut f12 = vk::PhysicalDeviceVulkan12Features::default();
+        let mut features2 = vk::PhysicalDeviceFeatures2::default()
+            .push_next(&mut f13)
+            .push_next(&mut f12);
+        let mut missing = Vec::new();
+        if vk::api_version_major(props.api_version) == 1
+            && vk::api_version_minor(props.api_version) < 3
+        {
+            missing.push("Vulkan 1.3".to_string());
+        } else {
+            unsafe {
+                instance
+                    .raw
+                    .get_physical_device_features2(physical, &mut features2)
+            };
+            if f13.dynamic_rendering == vk::FALSE {
+                missing.push("dynamicRendering".into());
+            }
+            if f13.synchronization2 == vk::FALSE {
+                missing.push("synchronization2".into());
+            }
+            if f12.host_query_reset == vk::FALSE {
+                missing.push("hostQueryReset".into());
+            }
+        }
+        if features.tessellation_shader == vk::FALSE {
+            missing.push("tessellationShader".into());
+        }
+        if features.geometry_shader == vk::FALSE {
+            missing.push("geometryShader".into());
+        }
+        let families = unsafe {
+            instance
+                .raw
+                .get_physical_device_queue_family_properties(physical)
+        };
+        let family = families.iter().enumerate().find_map(|(i, f)| {
+            let i = i as u32;
+            let flags = vk::QueueFlags::GRAPHICS | vk::QueueFlags::COMPUTE;
+            let presents = present.is_none_or(|p| unsafe {
+                p.surface_fn
+                    .get_physical_device_surface_support(physical, i, p.surface)
+                    .unwrap_or(false)
+            });
+            (f.queue_flags.contains(flags) && presents).then_some((i, f.timestamp_valid_bits))
+        });
+        if family.is_none() {
+            missing.push(if present.is_some() {
+                "a graphics+compute queue that can present to the window".into()
+            } else {
+                "a graphics+compute queue".into()
+            });
+        }
+        if !missing.is_empty() {
+            rejections.push(format!("  {name}: lacks {}", missing.join(", ")));
+            continue;
+        }
+        let (family, timestamp_bits) = family.unwrap_or_default();
+        let score = match props.device_type {
+            vk::PhysicalDeviceType::DISCRETE_GPU => 4,
+            vk::PhysicalDeviceType::INTEGRATED_GPU => 3,
+            vk::PhysicalDeviceType::VIRTUAL_GPU => 2,
+            _ => 1,
+        };
+        let info = DeviceInfo {
+            name,
+            device_type: props.device_type,
+            limits: props.limits,
+            timestamp_period: props.limits.timestamp_period,
+            timestamps: timestamp_bits > 0,
+            pipeline_statistics: features.pipeline_statistics_query == vk::TRUE,
+        };
+        if best.as_ref().is_none_or(|b| score > b.0) {
+            best = Some((score, physical, family, info));
+        }
+    }
+    best.map(|(_, physical, family, info)| (physical, family, info))
+        .ok_or_else(|| Error::NoSuitableDevice(rejections.join("\n")))
+}

@@ -1,0 +1,167 @@
+//! 2D images with one view each, allocated through `gpu-allocator`.
+
+use std::sync::Arc;
+
+use ash::vk;
+use gpu_allocator::vulkan::{Allocation, AllocationCreateDesc, AllocationScheme};
+use gpu_allocator::MemoryLocation;
+
+use super::Device;
+use crate::error::{Error, Result, VkContext};
+
+/// What to create.
+#[derive(Clone, Copy, Debug)]
+pub struct ImageDesc {
+    pub extent: vk::Extent2D,
+    pub format: vk::Format,
+    pub usage: vk::ImageUsageFlags,
+    pub samples: vk::SampleCountFlags,
+    pub aspect: vk::ImageAspectFlags,
+}
+
+/// A `VkImage`, its memory and a view of the whole image.
+pub struct Image {
+    device: Arc<Device>,
+    pub(crate) raw: vk::Image,
+    pub(crate) view: vk::ImageView,
+    allocation: Option<Allocation>,
+    pub desc: ImageDesc,
+}
+
+impl Image {
+    pub fn new(device: &Arc<Device>, name: &str, desc: ImageDesc) -> Result<Self> {
+        let info = vk::ImageCreateInfo::default()
+            .image_type(vk::ImageType::TYPE_2D)
+            .format(desc.format)
+            .extent(vk::Extent3D {
+                width: desc.extent.width,
+                height: desc.extent.height,
+                depth: 1,
+            })
+            .mip_levels(1)
+            .array_layers(1)
+            .samples(desc.samples)
+            .tiling(vk::ImageTiling::OPTIMAL)
+            .usage(desc.usage)
+            .sharing_mode(vk::SharingMode::EXCLUSIVE)
+            .initial_layout(vk::ImageLayout::UNDEFINED);
+        let raw = unsafe { device.raw.create_image(&info, None) }.vk("vkCreateImage")?;
+        let requirements = unsafe { device.raw.get_image_memory_requirements(raw) };
+        let allocation = device.allocator().allocate(&AllocationCreateDesc {
+            name,
+            requirements,
+            location: MemoryLocation::GpuOnly,
+            linear: false,
+            allocation_scheme: AllocationScheme::GpuAllocatorManaged,
+        });
+        let allocation = match allocation {
+            Ok(a) => a,
+            Err(source) => {
+                unsafe { device.raw.destroy_image(raw, None) };
+                return Err(Error::Allocation {
+                    name: name.into(),
+                    source,
+                });
+            }
+        };
+        let mut image = Self {
+            device: device.clone(),
+            raw,
+            view: vk::ImageView::null(),
+            allocation: Some(allocation),
+            desc,
+        };
+        let a = image.allocation.as_ref().expect("allocation was just set");
+        unsafe { device.raw.bind_image_memory(raw, a.memory(), a.offset()) }
+            .vk("vkBindImageMemory")?;
+        let view_info = vk::ImageViewCreateInfo::default()
+            .image(raw)
+            .view_type(vk::ImageViewType::TYPE_2D)
+            .format(desc.format)
+            .subresource_range(subresource_range(desc.aspect));
+        image.view =
+            unsafe { device.raw.create_image_view(&view_info, None) }.vk("vkCreateImageView")?;
+        device.set_name(raw, name);
+        device.set_name(image.view, name);
+        Ok(image)
+    }
+
+    pub fn raw(&self) -> vk::Image {
+        self.raw
+    }
+
+    pub fn view(&self) -> vk::ImageView {
+        self.view
+    }
+
+    /// A layout transition (and memory dependency) for the whole image.
+    pub fn barrier(
+        &self,
+        (src_stage, src_access): (vk::PipelineStageFlags2, vk::AccessFlags2),
+        (dst_stage, dst_access): (vk::PipelineStageFlags2, vk::AccessFlags2),
+        old_layout: vk::ImageLayout,
+        new_layout: vk::ImageLayout,
+    ) -> vk::ImageMemoryBarrier2<'static> {
+        vk::ImageMemoryBarrier2::default()
+            .src_stage_mask(src_stage)
+            .src_access_mask(src_access)
+            .dst_stage_mask(dst_stage)
+            .dst_access_mask(dst_access)
+            .old_layout(old_layout)
+            .new_layout(new_layout)
+            .src_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
+            .dst_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
+            .image(self.raw)
+            .subresource_range(subresource_range(self.desc.aspect))
+    }
+}
+
+impl Drop for Image {
+    fn drop(&mut self) {
+        unsafe {
+            if self.view != vk::ImageView::null() {
+                self.device.raw.destroy_image_view(self.view, None);
+            }
+        }
+        if let Some(allocation) = self.allocation.take() {
+            let _ = self.device.allocator().free(allocation);
+        }
+        unsafe { self.device.raw.destroy_image(self.raw, None) };
+    }
+}
+
+pub fn subresource_range(aspect: vk::ImageAspectFlags) -> vk::ImageSubresourceRange {
+    vk::ImageSubresourceRange {
+        aspect_mask: aspect,
+        base_mip_level: 0,
+        level_count: 1,
+        base_array_layer: 0,
+        layer_count: 1,
+    }
+}
+
+/// Records a pipeline barrier made of image barriers only.
+pub fn image_barriers(
+    device: &Device,
+    cmd: vk::CommandBuffer,
+    barriers: &[vk::ImageMemoryBarrier2],
+) {
+    let dependency = vk::DependencyInfo::default().image_memory_barriers(barriers);
+    unsafe { device.raw.cmd_pipeline_barrier2(cmd, &dependency) };
+}
+
+/// Records a global memory barrier (used between dependent compute dispatches).
+pub fn memory_barrier(
+    device: &Device,
+    cmd: vk::CommandBuffer,
+    (src_stage, src_access): (vk::PipelineStageFlags2, vk::AccessFlags2),
+    (dst_stage, dst_access): (vk::PipelineStageFlags2, vk::AccessFlags2),
+) {
+    let barrier = [vk::MemoryBarrier2::default()
+        .src_stage_mask(src_stage)
+        .src_access_mask(src_access)
+        .dst_stage_mask(dst_stage)
+        .dst_access_mask(dst_access)];
+    let dependency = vk::DependencyInfo::default().memory_barriers(&barrier);
+    unsafe { device.raw.cmd_pipeline_barrier2(cmd, &dependency) };
+}

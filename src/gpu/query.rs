@@ -1,0 +1,144 @@
+//! Timestamp and pipeline-statistics query pools.
+
+use std::sync::Arc;
+
+use ash::vk;
+
+use super::Device;
+use crate::error::{Result, VkContext};
+
+/// A query pool reset from the host and read back with `WAIT`.
+pub struct QueryPool {
+    device: Arc<Device>,
+    pub(crate) raw: vk::QueryPool,
+    count: u32,
+    /// Values per query (1 for timestamps, one per statistic otherwise).
+    values: u32,
+}
+
+/// The pipeline statistics the fur pass reports, in Vulkan's bit order.
+pub const FUR_STATISTICS: vk::QueryPipelineStatisticFlags =
+    vk::QueryPipelineStatisticFlags::from_raw(
+        vk::QueryPipelineStatisticFlags::TESSELLATION_EVALUATION_SHADER_INVOCATIONS.as_raw()
+            | vk::QueryPipelineStatisticFlags::GEOMETRY_SHADER_INVOCATIONS.as_raw()
+            | vk::QueryPipelineStatisticFlags::GEOMETRY_SHADER_PRIMITIVES.as_raw()
+            | vk::QueryPipelineStatisticFlags::TESSELLATION_CONTROL_SHADER_PATCHES.as_raw(),
+    );
+
+/// Fur-pass counters read from [`FUR_STATISTICS`].
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct FurStatistics {
+    /// Patches (mesh triangles) the tessellation control shader ran for.
+    pub patches: u64,
+    /// Tessellation-evaluation invocations: generated hair points.
+    pub tess_eval_invocations: u64,
+    /// Geometry-shader invocations: points that reached the geometry shader.
+    pub geometry_invocations: u64,
+    /// Primitives the geometry shader emitted.
+    pub geometry_primitives: u64,
+}
+
+impl QueryPool {
+    pub fn timestamps(device: &Arc<Device>, name: &str, count: u32) -> Result<Self> {
+        Self::new(
+            device,
+            name,
+            vk::QueryType::TIMESTAMP,
+            Default::default(),
+            count,
+            1,
+        )
+    }
+
+    pub fn fur_statistics(device: &Arc<Device>, name: &str) -> Result<Self> {
+        Self::new(
+            device,
+            name,
+            vk::QueryType::PIPELINE_STATISTICS,
+            FUR_STATISTICS,
+            1,
+            FUR_STATISTICS.as_raw().count_ones(),
+        )
+    }
+
+    fn new(
+        device: &Arc<Device>,
+        name: &str,
+        kind: vk::QueryType,
+        statistics: vk::QueryPipelineStatisticFlags,
+        count: u32,
+        values: u32,
+    ) -> Result<Self> {
+        let info = vk::QueryPoolCreateInfo::default()
+            .query_type(kind)
+            .query_count(count)
+            .pipeline_statistics(statistics);
+        let raw = unsafe { device.raw.create_query_pool(&info, None) }.vk("vkCreateQueryPool")?;
+        device.set_name(raw, name);
+        unsafe { device.raw.reset_query_pool(raw, 0, count) };
+        Ok(Self {
+            device: device.clone(),
+            raw,
+            count,
+            values,
+        })
+    }
+
+    pub fn raw(&self) -> vk::QueryPool {
+        self.raw
+    }
+
+    pub fn count(&self) -> u32 {
+        self.count
+    }
+
+    /// Resets every query from the host (before the command buffer using them runs).
+    pub fn reset(&self) {
+        unsafe { self.device.raw.reset_query_pool(self.raw, 0, self.count) };
+    }
+
+    /// Waits for and returns all values, `N` per query.
+    fn results<const N: usize>(&self) -> Result<Vec<[u64; N]>> {
+        debug_assert_eq!(N as u32, self.values);
+        let mut data = vec![[0u64; N]; self.count as usize];
+        unsafe {
+            self.device.raw.get_query_pool_results(
+                self.raw,
+                0,
+                &mut data,
+                vk::QueryResultFlags::TYPE_64 | vk::QueryResultFlags::WAIT,
+            )
+        }
+        .vk("vkGetQueryPoolResults")?;
+        Ok(data)
+    }
+
+    /// Timestamp results converted to milliseconds since the first one.
+    pub fn timestamps_ms(&self) -> Result<Vec<f64>> {
+        let ticks: Vec<u64> = self.results::<1>()?.into_iter().map(|[t]| t).collect();
+        let period = f64::from(self.device.info.timestamp_period) * 1e-6;
+        let first = ticks.first().copied().unwrap_or(0);
+        Ok(ticks
+            .iter()
+            .map(|t| t.wrapping_sub(first) as f64 * period)
+            .collect())
+    }
+
+    /// Reads a [`FurStatistics`] pool.
+    pub fn fur_statistics_result(&self) -> Result<FurStatistics> {
+        let v = self.results::<4>()?[0];
+        // Vulkan returns statistics in increasing bit order.
+        Ok(FurStatistics {
+            geometry_invocations: v[0],
+            geometry_primitives: v[1],
+            patches: v[2],
+            tess_eval_invocations: v[3],
+        })
+    }
+}
+
+impl Drop for QueryPool {
+    fn drop(&mut self) {
+        unsafe { self.device.raw.destroy_query_pool(self.raw, None) };
+    }
+}

@@ -1,0 +1,131 @@
+//! GLSL → SPIR-V with shaderc. Sources are embedded in the binary; `#include` resolves
+//! against the same embedded set, and errors name the file and line.
+
+use std::sync::Arc;
+
+use ash::vk;
+
+use super::Device;
+use crate::error::{Error, Result, VkContext};
+
+/// Every shader source shipped in `shaders/`, by file name.
+pub const SOURCES: &[(&str, &str)] = &[
+    ("common.glsl", include_str!("../../shaders/common.glsl")),
+    ("strands.glsl", include_str!("../../shaders/strands.glsl")),
+    (
+        "sim_common.glsl",
+        include_str!("../../shaders/sim_common.glsl"),
+    ),
+    ("mesh.vert", include_str!("../../shaders/mesh.vert")),
+    ("mesh.frag", include_str!("../../shaders/mesh.frag")),
+    ("fur.vert", include_str!("../../shaders/fur.vert")),
+    ("fur.tesc", include_str!("../../shaders/fur.tesc")),
+    ("fur.tese", include_str!("../../shaders/fur.tese")),
+    ("fur.geom", include_str!("../../shaders/fur.geom")),
+    ("fur.frag", include_str!("../../shaders/fur.frag")),
+    (
+        "simulate_integrate.comp",
+        include_str!("../../shaders/simulate_integrate.comp"),
+    ),
+    (
+        "simulate_global.comp",
+        include_str!("../../shaders/simulate_global.comp"),
+    ),
+    (
+        "simulate_local.comp",
+        include_str!("../../shaders/simulate_local.comp"),
+    ),
+    (
+        "simulate_length.comp",
+        include_str!("../../shaders/simulate_length.comp"),
+    ),
+    (
+        "simulate_wind.comp",
+        include_str!("../../shaders/simulate_wind.comp"),
+    ),
+];
+
+fn source(name: &str) -> Option<&'static str> {
+    SOURCES.iter().find(|(n, _)| *n == name).map(|(_, s)| *s)
+}
+
+fn kind_of(name: &str) -> Result<shaderc::ShaderKind> {
+    let ext = name.rsplit('.').next().unwrap_or_default();
+    Ok(match ext {
+        "vert" => shaderc::ShaderKind::Vertex,
+        "tesc" => shaderc::ShaderKind::TessControl,
+        "tese" => shaderc::ShaderKind::TessEvaluation,
+        "geom" => shaderc::ShaderKind::Geometry,
+        "frag" => shaderc::ShaderKind::Fragment,
+        "comp" => shaderc::ShaderKind::Compute,
+        _ => {
+            return Err(Error::ShaderCompile(format!(
+                "{name}: unknown shader stage"
+            )))
+        }
+    })
+}
+
+/// Compiles the embedded shader `name` with the given `#define`s to SPIR-V words.
+pub fn compile(name: &str, defines: &[(&str, String)]) -> Result<Vec<u32>> {
+    let text =
+        source(name).ok_or_else(|| Error::ShaderCompile(format!("{name}: no such shader")))?;
+    compile_source(name, text, defines)
+}
+
+/// Compiles GLSL `text` (reported as file `name`) to SPIR-V words.
+pub fn compile_source(name: &str, text: &str, defines: &[(&str, String)]) -> Result<Vec<u32>> {
+    let kind = kind_of(name)?;
+    let compiler = shaderc::Compiler::new()
+        .map_err(|e| Error::ShaderCompile(format!("cannot start shaderc: {e}")))?;
+    let mut options = shaderc::CompileOptions::new()
+        .map_err(|e| Error::ShaderCompile(format!("cannot create shaderc options: {e}")))?;
+    options.set_target_env(
+        shaderc::TargetEnv::Vulkan,
+        shaderc::EnvVersion::Vulkan1_3 as u32,
+    );
+    options.set_optimization_level(shaderc::OptimizationLevel::Performance);
+    options.set_generate_debug_info();
+    for (key, value) in defines {
+        options.add_macro_definition(key, Some(value));
+    }
+    options.set_include_callback(|requested, _, requester, _| {
+        source(requested)
+            .map(|content| shaderc::ResolvedInclude {
+                resolved_name: requested.to_string(),
+                content: content.to_string(),
+            })
+            .ok_or_else(|| format!("{requester}: cannot find include `{requested}`"))
+    });
+    let artifact = compiler
+        .compile_into_spirv(text, kind, name, "main", Some(&options))
+        .map_err(|e| Error::ShaderCompile(e.to_string()))?;
+    Ok(artifact.as_binary().to_vec())
+}
+
+/// A `VkShaderModule` destroyed on drop.
+pub struct ShaderModule {
+    device: Arc<Device>,
+    pub(crate) raw: vk::ShaderModule,
+}
+
+impl ShaderModule {
+    /// Compiles and loads the embedded shader `name`.
+    pub fn new(device: &Arc<Device>, name: &str, defines: &[(&str, String)]) -> Result<Self> {
+        let code = compile(name, defines)?;
+        let info = vk::ShaderModuleCreateInfo::default().code(&code);
+        let raw =
+            unsafe { device.raw.create_shader_module(&info, None) }.vk("vkCreateShaderModule")?;
+        device.set_name(raw, name);
+        Ok(Self {
+            device: device.clone(),
+            raw,
+        })
+    }
+}
+
+impl Drop for ShaderModule {
+    fn drop(&mut self) {
+        unsafe { self.device.raw.destroy_shader_module(self.raw, None) };
+    }
+}

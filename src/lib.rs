@@ -1,0 +1,17 @@
+//! Real-time fur rendering and simulation on raw Vulkan.
+//!
+//! The pipeline, in the order a frame runs it:
+//! - [`scene`]: the mesh, the master hairs grown from it ([`scene::Strands`]), the camera;
+//! - [`strand_textures`]: master-hair vertices in RGBA32F images;
+//! - [`sim`]: Han & Harada's simulation (CPU reference and compute shaders);
+//! - [`render`]: the mesh pass and the tessellated fur pass;
+//! - [`gpu`]: the Vulkan layer underneath.
+
+pub mod error;
+pub mod gpu;
+pub mod render;
+pub mod scene;
+pub mod sim;
+pub mod strand_textures;
+
+pub use error::{Error, Result};

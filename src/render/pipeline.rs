@@ -1,0 +1,93 @@
+//! The graphics-pipeline state both passes share: dynamic rendering into the 4× MSAA
+//! target, depth tested and written, dynamic viewport and scissor.
+
+use std::sync::Arc;
+
+use ash::vk;
+
+use super::target::{COLOR_FORMAT, DEPTH_FORMAT, SAMPLES};
+use crate::error::Result;
+use crate::gpu::{Device, Pipeline, PipelineLayout, ShaderModule};
+
+/// What differs between the passes.
+pub struct GraphicsDesc<'a> {
+    pub name: &'a str,
+    pub stages: &'a [(vk::ShaderStageFlags, &'a ShaderModule)],
+    pub topology: vk::PrimitiveTopology,
+    pub vertex_bindings: &'a [vk::VertexInputBindingDescription],
+    pub vertex_attributes: &'a [vk::VertexInputAttributeDescription],
+    /// Control points per patch when the pipeline tessellates.
+    pub patch_control_points: Option<u32>,
+}
+
+pub fn graphics_pipeline(
+    device: &Arc<Device>,
+    layout: &PipelineLayout,
+    desc: &GraphicsDesc<'_>,
+) -> Result<Pipeline> {
+    let stages: Vec<_> = desc
+        .stages
+        .iter()
+        .map(|(stage, module)| {
+            vk::PipelineShaderStageCreateInfo::default()
+                .stage(*stage)
+                .module(module.raw)
+                .name(c"main")
+        })
+        .collect();
+    let vertex_input = vk::PipelineVertexInputStateCreateInfo::default()
+        .vertex_binding_descriptions(desc.vertex_bindings)
+        .vertex_attribute_descriptions(desc.vertex_attributes);
+    let input_assembly =
+        vk::PipelineInputAssemblyStateCreateInfo::default().topology(desc.topology);
+    let tessellation = vk::PipelineTessellationStateCreateInfo::default()
+        .patch_control_points(desc.patch_control_points.unwrap_or(0));
+    let viewport = vk::PipelineViewportStateCreateInfo::default()
+        .viewport_count(1)
+        .scissor_count(1);
+    let rasterization = vk::PipelineRasterizationStateCreateInfo::default()
+        .polygon_mode(vk::PolygonMode::FILL)
+        .cull_mode(vk::CullModeFlags::NONE)
+        .front_face(vk::FrontFace::COUNTER_CLOCKWISE)
+        .line_width(1.0);
+    let multisample =
+        vk::PipelineMultisampleStateCreateInfo::default().rasterization_samples(SAMPLES);
+    let depth = vk::PipelineDepthStencilStateCreateInfo::default()
+        .depth_test_enable(true)
+        .depth_write_enable(true)
+        .depth_compare_op(vk::CompareOp::LESS);
+    let blend_attachments = [vk::PipelineColorBlendAttachmentState::default()
+        .color_write_mask(vk::ColorComponentFlags::RGBA)];
+    let blend = vk::PipelineColorBlendStateCreateInfo::default().attachments(&blend_attachments);
+    let dynamic_states = [vk::DynamicState::VIEWPORT, vk::DynamicState::SCISSOR];
+    let dynamic = vk::PipelineDynamicStateCreateInfo::default().dynamic_states(&dynamic_states);
+    let color_formats = [COLOR_FORMAT];
+    let mut rendering = vk::PipelineRenderingCreateInfo::default()
+        .color_attachment_formats(&color_formats)
+        .depth_attachment_format(DEPTH_FORMAT);
+    let mut info = vk::GraphicsPipelineCreateInfo::default()
+        .stages(&stages)
+        .vertex_input_state(&vertex_input)
+        .input_assembly_state(&input_assembly)
+        .viewport_state(&viewport)
+        .rasterization_state(&rasterization)
+        .multisample_state(&multisample)
+        .depth_stencil_state(&depth)
+        .color_blend_state(&blend)
+        .dynamic_state(&dynamic)
+        .layout(layout.raw())
+        .push_next(&mut rendering);
+    if desc.patch_control_points.is_some() {
+        info = info.tessellation_state(&tessellation);
+    }
+    let raw = unsafe {
+        device
+            .raw
+            .create_graphics_pipelines(vk::PipelineCache::null(), &[info], None)
+    }
+    .map_err(|(_, result)| crate::Error::Vulkan {
+        call: "vkCreateGraphicsPipelines",
+        result,
+    })?[0];
+    Ok(Pipeline::from_raw(device, desc.name, raw))
+}

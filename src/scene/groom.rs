@@ -1,0 +1,184 @@
+//! Master hairs: one strand grown from every mesh vertex along its normal, bent by a
+//! comb and a curl so the simulation has a style to preserve.
+
+use glam::Vec3;
+
+use super::Mesh;
+use crate::error::{Error, Result};
+
+/// Groom controls. Lengths are in scene units (metres for the default model).
+#[derive(Clone, Debug, PartialEq)]
+pub struct GroomParams {
+    /// Segments per master hair (vertices = segments + 1); 1..=63.
+    pub segments: u32,
+    /// Length of every segment; > 0.
+    pub segment_length: f32,
+    /// Direction the fur is combed towards (projected onto each vertex's tangent plane).
+    pub comb_direction: Vec3,
+    /// How far the tip leans towards the comb direction; 0 = straight along the normal.
+    pub comb_strength: f32,
+    /// Curl radius as a fraction of the segment length; 0 = no curl.
+    pub curl: f32,
+    /// Curl turns per strand.
+    pub curl_turns: f32,
+}
+
+impl Default for GroomParams {
+    fn default() -> Self {
+        Self {
+            segments: 16,
+            segment_length: 0.016,
+            comb_direction: Vec3::new(0.0, -1.0, -0.3),
+            comb_strength: 0.9,
+            curl: 0.0,
+            curl_turns: 1.5,
+        }
+    }
+}
+
+impl GroomParams {
+    pub fn validate(&self) -> Result<()> {
+        if !(1..=63).contains(&self.segments) {
+            return Err(Error::Parameter(format!(
+                "segments must be in 1..=63 (strands of at most 64 vertices), got {}",
+                self.segments
+            )));
+        }
+        if !(self.segment_length.is_finite() && self.segment_length > 0.0) {
+            return Err(Error::Parameter(format!(
+                "segment length must be positive and finite, got {}",
+                self.segment_length
+            )));
+        }
+        for (name, v) in [
+            ("comb strength", self.comb_strength),
+            ("curl", self.curl),
+            ("curl turns", self.curl_turns),
+        ] {
+            if !v.is_finite() || v < 0.0 {
+                return Err(Error::Parameter(format!(
+                    "{name} must be finite and ≥ 0, got {v}"
+                )));
+            }
+        }
+        if !self.comb_direction.is_finite() {
+            return Err(Error::Parameter("comb direction must be finite".into()));
+        }
+        Ok(())
+    }
+
+    pub fn vertices_per_strand(&self) -> u32 {
+        self.segments + 1
+    }
+}
+
+/// Master-hair vertices in model space, strand after strand.
+#[derive(Clone, Debug)]
+pub struct Strands {
+    pub vertices_per_strand: u32,
+    pub positions: Vec<Vec3>,
+}
+
+impl Strands {
+    pub fn count(&self) -> usize {
+        self.positions.len() / self.vertices_per_strand as usize
+    }
+
+    pub fn strand(&self, s: usize) -> &[Vec3] {
+        let v = self.vertices_per_strand as usize;
+        &self.positions[s * v..(s + 1) * v]
+    }
+
+    /// Grows one master hair per mesh vertex.
+    pub fn grow(mesh: &Mesh, groom: &GroomParams) -> Result<Self> {
+        groom.validate()?;
+        let segments = groom.segments as usize;
+        let mut positions = Vec::with_capacity(mesh.vertex_count() * (segments + 1));
+        for (i, (&root, &normal)) in mesh.positions.iter().zip(&mesh.normals).enumerate() {
+            let n = normal.try_normalize().unwrap_or(Vec3::Y);
+            let comb = groom.comb_direction - groom.comb_direction.dot(n) * n;
+            let (b1, b2) = n.any_orthonormal_pair();
+            let phase = hash_unit(i as u32) * std::f32::consts::TAU;
+            let mut p = root;
+            positions.push(p);
+            for k in 0..segments {
+                let along = (k as f32 + 0.5) / segments as f32;
+                let angle = phase + along * groom.curl_turns * std::f32::consts::TAU;
+                let curl = groom.curl * (angle.cos() * b1 + angle.sin() * b2);
+                let dir = (n + groom.comb_strength * along * comb + curl)
+                    .try_normalize()
+                    .unwrap_or(n);
+                p += dir * groom.segment_length;
+                positions.push(p);
+            }
+        }
+        Ok(Self {
+            vertices_per_strand: groom.vertices_per_strand(),
+            positions,
+        })
+    }
+}
+
+/// A deterministic hash of an integer to [0, 1).
+pub fn hash_unit(x: u32) -> f32 {
+    let mut h = x.wrapping_mul(0x9E37_79B9) ^ 0x85EB_CA6B;
+    h ^= h >> 16;
+    h = h.wrapping_mul(0x7FEB_352D);
+    h ^= h >> 15;
+    h = h.wrapping_mul(0x846C_A68B);
+    h ^= h >> 16;
+    (h >> 8) as f32 / (1u32 << 24) as f32
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn strands_have_the_requested_segment_length_and_start_at_the_root() {
+        let mesh = Mesh::icosphere(1);
+        let groom = GroomParams {
+            curl: 0.5,
+            ..Default::default()
+        };
+        let strands = Strands::grow(&mesh, &groom).unwrap();
+        assert_eq!(strands.count(), mesh.vertex_count());
+        for s in 0..strands.count() {
+            let strand = strands.strand(s);
+            assert_eq!(strand[0], mesh.positions[s]);
+            for w in strand.windows(2) {
+                assert!(((w[1] - w[0]).length() - groom.segment_length).abs() < 1e-5);
+            }
+            // Hairs grow outwards.
+            assert!((strand[1] - strand[0]).dot(mesh.normals[s]) > 0.0);
+        }
+    }
+
+    #[test]
+    fn bad_groom_is_rejected() {
+        let mesh = Mesh::icosphere(0);
+        for groom in [
+            GroomParams {
+                segments: 0,
+                ..Default::default()
+            },
+            GroomParams {
+                segments: 64,
+                ..Default::default()
+            },
+            GroomParams {
+                segment_length: -1.0,
+                ..Default::default()
+            },
+            GroomParams {
+                segment_length: f32::NAN,
+                ..Default::default()
+            },
+        ] {
+            assert!(matches!(
+                Strands::grow(&mesh, &groom),
+                Err(Error::Parameter(_))
+            ));
+        }
+    }
+}

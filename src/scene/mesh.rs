@@ -1,0 +1,397 @@
+//! Triangle meshes: OBJ loading, generated models and the per-triangle ownership masks
+//! that let every interpolated hair be drawn exactly once.
+
+use std::collections::HashMap;
+use std::path::Path;
+
+use glam::Vec3;
+
+use crate::error::{Error, Result};
+
+/// An indexed triangle mesh with one smooth normal per vertex. One master hair grows
+/// from every vertex.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Mesh {
+    pub positions: Vec<Vec3>,
+    pub normals: Vec<Vec3>,
+    /// Three indices per triangle, counter-clockwise seen from outside.
+    pub indices: Vec<u32>,
+}
+
+impl Mesh {
+    pub fn vertex_count(&self) -> usize {
+        self.positions.len()
+    }
+
+    pub fn triangle_count(&self) -> usize {
+        self.indices.len() / 3
+    }
+
+    /// Loads an OBJ file (all its objects, triangulated). Normals come from the file
+    /// when every face has them, otherwise from area-weighted face normals.
+    pub fn load_obj(path: &Path) -> Result<Self> {
+        let error = |message: String| Error::Model {
+            path: path.to_path_buf(),
+            message,
+        };
+        if !path.is_file() {
+            return Err(error("no such file".into()));
+        }
+        let options = tobj::LoadOptions {
+            triangulate: true,
+            single_index: false,
+            ignore_points: true,
+            ignore_lines: true,
+        };
+        let (models, _materials) =
+            tobj::load_obj(path, &options).map_err(|e| error(e.to_string()))?;
+        let mut positions = Vec::new();
+        let mut file_normals: Vec<Vec3> = Vec::new();
+        let mut normal_indices: Vec<u32> = Vec::new();
+        let mut indices = Vec::new();
+        let mut all_faces_have_normals = true;
+        for model in &models {
+            let m = &model.mesh;
+            if m.positions.len() % 3 != 0 {
+                return Err(error(format!(
+                    "object `{}` has a truncated position list",
+                    model.name
+                )));
+            }
+            let base = positions.len() as u32;
+            let normal_base = file_normals.len() as u32;
+            positions.extend(
+                m.positions
+                    .chunks_exact(3)
+                    .map(|p| Vec3::new(p[0], p[1], p[2])),
+            );
+            file_normals.extend(
+                m.normals
+                    .chunks_exact(3)
+                    .map(|n| Vec3::new(n[0], n[1], n[2])),
+            );
+            for &i in &m.indices {
+                if (base + i) as usize >= positions.len() {
+                    return Err(error(format!(
+                        "object `{}` references vertex {} of {}",
+                        model.name,
+                        i + 1,
+                        m.positions.len() / 3
+                    )));
+                }
+                indices.push(base + i);
+            }
+            if m.normal_indices.len() == m.indices.len() && !m.normals.is_empty() {
+                for &i in &m.normal_indices {
+                    if i as usize >= m.normals.len() / 3 {
+                        return Err(error(format!(
+                            "object `{}` references normal {} of {}",
+                            model.name,
+                            i + 1,
+                            m.normals.len() / 3
+                        )));
+                    }
+                    normal_indices.push(normal_base + i);
+                }
+            } else if !m.indices.is_empty() {
+                all_faces_have_normals = false;
+            }
+        }
+        if indices.is_empty() {
+            return Err(error(
+                "the file has no faces: fur grows from triangles".into(),
+            ));
+        }
+        if let Some(p) = positions.iter().find(|p| !p.is_finite()) {
+            return Err(error(format!("a vertex position is not finite: {p}")));
+        }
+        let normals = if all_faces_have_normals {
+            let mut normals = vec![Vec3::ZERO; positions.len()];
+            for (&vi, &ni) in indices.iter().zip(&normal_indices) {
+                normals[vi as usize] += file_normals[ni as usize];
+            }
+            normals
+        } else {
+            Vec::new()
+        };
+        let mut mesh = Self {
+            positions,
+            normals,
+            indices,
+        };
+        mesh.drop_degenerate_triangles();
+        if mesh.indices.is_empty() {
+            return Err(error("every face is degenerate (zero area)".into()));
+        }
+        mesh.compact();
+        if mesh.normals.is_empty() || mesh.normals.iter().any(|n| n.length_squared() < 1e-20) {
+            mesh.normals = mesh.face_weighted_normals();
+        } else {
+            mesh.normals.iter_mut().for_each(|n| *n = n.normalize());
+        }
+        Ok(mesh)
+    }
+
+    /// Writes the mesh as OBJ with positions, normals and faces.
+    pub fn write_obj(&self, path: &Path) -> Result<()> {
+        use std::fmt::Write as _;
+        let mut text = String::from("# fur: generated model\n");
+        for p in &self.positions {
+            let _ = writeln!(text, "v {:.6} {:.6} {:.6}", p.x, p.y, p.z);
+        }
+        for n in &self.normals {
+            let _ = writeln!(text, "vn {:.6} {:.6} {:.6}", n.x, n.y, n.z);
+        }
+        for t in self.indices.chunks_exact(3) {
+            let (a, b, c) = (t[0] + 1, t[1] + 1, t[2] + 1);
+            let _ = writeln!(text, "f {a}//{a} {b}//{b} {c}//{c}");
+        }
+        std::fs::write(path, text).map_err(|e| Error::Model {
+            path: path.to_path_buf(),
+            message: e.to_string(),
+        })
+    }
+
+    /// Removes triangles with repeated indices or zero area.
+    fn drop_degenerate_triangles(&mut self) {
+        let positions = &self.positions;
+        let kept: Vec<u32> = self
+            .indices
+            .chunks_exact(3)
+            .filter(|t| {
+                let [a, b, c] = [t[0], t[1], t[2]].map(|i| positions[i as usize]);
+                t[0] != t[1]
+                    && t[1] != t[2]
+                    && t[0] != t[2]
+                    && (b - a).cross(c - a).length_squared() > 0.0
+            })
+            .flatten()
+            .copied()
+            .collect();
+        self.indices = kept;
+    }
+
+    /// Drops vertices no triangle uses: they would grow hairs nobody draws.
+    fn compact(&mut self) {
+        let mut remap = vec![u32::MAX; self.positions.len()];
+        let mut positions = Vec::new();
+        let mut normals = Vec::new();
+        for i in self.indices.iter_mut() {
+            let old = *i as usize;
+            if remap[old] == u32::MAX {
+                remap[old] = positions.len() as u32;
+                positions.push(self.positions[old]);
+                if let Some(n) = self.normals.get(old) {
+                    normals.push(*n);
+                }
+            }
+            *i = remap[old];
+        }
+        self.positions = positions;
+        self.normals = normals;
+    }
+
+    /// Area-weighted vertex normals from the triangles.
+    pub fn face_weighted_normals(&self) -> Vec<Vec3> {
+        let mut normals = vec![Vec3::ZERO; self.positions.len()];
+        for t in self.indices.chunks_exact(3) {
+            let [a, b, c] = [t[0], t[1], t[2]].map(|i| self.positions[i as usize]);
+            let n = (b - a).cross(c - a); // length = twice the area
+            for &i in t {
+                normals[i as usize] += n;
+            }
+        }
+        normals
+            .into_iter()
+            .map(|n| n.try_normalize().unwrap_or(Vec3::Y))
+            .collect()
+    }
+
+    /// Bounding-sphere centre and radius (of the box around the vertices).
+    pub fn bounds(&self) -> (Vec3, f32) {
+        let (min, max) = self.positions.iter().fold(
+            (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN)),
+            |(lo, hi), p| (lo.min(*p), hi.max(*p)),
+        );
+        ((min + max) * 0.5, (max - min).length() * 0.5)
+    }
+
+    /// The number of distinct undirected edges.
+    pub fn edge_count(&self) -> usize {
+        let mut edges = std::collections::HashSet::new();
+        for t in self.indices.chunks_exact(3) {
+            for k in 0..3 {
+                let (a, b) = (t[k], t[(k + 1) % 3]);
+                edges.insert((a.min(b), a.max(b)));
+            }
+        }
+        edges.len()
+    }
+
+    /// Per triangle, which of its corners and edges it owns (the first triangle that
+    /// uses a vertex or edge owns it). Bit `k` (0..3): corner `k`; bit `3 + k`: the edge
+    /// opposite corner `k`. Tessellation generates shared corner and edge points once
+    /// per adjacent patch; only the owner draws them.
+    pub fn ownership_masks(&self) -> Vec<u32> {
+        let mut vertex_owned = vec![false; self.positions.len()];
+        let mut edge_owned: HashMap<(u32, u32), ()> = HashMap::new();
+        self.indices
+            .chunks_exact(3)
+            .map(|t| {
+                let mut mask = 0;
+                for k in 0..3 {
+                    if !vertex_owned[t[k] as usize] {
+                        vertex_owned[t[k] as usize] = true;
+                        mask |= 1 << k;
+                    }
+                    let (a, b) = (t[(k + 1) % 3], t[(k + 2) % 3]);
+                    if edge_owned.insert((a.min(b), a.max(b)), ()).is_none() {
+                        mask |= 1 << (3 + k);
+                    }
+                }
+                mask
+            })
+            .collect()
+    }
+
+    /// The default model: a lumpy blob with two ears, a dented face and ridged flanks,
+    /// so the fur shows over convex and concave regions alike.
+    pub fn blob() -> Self {
+        let mut mesh = Self::icosphere(4);
+        let ears = [
+            Vec3::new(0.55, 0.8, 0.1).normalize(),
+            Vec3::new(-0.55, 0.8, 0.1).normalize(),
+        ];
+        let face = Vec3::new(0.0, 0.1, 1.0).normalize();
+        for p in &mut mesh.positions {
+            let d = p.normalize();
+            let ear: f32 = ears
+                .iter()
+                .map(|e| 0.55 * d.dot(*e).max(0.0).powi(12))
+                .sum();
+            let dent = -0.22 * d.dot(face).max(0.0).powi(6);
+            let ridges = 0.07 * (5.0 * d.z.atan2(d.x)).sin() * (1.0 - d.y * d.y);
+            let belly = 0.12 * (-d.y).max(0.0).powi(2);
+            *p = d * (1.0 + ear + dent + ridges + belly);
+        }
+        mesh.normals = mesh.face_weighted_normals();
+        mesh
+    }
+
+    /// A unit icosphere with `subdivisions` levels of 4-to-1 splitting.
+    pub fn icosphere(subdivisions: u32) -> Self {
+        let t = (1.0 + 5f32.sqrt()) / 2.0;
+        let mut positions: Vec<Vec3> = [
+            (-1.0, t, 0.0),
+            (1.0, t, 0.0),
+            (-1.0, -t, 0.0),
+            (1.0, -t, 0.0),
+            (0.0, -1.0, t),
+            (0.0, 1.0, t),
+            (0.0, -1.0, -t),
+            (0.0, 1.0, -t),
+            (t, 0.0, -1.0),
+            (t, 0.0, 1.0),
+            (-t, 0.0, -1.0),
+            (-t, 0.0, 1.0),
+        ]
+        .iter()
+        .map(|&(x, y, z)| Vec3::new(x, y, z).normalize())
+        .collect();
+        let mut indices: Vec<u32> = vec![
+            0, 11, 5, 0, 5, 1, 0, 1, 7, 0, 7, 10, 0, 10, 11, 1, 5, 9, 5, 11, 4, 11, 10, 2, 10, 7,
+            6, 7, 1, 8, 3, 9, 4, 3, 4, 2, 3, 2, 6, 3, 6, 8, 3, 8, 9, 4, 9, 5, 2, 4, 11, 6, 2, 10,
+            8, 6, 7, 9, 8, 1,
+        ];
+        for _ in 0..subdivisions {
+            let mut midpoints: HashMap<(u32, u32), u32> = HashMap::new();
+            let mut next = Vec::with_capacity(indices.len() * 4);
+            for tri in indices.chunks_exact(3) {
+                let mut mid = |a: u32, b: u32| {
+                    *midpoints.entry((a.min(b), a.max(b))).or_insert_with(|| {
+                        positions.push(
+                            ((positions[a as usize] + positions[b as usize]) * 0.5).normalize(),
+                        );
+                        positions.len() as u32 - 1
+                    })
+                };
+                let (a, b, c) = (tri[0], tri[1], tri[2]);
+                let (ab, bc, ca) = (mid(a, b), mid(b, c), mid(c, a));
+                next.extend_from_slice(&[a, ab, ca, b, bc, ab, c, ca, bc, ab, bc, ca]);
+            }
+            indices = next;
+        }
+        let normals = positions.clone();
+        Self {
+            positions,
+            normals,
+            indices,
+        }
+    }
+
+    /// A flat `nx` × `nz` grid of quads (two triangles each) in the XZ plane, centred on
+    /// the origin, `size` wide, facing +Y.
+    pub fn grid(nx: u32, nz: u32, size: f32) -> Self {
+        let mut positions = Vec::new();
+        for j in 0..=nz {
+            for i in 0..=nx {
+                positions.push(Vec3::new(
+                    size * (i as f32 / nx as f32 - 0.5),
+                    0.0,
+                    size * (j as f32 / nz as f32 - 0.5),
+                ));
+            }
+        }
+        let mut indices = Vec::new();
+        let row = nx + 1;
+        for j in 0..nz {
+            for i in 0..nx {
+                let a = j * row + i;
+                let (b, c, d) = (a + 1, a + row, a + row + 1);
+                indices.extend_from_slice(&[a, c, b, b, c, d]);
+            }
+        }
+        let normals = vec![Vec3::Y; positions.len()];
+        Self {
+            positions,
+            normals,
+            indices,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn icosphere_counts_follow_euler() {
+        let m = Mesh::icosphere(3);
+        assert_eq!(m.triangle_count(), 20 * 4usize.pow(3));
+        // V - E + F = 2 for a closed genus-0 surface.
+        assert_eq!(m.vertex_count() + m.triangle_count(), m.edge_count() + 2);
+    }
+
+    #[test]
+    fn ownership_assigns_every_corner_and_edge_once() {
+        let m = Mesh::blob();
+        let masks = m.ownership_masks();
+        let corners: u32 = masks.iter().map(|m| (m & 7).count_ones()).sum();
+        let edges: u32 = masks.iter().map(|m| (m >> 3).count_ones()).sum();
+        assert_eq!(corners as usize, m.vertex_count());
+        assert_eq!(edges as usize, m.edge_count());
+    }
+
+    #[test]
+    fn blob_normals_point_outwards() {
+        let m = Mesh::blob();
+        let (c, _) = m.bounds();
+        let outward = m
+            .positions
+            .iter()
+            .zip(&m.normals)
+            .filter(|(p, n)| (**p - c).dot(**n) > 0.0)
+            .count();
+        assert!(outward as f32 > 0.95 * m.vertex_count() as f32, "{outward}");
+    }
+}

@@ -1,0 +1,165 @@
+//! Simulation parameters with their units and valid ranges, and the per-substep
+//! constants derived from them (shared by the CPU reference and the compute shaders so
+//! both start from bit-identical inputs).
+
+use glam::{DMat4, DVec3, Vec3};
+
+use crate::error::{Error, Result};
+
+/// Han & Harada strand simulation parameters. Units: metres, seconds.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SimParams {
+    /// Simulation time per frame in seconds, (0, 0.1]. Default 1/60.
+    pub dt: f32,
+    /// Substeps per frame, 1..=64; each advances `dt / substeps`.
+    pub substeps: u32,
+    /// Gravity in m/s² (any finite vector; |g| ≤ 1e5).
+    pub gravity: Vec3,
+    /// Fraction of velocity lost per 1/60 s, [0, 1]. 0 keeps all momentum.
+    pub damping: f32,
+    /// Global shape stiffness S_G, [0, 1]: pull towards the rigidly moved rest pose.
+    pub global_stiffness: f32,
+    /// Fraction of each strand (from the root) the global constraint covers, [0, 1].
+    pub global_range: f32,
+    /// Local shape stiffness S_L, [0, 1]: pull towards the rest shape in local frames.
+    pub local_stiffness: f32,
+    /// Local shape passes per substep, 0..=64.
+    pub local_iterations: u32,
+    /// Edge-length passes (even + odd segments) per substep, 0..=64.
+    pub length_iterations: u32,
+    /// Wind: direction times strength in m/s² (|wind| ≤ 1e5). Zero switches wind off.
+    pub wind: Vec3,
+    /// Half-angle of the cone the four wind vectors spread over, in degrees, [0, 90].
+    pub wind_cone_deg: f32,
+}
+
+impl Default for SimParams {
+    fn default() -> Self {
+        Self {
+            dt: 1.0 / 60.0,
+            substeps: 1,
+            gravity: Vec3::new(0.0, -9.82, 0.0),
+            damping: 0.08,
+            global_stiffness: 0.05,
+            global_range: 0.3,
+            local_stiffness: 0.9,
+            local_iterations: 2,
+            length_iterations: 2,
+            wind: Vec3::ZERO,
+            wind_cone_deg: 40.0,
+        }
+    }
+}
+
+impl SimParams {
+    /// Parameters under which nothing moves: no gravity, no wind.
+    pub fn at_rest() -> Self {
+        Self {
+            gravity: Vec3::ZERO,
+            ..Self::default()
+        }
+    }
+
+    /// Checks every parameter against its documented range.
+    pub fn validate(&self) -> Result<()> {
+        let range = |name: &str, v: f32, lo: f32, hi: f32| {
+            if v.is_finite() && (lo..=hi).contains(&v) {
+                Ok(())
+            } else {
+                Err(Error::Parameter(format!(
+                    "{name} must be in [{lo}, {hi}], got {v}"
+                )))
+            }
+        };
+        if !(self.dt.is_finite() && self.dt > 0.0 && self.dt <= 0.1) {
+            return Err(Error::Parameter(format!(
+                "dt must be in (0, 0.1] seconds, got {}",
+                self.dt
+            )));
+        }
+        range("damping", self.damping, 0.0, 1.0)?;
+        range("global stiffness", self.global_stiffness, 0.0, 1.0)?;
+        range("global range", self.global_range, 0.0, 1.0)?;
+        range("local stiffness", self.local_stiffness, 0.0, 1.0)?;
+        range("wind cone angle", self.wind_cone_deg, 0.0, 90.0)?;
+        for (name, v) in [
+            ("substeps", self.substeps),
+            ("local iterations", self.local_iterations),
+            ("length iterations", self.length_iterations),
+        ] {
+            let lo = u32::from(name == "substeps");
+            if !(lo..=64).contains(&v) {
+                return Err(Error::Parameter(format!(
+                    "{name} must be in {lo}..=64, got {v}"
+                )));
+            }
+        }
+        for (name, v) in [("gravity", self.gravity), ("wind", self.wind)] {
+            if !v.is_finite() || v.length() > 1e5 {
+                return Err(Error::Parameter(format!(
+                    "{name} must be finite with magnitude ≤ 1e5, got {v}"
+                )));
+            }
+        }
+        Ok(())
+    }
+
+    /// Seconds per substep.
+    pub fn substep_dt(&self) -> f64 {
+        f64::from(self.dt) / f64::from(self.substeps)
+    }
+
+    /// Vertices `1..=cutoff` of a strand of `vertices` get the global constraint.
+    pub fn global_cutoff(&self, vertices: u32) -> u32 {
+        if self.global_stiffness == 0.0 {
+            return 0;
+        }
+        (self.global_range * (vertices - 1) as f32).floor() as u32
+    }
+
+    pub fn wind_enabled(&self) -> bool {
+        self.wind != Vec3::ZERO
+    }
+}
+
+/// Everything one substep needs, derived in f64 and rounded once to f32.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct StepConstants {
+    /// Model-to-world head transform H at the end of the substep.
+    pub head: glam::Mat4,
+    /// Velocity kept by the Verlet step: (1 - damping)^(h·60).
+    pub velocity_retention: f32,
+    /// Gravity times h².
+    pub gravity_h2: Vec3,
+    /// The four wind vectors W1..W4, each scaled by the magnitude sin²(3t) + 0.5 and h².
+    pub wind_h2: [Vec3; 4],
+}
+
+impl StepConstants {
+    /// Constants for the substep that ends at `time` seconds.
+    pub fn new(params: &SimParams, time: f64, head: DMat4) -> Self {
+        let h = params.substep_dt();
+        let h2 = h * h;
+        let retention = (1.0 - f64::from(params.damping)).powf(h * 60.0);
+        // Seed eq. 7: magnitude sin²(frame · 0.05) + 0.5 at 60 frames per second.
+        let magnitude = (time * 3.0).sin().powi(2) + 0.5;
+        let wind = params.wind.as_dvec3();
+        let strength = wind.length();
+        let wind_h2 = if strength > 0.0 {
+            let d = wind / strength;
+            let (u, v) = d.any_orthonormal_pair();
+            let a = f64::from(params.wind_cone_deg).to_radians();
+            let tilt = |axis: DVec3, angle: f64| d * angle.cos() + axis * angle.sin();
+            [tilt(u, a), tilt(u, -a), tilt(v, a), tilt(v, -a)]
+                .map(|w| (w * (0.5 * strength * magnitude * h2)).as_vec3())
+        } else {
+            [Vec3::ZERO; 4]
+        };
+        Self {
+            head: head.as_mat4(),
+            velocity_retention: retention as f32,
+            gravity_h2: (params.gravity.as_dvec3() * h2).as_vec3(),
+            wind_h2,
+        }
+    }
+}

@@ -1,0 +1,362 @@
+//! Strand textures: master-hair vertices in RGBA32F images shared by the simulation
+//! (which ping-pongs them) and the fur pass (which reads the current one).
+//!
+//! Layout: strand `s` occupies `V` consecutive texels of one row (a 1×V tile); a row
+//! holds `strands_per_row = ⌊max_width / V⌋` strands and rows stack downwards. The
+//! seed's one-row-per-strand layout capped the mesh at the maximum image height
+//! (16,384 on lavapipe); this one holds `⌊16384 / V⌋ × 16384` strands (over 15 million
+//! at 17 vertices).
+
+use std::sync::Arc;
+
+use ash::vk;
+use glam::{Mat4, Vec3, Vec4};
+use gpu_allocator::MemoryLocation;
+
+use crate::error::{Error, Result};
+use crate::gpu::{image_barriers, Buffer, Device, Image, ImageDesc};
+use crate::scene::Strands;
+use crate::sim::RestPose;
+
+/// Where each strand vertex lives in the strand textures.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct StrandLayout {
+    pub vertices_per_strand: u32,
+    pub strand_count: u32,
+    pub strands_per_row: u32,
+    pub width: u32,
+    pub height: u32,
+}
+
+impl StrandLayout {
+    pub fn new(vertices_per_strand: u32, strand_count: u32, max_dimension: u32) -> Result<Self> {
+        if vertices_per_strand < 2 || vertices_per_strand > max_dimension {
+            return Err(Error::Parameter(format!(
+                "strands need 2..={max_dimension} vertices, got {vertices_per_strand}"
+            )));
+        }
+        if strand_count == 0 {
+            return Err(Error::Parameter(
+                "there are no master hairs to store".into(),
+            ));
+        }
+        let strands_per_row = (max_dimension / vertices_per_strand).min(strand_count);
+        let height = strand_count.div_ceil(strands_per_row);
+        if height > max_dimension {
+            return Err(Error::Parameter(format!(
+                "{strand_count} master hairs of {vertices_per_strand} vertices exceed the device's \
+                 {max_dimension}×{max_dimension} strand texture"
+            )));
+        }
+        Ok(Self {
+            vertices_per_strand,
+            strand_count,
+            strands_per_row,
+            width: strands_per_row * vertices_per_strand,
+            height,
+        })
+    }
+
+    /// Texel (x, y) of vertex `vertex` of strand `strand`.
+    pub fn texel(&self, strand: u32, vertex: u32) -> (u32, u32) {
+        (
+            (strand % self.strands_per_row) * self.vertices_per_strand + vertex,
+            strand / self.strands_per_row,
+        )
+    }
+
+    fn texel_count(&self) -> usize {
+        (self.width * self.height) as usize
+    }
+
+    /// Lays out one value per strand vertex as image rows (unused texels are zero).
+    fn to_texels(&self, values: impl Iterator<Item = Vec4>) -> Vec<Vec4> {
+        let mut texels = vec![Vec4::ZERO; self.texel_count()];
+        let v = self.vertices_per_strand;
+        for (i, value) in values.enumerate() {
+            let (x, y) = self.texel(i as u32 / v, i as u32 % v);
+            texels[(y * self.width + x) as usize] = value;
+        }
+        texels
+    }
+}
+
+/// The strand images on the GPU.
+pub struct StrandTextures {
+    device: Arc<Device>,
+    pub layout: StrandLayout,
+    /// Rest positions in model space; w = rest length of the segment ending here.
+    pub rest: Image,
+    /// Each segment's rest vector in its parent's frame (see [`RestPose`]).
+    pub rest_local: Image,
+    /// World-space positions, ping-ponged by the simulation.
+    pub positions: [Image; 2],
+    /// Which of `positions` holds the current state.
+    pub current: usize,
+    /// Per strand, the root frame's three columns (3 × vec4).
+    pub root_frames: Buffer,
+}
+
+pub const STRAND_FORMAT: vk::Format = vk::Format::R32G32B32A32_SFLOAT;
+
+impl StrandTextures {
+    /// Uploads `strands` posed by `head` as both the current and previous state.
+    pub fn new(device: &Arc<Device>, strands: &Strands, head: Mat4) -> Result<Self> {
+        let max_dimension = device.info.limits.max_image_dimension2_d;
+        let layout = StrandLayout::new(
+            strands.vertices_per_strand,
+            strands.count() as u32,
+            max_dimension,
+        )?;
+        let rest_pose = RestPose::<f32>::new(strands);
+        let desc = ImageDesc {
+            extent: vk::Extent2D {
+                width: layout.width,
+                height: layout.height,
+            },
+            format: STRAND_FORMAT,
+            usage: vk::ImageUsageFlags::STORAGE
+                | vk::ImageUsageFlags::TRANSFER_DST
+                | vk::ImageUsageFlags::TRANSFER_SRC,
+            samples: vk::SampleCountFlags::TYPE_1,
+            aspect: vk::ImageAspectFlags::COLOR,
+        };
+        let rest = Image::new(device, "strands.rest", desc)?;
+        let rest_local = Image::new(device, "strands.rest_local", desc)?;
+        let positions = [
+            Image::new(device, "strands.positions[0]", desc)?,
+            Image::new(device, "strands.positions[1]", desc)?,
+        ];
+        let frames: Vec<Vec4> = rest_pose
+            .root_frames
+            .iter()
+            .flat_map(|m| m.0.map(|c| c.to_vec3().extend(0.0)))
+            .collect();
+        let root_frames = Buffer::with_data(
+            device,
+            "strands.root_frames",
+            vk::BufferUsageFlags::STORAGE_BUFFER,
+            &frames,
+        )?;
+        let textures = Self {
+            device: device.clone(),
+            layout,
+            rest,
+            rest_local,
+            positions,
+            current: 0,
+            root_frames,
+        };
+        let rest_texels = layout.to_texels(
+            rest_pose
+                .positions
+                .iter()
+                .zip(&rest_pose.lengths)
+                .map(|(p, l)| p.to_vec3().extend(*l)),
+        );
+        let local_texels =
+            layout.to_texels(rest_pose.local.iter().map(|v| v.to_vec3().extend(0.0)));
+        let posed = layout.to_texels(
+            strands
+                .positions
+                .iter()
+                .map(|p| head.transform_point3(*p).extend(1.0)),
+        );
+        textures.upload(&[
+            (&textures.rest, &rest_texels),
+            (&textures.rest_local, &local_texels),
+            (&textures.positions[0], &posed),
+            (&textures.positions[1], &posed),
+        ])?;
+        Ok(textures)
+    }
+
+    /// The image holding the current positions.
+    pub fn current_positions(&self) -> &Image {
+        &self.positions[self.current]
+    }
+
+    /// Copies texel data into images and leaves them in `GENERAL` layout for storage use.
+    fn upload(&self, images: &[(&Image, &Vec<Vec4>)]) -> Result<()> {
+        let texel_bytes = std::mem::size_of::<Vec4>() as u64;
+        let total: u64 = images
+            .iter()
+            .map(|(_, t)| t.len() as u64 * texel_bytes)
+            .sum();
+        let mut staging = Buffer::new(
+            &self.device,
+            "strands.staging",
+            total,
+            vk::BufferUsageFlags::TRANSFER_SRC,
+            MemoryLocation::CpuToGpu,
+        )?;
+        let mut offset = 0usize;
+        let mut offsets = Vec::new();
+        for (_, texels) in images {
+            let bytes: &[u8] = bytemuck::cast_slice(texels.as_slice());
+            staging.write(offset, bytes);
+            offsets.push(offset as u64);
+            offset += bytes.len();
+        }
+        let d = &self.device;
+        d.submit_once(|cmd| {
+            let to_dst: Vec<_> = images
+                .iter()
+                .map(|(image, _)| {
+                    image.barrier(
+                        (vk::PipelineStageFlags2::NONE, vk::AccessFlags2::NONE),
+                        (
+                            vk::PipelineStageFlags2::COPY,
+                            vk::AccessFlags2::TRANSFER_WRITE,
+                        ),
+                        vk::ImageLayout::UNDEFINED,
+                        vk::ImageLayout::TRANSFER_DST_OPTIMAL,
+                    )
+                })
+                .collect();
+            image_barriers(d, cmd, &to_dst);
+            for ((image, _), offset) in images.iter().zip(&offsets) {
+                let region = vk::BufferImageCopy::default()
+                    .buffer_offset(*offset)
+                    .image_subresource(vk::ImageSubresourceLayers {
+                        aspect_mask: vk::ImageAspectFlags::COLOR,
+                        mip_level: 0,
+                        base_array_layer: 0,
+                        layer_count: 1,
+                    })
+                    .image_extent(vk::Extent3D {
+                        width: self.layout.width,
+                        height: self.layout.height,
+                        depth: 1,
+                    });
+                unsafe {
+                    d.raw.cmd_copy_buffer_to_image(
+                        cmd,
+                        staging.raw(),
+                        image.raw(),
+                        vk::ImageLayout::TRANSFER_DST_OPTIMAL,
+                        &[region],
+                    )
+                };
+            }
+            let to_general: Vec<_> = images
+                .iter()
+                .map(|(image, _)| {
+                    image.barrier(
+                        (
+                            vk::PipelineStageFlags2::COPY,
+                            vk::AccessFlags2::TRANSFER_WRITE,
+                        ),
+                        (
+                            vk::PipelineStageFlags2::ALL_COMMANDS,
+                            vk::AccessFlags2::SHADER_STORAGE_READ
+                                | vk::AccessFlags2::SHADER_STORAGE_WRITE,
+                        ),
+                        vk::ImageLayout::TRANSFER_DST_OPTIMAL,
+                        vk::ImageLayout::GENERAL,
+                    )
+                })
+                .collect();
+            image_barriers(d, cmd, &to_general);
+            Ok(())
+        })
+    }
+
+    /// Reads back the current (`which = current`) or other position image as one
+    /// position per strand vertex. For tests and tools; waits for the GPU.
+    pub fn read_positions(&self, which: usize) -> Result<Vec<Vec3>> {
+        let image = &self.positions[which];
+        let texels = self.layout.texel_count();
+        let size = (texels * std::mem::size_of::<Vec4>()) as u64;
+        let buffer = Buffer::new(
+            &self.device,
+            "strands.readback",
+            size,
+            vk::BufferUsageFlags::TRANSFER_DST,
+            MemoryLocation::GpuToCpu,
+        )?;
+        let d = &self.device;
+        d.submit_once(|cmd| {
+            let general = vk::ImageLayout::GENERAL;
+            let all = (
+                vk::PipelineStageFlags2::ALL_COMMANDS,
+                vk::AccessFlags2::SHADER_STORAGE_WRITE,
+            );
+            let copy_read = (
+                vk::PipelineStageFlags2::COPY,
+                vk::AccessFlags2::TRANSFER_READ,
+            );
+            image_barriers(d, cmd, &[image.barrier(all, copy_read, general, general)]);
+            let region = vk::BufferImageCopy::default()
+                .image_subresource(vk::ImageSubresourceLayers {
+                    aspect_mask: vk::ImageAspectFlags::COLOR,
+                    mip_level: 0,
+                    base_array_layer: 0,
+                    layer_count: 1,
+                })
+                .image_extent(vk::Extent3D {
+                    width: self.layout.width,
+                    height: self.layout.height,
+                    depth: 1,
+                });
+            unsafe {
+                d.raw
+                    .cmd_copy_image_to_buffer(cmd, image.raw(), general, buffer.raw(), &[region])
+            };
+            let after = (
+                vk::PipelineStageFlags2::ALL_COMMANDS,
+                vk::AccessFlags2::SHADER_STORAGE_READ | vk::AccessFlags2::SHADER_STORAGE_WRITE,
+            );
+            image_barriers(
+                d,
+                cmd,
+                &[image.barrier(
+                    (
+                        vk::PipelineStageFlags2::COPY,
+                        vk::AccessFlags2::TRANSFER_READ,
+                    ),
+                    after,
+                    general,
+                    general,
+                )],
+            );
+            Ok(())
+        })?;
+        let texel_data: &[Vec4] = bytemuck::cast_slice(buffer.mapped());
+        let l = self.layout;
+        Ok((0..l.strand_count * l.vertices_per_strand)
+            .map(|i| {
+                let (x, y) = l.texel(i / l.vertices_per_strand, i % l.vertices_per_strand);
+                texel_data[(y * l.width + x) as usize].truncate()
+            })
+            .collect())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn layout_tiles_more_strands_than_the_maximum_dimension() {
+        let l = StrandLayout::new(17, 50_000, 16_384).unwrap();
+        assert_eq!(l.strands_per_row, 963);
+        assert!(l.height <= 16_384 && l.width <= 16_384);
+        // Every vertex maps to a distinct texel inside the image.
+        let mut seen = std::collections::HashSet::new();
+        for s in (0..50_000).step_by(7) {
+            for v in 0..17 {
+                let (x, y) = l.texel(s, v);
+                assert!(x < l.width && y < l.height);
+                assert!(seen.insert((x, y)));
+            }
+        }
+    }
+
+    #[test]
+    fn layout_rejects_what_cannot_fit() {
+        assert!(StrandLayout::new(17, 0, 16_384).is_err());
+        assert!(StrandLayout::new(1, 10, 16_384).is_err());
+        assert!(StrandLayout::new(64, 64 * 64 + 1, 64 * 64 / 64).is_err());
+    }
+}

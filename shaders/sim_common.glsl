@@ -1,1 +1,93 @@
-// placeholder
+// Declarations shared by the simulation kernels. Must match src/sim/gpu.rs.
+//
+// One invocation per strand vertex; a workgroup covers STRANDS_PER_GROUP whole strands
+// (GROUP_SIZE = STRANDS_PER_GROUP × V threads) so a strand can live in shared memory.
+#ifndef SIM_COMMON_GLSL
+#define SIM_COMMON_GLSL
+
+#include "strands.glsl"
+
+layout(constant_id = 0) const uint GROUP_SIZE = 64u;
+layout(constant_id = 1) const uint V = 17u;   // vertices per strand
+layout(local_size_x_id = 0) in;
+
+layout(set = 0, binding = 0, std140) uniform SimStatic {
+    vec4 stiffness;     // S_G, S_L
+    uvec4 counts;       // strand count, strands per row, global cutoff vertex, local iterations
+    uvec4 counts2;      // length iterations
+} sim;
+
+// Per-substep constants, written by the CPU before submission (StepConstants).
+struct Step {
+    mat4 head;          // H: model to world
+    vec4 gravity_h2;    // xyz = g h², w = velocity retention
+    vec4 wind_h2[4];    // W1..W4 scaled by magnitude and h²
+};
+layout(set = 0, binding = 1, std430) readonly buffer Steps {
+    Step steps[];
+};
+
+// Rest data: written once by simulate_rest.comp (which defines REST_ACCESS as empty),
+// read-only for the simulation steps.
+#ifndef REST_ACCESS
+#define REST_ACCESS readonly
+#endif
+layout(set = 0, binding = 2, rgba32f) uniform REST_ACCESS image2D rest_positions;  // model space, w = rest length
+layout(set = 0, binding = 3, rgba32f) uniform REST_ACCESS image2D rest_local;      // segment i in frame i
+layout(set = 0, binding = 4, std430) REST_ACCESS buffer RootFrames {
+    vec4 root_frames[];   // 3 columns per strand
+};
+layout(set = 0, binding = 5, rgba32f) uniform coherent image2D previous_positions;
+layout(set = 0, binding = 6, rgba32f) uniform coherent image2D current_positions;
+
+layout(push_constant) uniform Push {
+    uint step;          // index into steps[]
+} push;
+
+const uint STRANDS_PER_GROUP = GROUP_SIZE / V;
+const float MIN_LENGTH = 1e-20;
+
+// This invocation's strand and vertex; `live` is false past the last strand.
+struct Lane {
+    uint strand;
+    uint vertex;
+    uint base;          // first shared-memory slot of this strand
+    bool live;
+};
+
+Lane lane() {
+    uint local_strand = gl_LocalInvocationID.x / V;
+    Lane l;
+    l.vertex = gl_LocalInvocationID.x % V;
+    l.strand = gl_WorkGroupID.x * STRANDS_PER_GROUP + local_strand;
+    l.base = local_strand * V;
+    l.live = l.strand < sim.counts.x;
+    return l;
+}
+
+ivec2 texel(Lane l) {
+    return strand_texel(l.strand, l.vertex, V, sim.counts.y);
+}
+
+vec3 head_point(vec3 p) {
+    return (steps[push.step].head * vec4(p, 1.0)).xyz;
+}
+
+// The rotation taking the x axis to unit u along the shortest arc (src/sim/cpu.rs).
+mat3 rotation_from_x(vec3 u) {
+    float c = u.x;
+    if (c < -0.9999) {
+        return mat3(vec3(-1.0, 0.0, 0.0), vec3(0.0, -1.0, 0.0), vec3(0.0, 0.0, 1.0));
+    }
+    float f = 1.0 / (1.0 + c);
+    float y = u.y;
+    float z = u.z;
+    return mat3(vec3(c, y, z), vec3(-y, 1.0 - y * y * f, -y * z * f), vec3(-z, -y * z * f, 1.0 - z * z * f));
+}
+
+mat3 advance_frame(mat3 frame, vec3 v) {
+    float len = length(v);
+    return len > MIN_LENGTH ? frame * rotation_from_x(v * (1.0 / len)) : frame;
+}
+
+#endif

@@ -16,7 +16,6 @@ use gpu_allocator::MemoryLocation;
 use crate::error::{Error, Result};
 use crate::gpu::{image_barriers, Buffer, Device, Image, ImageDesc};
 use crate::scene::Strands;
-use crate::sim::RestPose;
 
 /// Where each strand vertex lives in the strand textures.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -85,15 +84,17 @@ impl StrandLayout {
 pub struct StrandTextures {
     device: Arc<Device>,
     pub layout: StrandLayout,
-    /// Rest positions in model space; w = rest length of the segment ending here.
+    /// Rest positions in model space; w = rest length of the segment ending here
+    /// (filled in by the simulation's rest pass).
     pub rest: Image,
-    /// Each segment's rest vector in its parent's frame (see [`RestPose`]).
+    /// Each segment's rest vector in its parent's frame (see [`crate::sim::RestPose`]);
+    /// computed on the GPU by the simulation's rest pass.
     pub rest_local: Image,
     /// World-space positions, ping-ponged by the simulation.
     pub positions: [Image; 2],
     /// Which of `positions` holds the current state.
     pub current: usize,
-    /// Per strand, the root frame's three columns (3 × vec4).
+    /// Per strand, the root frame's three columns (3 × vec4); from the rest pass.
     pub root_frames: Buffer,
 }
 
@@ -108,7 +109,6 @@ impl StrandTextures {
             strands.count() as u32,
             max_dimension,
         )?;
-        let rest_pose = RestPose::<f32>::new(strands);
         let desc = ImageDesc {
             extent: vk::Extent2D {
                 width: layout.width,
@@ -127,16 +127,12 @@ impl StrandTextures {
             Image::new(device, "strands.positions[0]", desc)?,
             Image::new(device, "strands.positions[1]", desc)?,
         ];
-        let frames: Vec<Vec4> = rest_pose
-            .root_frames
-            .iter()
-            .flat_map(|m| m.0.map(|c| c.to_vec3().extend(0.0)))
-            .collect();
-        let root_frames = Buffer::with_data(
+        let root_frames = Buffer::new(
             device,
             "strands.root_frames",
+            u64::from(layout.strand_count) * 3 * std::mem::size_of::<Vec4>() as u64,
             vk::BufferUsageFlags::STORAGE_BUFFER,
-            &frames,
+            MemoryLocation::GpuOnly,
         )?;
         let textures = Self {
             device: device.clone(),
@@ -147,15 +143,8 @@ impl StrandTextures {
             current: 0,
             root_frames,
         };
-        let rest_texels = layout.to_texels(
-            rest_pose
-                .positions
-                .iter()
-                .zip(&rest_pose.lengths)
-                .map(|(p, l)| p.to_vec3().extend(*l)),
-        );
-        let local_texels =
-            layout.to_texels(rest_pose.local.iter().map(|v| v.to_vec3().extend(0.0)));
+        let rest_texels = layout.to_texels(strands.positions.iter().map(|p| p.extend(0.0)));
+        let zeros = vec![Vec4::ZERO; layout.texel_count()];
         let posed = layout.to_texels(
             strands
                 .positions
@@ -164,7 +153,7 @@ impl StrandTextures {
         );
         textures.upload(&[
             (&textures.rest, &rest_texels),
-            (&textures.rest_local, &local_texels),
+            (&textures.rest_local, &zeros),
             (&textures.positions[0], &posed),
             (&textures.positions[1], &posed),
         ])?;
@@ -286,7 +275,8 @@ impl StrandTextures {
                 vk::PipelineStageFlags2::COPY,
                 vk::AccessFlags2::TRANSFER_READ,
             );
-            image_barriers(d, cmd, &[image.barrier(all, copy_read, general, general)]);
+            let src = vk::ImageLayout::TRANSFER_SRC_OPTIMAL;
+            image_barriers(d, cmd, &[image.barrier(all, copy_read, general, src)]);
             let region = vk::BufferImageCopy::default()
                 .image_subresource(vk::ImageSubresourceLayers {
                     aspect_mask: vk::ImageAspectFlags::COLOR,
@@ -301,7 +291,7 @@ impl StrandTextures {
                 });
             unsafe {
                 d.raw
-                    .cmd_copy_image_to_buffer(cmd, image.raw(), general, buffer.raw(), &[region])
+                    .cmd_copy_image_to_buffer(cmd, image.raw(), src, buffer.raw(), &[region])
             };
             let after = (
                 vk::PipelineStageFlags2::ALL_COMMANDS,
@@ -316,7 +306,7 @@ impl StrandTextures {
                         vk::AccessFlags2::TRANSFER_READ,
                     ),
                     after,
-                    general,
+                    src,
                     general,
                 )],
             );

@@ -40,6 +40,10 @@ pub const SOURCES: &[(&str, &str)] = &[
         include_str!("../../shaders/simulate_length.comp"),
     ),
     (
+        "simulate_rest.comp",
+        include_str!("../../shaders/simulate_rest.comp"),
+    ),
+    (
         "simulate_wind.comp",
         include_str!("../../shaders/simulate_wind.comp"),
     ),
@@ -82,7 +86,7 @@ pub fn compile_source(name: &str, text: &str, defines: &[(&str, String)]) -> Res
         .map_err(|e| Error::ShaderCompile(format!("cannot create shaderc options: {e}")))?;
     options.set_target_env(
         shaderc::TargetEnv::Vulkan,
-        shaderc::EnvVersion::Vulkan1_3 as u32,
+        shaderc::EnvVersion::Vulkan1_2 as u32,
     );
     options.set_optimization_level(shaderc::OptimizationLevel::Performance);
     options.set_generate_debug_info();

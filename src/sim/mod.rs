@@ -10,3 +10,5 @@ pub use cpu::{CpuSim, Real, V3};
 pub use motion::{Motion, MotionKind};
 pub use params::{SimParams, StepConstants};
 pub use rest::RestPose;
+mod gpu;
+pub use gpu::{GpuSim, SimStep};

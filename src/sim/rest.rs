@@ -71,8 +71,12 @@ impl<T: Real> RestPose<T> {
         let v = self.vertices_per_strand;
         let mut frame = head.rotation.mul_mat(&self.root_frames[s]);
         for i in 0..v - 1 {
-            let target = x[i] + frame.mul_vec(self.local[s * v + i]);
-            let delta = (target - x[i + 1]).scale(stiffness);
+            // F (vᵢ − Fᵀ(xᵢ₊₁ − xᵢ)) is `x_i + F vᵢ − xᵢ₊₁` for an orthonormal F, and is
+            // exactly zero at rest: the rest pose is a fixed point, not a rounding drift.
+            let current = frame.transpose_mul_vec(x[i + 1] - x[i]);
+            let delta = frame
+                .mul_vec(self.local[s * v + i] - current)
+                .scale(stiffness);
             if i == 0 {
                 x[i + 1] = x[i + 1] + delta;
             } else {

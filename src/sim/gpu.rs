@@ -1,0 +1,473 @@
+//! The simulation in compute shaders: one pipeline per named step of Han & Harada,
+//! dispatched in order with a barrier after each, ping-ponging the strand textures.
+//!
+//! Steps a scene does not use are neither built nor dispatched: the global constraint
+//! at S_G = 0 (or an empty range), the local constraint at S_L = 0 or 0 iterations, the
+//! length constraint at 0 iterations, wind when its vector is zero.
+
+use std::sync::Arc;
+
+use ash::vk;
+use glam::{DMat4, Mat4, UVec4, Vec4};
+use gpu_allocator::MemoryLocation;
+
+use super::params::{SimParams, StepConstants};
+use crate::error::{Error, Result};
+use crate::gpu::{
+    memory_barrier, Buffer, DescriptorPool, DescriptorSetLayout, Device, Pipeline, PipelineLayout,
+    QueryPool, Specialization,
+};
+use crate::strand_textures::StrandTextures;
+
+/// Threads per workgroup at most; a group holds ⌊64 / V⌋ whole strands.
+pub const MAX_GROUP_SIZE: u32 = 64;
+/// Substeps whose constants fit in the step buffer: one submission's worth.
+const STEP_CAPACITY: usize = 1024;
+
+/// `SimStatic` in `shaders/sim_common.glsl` (std140).
+#[repr(C)]
+#[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
+struct SimStatic {
+    stiffness: Vec4,
+    counts: UVec4,
+    counts2: UVec4,
+}
+
+/// `Step` in `shaders/sim_common.glsl` (std430).
+#[repr(C)]
+#[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
+struct GpuStep {
+    head: Mat4,
+    gravity_h2: Vec4,
+    wind_h2: [Vec4; 4],
+}
+
+impl From<&StepConstants> for GpuStep {
+    fn from(c: &StepConstants) -> Self {
+        Self {
+            head: c.head,
+            gravity_h2: c.gravity_h2.extend(c.velocity_retention),
+            wind_h2: c.wind_h2.map(|w| w.extend(0.0)),
+        }
+    }
+}
+
+/// The named steps, in dispatch order.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SimStep {
+    Integrate,
+    Global,
+    Local,
+    Length,
+    Wind,
+}
+
+impl SimStep {
+    pub const ALL: [SimStep; 5] = [
+        Self::Integrate,
+        Self::Global,
+        Self::Local,
+        Self::Length,
+        Self::Wind,
+    ];
+
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Integrate => "integrate",
+            Self::Global => "global shape",
+            Self::Local => "local shape",
+            Self::Length => "edge length",
+            Self::Wind => "wind",
+        }
+    }
+
+    fn shader(self) -> &'static str {
+        match self {
+            Self::Integrate => "simulate_integrate.comp",
+            Self::Global => "simulate_global.comp",
+            Self::Local => "simulate_local.comp",
+            Self::Length => "simulate_length.comp",
+            Self::Wind => "simulate_wind.comp",
+        }
+    }
+
+    /// Whether `params` make this step do anything.
+    pub fn needed(self, params: &SimParams, vertices: u32) -> bool {
+        match self {
+            Self::Integrate => true,
+            Self::Global => params.global_cutoff(vertices) > 0,
+            Self::Local => params.local_stiffness > 0.0 && params.local_iterations > 0,
+            Self::Length => params.length_iterations > 0,
+            Self::Wind => params.wind_enabled(),
+        }
+    }
+}
+
+fn bindings() -> [(vk::DescriptorType, vk::ShaderStageFlags); 7] {
+    let c = vk::ShaderStageFlags::COMPUTE;
+    [
+        (vk::DescriptorType::UNIFORM_BUFFER, c),
+        (vk::DescriptorType::STORAGE_BUFFER, c),
+        (vk::DescriptorType::STORAGE_IMAGE, c),
+        (vk::DescriptorType::STORAGE_IMAGE, c),
+        (vk::DescriptorType::STORAGE_BUFFER, c),
+        (vk::DescriptorType::STORAGE_IMAGE, c),
+        (vk::DescriptorType::STORAGE_IMAGE, c),
+    ]
+}
+
+/// GPU simulation state for one set of strand textures.
+pub struct GpuSim {
+    device: Arc<Device>,
+    params: SimParams,
+    vertices: u32,
+    strand_count: u32,
+    group_size: u32,
+    _set_layout: DescriptorSetLayout,
+    layout: PipelineLayout,
+    _pool: DescriptorPool,
+    /// Set `k` reads `positions[k]` as current and `positions[1 - k]` as previous.
+    sets: Vec<vk::DescriptorSet>,
+    statics: Buffer,
+    steps: Buffer,
+    /// Pipelines of the steps in use, in dispatch order.
+    pipelines: Vec<(SimStep, Pipeline)>,
+    timestamps: Option<QueryPool>,
+    /// Simulated time in seconds.
+    pub time: f64,
+}
+
+impl GpuSim {
+    pub fn new(device: &Arc<Device>, textures: &StrandTextures, params: SimParams) -> Result<Self> {
+        params.validate()?;
+        let vertices = textures.layout.vertices_per_strand;
+        if vertices > MAX_GROUP_SIZE {
+            return Err(Error::Parameter(format!(
+                "the simulation handles at most {MAX_GROUP_SIZE} vertices per strand, got {vertices}"
+            )));
+        }
+        let bindings = bindings();
+        let set_layout = DescriptorSetLayout::new(device, "sim.set_layout", &bindings)?;
+        let push = [vk::PushConstantRange::default()
+            .stage_flags(vk::ShaderStageFlags::COMPUTE)
+            .size(4)];
+        let layout = PipelineLayout::new(device, "sim.pipeline_layout", &[&set_layout], &push)?;
+        let pool = DescriptorPool::new(device, "sim.descriptor_pool", 2, &bindings)?;
+        let sets = pool.allocate(&set_layout, 2)?;
+        let statics = Buffer::new(
+            device,
+            "sim.static",
+            std::mem::size_of::<SimStatic>() as u64,
+            vk::BufferUsageFlags::UNIFORM_BUFFER,
+            MemoryLocation::CpuToGpu,
+        )?;
+        let steps = Buffer::new(
+            device,
+            "sim.steps",
+            (STEP_CAPACITY * std::mem::size_of::<GpuStep>()) as u64,
+            vk::BufferUsageFlags::STORAGE_BUFFER,
+            MemoryLocation::CpuToGpu,
+        )?;
+        for (k, set) in sets.iter().enumerate() {
+            let buffer = |b: &Buffer| {
+                [vk::DescriptorBufferInfo::default()
+                    .buffer(b.raw())
+                    .range(vk::WHOLE_SIZE)]
+            };
+            let image = |i: &crate::gpu::Image| {
+                [vk::DescriptorImageInfo::default()
+                    .image_view(i.view())
+                    .image_layout(vk::ImageLayout::GENERAL)]
+            };
+            let (b0, b1, b4) = (
+                buffer(&statics),
+                buffer(&steps),
+                buffer(&textures.root_frames),
+            );
+            let (i2, i3) = (image(&textures.rest), image(&textures.rest_local));
+            let (i5, i6) = (
+                image(&textures.positions[1 - k]),
+                image(&textures.positions[k]),
+            );
+            let write = |binding: u32| {
+                vk::WriteDescriptorSet::default()
+                    .dst_set(*set)
+                    .dst_binding(binding)
+                    .descriptor_type(bindings[binding as usize].0)
+            };
+            let writes = [
+                write(0).buffer_info(&b0),
+                write(1).buffer_info(&b1),
+                write(2).image_info(&i2),
+                write(3).image_info(&i3),
+                write(4).buffer_info(&b4),
+                write(5).image_info(&i5),
+                write(6).image_info(&i6),
+            ];
+            unsafe { device.raw.update_descriptor_sets(&writes, &[]) };
+        }
+        let timestamps = if device.info.timestamps {
+            Some(QueryPool::timestamps(device, "sim.timestamps", 2)?)
+        } else {
+            None
+        };
+        let mut sim = Self {
+            device: device.clone(),
+            params: params.clone(),
+            vertices,
+            strand_count: textures.layout.strand_count,
+            group_size: (MAX_GROUP_SIZE / vertices) * vertices,
+            _set_layout: set_layout,
+            layout,
+            _pool: pool,
+            sets,
+            statics,
+            steps,
+            pipelines: Vec::new(),
+            timestamps,
+            time: 0.0,
+        };
+        sim.set_params(params, textures)?;
+        sim.compute_rest_data()?;
+        Ok(sim)
+    }
+
+    /// Runs `simulate_rest.comp` once: local rest vectors, rest lengths, root frames.
+    fn compute_rest_data(&self) -> Result<()> {
+        let spec = Specialization::new(&[(0, self.group_size), (1, self.vertices)]);
+        let pipeline = Pipeline::compute(&self.device, "simulate_rest.comp", &self.layout, &spec)?;
+        let d = &*self.device;
+        d.submit_once(|cmd| {
+            d.begin_label(cmd, "rest pose");
+            unsafe {
+                d.raw
+                    .cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, pipeline.raw());
+                d.raw.cmd_bind_descriptor_sets(
+                    cmd,
+                    vk::PipelineBindPoint::COMPUTE,
+                    self.layout.raw(),
+                    0,
+                    &[self.sets[0]],
+                    &[],
+                );
+                d.raw.cmd_push_constants(
+                    cmd,
+                    self.layout.raw(),
+                    vk::ShaderStageFlags::COMPUTE,
+                    0,
+                    &0u32.to_ne_bytes(),
+                );
+                d.raw.cmd_dispatch(cmd, self.group_count(), 1, 1);
+            }
+            d.end_label(cmd);
+            memory_barrier(
+                d,
+                cmd,
+                (
+                    vk::PipelineStageFlags2::COMPUTE_SHADER,
+                    vk::AccessFlags2::SHADER_STORAGE_WRITE,
+                ),
+                (
+                    vk::PipelineStageFlags2::COMPUTE_SHADER,
+                    vk::AccessFlags2::SHADER_STORAGE_READ,
+                ),
+            );
+            Ok(())
+        })
+    }
+
+    pub fn params(&self) -> &SimParams {
+        &self.params
+    }
+
+    /// The steps that will be dispatched, in order.
+    pub fn active_steps(&self) -> Vec<SimStep> {
+        self.pipelines.iter().map(|(s, _)| *s).collect()
+    }
+
+    /// Changes parameters; builds pipelines for steps that become needed and drops the
+    /// ones that no longer are.
+    pub fn set_params(&mut self, params: SimParams, textures: &StrandTextures) -> Result<()> {
+        params.validate()?;
+        let statics = SimStatic {
+            stiffness: Vec4::new(params.global_stiffness, params.local_stiffness, 0.0, 0.0),
+            counts: UVec4::new(
+                self.strand_count,
+                textures.layout.strands_per_row,
+                params.global_cutoff(self.vertices),
+                params.local_iterations,
+            ),
+            counts2: UVec4::new(params.length_iterations, 0, 0, 0),
+        };
+        self.statics.write(0, bytemuck::bytes_of(&statics));
+        let mut pipelines = Vec::new();
+        let mut old = std::mem::take(&mut self.pipelines);
+        let spec = Specialization::new(&[(0, self.group_size), (1, self.vertices)]);
+        for step in SimStep::ALL {
+            if !step.needed(&params, self.vertices) {
+                continue;
+            }
+            let pipeline = match old.iter().position(|(s, _)| *s == step) {
+                Some(i) => old.swap_remove(i).1,
+                None => Pipeline::compute(&self.device, step.shader(), &self.layout, &spec)?,
+            };
+            pipelines.push((step, pipeline));
+        }
+        self.pipelines = pipelines;
+        self.params = params;
+        Ok(())
+    }
+
+    fn group_count(&self) -> u32 {
+        self.strand_count.div_ceil(self.group_size / self.vertices)
+    }
+
+    /// Records `constants.len()` substeps. The step constants are written into the step
+    /// buffer now, so the submission must complete before the next call.
+    pub fn record(
+        &mut self,
+        cmd: vk::CommandBuffer,
+        textures: &mut StrandTextures,
+        constants: &[StepConstants],
+    ) -> Result<()> {
+        if constants.len() > STEP_CAPACITY {
+            return Err(Error::Parameter(format!(
+                "at most {STEP_CAPACITY} substeps per submission, got {}",
+                constants.len()
+            )));
+        }
+        let data: Vec<GpuStep> = constants.iter().map(GpuStep::from).collect();
+        self.steps.write(0, bytemuck::cast_slice(&data));
+        let d = &*self.device;
+        let raw = &d.raw;
+        d.begin_label(cmd, "simulation");
+        // Earlier reads of the strand images (drawing, copies) finish before we write.
+        memory_barrier(
+            d,
+            cmd,
+            (
+                vk::PipelineStageFlags2::ALL_COMMANDS,
+                vk::AccessFlags2::SHADER_STORAGE_READ
+                    | vk::AccessFlags2::SHADER_STORAGE_WRITE
+                    | vk::AccessFlags2::TRANSFER_READ,
+            ),
+            (
+                vk::PipelineStageFlags2::COMPUTE_SHADER,
+                vk::AccessFlags2::SHADER_STORAGE_READ | vk::AccessFlags2::SHADER_STORAGE_WRITE,
+            ),
+        );
+        if let Some(q) = &self.timestamps {
+            q.reset();
+            unsafe {
+                raw.cmd_write_timestamp2(cmd, vk::PipelineStageFlags2::COMPUTE_SHADER, q.raw(), 0)
+            };
+        }
+        let groups = self.group_count();
+        for (index, _) in constants.iter().enumerate() {
+            unsafe {
+                raw.cmd_push_constants(
+                    cmd,
+                    self.layout.raw(),
+                    vk::ShaderStageFlags::COMPUTE,
+                    0,
+                    &(index as u32).to_ne_bytes(),
+                )
+            };
+            for (step, pipeline) in &self.pipelines {
+                // Integrate reads the current image and writes the previous one, which
+                // from then on is current: the remaining steps use the other set.
+                let set = if *step == SimStep::Integrate {
+                    self.sets[textures.current]
+                } else {
+                    self.sets[1 - textures.current]
+                };
+                d.begin_label(cmd, step.name());
+                unsafe {
+                    raw.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, pipeline.raw());
+                    raw.cmd_bind_descriptor_sets(
+                        cmd,
+                        vk::PipelineBindPoint::COMPUTE,
+                        self.layout.raw(),
+                        0,
+                        &[set],
+                        &[],
+                    );
+                    raw.cmd_dispatch(cmd, groups, 1, 1);
+                }
+                d.end_label(cmd);
+                // Every step depends on the one before: a barrier after each dispatch.
+                memory_barrier(
+                    d,
+                    cmd,
+                    (
+                        vk::PipelineStageFlags2::COMPUTE_SHADER,
+                        vk::AccessFlags2::SHADER_STORAGE_WRITE,
+                    ),
+                    (
+                        vk::PipelineStageFlags2::COMPUTE_SHADER,
+                        vk::AccessFlags2::SHADER_STORAGE_READ
+                            | vk::AccessFlags2::SHADER_STORAGE_WRITE,
+                    ),
+                );
+            }
+            textures.current = 1 - textures.current;
+        }
+        if let Some(q) = &self.timestamps {
+            unsafe {
+                raw.cmd_write_timestamp2(cmd, vk::PipelineStageFlags2::COMPUTE_SHADER, q.raw(), 1)
+            };
+        }
+        d.end_label(cmd);
+        Ok(())
+    }
+
+    /// The per-substep constants for the next `frames` frames under `head_at`, advancing
+    /// the simulated time.
+    pub fn next_constants(
+        &mut self,
+        frames: usize,
+        head_at: impl Fn(f64) -> DMat4,
+    ) -> Vec<StepConstants> {
+        let h = self.params.substep_dt();
+        let mut out = Vec::with_capacity(frames * self.params.substeps as usize);
+        for _ in 0..frames * self.params.substeps as usize {
+            self.time += h;
+            out.push(StepConstants::new(
+                &self.params,
+                self.time,
+                head_at(self.time),
+            ));
+        }
+        out
+    }
+
+    /// Simulates `frames` frames and waits for the GPU; returns the GPU milliseconds of
+    /// the last submission (NaN without timestamps).
+    pub fn run_frames(
+        &mut self,
+        textures: &mut StrandTextures,
+        frames: usize,
+        head_at: impl Fn(f64) -> DMat4,
+    ) -> Result<f64> {
+        let per_submit = (STEP_CAPACITY / self.params.substeps as usize).max(1);
+        let mut remaining = frames;
+        let mut ms = f64::NAN;
+        while remaining > 0 {
+            let n = remaining.min(per_submit);
+            let constants = self.next_constants(n, &head_at);
+            let device = self.device.clone();
+            device.submit_once(|cmd| self.record(cmd, textures, &constants))?;
+            ms = self.last_gpu_ms()?;
+            remaining -= n;
+        }
+        Ok(ms)
+    }
+
+    /// GPU milliseconds between the first and last dispatch of the last submission.
+    pub fn last_gpu_ms(&self) -> Result<f64> {
+        match &self.timestamps {
+            Some(q) => Ok(q.timestamps_ms()?[1]),
+            None => Ok(f64::NAN),
+        }
+    }
+}

@@ -75,15 +75,23 @@ impl MeshPass {
         Ok(Self { pipeline, vertices })
     }
 
-    /// Records the draw; the caller has bound the descriptor set and index buffer.
+    /// Binds the mesh's vertex buffer. The renderer binds it once per frame, even when
+    /// only the fur (which reads no vertex attributes) is drawn: Mesa 22.3's lavapipe
+    /// crashes on an indexed draw with no vertex buffer ever bound.
+    pub fn bind_vertices(&self, device: &Device, cmd: vk::CommandBuffer) {
+        unsafe {
+            device
+                .raw
+                .cmd_bind_vertex_buffers(cmd, 0, &[self.vertices.raw()], &[0])
+        };
+    }
+
+    /// Records the draw; the caller has bound the descriptor set, index and vertex buffers.
     pub fn draw(&self, device: &Device, cmd: vk::CommandBuffer, index_count: u32) {
         unsafe {
             device
                 .raw
                 .cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, self.pipeline.raw());
-            device
-                .raw
-                .cmd_bind_vertex_buffers(cmd, 0, &[self.vertices.raw()], &[0]);
             device.raw.cmd_draw_indexed(cmd, index_count, 1, 0, 0, 0);
         }
     }

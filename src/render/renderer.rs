@@ -244,6 +244,12 @@ impl Renderer {
             .load_op(vk::AttachmentLoadOp::CLEAR)
             .store_op(vk::AttachmentStoreOp::DONT_CARE)
             .clear_value(clear[1]);
+        // The statistics query spans the whole rendering scope (the mesh pass adds no
+        // tessellation or geometry work). Mesa 22.3's lavapipe crashes when such a query
+        // begins inside the scope before its first draw.
+        if let Some(q) = &self.statistics {
+            unsafe { raw.cmd_begin_query(cmd, q.raw(), 0, vk::QueryControlFlags::empty()) };
+        }
         let rendering = vk::RenderingInfo::default()
             .render_area(extent.into())
             .layer_count(1)
@@ -274,45 +280,36 @@ impl Renderer {
             );
             raw.cmd_bind_index_buffer(cmd, self.indices.raw(), 0, vk::IndexType::UINT32);
         }
+        self.mesh_pass.bind_vertices(d, cmd);
         if settings.draw_mesh {
             d.begin_label(cmd, "mesh pass");
             self.mesh_pass.draw(d, cmd, self.index_count);
             d.end_label(cmd);
         }
-        if let Some(q) = &self.timestamps {
-            unsafe {
-                raw.cmd_write_timestamp2(
-                    cmd,
-                    vk::PipelineStageFlags2::ALL_GRAPHICS,
-                    q.raw(),
-                    TS_MESH,
-                )
-            };
-        }
+        self.timestamp(cmd, TS_MESH);
         if settings.draw_fur {
             d.begin_label(cmd, "fur pass");
-            if let Some(q) = &self.statistics {
-                unsafe { raw.cmd_begin_query(cmd, q.raw(), 0, vk::QueryControlFlags::empty()) };
-            }
             self.fur_pass.draw(d, cmd, self.index_count);
-            if let Some(q) = &self.statistics {
-                unsafe { raw.cmd_end_query(cmd, q.raw(), 0) };
-            }
             d.end_label(cmd);
         }
-        if let Some(q) = &self.timestamps {
-            unsafe {
-                raw.cmd_write_timestamp2(
-                    cmd,
-                    vk::PipelineStageFlags2::ALL_GRAPHICS,
-                    q.raw(),
-                    TS_FUR,
-                )
-            };
-        }
+        self.timestamp(cmd, TS_FUR);
         unsafe { raw.cmd_end_rendering(cmd) };
+        if let Some(q) = &self.statistics {
+            unsafe { raw.cmd_end_query(cmd, q.raw(), 0) };
+        }
         self.target.copy_out(d, cmd);
         d.end_label(cmd);
+    }
+
+    fn timestamp(&self, cmd: vk::CommandBuffer, slot: u32) {
+        if let Some(q) = &self.timestamps {
+            let stage = vk::PipelineStageFlags2::ALL_GRAPHICS;
+            unsafe {
+                self.device
+                    .raw
+                    .cmd_write_timestamp2(cmd, stage, q.raw(), slot)
+            };
+        }
     }
 
     /// Reads the queries of the last submitted frame (waits for them).

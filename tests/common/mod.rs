@@ -20,3 +20,46 @@ pub fn assert_clean(device: &Arc<Device>) {
         messages.join("\n")
     );
 }
+
+use ash::vk;
+use fur::gpu::FurStatistics;
+use fur::render::{FrameSettings, Renderer, RgbaImage};
+use fur::scene::{GroomParams, Mesh, Strands};
+use fur::strand_textures::StrandTextures;
+
+/// Renders `mesh` with `groom` once and returns the image and the fur statistics.
+pub fn render(
+    device: &Arc<Device>,
+    mesh: &Mesh,
+    groom: &GroomParams,
+    settings: &FrameSettings,
+    (width, height): (u32, u32),
+) -> (RgbaImage, FurStatistics) {
+    let strands = Strands::grow(mesh, groom).unwrap();
+    let textures = StrandTextures::new(device, &strands, settings.head).unwrap();
+    let mut renderer =
+        Renderer::new(device, mesh, &textures, vk::Extent2D { width, height }).unwrap();
+    let (image, report) = renderer.render(&textures, settings).unwrap();
+    (image, report.statistics.unwrap_or_default())
+}
+
+/// Pixels that differ from the clear colour.
+pub fn covered(image: &RgbaImage) -> Vec<bool> {
+    let background = image.pixel(0, 0);
+    (0..image.height)
+        .flat_map(|y| (0..image.width).map(move |x| (x, y)))
+        .map(|(x, y)| {
+            let p = image.pixel(x, y);
+            (0..3).any(|c| p[c].abs_diff(background[c]) > 3)
+        })
+        .collect()
+}
+
+/// Writes an image for a person to look at when a test fails.
+pub fn keep(image: &RgbaImage, name: &str) {
+    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("images");
+    let path = dir.join(format!("{name}.png"));
+    if image.write_png(&path).is_ok() {
+        eprintln!("image: {}", path.display());
+    }
+}

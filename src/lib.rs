@@ -11,6 +11,7 @@ pub mod error;
 pub mod gpu;
 pub mod render;
 pub mod scene;
+pub mod session;
 pub mod sim;
 pub mod strand_textures;
 

@@ -1,27 +1,36 @@
-//! `fur`: renders (and simulates) fur headless on any Vulkan device.
+//! `fur`: renders and simulates fur on any Vulkan device with tessellation and geometry
+//! shaders. `fur` with no subcommand renders the default scene to `fur.png`.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::time::Instant;
 
+use anyhow::{bail, Context as _};
 use ash::vk;
 use clap::{Args, Parser, Subcommand};
-use fur::render::{FrameSettings, Renderer};
-use fur::scene::{Camera, GroomParams, Mesh, Strands};
-use fur::strand_textures::StrandTextures;
+use fur::render::FrameSettings;
+use fur::scene::{Camera, GroomParams, Mesh};
+use fur::session::FurSession;
+use fur::sim::{Motion, MotionKind, SimParams};
+use glam::Vec3;
 
 /// Real-time fur rendering and simulation on Vulkan: master hairs grown from a mesh,
-/// interpolated by tessellation, drawn by a geometry shader, lit with Kajiya–Kay.
+/// simulated in compute shaders (Han & Harada 2012), interpolated by tessellation,
+/// drawn by a geometry shader and lit with Kajiya–Kay.
+///
+/// With no subcommand, `fur` runs `fur render` with the given options.
 #[derive(Parser)]
-#[command(version, about)]
+#[command(version, about, args_conflicts_with_subcommands = true)]
 struct Cli {
     #[command(subcommand)]
     command: Option<Command>,
+    #[command(flatten)]
+    render: RenderArgs,
 }
 
 #[derive(Subcommand)]
 enum Command {
-    /// Render the scene to a PNG (the default model unless --model is given).
+    /// Render the scene to a PNG, or simulate it and render a PNG sequence.
     Render(RenderArgs),
     /// Write the built-in default model as an OBJ file.
     ExportModel {
@@ -33,14 +42,16 @@ enum Command {
 
 #[derive(Args, Clone)]
 struct RenderArgs {
-    /// OBJ model to grow fur on (default: the built-in blob).
+    /// OBJ model to grow fur on (default: the built-in blob, see `fur export-model`).
     #[arg(long)]
     model: Option<PathBuf>,
-    /// Output PNG.
+    /// Output PNG of a single frame.
     #[arg(long, default_value = "fur.png")]
     out: PathBuf,
+    /// Image width in pixels.
     #[arg(long, default_value_t = 1280)]
     width: u32,
+    /// Image height in pixels.
     #[arg(long, default_value_t = 720)]
     height: u32,
     /// Camera orbit angle around the vertical axis, degrees.
@@ -52,6 +63,36 @@ struct RenderArgs {
     /// Camera distance as a multiple of the model's bounding radius.
     #[arg(long, default_value_t = 2.6)]
     distance: f32,
+
+    #[command(flatten)]
+    groom: GroomArgs,
+    #[command(flatten)]
+    sim: SimArgs,
+
+    /// Simulate and render this many frames (1/60 s each) into --out-dir.
+    #[arg(long, default_value_t = 1)]
+    frames: u32,
+    /// Folder for the PNG sequence (frame_0000.png, …); implies simulation.
+    #[arg(long)]
+    out_dir: Option<PathBuf>,
+    /// Scripted head motion: still, shake, spin or nod.
+    #[arg(long, default_value = "shake")]
+    motion: MotionKind,
+    /// Motion amplitude: fraction of the model radius for shake, degrees for nod.
+    #[arg(long, default_value_t = 0.25)]
+    amplitude: f64,
+    /// Motion rate: Hz for shake and nod, turns per second for spin.
+    #[arg(long, default_value_t = 1.0)]
+    rate: f64,
+
+    /// Enable the Khronos validation layer; any validation message fails the run.
+    #[arg(long)]
+    validate: bool,
+}
+
+/// Groom and density.
+#[derive(Args, Clone)]
+struct GroomArgs {
     /// Hair length as a fraction of the model's bounding radius.
     #[arg(long, default_value_t = 0.2)]
     hair_length: f32,
@@ -67,9 +108,70 @@ struct RenderArgs {
     /// Curl radius as a fraction of the segment length.
     #[arg(long, default_value_t = 0.0)]
     curl: f32,
-    /// Enable the Khronos validation layer; any validation message fails the run.
-    #[arg(long)]
-    validate: bool,
+}
+
+/// Simulation parameters (see `SimParams` for units and ranges).
+#[derive(Args, Clone)]
+struct SimArgs {
+    /// Substeps per frame (1..=64).
+    #[arg(long, default_value_t = 1)]
+    substeps: u32,
+    /// Gravity in m/s², pointing down.
+    #[arg(long, default_value_t = 9.82, allow_negative_numbers = true)]
+    gravity: f32,
+    /// Fraction of velocity lost per 1/60 s (0..1).
+    #[arg(long, default_value_t = 0.08)]
+    damping: f32,
+    /// Global shape stiffness S_G (0..1).
+    #[arg(long, default_value_t = 0.2)]
+    global_stiffness: f32,
+    /// Fraction of each strand the global constraint covers (0..1).
+    #[arg(long, default_value_t = 1.0)]
+    global_range: f32,
+    /// Local shape stiffness S_L (0..1).
+    #[arg(long, default_value_t = 0.9)]
+    local_stiffness: f32,
+    /// Local shape passes per substep (0..=64).
+    #[arg(long, default_value_t = 2)]
+    local_iterations: u32,
+    /// Edge-length passes per substep (0..=64).
+    #[arg(long, default_value_t = 2)]
+    length_iterations: u32,
+    /// Wind vector "x,y,z" in m/s² (0,0,0 = no wind).
+    #[arg(long, default_value = "6,0,2", value_parser = parse_vec3)]
+    wind: Vec3,
+}
+
+fn parse_vec3(s: &str) -> Result<Vec3, String> {
+    let parts: Vec<f32> = s
+        .split(',')
+        .map(|p| p.trim().parse::<f32>())
+        .collect::<Result<_, _>>()
+        .map_err(|e| format!("expected x,y,z: {e}"))?;
+    match parts[..] {
+        [x, y, z] => Ok(Vec3::new(x, y, z)),
+        _ => Err(format!(
+            "expected three comma-separated numbers, got {}",
+            parts.len()
+        )),
+    }
+}
+
+impl SimArgs {
+    fn params(&self) -> SimParams {
+        SimParams {
+            substeps: self.substeps,
+            gravity: Vec3::new(0.0, -self.gravity, 0.0),
+            damping: self.damping,
+            global_stiffness: self.global_stiffness,
+            global_range: self.global_range,
+            local_stiffness: self.local_stiffness,
+            local_iterations: self.local_iterations,
+            length_iterations: self.length_iterations,
+            wind: self.wind,
+            ..SimParams::default()
+        }
+    }
 }
 
 fn main() -> ExitCode {
@@ -77,15 +179,8 @@ fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
         Some(Command::Render(args)) => render(&args),
-        Some(Command::ExportModel { out }) => Mesh::blob()
-            .write_obj(&out)
-            .map(|_| println!("wrote {}", out.display()))
-            .map_err(Into::into),
-        None => {
-            use clap::CommandFactory;
-            let _ = Cli::command().print_help();
-            Ok(())
-        }
+        Some(Command::ExportModel { out }) => export_model(&out),
+        None => render(&cli.render),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
@@ -96,36 +191,38 @@ fn main() -> ExitCode {
     }
 }
 
-fn load_mesh(model: Option<&PathBuf>) -> anyhow::Result<Mesh> {
-    Ok(match model {
-        Some(path) => Mesh::load_obj(path)?,
-        None => Mesh::blob(),
-    })
+fn export_model(out: &Path) -> anyhow::Result<()> {
+    Mesh::blob().write_obj(out)?;
+    println!("wrote {}", out.display());
+    Ok(())
+}
+
+fn positive(name: &str, v: f32) -> anyhow::Result<()> {
+    if !(v.is_finite() && v > 0.0) {
+        bail!("--{name} must be a positive number, got {v}");
+    }
+    Ok(())
 }
 
 fn render(args: &RenderArgs) -> anyhow::Result<()> {
-    let mesh = load_mesh(args.model.as_ref())?;
+    positive("hair-length", args.groom.hair_length)?;
+    positive("distance", args.distance)?;
+    positive("density-scale", args.groom.density_scale)?;
+    if args.frames == 0 {
+        bail!("--frames must be at least 1");
+    }
+    let mesh = match &args.model {
+        Some(path) => Mesh::load_obj(path)?,
+        None => Mesh::blob(),
+    };
     let (center, radius) = mesh.bounds();
-    if !(args.hair_length.is_finite() && args.hair_length > 0.0) {
-        anyhow::bail!("--hair-length must be positive, got {}", args.hair_length);
-    }
-    if !(args.distance.is_finite() && args.distance > 0.0) {
-        anyhow::bail!("--distance must be positive, got {}", args.distance);
-    }
-    if !(args.density_scale.is_finite() && args.density_scale > 0.0) {
-        anyhow::bail!(
-            "--density-scale must be positive, got {}",
-            args.density_scale
-        );
-    }
     let groom = GroomParams {
-        segments: args.segments,
-        segment_length: args.hair_length * radius / args.segments.max(1) as f32,
-        comb_strength: args.comb,
-        curl: args.curl,
+        segments: args.groom.segments,
+        segment_length: args.groom.hair_length * radius / args.groom.segments.max(1) as f32,
+        comb_strength: args.groom.comb,
+        curl: args.groom.curl,
         ..Default::default()
     };
-    let strands = Strands::grow(&mesh, &groom)?;
     let mut settings = FrameSettings {
         camera: Camera {
             target: center,
@@ -137,46 +234,94 @@ fn render(args: &RenderArgs) -> anyhow::Result<()> {
         ..Default::default()
     };
     // Density and widths are per scene unit; scale them with the model.
-    settings.style.density *= args.density_scale / (radius * radius);
+    settings.style.density *= args.groom.density_scale / (radius * radius);
     settings.style.hair_width *= radius;
     settings.style.jitter *= radius;
     settings.style.lod_distance *= radius;
-    settings.style.validate()?;
+    let simulate = args.frames > 1 || args.out_dir.is_some();
+    let motion = Motion {
+        kind: if simulate {
+            args.motion
+        } else {
+            MotionKind::Still
+        },
+        amplitude: match args.motion {
+            MotionKind::Shake => args.amplitude * f64::from(radius),
+            _ => args.amplitude,
+        },
+        rate: args.rate,
+    };
+    let extent = vk::Extent2D {
+        width: args.width,
+        height: args.height,
+    };
 
     let device = fur::gpu::headless(args.validate)?;
-    let textures = StrandTextures::new(&device, &strands, glam::Mat4::IDENTITY)?;
-    let mut renderer = Renderer::new(
+    let mut session = FurSession::new(
         &device,
-        &mesh,
-        &textures,
-        vk::Extent2D {
-            width: args.width,
-            height: args.height,
-        },
+        mesh,
+        &groom,
+        args.sim.params(),
+        motion,
+        settings,
+        extent,
     )?;
-    let start = Instant::now();
-    let (image, report) = renderer.render(&textures, &settings)?;
-    let elapsed = start.elapsed();
-    image.write_png(&args.out)?;
-    let hairs = report
-        .statistics
-        .map(|s| format!(", {} interpolated hairs drawn", s.geometry_invocations))
-        .unwrap_or_default();
-    println!(
-        "wrote {} ({}×{}): {} master hairs{hairs}; frame {:.1} ms (GPU: mesh {:.2} ms, fur {:.2} ms)",
-        args.out.display(),
-        args.width,
-        args.height,
-        strands.count(),
-        elapsed.as_secs_f64() * 1e3,
-        report.mesh_ms,
-        report.fur_ms,
-    );
-    drop(renderer);
-    drop(textures);
+    let masters = session.strands.count();
+    if simulate {
+        let dir = args
+            .out_dir
+            .clone()
+            .unwrap_or_else(|| PathBuf::from("frames"));
+        std::fs::create_dir_all(&dir)
+            .with_context(|| format!("cannot create {}", dir.display()))?;
+        let bar = indicatif::ProgressBar::new(u64::from(args.frames)).with_style(
+            indicatif::ProgressStyle::with_template(
+                "{bar:40} {pos}/{len} frames {elapsed} (eta {eta}) {msg}",
+            )
+            .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
+        );
+        let mut sim_ms = Vec::new();
+        for frame in 0..args.frames {
+            let (image, timings) = session.step_and_render()?;
+            image.write_png(&dir.join(format!("frame_{frame:04}.png")))?;
+            sim_ms.push(timings.simulation_ms);
+            bar.set_message(format!(
+                "sim {:.2} ms, fur {:.1} ms",
+                timings.simulation_ms, timings.render.fur_ms
+            ));
+            bar.inc(1);
+        }
+        bar.finish();
+        sim_ms.sort_by(f64::total_cmp);
+        println!(
+            "wrote {} frames to {}: {masters} master hairs; GPU simulation median {:.3} ms per frame",
+            args.frames,
+            dir.display(),
+            sim_ms[sim_ms.len() / 2]
+        );
+    } else {
+        let start = Instant::now();
+        let (image, report) = session.render()?;
+        let elapsed = start.elapsed();
+        image.write_png(&args.out)?;
+        let hairs = report
+            .statistics
+            .map(|s| format!(", {} interpolated hairs drawn", s.geometry_invocations))
+            .unwrap_or_default();
+        println!(
+            "wrote {} ({}×{}): {masters} master hairs{hairs}; frame {:.1} ms (GPU: mesh {:.2} ms, fur {:.2} ms)",
+            args.out.display(),
+            args.width,
+            args.height,
+            elapsed.as_secs_f64() * 1e3,
+            report.mesh_ms,
+            report.fur_ms,
+        );
+    }
+    drop(session);
     let messages = device.instance().validation_messages();
     if !messages.is_empty() {
-        anyhow::bail!(
+        bail!(
             "{} validation message(s); the first: {}",
             messages.len(),
             messages[0]

@@ -69,7 +69,7 @@ impl StrandLayout {
     }
 
     /// Lays out one value per strand vertex as image rows (unused texels are zero).
-    fn to_texels(&self, values: impl Iterator<Item = Vec4>) -> Vec<Vec4> {
+    fn texels_from(&self, values: impl Iterator<Item = Vec4>) -> Vec<Vec4> {
         let mut texels = vec![Vec4::ZERO; self.texel_count()];
         let v = self.vertices_per_strand;
         for (i, value) in values.enumerate() {
@@ -143,9 +143,9 @@ impl StrandTextures {
             current: 0,
             root_frames,
         };
-        let rest_texels = layout.to_texels(strands.positions.iter().map(|p| p.extend(0.0)));
+        let rest_texels = layout.texels_from(strands.positions.iter().map(|p| p.extend(0.0)));
         let zeros = vec![Vec4::ZERO; layout.texel_count()];
-        let posed = layout.to_texels(
+        let posed = layout.texels_from(
             strands
                 .positions
                 .iter()

@@ -258,8 +258,8 @@ impl<T: Real> CpuSim<T> {
             if self.params.wind_enabled() {
                 let w = strand_wind(s, &wind);
                 let old: Vec<V3<T>> = x.to_vec();
-                for i in 1..v {
-                    x[i] = x[i] + wind_push(&old, i, w);
+                for (i, xi) in x.iter_mut().enumerate().skip(1) {
+                    *xi = *xi + wind_push(&old, i, w);
                 }
             }
         }
@@ -291,7 +291,7 @@ impl<T: Real> Head<T> {
 pub(crate) fn solve_length<T: Real>(p1: V3<T>, p2: V3<T>, rest: T, pinned: bool) -> (V3<T>, V3<T>) {
     let d = p1 - p2;
     let len = d.length();
-    if !(len > min_length::<T>()) {
+    if len.partial_cmp(&min_length::<T>()) != Some(std::cmp::Ordering::Greater) {
         return (p1, p2);
     }
     let n = d.scale(T::ONE / len);
@@ -319,7 +319,7 @@ pub(crate) fn wind_push<T: Real>(x: &[V3<T>], i: usize, w: V3<T>) -> V3<T> {
         x[i - 1] - x[i]
     };
     let len = t.length();
-    if !(len > min_length::<T>()) {
+    if len.partial_cmp(&min_length::<T>()) != Some(std::cmp::Ordering::Greater) {
         return V3::ZERO;
     }
     let t = t.scale(T::ONE / len);

@@ -99,3 +99,132 @@ fn gpu_at_rest_stays_exactly_put() {
     drop(textures);
     common::assert_clean(&device);
 }
+
+/// Largest |segment / rest − 1| of positions laid out strand after strand.
+fn stretch(positions: &[Vec3], rest: &[Vec3], v: usize) -> f32 {
+    let mut worst = 0.0f32;
+    for (now, then) in positions.chunks(v).zip(rest.chunks(v)) {
+        for i in 1..v {
+            let r = (then[i] - then[i - 1]).length();
+            if r > 0.0 {
+                worst = worst.max(((now[i] - now[i - 1]).length() / r - 1.0).abs());
+            }
+        }
+    }
+    worst
+}
+
+#[test]
+fn gpu_stays_finite_and_bounded_at_the_extremes() {
+    // A representative subset of the CPU stability matrix (tests/simulation_cpu.rs).
+    struct Row {
+        dt: f32,
+        stiffness: f32,
+        iterations: u32,
+        force_scale: f32,
+        segment_length: f32,
+        vertices: u32,
+    }
+    let rows = [
+        Row {
+            dt: 0.1,
+            stiffness: 1.0,
+            iterations: 64,
+            force_scale: 1000.0,
+            segment_length: 10.0,
+            vertices: 64,
+        },
+        Row {
+            dt: 1e-4,
+            stiffness: 0.0,
+            iterations: 0,
+            force_scale: 1.0,
+            segment_length: 1e-4,
+            vertices: 2,
+        },
+        Row {
+            dt: 1.0 / 60.0,
+            stiffness: 0.5,
+            iterations: 1,
+            force_scale: 1000.0,
+            segment_length: 1e-4,
+            vertices: 64,
+        },
+        Row {
+            dt: 0.1,
+            stiffness: 0.0,
+            iterations: 64,
+            force_scale: 1000.0,
+            segment_length: 0.02,
+            vertices: 17,
+        },
+        Row {
+            dt: 1.0 / 60.0,
+            stiffness: 1.0,
+            iterations: 2,
+            force_scale: 1.0,
+            segment_length: 0.02,
+            vertices: 33,
+        },
+    ];
+    let device = common::device();
+    let mesh = Mesh::icosphere(1);
+    for row in &rows {
+        let groom = GroomParams {
+            segments: row.vertices - 1,
+            segment_length: row.segment_length,
+            curl: 0.5,
+            ..Default::default()
+        };
+        let mut s = Strands::grow(&mesh, &groom).unwrap();
+        // Fold every strand onto itself at vertex 1: a zero-length segment.
+        let v = row.vertices as usize;
+        if v > 2 {
+            for strand in 0..s.count() {
+                s.positions[strand * v + 2] = s.positions[strand * v + 1];
+            }
+        }
+        let params = SimParams {
+            dt: row.dt,
+            global_stiffness: row.stiffness,
+            local_stiffness: row.stiffness,
+            local_iterations: row.iterations,
+            length_iterations: row.iterations,
+            gravity: Vec3::new(0.0, -9.82, 0.0) * row.force_scale,
+            wind: Vec3::new(6.0, 0.0, 2.0) * row.force_scale,
+            ..SimParams::default()
+        };
+        let motion = Motion {
+            kind: MotionKind::Shake,
+            amplitude: 0.3,
+            rate: 2.0,
+        };
+        let mut textures = StrandTextures::new(&device, &s, motion.head(0.0).as_mat4()).unwrap();
+        let mut gpu = GpuSim::new(&device, &textures, params).unwrap();
+        let mut worst = 0.0f32;
+        for _ in 0..4 {
+            gpu.run_frames(&mut textures, 10, |t| motion.head(t))
+                .unwrap();
+            let now = textures.read_positions(textures.current).unwrap();
+            assert!(
+                now.iter().all(|p| p.is_finite()),
+                "non-finite positions at dt {} V {}",
+                row.dt,
+                v
+            );
+            worst = worst.max(stretch(&now, &s.positions, v));
+        }
+        if row.iterations > 0 {
+            // The same bound as the CPU matrix: about n² f h² / L.
+            let n = (v - 1) as f32;
+            let force = row.force_scale * (9.82 + 6.0f32.hypot(2.0));
+            let bound = 4.0 * n * n * force * row.dt * row.dt / row.segment_length + 1.0;
+            assert!(
+                worst <= bound,
+                "dt {} V {v}: stretch {worst} exceeds {bound}",
+                row.dt
+            );
+        }
+    }
+    common::assert_clean(&device);
+}

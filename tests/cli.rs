@@ -128,3 +128,42 @@ fn a_simulated_sequence_moves_and_is_validated() {
         "consecutive frames are identical"
     );
 }
+
+#[test]
+fn the_shipped_model_is_the_built_in_one() {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/blob.obj");
+    let shipped = fur::scene::Mesh::load_obj(&path).unwrap();
+    let built_in = fur::scene::Mesh::blob();
+    assert_eq!(shipped.vertex_count(), built_in.vertex_count());
+    assert_eq!(shipped.triangle_count(), built_in.triangle_count());
+    // Loading renumbers vertices in order of first use; triangles keep their order.
+    for (a, b) in shipped.indices.iter().zip(&built_in.indices) {
+        let (pa, pb) = (
+            shipped.positions[*a as usize],
+            built_in.positions[*b as usize],
+        );
+        assert!((pa - pb).length() < 1e-5, "{pa} vs {pb}");
+    }
+    // Rendering it through the CLI works like the default scene.
+    let out = Path::new(env!("CARGO_TARGET_TMPDIR")).join("blob_from_obj.png");
+    let run = fur(&[
+        "render",
+        "--validate",
+        "--model",
+        path.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+        "--width",
+        "96",
+        "--height",
+        "64",
+        "--density-scale",
+        "0.2",
+    ]);
+    assert!(
+        run.status.success(),
+        "{}",
+        String::from_utf8_lossy(&run.stderr)
+    );
+    assert!(out.exists());
+}

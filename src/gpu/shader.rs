@@ -133,3 +133,35 @@ impl Drop for ShaderModule {
         unsafe { self.device.raw.destroy_shader_module(self.raw, None) };
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_embedded_shader_compiles() {
+        for (name, _) in SOURCES.iter().filter(|(n, _)| !n.ends_with(".glsl")) {
+            let defines = [("STRAND_VERTICES", "17".to_string())];
+            let words = compile(name, &defines).unwrap_or_else(|e| panic!("{name}: {e}"));
+            assert_eq!(words[0], 0x0723_0203, "{name}: not SPIR-V");
+        }
+    }
+
+    #[test]
+    fn compile_errors_name_the_file_and_line() {
+        let text = "#version 450\nvoid main() {\n    float x = undefined_thing;\n}\n";
+        let error = compile_source("broken.frag", text, &[])
+            .unwrap_err()
+            .to_string();
+        assert!(error.contains("broken.frag:3"), "{error}");
+        assert!(error.contains("undefined_thing"), "{error}");
+        let include = compile_source(
+            "inc.frag",
+            "#version 450\n#include \"nope.glsl\"\nvoid main() {}\n",
+            &[],
+        )
+        .unwrap_err()
+        .to_string();
+        assert!(include.contains("nope.glsl"), "{include}");
+    }
+}

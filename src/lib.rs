@@ -7,6 +7,7 @@
 //! - [`render`]: the mesh pass and the tessellated fur pass;
 //! - [`gpu`]: the Vulkan layer underneath.
 
+pub mod bench;
 pub mod error;
 pub mod gpu;
 pub mod render;

@@ -8,9 +8,8 @@ use std::time::Instant;
 use anyhow::{bail, Context as _};
 use ash::vk;
 use clap::{Args, Parser, Subcommand};
-use fur::render::FrameSettings;
-use fur::scene::{Camera, GroomParams, Mesh};
-use fur::session::FurSession;
+use fur::scene::Mesh;
+use fur::session::{FurSession, SceneOptions};
 use fur::sim::{Motion, MotionKind, SimParams};
 use glam::Vec3;
 
@@ -32,6 +31,19 @@ struct Cli {
 enum Command {
     /// Render the scene to a PNG, or simulate it and render a PNG sequence.
     Render(RenderArgs),
+    /// Measure stage costs, the speed/accuracy trade, scaling and savings on this device;
+    /// writes results.csv, results.md and PNG charts.
+    Bench {
+        /// A small suite that finishes in seconds (for CI).
+        #[arg(long)]
+        quick: bool,
+        /// Output folder.
+        #[arg(long, default_value = "bench")]
+        out_dir: PathBuf,
+        /// Enable the Khronos validation layer (slows everything down).
+        #[arg(long)]
+        validate: bool,
+    },
     /// Write the built-in default model as an OBJ file.
     ExportModel {
         /// Where to write it.
@@ -180,6 +192,11 @@ fn main() -> ExitCode {
     let result = match cli.command {
         Some(Command::Render(args)) => render(&args),
         Some(Command::ExportModel { out }) => export_model(&out),
+        Some(Command::Bench {
+            quick,
+            out_dir,
+            validate,
+        }) => bench(quick, &out_dir, validate),
         None => render(&cli.render),
     };
     match result {
@@ -191,23 +208,43 @@ fn main() -> ExitCode {
     }
 }
 
+fn bench(quick: bool, out_dir: &Path, validate: bool) -> anyhow::Result<()> {
+    let device = fur::gpu::headless(validate)?;
+    let options = fur::bench::BenchOptions { quick };
+    let bar = indicatif::ProgressBar::new(fur::bench::task_count(&options)).with_style(
+        indicatif::ProgressStyle::with_template("{bar:40} {pos}/{len} {elapsed} {msg}")
+            .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
+    );
+    let report = fur::bench::run(&device, &options, &mut |task| {
+        bar.set_message(task.to_string());
+        bar.inc(1);
+    })?;
+    bar.finish_and_clear();
+    report.write(out_dir)?;
+    println!("{}", report.markdown);
+    println!(
+        "wrote {} measurements to {}",
+        report.rows.len(),
+        out_dir.display()
+    );
+    let messages = device.instance().validation_messages();
+    if !messages.is_empty() {
+        bail!(
+            "{} validation message(s); the first: {}",
+            messages.len(),
+            messages[0]
+        );
+    }
+    Ok(())
+}
+
 fn export_model(out: &Path) -> anyhow::Result<()> {
     Mesh::blob().write_obj(out)?;
     println!("wrote {}", out.display());
     Ok(())
 }
 
-fn positive(name: &str, v: f32) -> anyhow::Result<()> {
-    if !(v.is_finite() && v > 0.0) {
-        bail!("--{name} must be a positive number, got {v}");
-    }
-    Ok(())
-}
-
 fn render(args: &RenderArgs) -> anyhow::Result<()> {
-    positive("hair-length", args.groom.hair_length)?;
-    positive("distance", args.distance)?;
-    positive("density-scale", args.groom.density_scale)?;
     if args.frames == 0 {
         bail!("--frames must be at least 1");
     }
@@ -215,29 +252,18 @@ fn render(args: &RenderArgs) -> anyhow::Result<()> {
         Some(path) => Mesh::load_obj(path)?,
         None => Mesh::blob(),
     };
-    let (center, radius) = mesh.bounds();
-    let groom = GroomParams {
+    let (_, radius) = mesh.bounds();
+    let scene = SceneOptions {
+        hair_length: args.groom.hair_length,
         segments: args.groom.segments,
-        segment_length: args.groom.hair_length * radius / args.groom.segments.max(1) as f32,
-        comb_strength: args.groom.comb,
+        comb: args.groom.comb,
         curl: args.groom.curl,
-        ..Default::default()
+        density_scale: args.groom.density_scale,
+        yaw_deg: args.yaw,
+        pitch_deg: args.pitch,
+        distance: args.distance,
     };
-    let mut settings = FrameSettings {
-        camera: Camera {
-            target: center,
-            yaw_deg: args.yaw,
-            pitch_deg: args.pitch,
-            distance: args.distance * radius,
-            ..Default::default()
-        },
-        ..Default::default()
-    };
-    // Density and widths are per scene unit; scale them with the model.
-    settings.style.density *= args.groom.density_scale / (radius * radius);
-    settings.style.hair_width *= radius;
-    settings.style.jitter *= radius;
-    settings.style.lod_distance *= radius;
+    let (groom, settings) = scene.resolve(&mesh)?;
     let simulate = args.frames > 1 || args.out_dir.is_some();
     let motion = Motion {
         kind: if simulate {

@@ -5,12 +5,89 @@ use std::sync::Arc;
 
 use ash::vk;
 
+use crate::error::Error;
 use crate::error::Result;
 use crate::gpu::Device;
 use crate::render::{FrameReport, FrameSettings, Renderer, RgbaImage};
-use crate::scene::{GroomParams, Mesh, Strands};
+use crate::scene::{Camera, GroomParams, Mesh, Strands};
 use crate::sim::{GpuSim, Motion, SimParams};
 use crate::strand_textures::StrandTextures;
+
+/// A scene described relative to the model's size, so one set of defaults suits any
+/// model: lengths are fractions of the bounding radius.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SceneOptions {
+    /// Hair length as a fraction of the bounding radius.
+    pub hair_length: f32,
+    pub segments: u32,
+    pub comb: f32,
+    pub curl: f32,
+    /// Multiplies the default interpolated-hair density.
+    pub density_scale: f32,
+    pub yaw_deg: f32,
+    pub pitch_deg: f32,
+    /// Camera distance in bounding radii.
+    pub distance: f32,
+}
+
+impl Default for SceneOptions {
+    fn default() -> Self {
+        Self {
+            hair_length: 0.2,
+            segments: 16,
+            comb: 0.9,
+            curl: 0.0,
+            density_scale: 1.0,
+            yaw_deg: 25.0,
+            pitch_deg: 15.0,
+            distance: 2.6,
+        }
+    }
+}
+
+impl SceneOptions {
+    /// The groom and frame settings for `mesh`.
+    pub fn resolve(&self, mesh: &Mesh) -> Result<(GroomParams, FrameSettings)> {
+        for (name, v) in [
+            ("hair length", self.hair_length),
+            ("camera distance", self.distance),
+            ("density scale", self.density_scale),
+        ] {
+            if !(v.is_finite() && v > 0.0) {
+                return Err(Error::Parameter(format!(
+                    "{name} must be a positive number, got {v}"
+                )));
+            }
+        }
+        let (center, radius) = mesh.bounds();
+        let groom = GroomParams {
+            segments: self.segments,
+            segment_length: self.hair_length * radius / self.segments.max(1) as f32,
+            comb_strength: self.comb,
+            curl: self.curl,
+            ..Default::default()
+        };
+        let mut settings = FrameSettings {
+            camera: Camera {
+                target: center,
+                yaw_deg: self.yaw_deg,
+                pitch_deg: self.pitch_deg,
+                distance: self.distance * radius,
+                ..Default::default()
+            },
+            ..Default::default()
+        };
+        // Density and widths are per scene unit; scale them with the model.
+        let style = &mut settings.style;
+        style.density *= self.density_scale / (radius * radius);
+        style.hair_width *= radius;
+        style.jitter *= radius;
+        style.lod_distance *= radius;
+        style.validate()?;
+        groom.validate()?;
+        Ok((groom, settings))
+    }
+}
 
 /// What a frame reports beyond the image.
 #[derive(Clone, Debug)]

@@ -88,7 +88,7 @@ fn impossible_parameters_are_clear_errors() {
     assert_fails_cleanly(&["render", "--segments", "64"], "segments");
     assert_fails_cleanly(&["render", "--substeps", "0"], "substeps");
     assert_fails_cleanly(&["render", "--local-stiffness", "1.5"], "local stiffness");
-    assert_fails_cleanly(&["render", "--hair-length=-1"], "hair-length");
+    assert_fails_cleanly(&["render", "--hair-length=-1"], "hair length");
     assert_fails_cleanly(&["render", "--width", "0"], "image size");
     assert_fails_cleanly(&["render", "--wind", "1,2"], "three");
     assert_fails_cleanly(&["render", "--motion", "dance"], "dance");

@@ -94,13 +94,22 @@ impl QueryPool {
 
     /// Resets every query from the host (before the command buffer using them runs).
     pub fn reset(&self) {
-        unsafe { self.device.raw.reset_query_pool(self.raw, 0, self.count) };
+        self.reset_first(self.count);
     }
 
-    /// Waits for and returns all values, `N` per query.
-    fn results<const N: usize>(&self) -> Result<Vec<[u64; N]>> {
+    /// Resets the first `count` queries from the host.
+    pub fn reset_first(&self, count: u32) {
+        unsafe {
+            self.device
+                .raw
+                .reset_query_pool(self.raw, 0, count.min(self.count))
+        };
+    }
+
+    /// Waits for and returns the values of the first `count` queries, `N` per query.
+    fn results<const N: usize>(&self, count: u32) -> Result<Vec<[u64; N]>> {
         debug_assert_eq!(N as u32, self.values);
-        let mut data = vec![[0u64; N]; self.count as usize];
+        let mut data = vec![[0u64; N]; count.min(self.count) as usize];
         unsafe {
             self.device.raw.get_query_pool_results(
                 self.raw,
@@ -113,9 +122,9 @@ impl QueryPool {
         Ok(data)
     }
 
-    /// Timestamp results converted to milliseconds since the first one.
-    pub fn timestamps_ms(&self) -> Result<Vec<f64>> {
-        let ticks: Vec<u64> = self.results::<1>()?.into_iter().map(|[t]| t).collect();
+    /// The first `count` timestamps in milliseconds since the first one.
+    pub fn timestamps_ms(&self, count: u32) -> Result<Vec<f64>> {
+        let ticks: Vec<u64> = self.results::<1>(count)?.into_iter().map(|[t]| t).collect();
         let period = f64::from(self.device.info.timestamp_period) * 1e-6;
         let first = ticks.first().copied().unwrap_or(0);
         Ok(ticks
@@ -126,7 +135,7 @@ impl QueryPool {
 
     /// Reads a [`FurStatistics`] pool.
     pub fn fur_statistics_result(&self) -> Result<FurStatistics> {
-        let v = self.results::<4>()?[0];
+        let v = self.results::<4>(1)?[0];
         // Vulkan returns statistics in increasing bit order.
         Ok(FurStatistics {
             geometry_invocations: v[0],

@@ -316,7 +316,7 @@ impl Renderer {
     pub fn report(&self, settings: &FrameSettings) -> Result<FrameReport> {
         let (mesh_ms, fur_ms) = match &self.timestamps {
             Some(q) => {
-                let t = q.timestamps_ms()?;
+                let t = q.timestamps_ms(3)?;
                 (t[1] - t[0], t[2] - t[1])
             }
             None => (f64::NAN, f64::NAN),

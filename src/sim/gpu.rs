@@ -52,6 +52,16 @@ impl From<&StepConstants> for GpuStep {
     }
 }
 
+/// GPU costs of one submission.
+#[derive(Clone, Debug)]
+pub struct SimTimings {
+    /// Milliseconds from before the first dispatch to after the last.
+    pub total_ms: f64,
+    pub substeps: usize,
+    /// Mean milliseconds per substep of each dispatched step, in dispatch order.
+    pub per_substep: Vec<(SimStep, f64)>,
+}
+
 /// The named steps, in dispatch order.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum SimStep {
@@ -133,6 +143,8 @@ pub struct GpuSim {
     /// Pipelines of the steps in use, in dispatch order.
     pipelines: Vec<(SimStep, Pipeline)>,
     timestamps: Option<QueryPool>,
+    /// Substeps recorded by the last `record`.
+    recorded: usize,
     /// Simulated time in seconds.
     pub time: f64,
 }
@@ -207,7 +219,11 @@ impl GpuSim {
             unsafe { device.raw.update_descriptor_sets(&writes, &[]) };
         }
         let timestamps = if device.info.timestamps {
-            Some(QueryPool::timestamps(device, "sim.timestamps", 2)?)
+            Some(QueryPool::timestamps(
+                device,
+                "sim.timestamps",
+                1 + (STEP_CAPACITY * SimStep::ALL.len()) as u32,
+            )?)
         } else {
             None
         };
@@ -225,6 +241,7 @@ impl GpuSim {
             steps,
             pipelines: Vec::new(),
             timestamps,
+            recorded: 0,
             time: 0.0,
         };
         sim.set_params(params, textures)?;
@@ -356,12 +373,16 @@ impl GpuSim {
                 vk::AccessFlags2::SHADER_STORAGE_READ | vk::AccessFlags2::SHADER_STORAGE_WRITE,
             ),
         );
+        // One timestamp before the first dispatch and one after every dispatch.
+        let used_queries = 1 + (constants.len() * self.pipelines.len()) as u32;
         if let Some(q) = &self.timestamps {
-            q.reset();
+            q.reset_first(used_queries);
             unsafe {
                 raw.cmd_write_timestamp2(cmd, vk::PipelineStageFlags2::COMPUTE_SHADER, q.raw(), 0)
             };
         }
+        self.recorded = constants.len();
+        let mut query = 1;
         let groups = self.group_count();
         for (index, _) in constants.iter().enumerate() {
             unsafe {
@@ -409,13 +430,14 @@ impl GpuSim {
                             | vk::AccessFlags2::SHADER_STORAGE_WRITE,
                     ),
                 );
+                // After the barrier, so the wait for this dispatch counts towards it.
+                if let Some(q) = &self.timestamps {
+                    let stage = vk::PipelineStageFlags2::COMPUTE_SHADER;
+                    unsafe { raw.cmd_write_timestamp2(cmd, stage, q.raw(), query) };
+                    query += 1;
+                }
             }
             textures.current = 1 - textures.current;
-        }
-        if let Some(q) = &self.timestamps {
-            unsafe {
-                raw.cmd_write_timestamp2(cmd, vk::PipelineStageFlags2::COMPUTE_SHADER, q.raw(), 1)
-            };
         }
         d.end_label(cmd);
         Ok(())
@@ -463,11 +485,39 @@ impl GpuSim {
         Ok(ms)
     }
 
-    /// GPU milliseconds between the first and last dispatch of the last submission.
+    /// GPU milliseconds of all dispatches of the last submission (NaN without
+    /// timestamps).
     pub fn last_gpu_ms(&self) -> Result<f64> {
-        match &self.timestamps {
-            Some(q) => Ok(q.timestamps_ms()?[1]),
-            None => Ok(f64::NAN),
+        Ok(self.last_timings()?.total_ms)
+    }
+
+    /// Per-step GPU costs of the last submission, from the timestamps written after
+    /// every dispatch.
+    pub fn last_timings(&self) -> Result<SimTimings> {
+        let Some(q) = &self.timestamps else {
+            return Ok(SimTimings {
+                total_ms: f64::NAN,
+                substeps: self.recorded,
+                per_substep: Vec::new(),
+            });
+        };
+        let steps = self.pipelines.len();
+        let t = q.timestamps_ms(1 + (self.recorded * steps) as u32)?;
+        let mut per_substep: Vec<(SimStep, f64)> =
+            self.pipelines.iter().map(|(s, _)| (*s, 0.0)).collect();
+        for substep in 0..self.recorded {
+            for (k, entry) in per_substep.iter_mut().enumerate() {
+                let i = 1 + substep * steps + k;
+                entry.1 += t[i] - t[i - 1];
+            }
         }
+        for entry in &mut per_substep {
+            entry.1 /= self.recorded.max(1) as f64;
+        }
+        Ok(SimTimings {
+            total_ms: t.last().copied().unwrap_or(f64::NAN),
+            substeps: self.recorded,
+            per_substep,
+        })
     }
 }

@@ -1,0 +1,138 @@
+//! Error metrics and statistics the benchmark reports.
+
+use glam::{DVec3, Vec3};
+
+use crate::render::RgbaImage;
+
+/// The median (NaN for no values). NaNs sort last.
+pub fn median(values: &[f64]) -> f64 {
+    if values.is_empty() {
+        return f64::NAN;
+    }
+    let mut v = values.to_vec();
+    v.sort_by(f64::total_cmp);
+    let n = v.len();
+    if n % 2 == 1 {
+        v[n / 2]
+    } else {
+        0.5 * (v[n / 2 - 1] + v[n / 2])
+    }
+}
+
+/// Root-mean-square difference of the RGB channels, on a 0..1 scale.
+pub fn rmse(a: &RgbaImage, b: &RgbaImage) -> f64 {
+    assert_eq!(
+        (a.width, a.height),
+        (b.width, b.height),
+        "images differ in size"
+    );
+    let mut sum = 0.0f64;
+    let mut n = 0usize;
+    for (pa, pb) in a.data.chunks_exact(4).zip(b.data.chunks_exact(4)) {
+        for c in 0..3 {
+            let d = (f64::from(pa[c]) - f64::from(pb[c])) / 255.0;
+            sum += d * d;
+            n += 1;
+        }
+    }
+    (sum / n.max(1) as f64).sqrt()
+}
+
+/// Mean and maximum distance between corresponding positions, divided by `scale`.
+pub fn position_error(a: &[Vec3], b: &[DVec3], scale: f64) -> (f64, f64) {
+    assert_eq!(a.len(), b.len(), "position counts differ");
+    let mut sum = 0.0;
+    let mut max = 0.0f64;
+    for (p, q) in a.iter().zip(b) {
+        let d = (p.as_dvec3() - *q).length();
+        sum += d;
+        max = max.max(d);
+    }
+    (sum / a.len().max(1) as f64 / scale, max / scale)
+}
+
+/// Largest |segment length / rest length − 1| over strands of `v` vertices.
+pub fn max_stretch(positions: &[Vec3], rest_lengths: &[f64], v: usize) -> f64 {
+    let mut worst = 0.0f64;
+    for (strand, rest) in positions.chunks(v).zip(rest_lengths.chunks(v)) {
+        for i in 1..v {
+            if rest[i] > 0.0 {
+                let now = f64::from((strand[i] - strand[i - 1]).length());
+                worst = worst.max((now / rest[i] - 1.0).abs());
+            }
+        }
+    }
+    worst
+}
+
+/// Which points are on the Pareto front of (cost, error): no other point is at most as
+/// costly and at most as wrong while better in one of the two.
+pub fn pareto_front(points: &[(f64, f64)]) -> Vec<bool> {
+    points
+        .iter()
+        .map(|&(c, e)| {
+            !points
+                .iter()
+                .any(|&(c2, e2)| c2 <= c && e2 <= e && (c2 < c || e2 < e))
+        })
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn image(pixels: &[[u8; 4]], width: u32) -> RgbaImage {
+        RgbaImage {
+            width,
+            height: pixels.len() as u32 / width,
+            data: pixels.iter().flatten().copied().collect(),
+        }
+    }
+
+    #[test]
+    fn median_of_odd_even_and_empty() {
+        assert_eq!(median(&[3.0, 1.0, 2.0]), 2.0);
+        assert_eq!(median(&[4.0, 1.0, 2.0, 3.0]), 2.5);
+        assert!(median(&[]).is_nan());
+    }
+
+    #[test]
+    fn rmse_of_known_images() {
+        let black = image(&[[0, 0, 0, 255]; 4], 2);
+        let white = image(&[[255, 255, 255, 255]; 4], 2);
+        assert_eq!(rmse(&black, &black), 0.0);
+        assert!((rmse(&black, &white) - 1.0).abs() < 1e-12);
+        // One of four pixels fully different: sqrt(1/4) = 0.5.
+        let one = image(
+            &[
+                [255, 255, 255, 255],
+                [0, 0, 0, 255],
+                [0, 0, 0, 255],
+                [0, 0, 0, 255],
+            ],
+            2,
+        );
+        assert!((rmse(&black, &one) - 0.5).abs() < 1e-12);
+        // Alpha is ignored.
+        let clear = image(&[[0, 0, 0, 0]; 4], 2);
+        assert_eq!(rmse(&black, &clear), 0.0);
+    }
+
+    #[test]
+    fn position_error_and_stretch_of_known_strands() {
+        let a = [Vec3::ZERO, Vec3::X, Vec3::new(3.0, 0.0, 0.0)];
+        let b = [DVec3::ZERO, DVec3::X, DVec3::new(2.0, 0.0, 0.0)];
+        let (mean, max) = position_error(&a, &b, 2.0);
+        assert!((mean - 1.0 / 3.0 / 2.0).abs() < 1e-12);
+        assert!((max - 0.5).abs() < 1e-12);
+        // Segments of 1 and 2 against rest lengths 1 and 1: the second is stretched 100 %.
+        assert!((max_stretch(&a, &[0.0, 1.0, 1.0], 3) - 1.0).abs() < 1e-12);
+    }
+
+    #[test]
+    fn pareto_front_keeps_only_undominated_points() {
+        let points = [(1.0, 5.0), (2.0, 3.0), (3.0, 3.5), (4.0, 1.0), (4.0, 2.0)];
+        assert_eq!(pareto_front(&points), vec![true, true, false, true, false]);
+    }
+}

@@ -1,0 +1,119 @@
+//! `fur bench --quick` runs (validation on) and writes a complete, finite CSV, its
+//! Markdown table and the charts.
+
+use std::collections::HashSet;
+use std::path::Path;
+use std::process::Command;
+
+#[test]
+fn quick_bench_writes_every_expected_measurement() {
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("bench_quick");
+    let _ = std::fs::remove_dir_all(&dir);
+    let out = Command::new(env!("CARGO_BIN_EXE_fur"))
+        .args([
+            "bench",
+            "--quick",
+            "--validate",
+            "--out-dir",
+            dir.to_str().unwrap(),
+        ])
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+
+    let csv = std::fs::read_to_string(dir.join("results.csv")).unwrap();
+    let mut lines = csv.lines();
+    assert_eq!(lines.next(), Some("section,case,metric,value,unit"));
+    let mut seen = HashSet::new();
+    for line in lines {
+        // Split off the quoted case, if any.
+        let fields: Vec<String> = if let Some(start) = line.find('"') {
+            let end = line[start + 1..].find('"').unwrap() + start + 1;
+            let mut f: Vec<String> = vec![
+                line[..start - 1].to_string(),
+                line[start + 1..end].to_string(),
+            ];
+            f.extend(line[end + 2..].split(',').map(str::to_string));
+            f
+        } else {
+            line.split(',').map(str::to_string).collect()
+        };
+        assert_eq!(fields.len(), 5, "malformed row: {line}");
+        let value: f64 = fields[3]
+            .parse()
+            .unwrap_or_else(|_| panic!("not a number: {line}"));
+        assert!(value.is_finite(), "non-finite measurement: {line}");
+        seen.insert((fields[0].clone(), fields[1].clone(), fields[2].clone()));
+    }
+    let expect = |section: &str, case: &str, metric: &str| {
+        assert!(
+            seen.contains(&(section.to_string(), case.to_string(), metric.to_string())),
+            "missing {section} / {case} / {metric}"
+        );
+    };
+    for step in [
+        "integrate",
+        "global shape",
+        "local shape",
+        "edge length",
+        "wind",
+    ] {
+        expect("stages", step, "gpu_ms");
+    }
+    for stage in ["simulation total", "mesh pass", "fur pass"] {
+        expect("stages", stage, "gpu_ms");
+    }
+    for count in [
+        "master hairs",
+        "patches",
+        "tessellated points",
+        "hairs drawn",
+        "hair segments drawn",
+    ] {
+        expect("stages", count, "count");
+    }
+    for it in [1, 2] {
+        for sub in [1, 2] {
+            let case = format!("iterations {it}, substeps {sub}");
+            for metric in [
+                "mean_position_error",
+                "max_position_error",
+                "max_stretch",
+                "gpu_ms_per_frame",
+                "pareto",
+            ] {
+                expect("sim_accuracy", &case, metric);
+            }
+        }
+    }
+    for scale in ["0.25", "1"] {
+        for metric in ["rmse", "fur_pass_ms", "hairs_drawn", "pareto"] {
+            expect("render_accuracy", &format!("density x{scale}"), metric);
+        }
+    }
+    expect("sim_scaling", "1024 strands", "ns_per_strand");
+    for saving in [
+        "wind off: no wind dispatch",
+        "S_G = 0: no global-shape dispatch",
+        "culling: hairs drawn",
+    ] {
+        for metric in ["with", "without", "ratio"] {
+            expect("savings", saving, metric);
+        }
+    }
+    let md = std::fs::read_to_string(dir.join("results.md")).unwrap();
+    assert!(md.contains("| iterations | substeps |"));
+    for chart in [
+        "sim_pareto.png",
+        "render_pareto.png",
+        "sim_scaling.png",
+        "render_scaling.png",
+    ] {
+        let bytes = std::fs::read(dir.join(chart)).unwrap();
+        assert_eq!(&bytes[1..4], b"PNG", "{chart} is not a PNG");
+    }
+}

@@ -291,6 +291,7 @@ fn render(args: &RenderArgs) -> anyhow::Result<()> {
         motion,
         settings,
         extent,
+        1,
     )?;
     let masters = session.strands.count();
     if simulate {

@@ -4,6 +4,7 @@
 use std::sync::Arc;
 
 use ash::vk;
+use glam::DMat4;
 
 use crate::error::Error;
 use crate::error::Result;
@@ -105,10 +106,14 @@ pub struct FurSession {
     pub sim: GpuSim,
     pub renderer: Renderer,
     pub motion: Motion,
+    /// Where the user has put the model (the viewer moves it; identity otherwise).
+    pub user: DMat4,
     pub settings: FrameSettings,
 }
 
 impl FurSession {
+    /// Builds the scene; `frames_in_flight` is 1 for headless use, 2 for the viewer.
+    #[allow(clippy::too_many_arguments)]
     pub fn new(
         device: &Arc<Device>,
         mesh: Mesh,
@@ -117,6 +122,7 @@ impl FurSession {
         motion: Motion,
         settings: FrameSettings,
         extent: vk::Extent2D,
+        frames_in_flight: usize,
     ) -> Result<Self> {
         settings.style.validate()?;
         motion.validate()?;
@@ -124,8 +130,8 @@ impl FurSession {
         let strands = Strands::grow(&mesh, groom)?;
         let head = motion.head(0.0).as_mat4();
         let textures = StrandTextures::new(device, &strands, head)?;
-        let sim = GpuSim::new(device, &textures, sim_params)?;
-        let renderer = Renderer::new(device, &mesh, &textures, extent)?;
+        let sim = GpuSim::with_slots(device, &textures, sim_params, frames_in_flight)?;
+        let renderer = Renderer::new(device, &mesh, &textures, extent, frames_in_flight)?;
         Ok(Self {
             device: device.clone(),
             mesh,
@@ -134,8 +140,15 @@ impl FurSession {
             sim,
             renderer,
             motion,
+            user: DMat4::IDENTITY,
             settings,
         })
+    }
+
+    /// The head transform at simulated time `t`: the user's placement of the model
+    /// times the scripted motion.
+    pub fn head_at(&self, t: f64) -> DMat4 {
+        self.user * self.motion.head(t)
     }
 
     /// Renders the current state without simulating.
@@ -143,23 +156,51 @@ impl FurSession {
         self.renderer.render(&self.textures, &self.settings)
     }
 
+    /// Records one frame into `cmd` using frame slot `slot`: the simulation's substeps
+    /// (when `simulate`) and both render passes. The slot's previous frame must have
+    /// finished. The resolved image is left for the caller to copy or blit.
+    pub fn record_frame(
+        &mut self,
+        cmd: vk::CommandBuffer,
+        slot: usize,
+        simulate: bool,
+    ) -> Result<()> {
+        let (user, motion) = (self.user, self.motion);
+        let constants = if simulate {
+            self.sim.next_constants(1, |t| user * motion.head(t))
+        } else {
+            Vec::new()
+        };
+        self.settings.head = self.head_at(self.sim.time).as_mat4();
+        self.renderer.update(slot, &self.settings);
+        if !constants.is_empty() {
+            self.sim.record(cmd, slot, &mut self.textures, &constants)?;
+        }
+        self.renderer
+            .record(cmd, slot, self.textures.current, &self.settings);
+        Ok(())
+    }
+
+    /// GPU timings of slot `slot`'s last frame (waits for its queries).
+    pub fn timings(&self, slot: usize, simulated: bool) -> Result<FrameTimings> {
+        Ok(FrameTimings {
+            render: self.renderer.report(slot, &self.settings)?,
+            simulation_ms: if simulated {
+                self.sim.last_gpu_ms(slot)?
+            } else {
+                f64::NAN
+            },
+        })
+    }
+
     /// Simulates one frame (all its substeps) and renders it, in one submission.
     pub fn step_and_render(&mut self) -> Result<(RgbaImage, FrameTimings)> {
-        let motion = self.motion;
-        let constants = self.sim.next_constants(1, |t| motion.head(t));
-        self.settings.head = motion.head(self.sim.time).as_mat4();
-        self.renderer.update(&self.settings);
         let device = self.device.clone();
         device.submit_once(|cmd| {
-            self.sim.record(cmd, &mut self.textures, &constants)?;
-            self.renderer
-                .record(cmd, self.textures.current, &self.settings);
+            self.record_frame(cmd, 0, true)?;
+            self.renderer.target.copy_out(&device, cmd);
             Ok(())
         })?;
-        let timings = FrameTimings {
-            render: self.renderer.report(&self.settings)?,
-            simulation_ms: self.sim.last_gpu_ms()?,
-        };
-        Ok((self.renderer.target.pixels(), timings))
+        Ok((self.renderer.target.pixels(), self.timings(0, true)?))
     }
 }

@@ -202,6 +202,7 @@ impl Bench<'_> {
             motion,
             settings,
             self.extent(),
+            1,
         )
     }
 
@@ -228,7 +229,7 @@ impl Bench<'_> {
             if frame < warm {
                 continue;
             }
-            let sim = session.sim.last_timings()?;
+            let sim = session.sim.last_timings(0)?;
             for (step, ms) in sim.per_substep {
                 match per_step.iter_mut().find(|(n, _)| n == step.name()) {
                     Some((_, v)) => v.push(ms),
@@ -474,7 +475,7 @@ impl Bench<'_> {
     ) -> Result<(RgbaImage, f64, u64)> {
         let strands = Strands::grow(mesh, groom)?;
         let textures = StrandTextures::new(self.device, &strands, settings.head)?;
-        let mut renderer = Renderer::new(self.device, mesh, &textures, self.extent())?;
+        let mut renderer = Renderer::new(self.device, mesh, &textures, self.extent(), 1)?;
         let (warm, measured) = self.frames();
         let mut ms = Vec::new();
         let mut last = None;

@@ -17,6 +17,43 @@ use crate::gpu::{
 use crate::scene::Mesh;
 use crate::strand_textures::StrandTextures;
 
+/// Points one render descriptor set at its uniforms, position image and ownership masks.
+fn write_render_set(
+    device: &Device,
+    set: vk::DescriptorSet,
+    uniforms: &Buffer,
+    positions: &crate::gpu::Image,
+    ownership: &Buffer,
+) {
+    let ubo = [vk::DescriptorBufferInfo::default()
+        .buffer(uniforms.raw())
+        .range(vk::WHOLE_SIZE)];
+    let image = [vk::DescriptorImageInfo::default()
+        .image_view(positions.view())
+        .image_layout(vk::ImageLayout::GENERAL)];
+    let owners = [vk::DescriptorBufferInfo::default()
+        .buffer(ownership.raw())
+        .range(vk::WHOLE_SIZE)];
+    let writes = [
+        vk::WriteDescriptorSet::default()
+            .dst_set(set)
+            .dst_binding(0)
+            .descriptor_type(vk::DescriptorType::UNIFORM_BUFFER)
+            .buffer_info(&ubo),
+        vk::WriteDescriptorSet::default()
+            .dst_set(set)
+            .dst_binding(1)
+            .descriptor_type(vk::DescriptorType::STORAGE_IMAGE)
+            .image_info(&image),
+        vk::WriteDescriptorSet::default()
+            .dst_set(set)
+            .dst_binding(2)
+            .descriptor_type(vk::DescriptorType::STORAGE_BUFFER)
+            .buffer_info(&owners),
+    ];
+    unsafe { device.raw.update_descriptor_sets(&writes, &[]) };
+}
+
 /// Bindings of descriptor set 0 (see `shaders/common.glsl`).
 fn bindings() -> [(vk::DescriptorType, vk::ShaderStageFlags); 3] {
     let hair_stages = vk::ShaderStageFlags::VERTEX
@@ -52,9 +89,8 @@ pub struct Renderer {
     _set_layout: DescriptorSetLayout,
     pipeline_layout: PipelineLayout,
     _pool: DescriptorPool,
-    /// One set per possible current position image.
-    sets: Vec<vk::DescriptorSet>,
-    uniforms: Buffer,
+    /// Per frame in flight: what the host writes or reads back while other frames run.
+    slots: Vec<RenderSlot>,
     _ownership: Buffer,
     indices: Buffer,
     index_count: u32,
@@ -63,30 +99,37 @@ pub struct Renderer {
     mesh_pass: MeshPass,
     fur_pass: FurPass,
     pub target: RenderTarget,
+}
+
+/// The resources of one frame in flight.
+struct RenderSlot {
+    uniforms: Buffer,
+    /// One set per possible current position image.
+    sets: [vk::DescriptorSet; 2],
     timestamps: Option<QueryPool>,
     statistics: Option<QueryPool>,
 }
 
 impl Renderer {
+    /// A renderer with `frames_in_flight` sets of per-frame resources (1 headless).
     pub fn new(
         device: &Arc<Device>,
         mesh: &Mesh,
         strands: &StrandTextures,
         extent: vk::Extent2D,
+        frames_in_flight: usize,
     ) -> Result<Self> {
         let target = RenderTarget::new(device, extent)?;
         let bindings = bindings();
         let set_layout = DescriptorSetLayout::new(device, "render.set_layout", &bindings)?;
         let pipeline_layout =
             PipelineLayout::new(device, "render.pipeline_layout", &[&set_layout], &[])?;
-        let pool = DescriptorPool::new(device, "render.descriptor_pool", 2, &bindings)?;
-        let sets = pool.allocate(&set_layout, 2)?;
-        let uniforms = Buffer::new(
+        let set_count = 2 * frames_in_flight.max(1);
+        let pool = DescriptorPool::new(
             device,
-            "render.uniforms",
-            std::mem::size_of::<FrameUniforms>() as u64,
-            vk::BufferUsageFlags::UNIFORM_BUFFER,
-            gpu_allocator::MemoryLocation::CpuToGpu,
+            "render.descriptor_pool",
+            set_count as u32,
+            &bindings,
         )?;
         let ownership = Buffer::with_data(
             device,
@@ -100,55 +143,52 @@ impl Renderer {
             vk::BufferUsageFlags::INDEX_BUFFER,
             &mesh.indices,
         )?;
-        for (i, set) in sets.iter().enumerate() {
-            let ubo = [vk::DescriptorBufferInfo::default()
-                .buffer(uniforms.raw())
-                .range(vk::WHOLE_SIZE)];
-            let image = [vk::DescriptorImageInfo::default()
-                .image_view(strands.positions[i].view())
-                .image_layout(vk::ImageLayout::GENERAL)];
-            let owners = [vk::DescriptorBufferInfo::default()
-                .buffer(ownership.raw())
-                .range(vk::WHOLE_SIZE)];
-            let writes = [
-                vk::WriteDescriptorSet::default()
-                    .dst_set(*set)
-                    .dst_binding(0)
-                    .descriptor_type(vk::DescriptorType::UNIFORM_BUFFER)
-                    .buffer_info(&ubo),
-                vk::WriteDescriptorSet::default()
-                    .dst_set(*set)
-                    .dst_binding(1)
-                    .descriptor_type(vk::DescriptorType::STORAGE_IMAGE)
-                    .image_info(&image),
-                vk::WriteDescriptorSet::default()
-                    .dst_set(*set)
-                    .dst_binding(2)
-                    .descriptor_type(vk::DescriptorType::STORAGE_BUFFER)
-                    .buffer_info(&owners),
-            ];
-            unsafe { device.raw.update_descriptor_sets(&writes, &[]) };
+        let mut slots = Vec::new();
+        for slot in 0..frames_in_flight.max(1) {
+            let uniforms = Buffer::new(
+                device,
+                &format!("render.uniforms[{slot}]"),
+                std::mem::size_of::<FrameUniforms>() as u64,
+                vk::BufferUsageFlags::UNIFORM_BUFFER,
+                gpu_allocator::MemoryLocation::CpuToGpu,
+            )?;
+            let sets = pool.allocate(&set_layout, 2)?;
+            for (i, set) in sets.iter().enumerate() {
+                write_render_set(device, *set, &uniforms, &strands.positions[i], &ownership);
+            }
+            let timestamps = if device.info.timestamps {
+                Some(QueryPool::timestamps(
+                    device,
+                    &format!("render.timestamps[{slot}]"),
+                    3,
+                )?)
+            } else {
+                None
+            };
+            let statistics = if device.info.pipeline_statistics {
+                Some(QueryPool::fur_statistics(
+                    device,
+                    &format!("render.fur_statistics[{slot}]"),
+                )?)
+            } else {
+                None
+            };
+            slots.push(RenderSlot {
+                uniforms,
+                sets: [sets[0], sets[1]],
+                timestamps,
+                statistics,
+            });
         }
         let vertices_per_strand = strands.layout.vertices_per_strand;
         let mesh_pass = MeshPass::new(device, &pipeline_layout, mesh)?;
         let fur_pass = FurPass::new(device, &pipeline_layout, vertices_per_strand)?;
-        let timestamps = if device.info.timestamps {
-            Some(QueryPool::timestamps(device, "render.timestamps", 3)?)
-        } else {
-            None
-        };
-        let statistics = if device.info.pipeline_statistics {
-            Some(QueryPool::fur_statistics(device, "render.fur_statistics")?)
-        } else {
-            None
-        };
         Ok(Self {
             device: device.clone(),
             _set_layout: set_layout,
             pipeline_layout,
             _pool: pool,
-            sets,
-            uniforms,
+            slots,
             _ownership: ownership,
             indices,
             index_count: mesh.indices.len() as u32,
@@ -157,13 +197,20 @@ impl Renderer {
             mesh_pass,
             fur_pass,
             target,
-            timestamps,
-            statistics,
         })
     }
 
-    /// Writes the frame's uniforms. Call before recording/submitting the frame.
-    pub fn update(&mut self, settings: &FrameSettings) {
+    /// Recreates the render target for a new image size.
+    pub fn resize(&mut self, extent: vk::Extent2D) -> Result<()> {
+        if extent != self.target.extent {
+            self.target = RenderTarget::new(&self.device, extent)?;
+        }
+        Ok(())
+    }
+
+    /// Writes the uniforms of frame slot `slot`. Call before recording the frame, once
+    /// the slot's previous frame has finished.
+    pub fn update(&mut self, slot: usize, settings: &FrameSettings) {
         let max_level = self.device.info.limits.max_tessellation_generation_level as f32;
         let uniforms = FrameUniforms::new(
             settings,
@@ -173,18 +220,28 @@ impl Renderer {
             self.strands_per_row,
             max_level,
         );
-        self.uniforms.write(0, bytemuck::bytes_of(&uniforms));
+        self.slots[slot]
+            .uniforms
+            .write(0, bytemuck::bytes_of(&uniforms));
     }
 
-    /// Records both passes and the copy to the readback buffer. `current` selects the
-    /// position image the simulation last wrote; compute writes to it are made visible.
-    pub fn record(&self, cmd: vk::CommandBuffer, current: usize, settings: &FrameSettings) {
+    /// Records both passes into the target; the resolved image is left in
+    /// `COLOR_ATTACHMENT_OPTIMAL` for [`RenderTarget::copy_out`] or a blit. `current`
+    /// selects the position image the simulation last wrote; its writes are made visible.
+    pub fn record(
+        &self,
+        cmd: vk::CommandBuffer,
+        slot: usize,
+        current: usize,
+        settings: &FrameSettings,
+    ) {
         let d = &*self.device;
         let raw = &d.raw;
-        if let Some(q) = &self.timestamps {
+        let frame = &self.slots[slot];
+        if let Some(q) = &frame.timestamps {
             q.reset();
         }
-        if let Some(q) = &self.statistics {
+        if let Some(q) = &frame.statistics {
             q.reset();
         }
         d.begin_label(cmd, "frame");
@@ -205,16 +262,7 @@ impl Renderer {
             ),
         );
         self.target.begin(d, cmd);
-        if let Some(q) = &self.timestamps {
-            unsafe {
-                raw.cmd_write_timestamp2(
-                    cmd,
-                    vk::PipelineStageFlags2::TOP_OF_PIPE,
-                    q.raw(),
-                    TS_START,
-                )
-            };
-        }
+        self.timestamp(cmd, slot, TS_START);
         let extent = self.target.extent;
         let clear = [
             vk::ClearValue {
@@ -247,7 +295,7 @@ impl Renderer {
         // The statistics query spans the whole rendering scope (the mesh pass adds no
         // tessellation or geometry work). Mesa 22.3's lavapipe crashes when such a query
         // begins inside the scope before its first draw.
-        if let Some(q) = &self.statistics {
+        if let Some(q) = &frame.statistics {
             unsafe { raw.cmd_begin_query(cmd, q.raw(), 0, vk::QueryControlFlags::empty()) };
         }
         let rendering = vk::RenderingInfo::default()
@@ -275,7 +323,7 @@ impl Renderer {
                 vk::PipelineBindPoint::GRAPHICS,
                 self.pipeline_layout.raw(),
                 0,
-                &[self.sets[current]],
+                &[frame.sets[current]],
                 &[],
             );
             raw.cmd_bind_index_buffer(cmd, self.indices.raw(), 0, vk::IndexType::UINT32);
@@ -286,42 +334,42 @@ impl Renderer {
             self.mesh_pass.draw(d, cmd, self.index_count);
             d.end_label(cmd);
         }
-        self.timestamp(cmd, TS_MESH);
+        self.timestamp(cmd, slot, TS_MESH);
         if settings.draw_fur {
             d.begin_label(cmd, "fur pass");
             self.fur_pass.draw(d, cmd, self.index_count);
             d.end_label(cmd);
         }
-        self.timestamp(cmd, TS_FUR);
+        self.timestamp(cmd, slot, TS_FUR);
         unsafe { raw.cmd_end_rendering(cmd) };
-        if let Some(q) = &self.statistics {
+        if let Some(q) = &frame.statistics {
             unsafe { raw.cmd_end_query(cmd, q.raw(), 0) };
         }
-        self.target.copy_out(d, cmd);
         d.end_label(cmd);
     }
 
-    fn timestamp(&self, cmd: vk::CommandBuffer, slot: u32) {
-        if let Some(q) = &self.timestamps {
+    fn timestamp(&self, cmd: vk::CommandBuffer, slot: usize, query: u32) {
+        if let Some(q) = &self.slots[slot].timestamps {
             let stage = vk::PipelineStageFlags2::ALL_GRAPHICS;
             unsafe {
                 self.device
                     .raw
-                    .cmd_write_timestamp2(cmd, stage, q.raw(), slot)
+                    .cmd_write_timestamp2(cmd, stage, q.raw(), query)
             };
         }
     }
 
-    /// Reads the queries of the last submitted frame (waits for them).
-    pub fn report(&self, settings: &FrameSettings) -> Result<FrameReport> {
-        let (mesh_ms, fur_ms) = match &self.timestamps {
+    /// Reads the queries of slot `slot`'s last submitted frame (waits for them).
+    pub fn report(&self, slot: usize, settings: &FrameSettings) -> Result<FrameReport> {
+        let frame = &self.slots[slot];
+        let (mesh_ms, fur_ms) = match &frame.timestamps {
             Some(q) => {
                 let t = q.timestamps_ms(3)?;
                 (t[1] - t[0], t[2] - t[1])
             }
             None => (f64::NAN, f64::NAN),
         };
-        let statistics = match (&self.statistics, settings.draw_fur) {
+        let statistics = match (&frame.statistics, settings.draw_fur) {
             (Some(q), true) => Some(q.fur_statistics_result()?),
             _ => None,
         };
@@ -338,12 +386,13 @@ impl Renderer {
         strands: &StrandTextures,
         settings: &FrameSettings,
     ) -> Result<(RgbaImage, FrameReport)> {
-        self.update(settings);
+        self.update(0, settings);
         let device = self.device.clone();
         device.submit_once(|cmd| {
-            self.record(cmd, strands.current, settings);
+            self.record(cmd, 0, strands.current, settings);
+            self.target.copy_out(&device, cmd);
             Ok(())
         })?;
-        Ok((self.target.pixels(), self.report(settings)?))
+        Ok((self.target.pixels(), self.report(0, settings)?))
     }
 }

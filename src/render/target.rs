@@ -88,9 +88,10 @@ impl RenderTarget {
         })
     }
 
-    /// Transitions the attachments for rendering (contents discarded).
+    /// Transitions the attachments for rendering (contents discarded). The source
+    /// scopes cover the previous frame's use of the same images, which may still be in
+    /// flight: its attachment writes and the copy or blit that read the resolve image.
     pub fn begin(&self, device: &Device, cmd: vk::CommandBuffer) {
-        let none = (vk::PipelineStageFlags2::NONE, vk::AccessFlags2::NONE);
         let color_out = (
             vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT,
             vk::AccessFlags2::COLOR_ATTACHMENT_WRITE | vk::AccessFlags2::COLOR_ATTACHMENT_READ,
@@ -101,10 +102,20 @@ impl RenderTarget {
             vk::AccessFlags2::DEPTH_STENCIL_ATTACHMENT_WRITE
                 | vk::AccessFlags2::DEPTH_STENCIL_ATTACHMENT_READ,
         );
-        // The resolve image was last read by a copy in an earlier frame.
-        let copy_read = (
-            vk::PipelineStageFlags2::COPY,
-            vk::AccessFlags2::TRANSFER_READ,
+        let earlier_color = (
+            vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT,
+            vk::AccessFlags2::COLOR_ATTACHMENT_WRITE,
+        );
+        let earlier_depth = (
+            vk::PipelineStageFlags2::EARLY_FRAGMENT_TESTS
+                | vk::PipelineStageFlags2::LATE_FRAGMENT_TESTS,
+            vk::AccessFlags2::DEPTH_STENCIL_ATTACHMENT_WRITE,
+        );
+        let earlier_resolve = (
+            vk::PipelineStageFlags2::COPY
+                | vk::PipelineStageFlags2::BLIT
+                | vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT,
+            vk::AccessFlags2::TRANSFER_READ | vk::AccessFlags2::COLOR_ATTACHMENT_WRITE,
         );
         let undefined = vk::ImageLayout::UNDEFINED;
         image_barriers(
@@ -112,19 +123,19 @@ impl RenderTarget {
             cmd,
             &[
                 self.color.barrier(
-                    none,
+                    earlier_color,
                     color_out,
                     undefined,
                     vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
                 ),
                 self.depth.barrier(
-                    none,
+                    earlier_depth,
                     depth_out,
                     undefined,
                     vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL,
                 ),
                 self.resolve.barrier(
-                    copy_read,
+                    earlier_resolve,
                     color_out,
                     undefined,
                     vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,

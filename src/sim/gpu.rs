@@ -126,6 +126,54 @@ fn bindings() -> [(vk::DescriptorType, vk::ShaderStageFlags); 7] {
     ]
 }
 
+/// Points simulation descriptor set `k` (current = `positions[k]`) at its resources.
+fn write_sim_set(
+    device: &Device,
+    set: vk::DescriptorSet,
+    k: usize,
+    statics: &Buffer,
+    steps: &Buffer,
+    textures: &StrandTextures,
+) {
+    let bindings = bindings();
+    let buffer = |b: &Buffer| {
+        [vk::DescriptorBufferInfo::default()
+            .buffer(b.raw())
+            .range(vk::WHOLE_SIZE)]
+    };
+    let image = |i: &crate::gpu::Image| {
+        [vk::DescriptorImageInfo::default()
+            .image_view(i.view())
+            .image_layout(vk::ImageLayout::GENERAL)]
+    };
+    let (b0, b1, b4) = (
+        buffer(statics),
+        buffer(steps),
+        buffer(&textures.root_frames),
+    );
+    let (i2, i3) = (image(&textures.rest), image(&textures.rest_local));
+    let (i5, i6) = (
+        image(&textures.positions[1 - k]),
+        image(&textures.positions[k]),
+    );
+    let write = |binding: u32| {
+        vk::WriteDescriptorSet::default()
+            .dst_set(set)
+            .dst_binding(binding)
+            .descriptor_type(bindings[binding as usize].0)
+    };
+    let writes = [
+        write(0).buffer_info(&b0),
+        write(1).buffer_info(&b1),
+        write(2).image_info(&i2),
+        write(3).image_info(&i3),
+        write(4).buffer_info(&b4),
+        write(5).image_info(&i5),
+        write(6).image_info(&i6),
+    ];
+    unsafe { device.raw.update_descriptor_sets(&writes, &[]) };
+}
+
 /// GPU simulation state for one set of strand textures.
 pub struct GpuSim {
     device: Arc<Device>,
@@ -136,21 +184,40 @@ pub struct GpuSim {
     _set_layout: DescriptorSetLayout,
     layout: PipelineLayout,
     _pool: DescriptorPool,
-    /// Set `k` reads `positions[k]` as current and `positions[1 - k]` as previous.
-    sets: Vec<vk::DescriptorSet>,
+    /// Parameters the kernels read; written only while the device is idle.
     statics: Buffer,
-    steps: Buffer,
     /// Pipelines of the steps in use, in dispatch order.
     pipelines: Vec<(SimStep, Pipeline)>,
-    timestamps: Option<QueryPool>,
-    /// Substeps recorded by the last `record`.
-    recorded: usize,
+    /// Per frame in flight: step constants, timestamps, descriptor sets.
+    slots: Vec<SimSlot>,
     /// Simulated time in seconds.
     pub time: f64,
 }
 
+/// The resources of one frame in flight.
+struct SimSlot {
+    /// Set `k` reads `positions[k]` as current and `positions[1 - k]` as previous.
+    sets: [vk::DescriptorSet; 2],
+    steps: Buffer,
+    timestamps: Option<QueryPool>,
+    /// Substeps recorded by the last `record` into this slot.
+    recorded: usize,
+}
+
 impl GpuSim {
+    /// A simulation with one set of per-frame resources (see [`GpuSim::with_slots`]).
     pub fn new(device: &Arc<Device>, textures: &StrandTextures, params: SimParams) -> Result<Self> {
+        Self::with_slots(device, textures, params, 1)
+    }
+
+    /// A simulation whose submissions can overlap `frames_in_flight` deep.
+    pub fn with_slots(
+        device: &Arc<Device>,
+        textures: &StrandTextures,
+        params: SimParams,
+        frames_in_flight: usize,
+    ) -> Result<Self> {
+        let frames_in_flight = frames_in_flight.max(1);
         params.validate()?;
         let vertices = textures.layout.vertices_per_strand;
         if vertices > MAX_GROUP_SIZE {
@@ -164,8 +231,12 @@ impl GpuSim {
             .stage_flags(vk::ShaderStageFlags::COMPUTE)
             .size(4)];
         let layout = PipelineLayout::new(device, "sim.pipeline_layout", &[&set_layout], &push)?;
-        let pool = DescriptorPool::new(device, "sim.descriptor_pool", 2, &bindings)?;
-        let sets = pool.allocate(&set_layout, 2)?;
+        let pool = DescriptorPool::new(
+            device,
+            "sim.descriptor_pool",
+            2 * frames_in_flight as u32,
+            &bindings,
+        )?;
         let statics = Buffer::new(
             device,
             "sim.static",
@@ -173,60 +244,35 @@ impl GpuSim {
             vk::BufferUsageFlags::UNIFORM_BUFFER,
             MemoryLocation::CpuToGpu,
         )?;
-        let steps = Buffer::new(
-            device,
-            "sim.steps",
-            (STEP_CAPACITY * std::mem::size_of::<GpuStep>()) as u64,
-            vk::BufferUsageFlags::STORAGE_BUFFER,
-            MemoryLocation::CpuToGpu,
-        )?;
-        for (k, set) in sets.iter().enumerate() {
-            let buffer = |b: &Buffer| {
-                [vk::DescriptorBufferInfo::default()
-                    .buffer(b.raw())
-                    .range(vk::WHOLE_SIZE)]
-            };
-            let image = |i: &crate::gpu::Image| {
-                [vk::DescriptorImageInfo::default()
-                    .image_view(i.view())
-                    .image_layout(vk::ImageLayout::GENERAL)]
-            };
-            let (b0, b1, b4) = (
-                buffer(&statics),
-                buffer(&steps),
-                buffer(&textures.root_frames),
-            );
-            let (i2, i3) = (image(&textures.rest), image(&textures.rest_local));
-            let (i5, i6) = (
-                image(&textures.positions[1 - k]),
-                image(&textures.positions[k]),
-            );
-            let write = |binding: u32| {
-                vk::WriteDescriptorSet::default()
-                    .dst_set(*set)
-                    .dst_binding(binding)
-                    .descriptor_type(bindings[binding as usize].0)
-            };
-            let writes = [
-                write(0).buffer_info(&b0),
-                write(1).buffer_info(&b1),
-                write(2).image_info(&i2),
-                write(3).image_info(&i3),
-                write(4).buffer_info(&b4),
-                write(5).image_info(&i5),
-                write(6).image_info(&i6),
-            ];
-            unsafe { device.raw.update_descriptor_sets(&writes, &[]) };
-        }
-        let timestamps = if device.info.timestamps {
-            Some(QueryPool::timestamps(
+        let mut slots = Vec::new();
+        for slot in 0..frames_in_flight {
+            let steps = Buffer::new(
                 device,
-                "sim.timestamps",
-                1 + (STEP_CAPACITY * SimStep::ALL.len()) as u32,
-            )?)
-        } else {
-            None
-        };
+                &format!("sim.steps[{slot}]"),
+                (STEP_CAPACITY * std::mem::size_of::<GpuStep>()) as u64,
+                vk::BufferUsageFlags::STORAGE_BUFFER,
+                MemoryLocation::CpuToGpu,
+            )?;
+            let sets = pool.allocate(&set_layout, 2)?;
+            for (k, set) in sets.iter().enumerate() {
+                write_sim_set(device, *set, k, &statics, &steps, textures);
+            }
+            let timestamps = if device.info.timestamps {
+                Some(QueryPool::timestamps(
+                    device,
+                    &format!("sim.timestamps[{slot}]"),
+                    1 + (STEP_CAPACITY * SimStep::ALL.len()) as u32,
+                )?)
+            } else {
+                None
+            };
+            slots.push(SimSlot {
+                sets: [sets[0], sets[1]],
+                steps,
+                timestamps,
+                recorded: 0,
+            });
+        }
         let mut sim = Self {
             device: device.clone(),
             params: params.clone(),
@@ -236,12 +282,9 @@ impl GpuSim {
             _set_layout: set_layout,
             layout,
             _pool: pool,
-            sets,
             statics,
-            steps,
             pipelines: Vec::new(),
-            timestamps,
-            recorded: 0,
+            slots,
             time: 0.0,
         };
         sim.set_params(params, textures)?;
@@ -264,7 +307,7 @@ impl GpuSim {
                     vk::PipelineBindPoint::COMPUTE,
                     self.layout.raw(),
                     0,
-                    &[self.sets[0]],
+                    &[self.slots[0].sets[0]],
                     &[],
                 );
                 d.raw.cmd_push_constants(
@@ -344,6 +387,7 @@ impl GpuSim {
     pub fn record(
         &mut self,
         cmd: vk::CommandBuffer,
+        slot: usize,
         textures: &mut StrandTextures,
         constants: &[StepConstants],
     ) -> Result<()> {
@@ -354,7 +398,8 @@ impl GpuSim {
             )));
         }
         let data: Vec<GpuStep> = constants.iter().map(GpuStep::from).collect();
-        self.steps.write(0, bytemuck::cast_slice(&data));
+        self.slots[slot].steps.write(0, bytemuck::cast_slice(&data));
+        let frame = &self.slots[slot];
         let d = &*self.device;
         let raw = &d.raw;
         d.begin_label(cmd, "simulation");
@@ -375,13 +420,12 @@ impl GpuSim {
         );
         // One timestamp before the first dispatch and one after every dispatch.
         let used_queries = 1 + (constants.len() * self.pipelines.len()) as u32;
-        if let Some(q) = &self.timestamps {
+        if let Some(q) = &frame.timestamps {
             q.reset_first(used_queries);
             unsafe {
                 raw.cmd_write_timestamp2(cmd, vk::PipelineStageFlags2::COMPUTE_SHADER, q.raw(), 0)
             };
         }
-        self.recorded = constants.len();
         let mut query = 1;
         let groups = self.group_count();
         for (index, _) in constants.iter().enumerate() {
@@ -398,9 +442,9 @@ impl GpuSim {
                 // Integrate reads the current image and writes the previous one, which
                 // from then on is current: the remaining steps use the other set.
                 let set = if *step == SimStep::Integrate {
-                    self.sets[textures.current]
+                    frame.sets[textures.current]
                 } else {
-                    self.sets[1 - textures.current]
+                    frame.sets[1 - textures.current]
                 };
                 d.begin_label(cmd, step.name());
                 unsafe {
@@ -431,7 +475,7 @@ impl GpuSim {
                     ),
                 );
                 // After the barrier, so the wait for this dispatch counts towards it.
-                if let Some(q) = &self.timestamps {
+                if let Some(q) = &frame.timestamps {
                     let stage = vk::PipelineStageFlags2::COMPUTE_SHADER;
                     unsafe { raw.cmd_write_timestamp2(cmd, stage, q.raw(), query) };
                     query += 1;
@@ -440,6 +484,7 @@ impl GpuSim {
             textures.current = 1 - textures.current;
         }
         d.end_label(cmd);
+        self.slots[slot].recorded = constants.len();
         Ok(())
     }
 
@@ -463,8 +508,8 @@ impl GpuSim {
         out
     }
 
-    /// Simulates `frames` frames and waits for the GPU; returns the GPU milliseconds of
-    /// the last submission (NaN without timestamps).
+    /// Simulates `frames` frames in slot 0 and waits for the GPU; returns the GPU
+    /// milliseconds of the last submission (NaN without timestamps).
     pub fn run_frames(
         &mut self,
         textures: &mut StrandTextures,
@@ -478,8 +523,8 @@ impl GpuSim {
             let n = remaining.min(per_submit);
             let constants = self.next_constants(n, &head_at);
             let device = self.device.clone();
-            device.submit_once(|cmd| self.record(cmd, textures, &constants))?;
-            ms = self.last_gpu_ms()?;
+            device.submit_once(|cmd| self.record(cmd, 0, textures, &constants))?;
+            ms = self.last_gpu_ms(0)?;
             remaining -= n;
         }
         Ok(ms)
@@ -487,36 +532,38 @@ impl GpuSim {
 
     /// GPU milliseconds of all dispatches of the last submission (NaN without
     /// timestamps).
-    pub fn last_gpu_ms(&self) -> Result<f64> {
-        Ok(self.last_timings()?.total_ms)
+    pub fn last_gpu_ms(&self, slot: usize) -> Result<f64> {
+        Ok(self.last_timings(slot)?.total_ms)
     }
 
     /// Per-step GPU costs of the last submission, from the timestamps written after
     /// every dispatch.
-    pub fn last_timings(&self) -> Result<SimTimings> {
-        let Some(q) = &self.timestamps else {
+    pub fn last_timings(&self, slot: usize) -> Result<SimTimings> {
+        let frame = &self.slots[slot];
+        let recorded = frame.recorded;
+        let Some(q) = &frame.timestamps else {
             return Ok(SimTimings {
                 total_ms: f64::NAN,
-                substeps: self.recorded,
+                substeps: recorded,
                 per_substep: Vec::new(),
             });
         };
         let steps = self.pipelines.len();
-        let t = q.timestamps_ms(1 + (self.recorded * steps) as u32)?;
+        let t = q.timestamps_ms(1 + (recorded * steps) as u32)?;
         let mut per_substep: Vec<(SimStep, f64)> =
             self.pipelines.iter().map(|(s, _)| (*s, 0.0)).collect();
-        for substep in 0..self.recorded {
+        for substep in 0..recorded {
             for (k, entry) in per_substep.iter_mut().enumerate() {
                 let i = 1 + substep * steps + k;
                 entry.1 += t[i] - t[i - 1];
             }
         }
         for entry in &mut per_substep {
-            entry.1 /= self.recorded.max(1) as f64;
+            entry.1 /= recorded.max(1) as f64;
         }
         Ok(SimTimings {
             total_ms: t.last().copied().unwrap_or(f64::NAN),
-            substeps: self.recorded,
+            substeps: recorded,
             per_substep,
         })
     }

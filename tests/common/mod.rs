@@ -38,7 +38,7 @@ pub fn render(
     let strands = Strands::grow(mesh, groom).unwrap();
     let textures = StrandTextures::new(device, &strands, settings.head).unwrap();
     let mut renderer =
-        Renderer::new(device, mesh, &textures, vk::Extent2D { width, height }).unwrap();
+        Renderer::new(device, mesh, &textures, vk::Extent2D { width, height }, 1).unwrap();
     let (image, report) = renderer.render(&textures, settings).unwrap();
     (image, report.statistics.unwrap_or_default())
 }

@@ -41,6 +41,9 @@ pub enum Error {
     #[error("cannot read model {path}: {message}")]
     Model { path: PathBuf, message: String },
 
+    #[error("{0}")]
+    Window(String),
+
     #[error("invalid parameter: {0}")]
     Parameter(String),
 

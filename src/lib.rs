@@ -15,5 +15,6 @@ pub mod scene;
 pub mod session;
 pub mod sim;
 pub mod strand_textures;
+pub mod viewer;
 
 pub use error::{Error, Result};

@@ -31,6 +31,8 @@ struct Cli {
 enum Command {
     /// Render the scene to a PNG, or simulate it and render a PNG sequence.
     Render(RenderArgs),
+    /// Open a window: live simulation, orbit camera, parameter panel, stage timings.
+    View(ViewArgs),
     /// Measure stage costs, the speed/accuracy trade, scaling and savings on this device;
     /// writes results.csv, results.md and PNG charts.
     Bench {
@@ -50,6 +52,38 @@ enum Command {
         #[arg(default_value = "assets/blob.obj")]
         out: PathBuf,
     },
+}
+
+#[derive(Args, Clone)]
+struct ViewArgs {
+    /// OBJ model to grow fur on (default: the built-in blob).
+    #[arg(long)]
+    model: Option<PathBuf>,
+    /// Initial window width in pixels.
+    #[arg(long, default_value_t = 1280)]
+    width: u32,
+    /// Initial window height in pixels.
+    #[arg(long, default_value_t = 720)]
+    height: u32,
+    #[command(flatten)]
+    groom: GroomArgs,
+    #[command(flatten)]
+    sim: SimArgs,
+    /// Present without waiting for vertical blank (mailbox or immediate when available).
+    #[arg(long)]
+    no_vsync: bool,
+    /// Close after this many frames.
+    #[arg(long)]
+    frames: Option<u64>,
+    /// Scripted input, e.g. "10:resize=320x240; 30:orbit=40,-10; 50:wind=on; 90:screenshot=shot.png".
+    #[arg(long, default_value = "")]
+    script: String,
+    /// Folder for screenshots taken with F12 or P.
+    #[arg(long, default_value = ".")]
+    screenshot_dir: PathBuf,
+    /// Enable the Khronos validation layer; any validation message fails the run.
+    #[arg(long)]
+    validate: bool,
 }
 
 #[derive(Args, Clone)]
@@ -191,6 +225,7 @@ fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
         Some(Command::Render(args)) => render(&args),
+        Some(Command::View(args)) => view(args),
         Some(Command::ExportModel { out }) => export_model(&out),
         Some(Command::Bench {
             quick,
@@ -235,6 +270,34 @@ fn bench(quick: bool, out_dir: &Path, validate: bool) -> anyhow::Result<()> {
             messages[0]
         );
     }
+    Ok(())
+}
+
+fn view(args: ViewArgs) -> anyhow::Result<()> {
+    if args.frames == Some(0) {
+        bail!("--frames must be at least 1");
+    }
+    let options = fur::viewer::ViewerOptions {
+        model: args.model,
+        scene: SceneOptions {
+            hair_length: args.groom.hair_length,
+            segments: args.groom.segments,
+            comb: args.groom.comb,
+            curl: args.groom.curl,
+            density_scale: args.groom.density_scale,
+            ..SceneOptions::default()
+        },
+        sim: args.sim.params(),
+        vsync: !args.no_vsync,
+        frames: args.frames,
+        validate: args.validate,
+        width: args.width,
+        height: args.height,
+        script: fur::viewer::Script::parse(&args.script)?,
+        screenshot_dir: args.screenshot_dir,
+    };
+    options.sim.validate()?;
+    fur::viewer::run(options)?;
     Ok(())
 }
 

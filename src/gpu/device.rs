@@ -35,7 +35,7 @@ pub struct Device {
     pub(crate) queue_family: u32,
     pub(crate) info: DeviceInfo,
     debug_utils: Option<ext::debug_utils::Device>,
-    allocator: ManuallyDrop<Mutex<Allocator>>,
+    allocator: ManuallyDrop<Arc<Mutex<Allocator>>>,
     command_pool: Mutex<vk::CommandPool>,
 }
 
@@ -123,7 +123,7 @@ impl Device {
             queue_family,
             info,
             debug_utils,
-            allocator: ManuallyDrop::new(Mutex::new(allocator)),
+            allocator: ManuallyDrop::new(Arc::new(Mutex::new(allocator))),
             command_pool: Mutex::new(command_pool),
         }))
     }
@@ -150,6 +150,12 @@ impl Device {
 
     pub fn physical(&self) -> vk::PhysicalDevice {
         self.physical
+    }
+
+    /// The shared allocator, for libraries that allocate through it too (the UI
+    /// renderer). Whoever holds a clone must be dropped before the device.
+    pub fn shared_allocator(&self) -> Arc<Mutex<Allocator>> {
+        Arc::clone(&self.allocator)
     }
 
     pub(crate) fn allocator(&self) -> MutexGuard<'_, Allocator> {
@@ -247,7 +253,8 @@ impl Drop for Device {
                 .get_mut()
                 .unwrap_or_else(|e| e.into_inner());
             self.raw.destroy_command_pool(pool, None);
-            // The allocator frees its memory blocks through the device: drop it first.
+            // The allocator frees its memory blocks through the device: drop it first
+            // (every other holder of the Arc is gone by now).
             ManuallyDrop::drop(&mut self.allocator);
             self.raw.destroy_device(None);
         }

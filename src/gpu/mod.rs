@@ -7,6 +7,7 @@ mod instance;
 mod pipeline;
 mod query;
 pub mod shader;
+mod swapchain;
 
 use std::sync::Arc;
 
@@ -17,6 +18,7 @@ pub use instance::{Instance, InstanceDesc, ValidationLog};
 pub use pipeline::{DescriptorPool, DescriptorSetLayout, Pipeline, PipelineLayout, Specialization};
 pub use query::{FurStatistics, QueryPool, FUR_STATISTICS};
 pub use shader::ShaderModule;
+pub use swapchain::{Surface, Swapchain};
 
 use crate::error::Result;
 
@@ -27,4 +29,41 @@ pub fn headless(validation: bool) -> Result<Arc<Device>> {
         extensions: Vec::new(),
     })?);
     Device::new(instance, None, &[])
+}
+
+/// A context for a window: instance with the window system's surface extensions, the
+/// surface, and a device whose queue can present to it.
+pub fn windowed(
+    validation: bool,
+    window: &(impl raw_window_handle::HasDisplayHandle + raw_window_handle::HasWindowHandle),
+) -> Result<(Arc<Device>, Surface)> {
+    let display = window
+        .display_handle()
+        .map_err(|e| crate::Error::Parameter(format!("no display handle: {e}")))?;
+    let required =
+        ash_window::enumerate_required_extensions(display.as_raw()).map_err(|result| {
+            crate::Error::Vulkan {
+                call: "enumerate_required_extensions",
+                result,
+            }
+        })?;
+    // SAFETY: ash returns pointers to its static, NUL-terminated extension names.
+    let extensions = required
+        .iter()
+        .map(|&p| unsafe { std::ffi::CStr::from_ptr(p) })
+        .collect();
+    let instance = Arc::new(Instance::new(&InstanceDesc {
+        validation,
+        extensions,
+    })?);
+    let surface = Surface::new(&instance, window)?;
+    let device = Device::new(
+        instance,
+        Some(PresentTarget {
+            surface_fn: surface.loader(),
+            surface: surface.raw(),
+        }),
+        &[ash::khr::swapchain::NAME],
+    )?;
+    Ok((device, surface))
 }

@@ -146,6 +146,12 @@ impl RenderTarget {
 
     /// Copies the resolved image into the readback buffer.
     pub fn copy_out(&self, device: &Device, cmd: vk::CommandBuffer) {
+        self.finish(device, cmd);
+        self.copy_to_readback(device, cmd);
+    }
+
+    /// Makes the resolved image a transfer source (for copies and blits).
+    pub fn finish(&self, device: &Device, cmd: vk::CommandBuffer) {
         image_barriers(
             device,
             cmd,
@@ -155,13 +161,17 @@ impl RenderTarget {
                     vk::AccessFlags2::COLOR_ATTACHMENT_WRITE,
                 ),
                 (
-                    vk::PipelineStageFlags2::COPY,
+                    vk::PipelineStageFlags2::COPY | vk::PipelineStageFlags2::BLIT,
                     vk::AccessFlags2::TRANSFER_READ,
                 ),
                 vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
                 vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
             )],
         );
+    }
+
+    /// Copies the finished resolved image into the readback buffer.
+    pub fn copy_to_readback(&self, device: &Device, cmd: vk::CommandBuffer) {
         let region = vk::BufferImageCopy::default()
             .image_subresource(vk::ImageSubresourceLayers {
                 aspect_mask: vk::ImageAspectFlags::COLOR,
@@ -181,6 +191,37 @@ impl RenderTarget {
                 vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
                 self.readback.raw(),
                 &[region],
+            )
+        };
+    }
+
+    /// Blits the finished resolved image onto `dst` (in `TRANSFER_DST_OPTIMAL`, same size).
+    pub fn blit_to(&self, device: &Device, cmd: vk::CommandBuffer, dst: vk::Image) {
+        let layers = vk::ImageSubresourceLayers {
+            aspect_mask: vk::ImageAspectFlags::COLOR,
+            mip_level: 0,
+            base_array_layer: 0,
+            layer_count: 1,
+        };
+        let corner = vk::Offset3D {
+            x: self.extent.width as i32,
+            y: self.extent.height as i32,
+            z: 1,
+        };
+        let region = vk::ImageBlit::default()
+            .src_subresource(layers)
+            .src_offsets([vk::Offset3D::default(), corner])
+            .dst_subresource(layers)
+            .dst_offsets([vk::Offset3D::default(), corner]);
+        unsafe {
+            device.raw.cmd_blit_image(
+                cmd,
+                self.resolve.raw(),
+                vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
+                dst,
+                vk::ImageLayout::TRANSFER_DST_OPTIMAL,
+                &[region],
+                vk::Filter::NEAREST,
             )
         };
     }

@@ -359,7 +359,12 @@ impl GpuSim {
             ),
             counts2: UVec4::new(params.length_iterations, 0, 0, 0),
         };
-        self.statics.write(0, bytemuck::bytes_of(&statics));
+        // Only rewrite what the kernels read when it changes: frames in flight may be
+        // reading it (wind strength, for one, lives in the per-step constants instead).
+        let bytes = bytemuck::bytes_of(&statics);
+        if &self.statics.mapped()[..bytes.len()] != bytes {
+            self.statics.write(0, bytes);
+        }
         let mut pipelines = Vec::new();
         let mut old = std::mem::take(&mut self.pipelines);
         let spec = Specialization::new(&[(0, self.group_size), (1, self.vertices)]);

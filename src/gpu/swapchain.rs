@@ -1,0 +1,239 @@
+//! A window surface and its swapchain, with one render-finished semaphore per image.
+
+use std::sync::Arc;
+
+use ash::{khr, vk};
+use raw_window_handle::{HasDisplayHandle, HasWindowHandle};
+
+use super::{Device, Instance};
+use crate::error::{Error, Result, VkContext};
+
+/// A `VkSurfaceKHR` for a window.
+pub struct Surface {
+    _instance: Arc<Instance>,
+    pub(crate) loader: khr::surface::Instance,
+    pub(crate) raw: vk::SurfaceKHR,
+}
+
+impl Surface {
+    pub fn new(
+        instance: &Arc<Instance>,
+        window: &(impl HasDisplayHandle + HasWindowHandle),
+    ) -> Result<Self> {
+        let display = window
+            .display_handle()
+            .map_err(|e| Error::Parameter(format!("no display handle: {e}")))?;
+        let handle = window
+            .window_handle()
+            .map_err(|e| Error::Parameter(format!("no window handle: {e}")))?;
+        let raw = unsafe {
+            ash_window::create_surface(
+                &instance.entry,
+                &instance.raw,
+                display.as_raw(),
+                handle.as_raw(),
+                None,
+            )
+        }
+        .vk("vkCreate*SurfaceKHR")?;
+        Ok(Self {
+            _instance: instance.clone(),
+            loader: khr::surface::Instance::new(&instance.entry, &instance.raw),
+            raw,
+        })
+    }
+
+    pub fn loader(&self) -> &khr::surface::Instance {
+        &self.loader
+    }
+
+    pub fn raw(&self) -> vk::SurfaceKHR {
+        self.raw
+    }
+}
+
+impl Drop for Surface {
+    fn drop(&mut self) {
+        unsafe { self.loader.destroy_surface(self.raw, None) };
+    }
+}
+
+/// The swapchain images, their views and per-image semaphores.
+pub struct Swapchain {
+    device: Arc<Device>,
+    loader: khr::swapchain::Device,
+    raw: vk::SwapchainKHR,
+    pub images: Vec<vk::Image>,
+    pub views: Vec<vk::ImageView>,
+    /// Signalled when an image's frame is rendered; presentation waits on it. Per image,
+    /// not per frame in flight, so a semaphore is never reused before its present.
+    pub render_finished: Vec<vk::Semaphore>,
+    pub format: vk::Format,
+    pub extent: vk::Extent2D,
+}
+
+impl Swapchain {
+    /// Creates a swapchain for `surface`, `wanted` being the window's size in pixels.
+    pub fn new(
+        device: &Arc<Device>,
+        surface: &Surface,
+        wanted: vk::Extent2D,
+        vsync: bool,
+        old: Option<&Swapchain>,
+    ) -> Result<Self> {
+        let physical = device.physical;
+        let caps = unsafe {
+            surface
+                .loader
+                .get_physical_device_surface_capabilities(physical, surface.raw)
+        }
+        .vk("vkGetPhysicalDeviceSurfaceCapabilitiesKHR")?;
+        let formats = unsafe {
+            surface
+                .loader
+                .get_physical_device_surface_formats(physical, surface.raw)
+        }
+        .vk("vkGetPhysicalDeviceSurfaceFormatsKHR")?;
+        let modes = unsafe {
+            surface
+                .loader
+                .get_physical_device_surface_present_modes(physical, surface.raw)
+        }
+        .vk("vkGetPhysicalDeviceSurfacePresentModesKHR")?;
+        let format = [vk::Format::B8G8R8A8_SRGB, vk::Format::R8G8B8A8_SRGB]
+            .iter()
+            .find_map(|f| formats.iter().find(|sf| sf.format == *f))
+            .or(formats.first())
+            .copied()
+            .ok_or_else(|| Error::Parameter("the window surface offers no formats".into()))?;
+        let mode = if vsync {
+            vk::PresentModeKHR::FIFO
+        } else {
+            [vk::PresentModeKHR::MAILBOX, vk::PresentModeKHR::IMMEDIATE]
+                .into_iter()
+                .find(|m| modes.contains(m))
+                .unwrap_or(vk::PresentModeKHR::FIFO)
+        };
+        let extent = if caps.current_extent.width != u32::MAX {
+            caps.current_extent
+        } else {
+            vk::Extent2D {
+                width: wanted
+                    .width
+                    .clamp(caps.min_image_extent.width, caps.max_image_extent.width),
+                height: wanted
+                    .height
+                    .clamp(caps.min_image_extent.height, caps.max_image_extent.height),
+            }
+        };
+        let mut count = caps.min_image_count + 1;
+        if caps.max_image_count > 0 {
+            count = count.min(caps.max_image_count);
+        }
+        let info = vk::SwapchainCreateInfoKHR::default()
+            .surface(surface.raw)
+            .min_image_count(count)
+            .image_format(format.format)
+            .image_color_space(format.color_space)
+            .image_extent(extent)
+            .image_array_layers(1)
+            .image_usage(vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::TRANSFER_DST)
+            .image_sharing_mode(vk::SharingMode::EXCLUSIVE)
+            .pre_transform(caps.current_transform)
+            .composite_alpha(vk::CompositeAlphaFlagsKHR::OPAQUE)
+            .present_mode(mode)
+            .clipped(true)
+            .old_swapchain(old.map_or(vk::SwapchainKHR::null(), |o| o.raw));
+        let loader = khr::swapchain::Device::new(&device.instance.raw, &device.raw);
+        let raw = unsafe { loader.create_swapchain(&info, None) }.vk("vkCreateSwapchainKHR")?;
+        let mut swapchain = Self {
+            device: device.clone(),
+            loader,
+            raw,
+            images: Vec::new(),
+            views: Vec::new(),
+            render_finished: Vec::new(),
+            format: format.format,
+            extent,
+        };
+        swapchain.images =
+            unsafe { swapchain.loader.get_swapchain_images(raw) }.vk("vkGetSwapchainImagesKHR")?;
+        for (i, &image) in swapchain.images.clone().iter().enumerate() {
+            device.set_name(image, &format!("swapchain[{i}]"));
+            let view_info = vk::ImageViewCreateInfo::default()
+                .image(image)
+                .view_type(vk::ImageViewType::TYPE_2D)
+                .format(format.format)
+                .subresource_range(super::subresource_range(vk::ImageAspectFlags::COLOR));
+            swapchain.views.push(
+                unsafe { device.raw.create_image_view(&view_info, None) }
+                    .vk("vkCreateImageView")?,
+            );
+            let semaphore = unsafe {
+                device
+                    .raw
+                    .create_semaphore(&vk::SemaphoreCreateInfo::default(), None)
+            }
+            .vk("vkCreateSemaphore")?;
+            device.set_name(semaphore, &format!("render_finished[{i}]"));
+            swapchain.render_finished.push(semaphore);
+        }
+        log::info!(
+            "swapchain {}×{} {:?} {:?}",
+            extent.width,
+            extent.height,
+            format.format,
+            mode
+        );
+        Ok(swapchain)
+    }
+
+    /// Acquires the next image; `None` when the swapchain must be recreated.
+    pub fn acquire(&self, signal: vk::Semaphore) -> Result<Option<u32>> {
+        match unsafe {
+            self.loader
+                .acquire_next_image(self.raw, u64::MAX, signal, vk::Fence::null())
+        } {
+            Ok((index, _suboptimal)) => Ok(Some(index)),
+            Err(vk::Result::ERROR_OUT_OF_DATE_KHR) => Ok(None),
+            Err(result) => Err(Error::Vulkan {
+                call: "vkAcquireNextImageKHR",
+                result,
+            }),
+        }
+    }
+
+    /// Presents image `index` once its render-finished semaphore is signalled. Returns
+    /// false when the swapchain is out of date or suboptimal and should be recreated.
+    pub fn present(&self, index: u32) -> Result<bool> {
+        let wait = [self.render_finished[index as usize]];
+        let swapchains = [self.raw];
+        let indices = [index];
+        let info = vk::PresentInfoKHR::default()
+            .wait_semaphores(&wait)
+            .swapchains(&swapchains)
+            .image_indices(&indices);
+        match unsafe { self.loader.queue_present(self.device.queue, &info) } {
+            Ok(suboptimal) => Ok(!suboptimal),
+            Err(vk::Result::ERROR_OUT_OF_DATE_KHR) => Ok(false),
+            Err(result) => Err(Error::Vulkan {
+                call: "vkQueuePresentKHR",
+                result,
+            }),
+        }
+    }
+}
+
+impl Drop for Swapchain {
+    fn drop(&mut self) {
+        unsafe {
+            for &view in &self.views {
+                self.device.raw.destroy_image_view(view, None);
+            }
+            for &semaphore in &self.render_finished {
+                self.device.raw.destroy_semaphore(semaphore, None);
+            }
+            self.loader.destroy_swapchain(self.raw, None);
+        }
+    }
+}

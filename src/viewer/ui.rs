@@ -1,0 +1,168 @@
+//! The viewer's parameter panel and HUD (egui).
+
+use std::path::PathBuf;
+
+use super::Hud;
+use crate::session::{FurSession, SceneOptions};
+use crate::sim::SimParams;
+
+/// Controls the panel shares with the keyboard.
+pub(crate) struct ControlsView<'a> {
+    pub paused: &'a mut bool,
+    pub single_step: &'a mut bool,
+    pub wind_on: &'a mut bool,
+    pub wind_strength: &'a mut f32,
+    pub shake_on: &'a mut bool,
+    pub light_orbit: &'a mut bool,
+    pub light_yaw_deg: &'a mut f32,
+    pub light_pitch_deg: &'a mut f32,
+    pub screenshot: &'a mut bool,
+}
+
+/// What the panel changed that needs more than a uniform update.
+#[derive(Default)]
+pub(crate) struct Changes {
+    /// New groom: the hairs are regrown.
+    pub groom: Option<SceneOptions>,
+    /// New simulation parameters.
+    pub sim: Option<SimParams>,
+}
+
+/// Panel state kept between frames (edited values not yet applied).
+pub(crate) struct PanelState {
+    scene: SceneOptions,
+    sim: SimParams,
+    pub reset_requested: bool,
+    pub pending_screenshot: Option<PathBuf>,
+}
+
+impl PanelState {
+    pub fn new(scene: &SceneOptions, session: &FurSession) -> Self {
+        Self {
+            scene: scene.clone(),
+            sim: session.sim.params().clone(),
+            reset_requested: false,
+            pending_screenshot: None,
+        }
+    }
+
+    pub fn show(
+        &mut self,
+        ctx: &egui::Context,
+        session: &mut FurSession,
+        hud: &Hud,
+        controls: &mut ControlsView<'_>,
+    ) -> Changes {
+        let mut changes = Changes::default();
+        egui::Window::new("fur")
+            .default_pos([12.0, 12.0])
+            .default_width(280.0)
+            .show(ctx, |ui| {
+                ui.label(format!(
+                    "{:.1} fps ({:.1} ms)",
+                    1000.0 / hud.frame_ms.max(1e-3),
+                    hud.frame_ms
+                ));
+                ui.label(format!(
+                    "GPU: simulation {:.2} ms, mesh {:.2} ms, fur {:.2} ms",
+                    hud.sim_ms, hud.mesh_ms, hud.fur_ms
+                ));
+                ui.label(format!(
+                    "{} master hairs, {} tessellated points, {} hairs drawn",
+                    hud.masters, hud.points, hud.hairs
+                ));
+                ui.horizontal(|ui| {
+                    ui.checkbox(controls.paused, "paused (space)");
+                    if ui.button("step (n)").clicked() {
+                        *controls.single_step = true;
+                    }
+                    if ui.button("reset (r)").clicked() {
+                        self.reset_requested = true;
+                    }
+                });
+                ui.horizontal(|ui| {
+                    ui.checkbox(controls.shake_on, "shake (m)");
+                    ui.checkbox(controls.wind_on, "wind (f)");
+                    if ui.button("screenshot (F12)").clicked() {
+                        *controls.screenshot = true;
+                    }
+                });
+                ui.add(egui::Slider::new(controls.wind_strength, 0.0..=100.0).text("wind m/s²").logarithmic(true));
+
+                egui::CollapsingHeader::new("groom (regrows the hairs)").show(ui, |ui| {
+                    let s = &mut self.scene;
+                    let mut changed = false;
+                    changed |= ui.add(egui::Slider::new(&mut s.segments, 1..=63).text("segments")).changed();
+                    changed |= ui.add(egui::Slider::new(&mut s.hair_length, 0.02..=1.0).text("hair length (× radius)")).changed();
+                    changed |= ui.add(egui::Slider::new(&mut s.comb, 0.0..=3.0).text("comb")).changed();
+                    changed |= ui.add(egui::Slider::new(&mut s.curl, 0.0..=2.0).text("curl")).changed();
+                    if changed {
+                        changes.groom = Some(s.clone());
+                    }
+                });
+
+                egui::CollapsingHeader::new("simulation").show(ui, |ui| {
+                    let p = &mut self.sim;
+                    let mut changed = false;
+                    changed |= ui.add(egui::Slider::new(&mut p.substeps, 1..=16).text("substeps")).changed();
+                    changed |= ui.add(egui::Slider::new(&mut p.damping, 0.0..=1.0).text("damping")).changed();
+                    changed |= ui.add(egui::Slider::new(&mut p.global_stiffness, 0.0..=1.0).text("global stiffness S_G")).changed();
+                    changed |= ui.add(egui::Slider::new(&mut p.global_range, 0.0..=1.0).text("global range")).changed();
+                    changed |= ui.add(egui::Slider::new(&mut p.local_stiffness, 0.0..=1.0).text("local stiffness S_L")).changed();
+                    changed |= ui.add(egui::Slider::new(&mut p.local_iterations, 0..=16).text("local iterations")).changed();
+                    changed |= ui.add(egui::Slider::new(&mut p.length_iterations, 0..=16).text("length iterations")).changed();
+                    let mut g = -p.gravity.y;
+                    if ui.add(egui::Slider::new(&mut g, 0.0..=50.0).text("gravity m/s²")).changed() {
+                        p.gravity.y = -g;
+                        changed = true;
+                    }
+                    if changed {
+                        // Wind is driven by the toggle and strength above.
+                        p.wind = session.sim.params().wind;
+                        changes.sim = Some(p.clone());
+                    }
+                });
+
+                egui::CollapsingHeader::new("lighting").show(ui, |ui| {
+                    let l = &mut session.settings.lighting;
+                    ui.add(egui::Slider::new(&mut l.kd, 0.0..=2.0).text("Kd (diffuse)"));
+                    ui.add(egui::Slider::new(&mut l.ks, 0.0..=2.0).text("Ks (specular)"));
+                    ui.add(egui::Slider::new(&mut l.shininess, 1.0..=200.0).text("p (exponent)").logarithmic(true));
+                    ui.add(egui::Slider::new(&mut l.ambient, 0.0..=1.0).text("ambient"));
+                    ui.add(egui::Slider::new(&mut l.intensity, 0.0..=3.0).text("intensity"));
+                    ui.add(egui::Slider::new(&mut l.root_occlusion, 0.0..=1.0).text("root darkening"));
+                    ui.add(egui::Slider::new(controls.light_yaw_deg, -180.0..=180.0).text("light yaw"));
+                    ui.add(egui::Slider::new(controls.light_pitch_deg, -89.0..=89.0).text("light pitch"));
+                    ui.checkbox(controls.light_orbit, "orbit the light (l)");
+                    color(ui, "root colour", &mut l.root_color);
+                    color(ui, "tip colour", &mut l.tip_color);
+                    color(ui, "skin colour", &mut l.skin_color);
+                });
+
+                egui::CollapsingHeader::new("fur drawing").show(ui, |ui| {
+                    let f = &mut session.settings.style;
+                    ui.add(egui::Slider::new(&mut f.density, 10.0..=200_000.0).text("hairs per unit²").logarithmic(true));
+                    ui.add(egui::Slider::new(&mut f.lod_distance, 0.1..=100.0).text("full-density distance").logarithmic(true));
+                    ui.add(egui::Slider::new(&mut f.hair_width, 0.0001..=0.05).text("hair width").logarithmic(true));
+                    ui.add(egui::Slider::new(&mut f.min_pixel_width, 0.0..=4.0).text("min width (px)"));
+                    ui.add(egui::Slider::new(&mut f.jitter, 0.0..=0.2).text("jitter"));
+                    ui.add(egui::Slider::new(&mut f.length_jitter, 0.0..=1.0).text("length jitter"));
+                    ui.checkbox(&mut f.cull, "cull back-facing / off-screen triangles");
+                    ui.checkbox(&mut session.settings.draw_mesh, "draw skin");
+                    ui.checkbox(&mut session.settings.draw_fur, "draw fur");
+                });
+                ui.small("drag: orbit · right-drag: pan · wheel: zoom · WASD/arrows, Q/E: move the model · Esc: quit");
+            });
+        changes
+    }
+}
+
+fn color(ui: &mut egui::Ui, label: &str, value: &mut glam::Vec3) {
+    ui.horizontal(|ui| {
+        let mut rgb = value.to_array();
+        if ui.color_edit_button_rgb(&mut rgb).changed() {
+            *value = glam::Vec3::from_array(rgb);
+        }
+        ui.label(label);
+    });
+}

@@ -1,0 +1,179 @@
+//! `fur view` in a real X window under Xvfb (validation on): scripted resizes, camera
+//! moves, wind and motion, minimising, and a screenshot that shows fur.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output, Stdio};
+use std::time::{Duration, Instant};
+
+/// Runs `fur view` with `args` on the current display, or under `xvfb-run` when there
+/// is none. Kills it after `limit` (a hang fails the test).
+fn view(args: &[&str], limit: Duration) -> Output {
+    let fur = env!("CARGO_BIN_EXE_fur");
+    let mut command = if std::env::var_os("DISPLAY").is_some() {
+        let mut c = Command::new(fur);
+        c.arg("view");
+        c
+    } else {
+        assert!(
+            Command::new("xvfb-run").arg("--help").output().is_ok(),
+            "no DISPLAY and no xvfb-run: install xvfb (see README)"
+        );
+        let mut c = Command::new("xvfb-run");
+        c.args(["-a", "-s", "-screen 0 1280x1024x24", fur, "view"]);
+        c
+    };
+    let mut child = command
+        .args(args)
+        .env("RUST_BACKTRACE", "0")
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("fur view starts");
+    let start = Instant::now();
+    loop {
+        if child.try_wait().unwrap().is_some() {
+            return child.wait_with_output().unwrap();
+        }
+        if start.elapsed() > limit {
+            let _ = child.kill();
+            let out = child.wait_with_output().unwrap();
+            panic!(
+                "fur view hung for {limit:?}:\n{}",
+                String::from_utf8_lossy(&out.stderr)
+            );
+        }
+        std::thread::sleep(Duration::from_millis(100));
+    }
+}
+
+fn scratch(name: &str) -> PathBuf {
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR"))
+        .join("viewer")
+        .join(name);
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+fn assert_ok(out: &Output) {
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "fur view failed:\n{stderr}");
+    assert!(!stderr.contains("panicked"), "{stderr}");
+}
+
+#[test]
+fn scripted_session_is_validated_and_its_screenshot_shows_fur() {
+    let dir = scratch("session");
+    let shot = dir.join("shot.png");
+    let script = format!(
+        "10:resize=400x300; 30:orbit=40,-10; 40:wind=on; 60:resize=300x220; 70:move=0.1,0,0; 80:shake=on; 110:screenshot={}",
+        shot.display()
+    );
+    let out = view(
+        &[
+            "--validate",
+            "--frames",
+            "120",
+            "--width",
+            "320",
+            "--height",
+            "240",
+            "--density-scale",
+            "0.3",
+            "--segments",
+            "8",
+            "--script",
+            &script,
+        ],
+        Duration::from_secs(240),
+    );
+    assert_ok(&out);
+    let file = std::fs::File::open(&shot).expect("the screenshot was written");
+    let mut reader = png::Decoder::new(std::io::BufReader::new(file))
+        .read_info()
+        .unwrap();
+    let mut data = vec![0; reader.output_buffer_size()];
+    let info = reader.next_frame(&mut data).unwrap();
+    // The window was resized to 300×220 before the screenshot.
+    assert_eq!((info.width, info.height), (300, 220));
+    let pixels: Vec<&[u8]> = data.chunks_exact(4).collect();
+    let background = pixels[0];
+    let covered: Vec<&[u8]> = pixels
+        .iter()
+        .copied()
+        .filter(|p| (0..3).any(|c| p[c].abs_diff(background[c]) > 8))
+        .collect();
+    assert!(
+        covered.len() > pixels.len() / 10,
+        "the model covers only {} pixels",
+        covered.len()
+    );
+    // Fur: a light, warm colour ramp with variation, unlike the flat dark skin.
+    let luma: Vec<f32> = covered
+        .iter()
+        .map(|p| (0.2126 * p[0] as f32 + 0.7152 * p[1] as f32 + 0.0722 * p[2] as f32) / 255.0)
+        .collect();
+    let mean = luma.iter().sum::<f32>() / luma.len() as f32;
+    let std = (luma.iter().map(|l| (l - mean).powi(2)).sum::<f32>() / luma.len() as f32).sqrt();
+    assert!(
+        mean > 0.3 && std > 0.03,
+        "covered pixels look flat: mean {mean}, std {std}"
+    );
+    let warm = covered.iter().filter(|p| p[0] > p[2]).count();
+    assert!(
+        warm > covered.len() / 2,
+        "the covered pixels are not fur-coloured"
+    );
+}
+
+#[test]
+fn a_one_pixel_window_and_minimising_neither_crash_nor_hang() {
+    let out = view(
+        &[
+            "--validate",
+            "--frames",
+            "40",
+            "--width",
+            "64",
+            "--height",
+            "48",
+            "--density-scale",
+            "0.1",
+            "--segments",
+            "4",
+            "--script",
+            "5:resize=1x1; 15:minimize=on; 25:minimize=off; 30:resize=80x60",
+        ],
+        Duration::from_secs(120),
+    );
+    assert_ok(&out);
+}
+
+#[test]
+fn without_a_display_it_says_to_use_render() {
+    let out = Command::new(env!("CARGO_BIN_EXE_fur"))
+        .args(["view", "--frames", "1"])
+        .env_remove("DISPLAY")
+        .env_remove("WAYLAND_DISPLAY")
+        .env_remove("WAYLAND_SOCKET")
+        .env("RUST_BACKTRACE", "0")
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success());
+    assert!(
+        stderr.contains("fur render") && !stderr.contains("panicked"),
+        "{stderr}"
+    );
+}
+
+#[test]
+fn bad_scripts_are_rejected_before_opening_a_window() {
+    let out = Command::new(env!("CARGO_BIN_EXE_fur"))
+        .args(["view", "--script", "10:fly=away"])
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success());
+    assert!(stderr.contains("10:fly=away"), "{stderr}");
+}

@@ -156,21 +156,20 @@ impl FurSession {
         self.renderer.render(&self.textures, &self.settings)
     }
 
-    /// Records one frame into `cmd` using frame slot `slot`: the simulation's substeps
-    /// (when `simulate`) and both render passes. The slot's previous frame must have
-    /// finished. The resolved image is left for the caller to copy or blit.
+    /// Records one rendered frame into `cmd` using frame slot `slot`: `sim_frames`
+    /// simulation frames of `dt` each (all their substeps; 0 when paused) and both render
+    /// passes. The slot's previous frame must have finished. The resolved image is left
+    /// for the caller to copy or blit.
     pub fn record_frame(
         &mut self,
         cmd: vk::CommandBuffer,
         slot: usize,
-        simulate: bool,
+        sim_frames: usize,
     ) -> Result<()> {
         let (user, motion) = (self.user, self.motion);
-        let constants = if simulate {
-            self.sim.next_constants(1, |t| user * motion.head(t))
-        } else {
-            Vec::new()
-        };
+        let constants = self
+            .sim
+            .next_constants(sim_frames, |t| user * motion.head(t));
         self.settings.head = self.head_at(self.sim.time).as_mat4();
         self.renderer.update(slot, &self.settings);
         if !constants.is_empty() {
@@ -197,7 +196,7 @@ impl FurSession {
     pub fn step_and_render(&mut self) -> Result<(RgbaImage, FrameTimings)> {
         let device = self.device.clone();
         device.submit_once(|cmd| {
-            self.record_frame(cmd, 0, true)?;
+            self.record_frame(cmd, 0, 1)?;
             self.renderer.target.copy_out(&device, cmd);
             Ok(())
         })?;

@@ -63,6 +63,19 @@ pub fn run(options: ViewerOptions) -> Result<()> {
         .run_app(&mut app)
         .map_err(|e| Error::Window(format!("the window system failed: {e}")))?;
     let viewer = app.viewer.take();
+    if let Some(v) = &viewer {
+        if !v.frame_times.is_empty() {
+            println!(
+                "{} frames: median frame time {:.1} ms; last GPU timings: simulation {:.2} ms, mesh {:.2} ms, fur {:.2} ms; {} hairs drawn",
+                v.frame_times.len() + 1,
+                crate::bench::metrics::median(&v.frame_times),
+                v.hud.sim_ms,
+                v.hud.mesh_ms,
+                v.hud.fur_ms,
+                v.hud.hairs
+            );
+        }
+    }
     let messages = viewer
         .as_ref()
         .map(|v| v.device.instance().validation_messages())
@@ -206,6 +219,11 @@ struct Viewer {
     frame_limit: Option<u64>,
     frame_index: u64,
     last_frame: Instant,
+    /// Seconds of the last frame, and simulation time owed to the clock.
+    hud_dt: f64,
+    sim_clock: f64,
+    /// Wall-clock milliseconds of every frame after the first (for the exit summary).
+    frame_times: Vec<f64>,
     vsync: bool,
     needs_resize: bool,
     screenshot_dir: PathBuf,
@@ -351,6 +369,9 @@ impl Viewer {
             frame_limit: options.frames,
             frame_index: 0,
             last_frame: Instant::now(),
+            hud_dt: 0.0,
+            sim_clock: 0.0,
+            frame_times: Vec::new(),
             vsync: options.vsync,
             needs_resize: false,
             screenshot_dir: options.screenshot_dir.clone(),
@@ -566,7 +587,23 @@ impl Viewer {
             .egui_ctx
             .tessellate(output.shapes, output.pixels_per_point);
 
-        let simulate = !self.controls.paused || std::mem::take(&mut self.controls.single_step);
+        // Fixed simulation steps, decoupled from the frame rate: as many 1/60 s steps as
+        // wall-clock time has accumulated (at most 4 per frame, so a slow device slows
+        // the simulation down rather than spiralling); one when single-stepping.
+        let dt = f64::from(self.session.sim.params().dt);
+        let sim_frames = if self.controls.paused {
+            self.sim_clock = 0.0;
+            usize::from(std::mem::take(&mut self.controls.single_step))
+        } else if self.frame_limit.is_some() {
+            // Counted runs (tests, benchmarks) step exactly once per frame.
+            1
+        } else {
+            self.sim_clock = (self.sim_clock + self.hud_dt).min(4.0 * dt);
+            let n = (self.sim_clock / dt).floor() as usize;
+            self.sim_clock -= n as f64 * dt;
+            n
+        };
+        let simulate = sim_frames > 0;
         let screenshot = if std::mem::take(&mut self.controls.screenshot_requested) {
             self.screenshots_taken += 1;
             Some(
@@ -594,7 +631,7 @@ impl Viewer {
         }
         frame.simulated = simulate;
         frame.screenshot = screenshot.clone();
-        self.session.record_frame(cmd, slot, simulate)?;
+        self.session.record_frame(cmd, slot, sim_frames)?;
         let target = &self.session.renderer.target;
         target.finish(&d, cmd);
         if screenshot.is_some() {

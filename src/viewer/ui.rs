@@ -64,8 +64,11 @@ impl PanelState {
                     hud.frame_ms
                 ));
                 ui.label(format!(
-                    "GPU: simulation {:.2} ms, mesh {:.2} ms, fur {:.2} ms",
-                    hud.sim_ms, hud.mesh_ms, hud.fur_ms
+                    "GPU: simulation {:.2} ms/frame ({:.2} per substep), mesh {:.2} ms, fur {:.2} ms",
+                    hud.sim_ms,
+                    hud.sim_ms / f64::from(session.sim.params().substeps),
+                    hud.mesh_ms,
+                    hud.fur_ms
                 ));
                 ui.label(format!(
                     "{} master hairs, {} tessellated points, {} hairs drawn",

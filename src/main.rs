@@ -357,6 +357,7 @@ fn render(args: &RenderArgs) -> anyhow::Result<()> {
         1,
     )?;
     let masters = session.strands.count();
+    let groom_segments = session.strands.vertices_per_strand - 1;
     if simulate {
         let dir = args
             .out_dir
@@ -396,7 +397,15 @@ fn render(args: &RenderArgs) -> anyhow::Result<()> {
         image.write_png(&args.out)?;
         let hairs = report
             .statistics
-            .map(|s| format!(", {} interpolated hairs drawn", s.geometry_invocations))
+            .map(|s| {
+                let segments = u64::from(groom_segments);
+                format!(
+                    ", {} tessellated points, {} hairs drawn (corner and edge points shared by two \
+                     triangles are drawn once)",
+                    s.tess_eval_invocations,
+                    s.geometry_primitives / (2 * segments)
+                )
+            })
             .unwrap_or_default();
         println!(
             "wrote {} ({}×{}): {masters} master hairs{hairs}; frame {:.1} ms (GPU: mesh {:.2} ms, fur {:.2} ms)",

@@ -532,6 +532,10 @@ impl Viewer {
         } else {
             self.hud.frame_ms * 0.9 + dt * 1e3 * 0.1
         };
+        self.hud_dt = dt;
+        if self.frame_index > 1 {
+            self.frame_times.push(dt * 1e3);
+        }
 
         let extent = self.drawable();
         if extent.width == 0 || extent.height == 0 {

@@ -44,6 +44,9 @@ pub enum Error {
     #[error("{0}")]
     Window(String),
 
+    #[error("{count} validation message(s); the first: {first}")]
+    Validation { count: usize, first: String },
+
     #[error("invalid parameter: {0}")]
     Parameter(String),
 

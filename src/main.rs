@@ -262,14 +262,7 @@ fn bench(quick: bool, out_dir: &Path, validate: bool) -> anyhow::Result<()> {
         report.rows.len(),
         out_dir.display()
     );
-    let messages = device.instance().validation_messages();
-    if !messages.is_empty() {
-        bail!(
-            "{} validation message(s); the first: {}",
-            messages.len(),
-            messages[0]
-        );
-    }
+    device.instance().check_validation()?;
     Ok(())
 }
 
@@ -418,13 +411,6 @@ fn render(args: &RenderArgs) -> anyhow::Result<()> {
         );
     }
     drop(session);
-    let messages = device.instance().validation_messages();
-    if !messages.is_empty() {
-        bail!(
-            "{} validation message(s); the first: {}",
-            messages.len(),
-            messages[0]
-        );
-    }
+    device.instance().check_validation()?;
     Ok(())
 }

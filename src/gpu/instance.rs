@@ -139,6 +139,18 @@ impl Instance {
         self.log.messages()
     }
 
+    /// An error if the validation layer reported anything so far.
+    pub fn check_validation(&self) -> Result<()> {
+        let messages = self.validation_messages();
+        match messages.first() {
+            None => Ok(()),
+            Some(first) => Err(crate::Error::Validation {
+                count: messages.len(),
+                first: first.clone(),
+            }),
+        }
+    }
+
     pub fn raw(&self) -> &ash::Instance {
         &self.raw
     }

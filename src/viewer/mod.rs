@@ -76,20 +76,11 @@ pub fn run(options: ViewerOptions) -> Result<()> {
             );
         }
     }
-    let messages = viewer
-        .as_ref()
-        .map(|v| v.device.instance().validation_messages())
-        .unwrap_or_default();
+    // Destroying the viewer can report problems too: check after it is gone.
+    let instance = viewer.as_ref().map(|v| v.device.instance().clone());
     drop(viewer);
     app.result?;
-    if !messages.is_empty() {
-        return Err(Error::Parameter(format!(
-            "{} validation message(s); the first: {}",
-            messages.len(),
-            messages[0]
-        )));
-    }
-    Ok(())
+    instance.map_or(Ok(()), |i| i.check_validation())
 }
 
 struct App {
@@ -782,30 +773,13 @@ impl Viewer {
     /// Rebuilds or re-parameterises the scene as the panel asked.
     fn apply_changes(&mut self, changes: ui::Changes) -> Result<()> {
         if let Some(scene) = changes.groom {
-            self.device.wait_idle()?;
             let (groom, mut settings) = scene.resolve(&self.mesh)?;
             let old = &self.session.settings;
             settings.camera = old.camera;
             settings.lighting = old.lighting.clone();
             settings.style.cull = old.style.cull;
-            let extent = self.session.renderer.target.extent;
-            let sim = self.session.sim.params().clone();
-            let motion = self.session.motion;
-            self.session = FurSession::new(
-                &self.device,
-                self.mesh.clone(),
-                &groom,
-                sim,
-                motion,
-                settings,
-                extent,
-                FRAMES_IN_FLIGHT,
-            )?;
-            self.hud.masters = self.session.strands.count();
+            self.rebuild_session(&groom, settings)?;
             self.scene = scene;
-            for frame in &mut self.frames {
-                frame.submitted = false;
-            }
         }
         if let Some(params) = changes.sim {
             self.device.wait_idle()?;
@@ -814,27 +788,38 @@ impl Viewer {
                 .set_params(params, &self.session.textures)?;
         }
         if std::mem::take(&mut self.ui.reset_requested) {
-            self.device.wait_idle()?;
             let (groom, _) = self.scene.resolve(&self.mesh)?;
-            let settings = self.session.settings.clone();
-            let extent = self.session.renderer.target.extent;
-            let sim = self.session.sim.params().clone();
-            let motion = self.session.motion;
-            self.session = FurSession::new(
-                &self.device,
-                self.mesh.clone(),
-                &groom,
-                sim,
-                motion,
-                settings,
-                extent,
-                FRAMES_IN_FLIGHT,
-            )?;
+            self.rebuild_session(&groom, self.session.settings.clone())?;
             self.controls.model_offset = DVec3::ZERO;
             self.controls.model_yaw = 0.0;
-            for frame in &mut self.frames {
-                frame.submitted = false;
-            }
+        }
+        Ok(())
+    }
+
+    /// Regrows the hairs and restarts the simulation (keeping its parameters and the
+    /// motion), once every frame in flight has finished.
+    fn rebuild_session(
+        &mut self,
+        groom: &crate::scene::GroomParams,
+        settings: crate::render::FrameSettings,
+    ) -> Result<()> {
+        self.device.wait_idle()?;
+        let extent = self.session.renderer.target.extent;
+        let sim = self.session.sim.params().clone();
+        self.session = FurSession::new(
+            &self.device,
+            self.mesh.clone(),
+            groom,
+            sim,
+            self.session.motion,
+            settings,
+            extent,
+            FRAMES_IN_FLIGHT,
+        )?;
+        self.hud.masters = self.session.strands.count();
+        // The new session's query pools hold nothing yet.
+        for frame in &mut self.frames {
+            frame.submitted = false;
         }
         Ok(())
     }

@@ -261,6 +261,38 @@ impl Drop for Device {
     }
 }
 
+/// The features the renderer needs that a device lacks, by their Vulkan names.
+fn missing_features(
+    supports_13: bool,
+    features: &vk::PhysicalDeviceFeatures,
+    f12: &vk::PhysicalDeviceVulkan12Features,
+    f13: &vk::PhysicalDeviceVulkan13Features,
+) -> Vec<String> {
+    let mut missing = Vec::new();
+    if !supports_13 {
+        missing.push("Vulkan 1.3".to_string());
+    } else {
+        for (name, supported) in [
+            ("dynamicRendering", f13.dynamic_rendering),
+            ("synchronization2", f13.synchronization2),
+            ("hostQueryReset", f12.host_query_reset),
+        ] {
+            if supported == vk::FALSE {
+                missing.push(name.to_string());
+            }
+        }
+    }
+    for (name, supported) in [
+        ("tessellationShader", features.tessellation_shader),
+        ("geometryShader", features.geometry_shader),
+    ] {
+        if supported == vk::FALSE {
+            missing.push(name.to_string());
+        }
+    }
+    missing
+}
+
 /// Scores every physical device and returns the best usable one, or an error listing
 /// why each device was rejected.
 fn select_physical_device(
@@ -289,33 +321,16 @@ fn select_physical_device(
         let mut features2 = vk::PhysicalDeviceFeatures2::default()
             .push_next(&mut f13)
             .push_next(&mut f12);
-        let mut missing = Vec::new();
-        if vk::api_version_major(props.api_version) == 1
-            && vk::api_version_minor(props.api_version) < 3
-        {
-            missing.push("Vulkan 1.3".to_string());
-        } else {
+        let supports_13 = !(vk::api_version_major(props.api_version) == 1
+            && vk::api_version_minor(props.api_version) < 3);
+        if supports_13 {
             unsafe {
                 instance
                     .raw
                     .get_physical_device_features2(physical, &mut features2)
             };
-            if f13.dynamic_rendering == vk::FALSE {
-                missing.push("dynamicRendering".into());
-            }
-            if f13.synchronization2 == vk::FALSE {
-                missing.push("synchronization2".into());
-            }
-            if f12.host_query_reset == vk::FALSE {
-                missing.push("hostQueryReset".into());
-            }
         }
-        if features.tessellation_shader == vk::FALSE {
-            missing.push("tessellationShader".into());
-        }
-        if features.geometry_shader == vk::FALSE {
-            missing.push("geometryShader".into());
-        }
+        let mut missing = missing_features(supports_13, &features, &f12, &f13);
         let families = unsafe {
             instance
                 .raw
@@ -363,4 +378,37 @@ fn select_physical_device(
     }
     best.map(|(_, physical, family, info)| (physical, family, info))
         .ok_or_else(|| Error::NoSuitableDevice(rejections.join("\n")))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_device_without_tessellation_or_geometry_shaders_is_named_as_lacking_them() {
+        let f12 = vk::PhysicalDeviceVulkan12Features::default().host_query_reset(true);
+        let f13 = vk::PhysicalDeviceVulkan13Features::default()
+            .dynamic_rendering(true)
+            .synchronization2(true);
+        let full = vk::PhysicalDeviceFeatures::default()
+            .tessellation_shader(true)
+            .geometry_shader(true);
+        assert!(missing_features(true, &full, &f12, &f13).is_empty());
+        let none = vk::PhysicalDeviceFeatures::default();
+        assert_eq!(
+            missing_features(true, &none, &f12, &f13),
+            ["tessellationShader", "geometryShader"]
+        );
+        let no_geometry = full.geometry_shader(false);
+        assert_eq!(
+            missing_features(true, &no_geometry, &f12, &f13),
+            ["geometryShader"]
+        );
+        assert_eq!(missing_features(false, &full, &f12, &f13), ["Vulkan 1.3"]);
+        let old13 = vk::PhysicalDeviceVulkan13Features::default();
+        assert_eq!(
+            missing_features(true, &full, &f12, &old13),
+            ["dynamicRendering", "synchronization2"]
+        );
+    }
 }

@@ -39,7 +39,7 @@ pub fn windowed(
 ) -> Result<(Arc<Device>, Surface)> {
     let display = window
         .display_handle()
-        .map_err(|e| crate::Error::Parameter(format!("no display handle: {e}")))?;
+        .map_err(|e| crate::Error::Window(format!("no display handle: {e}")))?;
     let required =
         ash_window::enumerate_required_extensions(display.as_raw()).map_err(|result| {
             crate::Error::Vulkan {

@@ -22,10 +22,10 @@ impl Surface {
     ) -> Result<Self> {
         let display = window
             .display_handle()
-            .map_err(|e| Error::Parameter(format!("no display handle: {e}")))?;
+            .map_err(|e| Error::Window(format!("no display handle: {e}")))?;
         let handle = window
             .window_handle()
-            .map_err(|e| Error::Parameter(format!("no window handle: {e}")))?;
+            .map_err(|e| Error::Window(format!("no window handle: {e}")))?;
         let raw = unsafe {
             ash_window::create_surface(
                 &instance.entry,
@@ -105,7 +105,7 @@ impl Swapchain {
             .find_map(|f| formats.iter().find(|sf| sf.format == *f))
             .or(formats.first())
             .copied()
-            .ok_or_else(|| Error::Parameter("the window surface offers no formats".into()))?;
+            .ok_or_else(|| Error::Window("the window surface offers no formats".into()))?;
         let mode = if vsync {
             vk::PresentModeKHR::FIFO
         } else {

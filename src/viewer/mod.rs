@@ -327,7 +327,7 @@ impl Viewer {
                 ..Default::default()
             },
         )
-        .map_err(|e| Error::Parameter(format!("cannot create the UI renderer: {e}")))?;
+        .map_err(|e| Error::Window(format!("cannot create the UI renderer: {e}")))?;
         let light = session.settings.lighting.light_direction.normalize();
         let controls = Controls {
             light_yaw_deg: light.x.atan2(light.z).to_degrees(),
@@ -573,7 +573,7 @@ impl Viewer {
             for delta in &deltas {
                 self.egui_renderer
                     .set_texture(self.device.queue, self.upload_pool, id, delta)
-                    .map_err(|e| Error::Parameter(format!("UI texture upload failed: {e}")))?;
+                    .map_err(|e| Error::Window(format!("UI texture upload failed: {e}")))?;
             }
         }
         // Freed after this frame has finished (see finish_slot).
@@ -698,7 +698,7 @@ impl Viewer {
         unsafe { raw.cmd_begin_rendering(cmd, &rendering) };
         self.egui_renderer
             .cmd_draw(cmd, swapchain.extent, output.pixels_per_point, &primitives)
-            .map_err(|e| Error::Parameter(format!("UI drawing failed: {e}")))?;
+            .map_err(|e| Error::Window(format!("UI drawing failed: {e}")))?;
         unsafe { raw.cmd_end_rendering(cmd) };
         d.end_label(cmd);
         image_barriers(
@@ -749,7 +749,7 @@ impl Viewer {
         for id in textures {
             self.egui_renderer
                 .free_texture(id)
-                .map_err(|e| Error::Parameter(format!("UI texture free failed: {e}")))?;
+                .map_err(|e| Error::Window(format!("UI texture free failed: {e}")))?;
         }
         let timings = self.session.timings(slot, simulated)?;
         if simulated {

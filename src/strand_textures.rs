@@ -14,7 +14,7 @@ use glam::{Mat4, Vec3, Vec4};
 use gpu_allocator::MemoryLocation;
 
 use crate::error::{Error, Result};
-use crate::gpu::{image_barriers, Buffer, Device, Image, ImageDesc};
+use crate::gpu::{image_barriers, whole_image_copy, Buffer, Device, Image, ImageDesc};
 use crate::scene::Strands;
 
 /// Where each strand vertex lives in the strand textures.
@@ -160,6 +160,13 @@ impl StrandTextures {
         Ok(textures)
     }
 
+    fn extent(&self) -> vk::Extent2D {
+        vk::Extent2D {
+            width: self.layout.width,
+            height: self.layout.height,
+        }
+    }
+
     /// The image holding the current positions.
     pub fn current_positions(&self) -> &Image {
         &self.positions[self.current]
@@ -188,6 +195,7 @@ impl StrandTextures {
             offset += bytes.len();
         }
         let d = &self.device;
+        let extent = self.extent();
         d.submit_once(|cmd| {
             let to_dst: Vec<_> = images
                 .iter()
@@ -205,19 +213,7 @@ impl StrandTextures {
                 .collect();
             image_barriers(d, cmd, &to_dst);
             for ((image, _), offset) in images.iter().zip(&offsets) {
-                let region = vk::BufferImageCopy::default()
-                    .buffer_offset(*offset)
-                    .image_subresource(vk::ImageSubresourceLayers {
-                        aspect_mask: vk::ImageAspectFlags::COLOR,
-                        mip_level: 0,
-                        base_array_layer: 0,
-                        layer_count: 1,
-                    })
-                    .image_extent(vk::Extent3D {
-                        width: self.layout.width,
-                        height: self.layout.height,
-                        depth: 1,
-                    });
+                let region = whole_image_copy(extent, *offset);
                 unsafe {
                     d.raw.cmd_copy_buffer_to_image(
                         cmd,
@@ -265,6 +261,7 @@ impl StrandTextures {
             MemoryLocation::GpuToCpu,
         )?;
         let d = &self.device;
+        let extent = self.extent();
         d.submit_once(|cmd| {
             let general = vk::ImageLayout::GENERAL;
             let all = (
@@ -277,18 +274,7 @@ impl StrandTextures {
             );
             let src = vk::ImageLayout::TRANSFER_SRC_OPTIMAL;
             image_barriers(d, cmd, &[image.barrier(all, copy_read, general, src)]);
-            let region = vk::BufferImageCopy::default()
-                .image_subresource(vk::ImageSubresourceLayers {
-                    aspect_mask: vk::ImageAspectFlags::COLOR,
-                    mip_level: 0,
-                    base_array_layer: 0,
-                    layer_count: 1,
-                })
-                .image_extent(vk::Extent3D {
-                    width: self.layout.width,
-                    height: self.layout.height,
-                    depth: 1,
-                });
+            let region = whole_image_copy(extent, 0);
             unsafe {
                 d.raw
                     .cmd_copy_image_to_buffer(cmd, image.raw(), src, buffer.raw(), &[region])

@@ -130,6 +130,27 @@ impl Drop for Image {
     }
 }
 
+/// A buffer↔image copy of a whole single-layer colour image of `extent`, the buffer
+/// tightly packed from `buffer_offset`.
+pub fn whole_image_copy(
+    extent: vk::Extent2D,
+    buffer_offset: vk::DeviceSize,
+) -> vk::BufferImageCopy {
+    vk::BufferImageCopy::default()
+        .buffer_offset(buffer_offset)
+        .image_subresource(vk::ImageSubresourceLayers {
+            aspect_mask: vk::ImageAspectFlags::COLOR,
+            mip_level: 0,
+            base_array_layer: 0,
+            layer_count: 1,
+        })
+        .image_extent(vk::Extent3D {
+            width: extent.width,
+            height: extent.height,
+            depth: 1,
+        })
+}
+
 pub fn subresource_range(aspect: vk::ImageAspectFlags) -> vk::ImageSubresourceRange {
     vk::ImageSubresourceRange {
         aspect_mask: aspect,

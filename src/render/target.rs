@@ -8,7 +8,7 @@ use ash::vk;
 use gpu_allocator::MemoryLocation;
 
 use crate::error::{Error, Result};
-use crate::gpu::{image_barriers, Buffer, Device, Image, ImageDesc};
+use crate::gpu::{image_barriers, whole_image_copy, Buffer, Device, Image, ImageDesc};
 
 pub const COLOR_FORMAT: vk::Format = vk::Format::R8G8B8A8_SRGB;
 pub const DEPTH_FORMAT: vk::Format = vk::Format::D32_SFLOAT;
@@ -172,18 +172,7 @@ impl RenderTarget {
 
     /// Copies the finished resolved image into the readback buffer.
     pub fn copy_to_readback(&self, device: &Device, cmd: vk::CommandBuffer) {
-        let region = vk::BufferImageCopy::default()
-            .image_subresource(vk::ImageSubresourceLayers {
-                aspect_mask: vk::ImageAspectFlags::COLOR,
-                mip_level: 0,
-                base_array_layer: 0,
-                layer_count: 1,
-            })
-            .image_extent(vk::Extent3D {
-                width: self.extent.width,
-                height: self.extent.height,
-                depth: 1,
-            });
+        let region = whole_image_copy(self.extent, 0);
         unsafe {
             device.raw.cmd_copy_image_to_buffer(
                 cmd,

@@ -111,21 +111,20 @@ impl Canvas {
 
     /// Draws `text` with its top-left corner at (x, y); returns the width in pixels.
     fn text(&mut self, x: i32, y: i32, text: &str, c: [u8; 3]) -> i32 {
-        let mut cx = x;
-        for ch in text.chars() {
-            let rows = glyph(ch.to_ascii_uppercase());
-            for (row, bits) in rows.iter().enumerate() {
-                for col in 0..5 {
-                    if bits & (0x10 >> col) != 0 {
-                        for (dx, dy) in [(0, 0), (1, 0), (0, 1), (1, 1)] {
-                            self.set(cx + col * SCALE + dx, y + row as i32 * SCALE + dy, c);
-                        }
-                    }
-                }
-            }
-            cx += 6 * SCALE;
+        for (i, row, col) in glyph_pixels(text) {
+            let cx = x + i * 6 * SCALE;
+            self.dot(cx + col * SCALE, y + row * SCALE, c);
         }
-        cx - x
+        Self::text_width(text)
+    }
+
+    /// A font pixel: SCALE × SCALE screen pixels.
+    fn dot(&mut self, x: i32, y: i32, c: [u8; 3]) {
+        for dy in 0..SCALE {
+            for dx in 0..SCALE {
+                self.set(x + dx, y + dy, c);
+            }
+        }
     }
 
     fn text_width(text: &str) -> i32 {
@@ -134,22 +133,24 @@ impl Canvas {
 
     /// Text rotated a quarter turn counter-clockwise, centred on (x, y).
     fn vertical_text(&mut self, x: i32, y: i32, text: &str, c: [u8; 3]) {
-        let len = Self::text_width(text);
-        let mut cy = y + len / 2;
-        for ch in text.chars() {
-            let rows = glyph(ch.to_ascii_uppercase());
-            for (row, bits) in rows.iter().enumerate() {
-                for col in 0..5 {
-                    if bits & (0x10 >> col) != 0 {
-                        for (dx, dy) in [(0, 0), (1, 0), (0, 1), (1, 1)] {
-                            self.set(x + row as i32 * SCALE + dx, cy - col * SCALE + dy, c);
-                        }
-                    }
-                }
-            }
-            cy -= 6 * SCALE;
+        let bottom = y + Self::text_width(text) / 2;
+        for (i, row, col) in glyph_pixels(text) {
+            let cy = bottom - i * 6 * SCALE;
+            self.dot(x + row * SCALE, cy - col * SCALE, c);
         }
     }
+}
+
+/// The lit pixels of `text` in the 5×7 font: (character index, row, column).
+fn glyph_pixels(text: &str) -> impl Iterator<Item = (i32, i32, i32)> + '_ {
+    text.chars().enumerate().flat_map(|(i, ch)| {
+        let rows = glyph(ch.to_ascii_uppercase());
+        (0..7).flat_map(move |row| {
+            (0..5)
+                .filter(move |col| rows[row] & (0x10 >> col) != 0)
+                .map(move |col| (i as i32, row as i32, col))
+        })
+    })
 }
 
 /// Maps data to pixels along one axis.

@@ -126,6 +126,21 @@ fn bindings() -> [(vk::DescriptorType, vk::ShaderStageFlags); 7] {
     ]
 }
 
+/// Makes a dispatch's storage writes visible to the next dispatch (a pipeline barrier
+/// between dependent compute steps).
+fn after_dispatch(device: &Device, cmd: vk::CommandBuffer) {
+    let compute = vk::PipelineStageFlags2::COMPUTE_SHADER;
+    memory_barrier(
+        device,
+        cmd,
+        (compute, vk::AccessFlags2::SHADER_STORAGE_WRITE),
+        (
+            compute,
+            vk::AccessFlags2::SHADER_STORAGE_READ | vk::AccessFlags2::SHADER_STORAGE_WRITE,
+        ),
+    );
+}
+
 /// Points simulation descriptor set `k` (current = `positions[k]`) at its resources.
 fn write_sim_set(
     device: &Device,
@@ -320,18 +335,7 @@ impl GpuSim {
                 d.raw.cmd_dispatch(cmd, self.group_count(), 1, 1);
             }
             d.end_label(cmd);
-            memory_barrier(
-                d,
-                cmd,
-                (
-                    vk::PipelineStageFlags2::COMPUTE_SHADER,
-                    vk::AccessFlags2::SHADER_STORAGE_WRITE,
-                ),
-                (
-                    vk::PipelineStageFlags2::COMPUTE_SHADER,
-                    vk::AccessFlags2::SHADER_STORAGE_READ,
-                ),
-            );
+            after_dispatch(d, cmd);
             Ok(())
         })
     }
@@ -466,19 +470,7 @@ impl GpuSim {
                 }
                 d.end_label(cmd);
                 // Every step depends on the one before: a barrier after each dispatch.
-                memory_barrier(
-                    d,
-                    cmd,
-                    (
-                        vk::PipelineStageFlags2::COMPUTE_SHADER,
-                        vk::AccessFlags2::SHADER_STORAGE_WRITE,
-                    ),
-                    (
-                        vk::PipelineStageFlags2::COMPUTE_SHADER,
-                        vk::AccessFlags2::SHADER_STORAGE_READ
-                            | vk::AccessFlags2::SHADER_STORAGE_WRITE,
-                    ),
-                );
+                after_dispatch(d, cmd);
                 // After the barrier, so the wait for this dispatch counts towards it.
                 if let Some(q) = &frame.timestamps {
                     let stage = vk::PipelineStageFlags2::COMPUTE_SHADER;

@@ -144,19 +144,24 @@ impl StrandTextures {
             root_frames,
         };
         let rest_texels = layout.texels_from(strands.positions.iter().map(|p| p.extend(0.0)));
-        let zeros = vec![Vec4::ZERO; layout.texel_count()];
         let posed = layout.texels_from(
             strands
                 .positions
                 .iter()
                 .map(|p| head.transform_point3(*p).extend(1.0)),
         );
-        textures.upload(&[
-            (&textures.rest, &rest_texels),
-            (&textures.rest_local, &zeros),
-            (&textures.positions[0], &posed),
-            (&textures.positions[1], &posed),
-        ])?;
+        // Both position images start from the same posed data: one staging copy serves
+        // both. The rest-local image is filled on the GPU by the simulation's rest pass
+        // and only needs its layout.
+        textures.upload(
+            &[&rest_texels, &posed],
+            &[
+                (&textures.rest, 0),
+                (&textures.positions[0], 1),
+                (&textures.positions[1], 1),
+            ],
+            &textures.rest_local,
+        )?;
         Ok(textures)
     }
 
@@ -172,23 +177,26 @@ impl StrandTextures {
         &self.positions[self.current]
     }
 
-    /// Copies texel data into images and leaves them in `GENERAL` layout for storage use.
-    fn upload(&self, images: &[(&Image, &Vec<Vec4>)]) -> Result<()> {
-        let texel_bytes = std::mem::size_of::<Vec4>() as u64;
-        let total: u64 = images
-            .iter()
-            .map(|(_, t)| t.len() as u64 * texel_bytes)
-            .sum();
+    /// Copies `data[k]` into every image that names `k`, and leaves those images and
+    /// `layout_only` (contents undefined) in `GENERAL` layout for storage use.
+    fn upload(
+        &self,
+        data: &[&Vec<Vec4>],
+        images: &[(&Image, usize)],
+        layout_only: &Image,
+    ) -> Result<()> {
+        let texel_bytes = std::mem::size_of::<Vec4>();
+        let total: usize = data.iter().map(|t| t.len() * texel_bytes).sum();
         let mut staging = Buffer::new(
             &self.device,
             "strands.staging",
-            total,
+            total as u64,
             vk::BufferUsageFlags::TRANSFER_SRC,
             MemoryLocation::CpuToGpu,
         )?;
-        let mut offset = 0usize;
         let mut offsets = Vec::new();
-        for (_, texels) in images {
+        let mut offset = 0usize;
+        for texels in data {
             let bytes: &[u8] = bytemuck::cast_slice(texels.as_slice());
             staging.write(offset, bytes);
             offsets.push(offset as u64);
@@ -196,51 +204,37 @@ impl StrandTextures {
         }
         let d = &self.device;
         let extent = self.extent();
+        let none = (vk::PipelineStageFlags2::NONE, vk::AccessFlags2::NONE);
+        let copy_write = (
+            vk::PipelineStageFlags2::COPY,
+            vk::AccessFlags2::TRANSFER_WRITE,
+        );
+        let storage = (
+            vk::PipelineStageFlags2::ALL_COMMANDS,
+            vk::AccessFlags2::SHADER_STORAGE_READ | vk::AccessFlags2::SHADER_STORAGE_WRITE,
+        );
+        let (undefined, dst, general) = (
+            vk::ImageLayout::UNDEFINED,
+            vk::ImageLayout::TRANSFER_DST_OPTIMAL,
+            vk::ImageLayout::GENERAL,
+        );
         d.submit_once(|cmd| {
-            let to_dst: Vec<_> = images
+            let mut to_dst: Vec<_> = images
                 .iter()
-                .map(|(image, _)| {
-                    image.barrier(
-                        (vk::PipelineStageFlags2::NONE, vk::AccessFlags2::NONE),
-                        (
-                            vk::PipelineStageFlags2::COPY,
-                            vk::AccessFlags2::TRANSFER_WRITE,
-                        ),
-                        vk::ImageLayout::UNDEFINED,
-                        vk::ImageLayout::TRANSFER_DST_OPTIMAL,
-                    )
-                })
+                .map(|(image, _)| image.barrier(none, copy_write, undefined, dst))
                 .collect();
+            to_dst.push(layout_only.barrier(none, storage, undefined, general));
             image_barriers(d, cmd, &to_dst);
-            for ((image, _), offset) in images.iter().zip(&offsets) {
-                let region = whole_image_copy(extent, *offset);
+            for (image, k) in images {
+                let region = whole_image_copy(extent, offsets[*k]);
                 unsafe {
-                    d.raw.cmd_copy_buffer_to_image(
-                        cmd,
-                        staging.raw(),
-                        image.raw(),
-                        vk::ImageLayout::TRANSFER_DST_OPTIMAL,
-                        &[region],
-                    )
+                    d.raw
+                        .cmd_copy_buffer_to_image(cmd, staging.raw(), image.raw(), dst, &[region])
                 };
             }
             let to_general: Vec<_> = images
                 .iter()
-                .map(|(image, _)| {
-                    image.barrier(
-                        (
-                            vk::PipelineStageFlags2::COPY,
-                            vk::AccessFlags2::TRANSFER_WRITE,
-                        ),
-                        (
-                            vk::PipelineStageFlags2::ALL_COMMANDS,
-                            vk::AccessFlags2::SHADER_STORAGE_READ
-                                | vk::AccessFlags2::SHADER_STORAGE_WRITE,
-                        ),
-                        vk::ImageLayout::TRANSFER_DST_OPTIMAL,
-                        vk::ImageLayout::GENERAL,
-                    )
-                })
+                .map(|(image, _)| image.barrier(copy_write, storage, dst, general))
                 .collect();
             image_barriers(d, cmd, &to_general);
             Ok(())

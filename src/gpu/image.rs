@@ -97,23 +97,36 @@ impl Image {
     /// A layout transition (and memory dependency) for the whole image.
     pub fn barrier(
         &self,
-        (src_stage, src_access): (vk::PipelineStageFlags2, vk::AccessFlags2),
-        (dst_stage, dst_access): (vk::PipelineStageFlags2, vk::AccessFlags2),
+        src: (vk::PipelineStageFlags2, vk::AccessFlags2),
+        dst: (vk::PipelineStageFlags2, vk::AccessFlags2),
         old_layout: vk::ImageLayout,
         new_layout: vk::ImageLayout,
     ) -> vk::ImageMemoryBarrier2<'static> {
-        vk::ImageMemoryBarrier2::default()
-            .src_stage_mask(src_stage)
-            .src_access_mask(src_access)
-            .dst_stage_mask(dst_stage)
-            .dst_access_mask(dst_access)
-            .old_layout(old_layout)
-            .new_layout(new_layout)
-            .src_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
-            .dst_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
-            .image(self.raw)
-            .subresource_range(subresource_range(self.desc.aspect))
+        image_barrier(self.raw, self.desc.aspect, src, dst, old_layout, new_layout)
     }
+}
+
+/// A layout transition (and memory dependency) for the whole of any image, including
+/// ones this crate does not own (swapchain images).
+pub fn image_barrier(
+    image: vk::Image,
+    aspect: vk::ImageAspectFlags,
+    (src_stage, src_access): (vk::PipelineStageFlags2, vk::AccessFlags2),
+    (dst_stage, dst_access): (vk::PipelineStageFlags2, vk::AccessFlags2),
+    old_layout: vk::ImageLayout,
+    new_layout: vk::ImageLayout,
+) -> vk::ImageMemoryBarrier2<'static> {
+    vk::ImageMemoryBarrier2::default()
+        .src_stage_mask(src_stage)
+        .src_access_mask(src_access)
+        .dst_stage_mask(dst_stage)
+        .dst_access_mask(dst_access)
+        .old_layout(old_layout)
+        .new_layout(new_layout)
+        .src_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
+        .dst_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
+        .image(image)
+        .subresource_range(subresource_range(aspect))
 }
 
 impl Drop for Image {

@@ -14,7 +14,8 @@ use std::sync::Arc;
 pub use buffer::Buffer;
 pub use device::{Device, DeviceInfo, PresentTarget};
 pub use image::{
-    image_barriers, memory_barrier, subresource_range, whole_image_copy, Image, ImageDesc,
+    image_barrier, image_barriers, memory_barrier, subresource_range, whole_image_copy, Image,
+    ImageDesc,
 };
 pub use instance::{Instance, InstanceDesc, ValidationLog};
 pub use pipeline::{DescriptorPool, DescriptorSetLayout, Pipeline, PipelineLayout, Specialization};

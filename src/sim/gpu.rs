@@ -447,7 +447,7 @@ impl GpuSim {
                     &(index as u32).to_ne_bytes(),
                 )
             };
-            for (step, pipeline) in &self.pipelines {
+            for (k, (step, pipeline)) in self.pipelines.iter().enumerate() {
                 // Integrate reads the current image and writes the previous one, which
                 // from then on is current: the remaining steps use the other set.
                 let set = if *step == SimStep::Integrate {
@@ -469,8 +469,13 @@ impl GpuSim {
                     raw.cmd_dispatch(cmd, groups, 1, 1);
                 }
                 d.end_label(cmd);
-                // Every step depends on the one before: a barrier after each dispatch.
-                after_dispatch(d, cmd);
+                // Every step depends on the one before: a barrier after each dispatch. The
+                // last one needs none here: whoever reads the result next (the fur pass,
+                // a copy, the next submission) brings its own barrier.
+                let last = index + 1 == constants.len() && k + 1 == self.pipelines.len();
+                if !last {
+                    after_dispatch(d, cmd);
+                }
                 // After the barrier, so the wait for this dispatch counts towards it.
                 if let Some(q) = &frame.timestamps {
                     let stage = vk::PipelineStageFlags2::COMPUTE_SHADER;

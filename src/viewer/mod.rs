@@ -637,20 +637,8 @@ impl Viewer {
             .as_ref()
             .expect("swapchain exists while drawing");
         let image = swapchain.images[image_index as usize];
-        let range = crate::gpu::subresource_range(vk::ImageAspectFlags::COLOR);
-        let barrier = |src: (vk::PipelineStageFlags2, vk::AccessFlags2),
-                       dst: (vk::PipelineStageFlags2, vk::AccessFlags2),
-                       old: vk::ImageLayout,
-                       new: vk::ImageLayout| {
-            vk::ImageMemoryBarrier2::default()
-                .src_stage_mask(src.0)
-                .src_access_mask(src.1)
-                .dst_stage_mask(dst.0)
-                .dst_access_mask(dst.1)
-                .old_layout(old)
-                .new_layout(new)
-                .image(image)
-                .subresource_range(range)
+        let barrier = |src, dst, old, new| {
+            crate::gpu::image_barrier(image, vk::ImageAspectFlags::COLOR, src, dst, old, new)
         };
         let blit = (
             vk::PipelineStageFlags2::BLIT,

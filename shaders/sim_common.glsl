@@ -1,13 +1,12 @@
 // Declarations shared by the simulation kernels. Must match src/sim/gpu.rs.
 //
-// One invocation per strand vertex; a workgroup covers STRANDS_PER_GROUP whole strands
-// (GROUP_SIZE = STRANDS_PER_GROUP × V threads) so a strand can live in shared memory.
+// One invocation per master strand; GROUP_SIZE strands per workgroup.
 #ifndef SIM_COMMON_GLSL
 #define SIM_COMMON_GLSL
 
 #include "strands.glsl"
 
-layout(constant_id = 0) const uint GROUP_SIZE = 64u;
+layout(constant_id = 0) const uint GROUP_SIZE = 64u;   // strands per workgroup
 layout(constant_id = 1) const uint V = 17u;   // vertices per strand
 layout(local_size_x_id = 0) in;
 
@@ -37,41 +36,15 @@ layout(set = 0, binding = 3, rgba32f) uniform REST_ACCESS image2D rest_local;   
 layout(set = 0, binding = 4, std430) REST_ACCESS buffer RootFrames {
     vec4 root_frames[];   // 3 columns per strand
 };
-layout(set = 0, binding = 5, rgba32f) uniform coherent image2D previous_positions;
-layout(set = 0, binding = 6, rgba32f) uniform coherent image2D current_positions;
+layout(set = 0, binding = 5, rgba32f) uniform image2D previous_positions;
+layout(set = 0, binding = 6, rgba32f) uniform image2D current_positions;
 
 layout(push_constant) uniform Push {
-    uint step;          // index into steps[]
+    uint step;          // index into steps[] of the first substep
+    uint count;         // substeps in this dispatch
 } push;
 
-const uint STRANDS_PER_GROUP = GROUP_SIZE / V;
 const float MIN_LENGTH = 1e-20;
-
-// This invocation's strand and vertex; `live` is false past the last strand.
-struct Lane {
-    uint strand;
-    uint vertex;
-    uint base;          // first shared-memory slot of this strand
-    bool live;
-};
-
-Lane lane() {
-    uint local_strand = gl_LocalInvocationID.x / V;
-    Lane l;
-    l.vertex = gl_LocalInvocationID.x % V;
-    l.strand = gl_WorkGroupID.x * STRANDS_PER_GROUP + local_strand;
-    l.base = local_strand * V;
-    l.live = l.strand < sim.counts.x;
-    return l;
-}
-
-ivec2 texel(Lane l) {
-    return strand_texel(l.strand, l.vertex, V, sim.counts.y);
-}
-
-vec3 head_point(vec3 p) {
-    return (steps[push.step].head * vec4(p, 1.0)).xyz;
-}
 
 // The rotation taking the x axis to unit u along the shortest arc (src/sim/cpu.rs).
 mat3 rotation_from_x(vec3 u) {

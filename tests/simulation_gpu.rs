@@ -70,6 +70,70 @@ fn gpu_matches_cpu_f32_after_1_10_and_100_steps() {
     common::assert_clean(&device);
 }
 
+/// Several substeps per dispatch, frames batched into one submission, and kernels with
+/// steps compiled out: positions *and* previous positions (the velocity) match the CPU.
+#[test]
+fn gpu_matches_cpu_with_substeps_and_steps_compiled_out() {
+    let device = common::device();
+    let groom = GroomParams {
+        curl: 0.4,
+        segments: 11,
+        ..Default::default()
+    };
+    let strands = strands(2, &groom);
+    let motion = Motion {
+        kind: MotionKind::Nod,
+        amplitude: 20.0,
+        rate: 1.5,
+    };
+    let head = |t: f64| motion.head(t);
+    let hair_length = groom.segment_length * groom.segments as f32;
+    let tolerance = 1e-4 * hair_length;
+    let cases = [
+        SimParams {
+            substeps: 4,
+            wind: Vec3::new(0.0, 1.0, 4.0),
+            ..Default::default()
+        },
+        SimParams {
+            substeps: 2,
+            global_stiffness: 0.0,
+            length_iterations: 0,
+            ..Default::default()
+        },
+        SimParams {
+            local_stiffness: 0.0,
+            damping: 0.0,
+            ..Default::default()
+        },
+    ];
+    for params in cases {
+        let mut textures = StrandTextures::new(&device, &strands, head(0.0).as_mat4()).unwrap();
+        let mut gpu = GpuSim::new(&device, &textures, params.clone()).unwrap();
+        let mut cpu = CpuSim::<f32>::new(&strands, params.clone(), head(0.0));
+        gpu.run_frames(&mut textures, 30, head).unwrap();
+        for _ in 0..30 {
+            cpu.step_frame(head);
+        }
+        let steps = gpu.active_steps();
+        for (image, on_cpu, what) in [
+            (textures.current, &cpu.current, "positions"),
+            (1 - textures.current, &cpu.previous, "previous positions"),
+        ] {
+            let on_gpu = textures.read_positions(image).unwrap();
+            let on_cpu: Vec<Vec3> = on_cpu.iter().map(|v| v.to_vec3()).collect();
+            let error = max_error(&on_gpu, &on_cpu);
+            println!("{steps:?}, {} substeps: {what} {error:e}", params.substeps);
+            assert!(
+                error <= tolerance,
+                "{what} differ by {error} with {steps:?} and {} substeps",
+                params.substeps
+            );
+        }
+    }
+    common::assert_clean(&device);
+}
+
 #[test]
 fn gpu_at_rest_stays_exactly_put() {
     let device = common::device();

@@ -221,7 +221,7 @@ impl Bench<'_> {
         };
         let mut session = self.scene(&self.quick_scene_options(), sim)?;
         let (warm, measured) = self.frames();
-        let mut per_step: Vec<(String, Vec<f64>)> = Vec::new();
+        let per_step: Vec<(String, Vec<f64>)> = Vec::new();
         let (mut sim_ms, mut mesh_ms, mut fur_ms) = (Vec::new(), Vec::new(), Vec::new());
         let mut stats = None;
         for frame in 0..warm + measured {
@@ -229,14 +229,7 @@ impl Bench<'_> {
             if frame < warm {
                 continue;
             }
-            let sim = session.sim.last_timings(0)?;
-            for (step, ms) in sim.per_substep {
-                match per_step.iter_mut().find(|(n, _)| n == step.name()) {
-                    Some((_, v)) => v.push(ms),
-                    None => per_step.push((step.name().to_string(), vec![ms])),
-                }
-            }
-            sim_ms.push(sim.total_ms);
+            sim_ms.push(timings.simulation_ms);
             mesh_ms.push(timings.render.mesh_ms);
             fur_ms.push(timings.render.fur_ms);
             stats = timings.render.statistics;

@@ -23,29 +23,10 @@ pub const SOURCES: &[(&str, &str)] = &[
     ("fur.tese", include_str!("../../shaders/fur.tese")),
     ("fur.geom", include_str!("../../shaders/fur.geom")),
     ("fur.frag", include_str!("../../shaders/fur.frag")),
-    (
-        "simulate_integrate.comp",
-        include_str!("../../shaders/simulate_integrate.comp"),
-    ),
-    (
-        "simulate_global.comp",
-        include_str!("../../shaders/simulate_global.comp"),
-    ),
-    (
-        "simulate_local.comp",
-        include_str!("../../shaders/simulate_local.comp"),
-    ),
-    (
-        "simulate_length.comp",
-        include_str!("../../shaders/simulate_length.comp"),
-    ),
+    ("simulate.comp", include_str!("../../shaders/simulate.comp")),
     (
         "simulate_rest.comp",
         include_str!("../../shaders/simulate_rest.comp"),
-    ),
-    (
-        "simulate_wind.comp",
-        include_str!("../../shaders/simulate_wind.comp"),
     ),
 ];
 

@@ -1,9 +1,11 @@
-//! The simulation in compute shaders: one pipeline per named step of Han & Harada,
-//! dispatched in order with a barrier after each, ping-ponging the strand textures.
+//! The simulation in compute shaders: one dispatch per frame of `simulate.comp`, in
+//! which one invocation carries one master strand through every substep, running the
+//! named steps of Han & Harada in order. The strand textures ping-pong once per frame.
 //!
-//! Steps a scene does not use are neither built nor dispatched: the global constraint
-//! at S_G = 0 (or an empty range), the local constraint at S_L = 0 or 0 iterations, the
-//! length constraint at 0 iterations, wind when its vector is zero.
+//! Steps a scene does not use are compiled out of the kernel (a specialization
+//! constant): the global constraint at S_G = 0 (or an empty range), the local constraint
+//! at S_L = 0 or 0 iterations, the length constraint at 0 iterations, wind when its
+//! vector is zero.
 
 use std::sync::Arc;
 
@@ -19,8 +21,10 @@ use crate::gpu::{
 };
 use crate::strand_textures::StrandTextures;
 
-/// Threads per workgroup at most; a group holds ⌊64 / V⌋ whole strands.
-pub const MAX_GROUP_SIZE: u32 = 64;
+/// Strands per workgroup (one invocation each).
+const GROUP_SIZE: u32 = 64;
+/// Most vertices a strand may have (private arrays in the kernel).
+pub const MAX_VERTICES: u32 = 64;
 /// Substeps whose constants fit in the step buffer: one submission's worth.
 const STEP_CAPACITY: usize = 1024;
 
@@ -52,17 +56,7 @@ impl From<&StepConstants> for GpuStep {
     }
 }
 
-/// GPU costs of one submission.
-#[derive(Clone, Debug)]
-pub struct SimTimings {
-    /// Milliseconds from before the first dispatch to after the last.
-    pub total_ms: f64,
-    pub substeps: usize,
-    /// Mean milliseconds per substep of each dispatched step, in dispatch order.
-    pub per_substep: Vec<(SimStep, f64)>,
-}
-
-/// The named steps, in dispatch order.
+/// The named steps of a substep, in the order `simulate.comp` runs them.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum SimStep {
     Integrate,
@@ -91,14 +85,9 @@ impl SimStep {
         }
     }
 
-    fn shader(self) -> &'static str {
-        match self {
-            Self::Integrate => "simulate_integrate.comp",
-            Self::Global => "simulate_global.comp",
-            Self::Local => "simulate_local.comp",
-            Self::Length => "simulate_length.comp",
-            Self::Wind => "simulate_wind.comp",
-        }
+    /// This step's bit in the kernel's `STEPS` specialization constant.
+    pub fn bit(self) -> u32 {
+        1 << self as u32
     }
 
     /// Whether `params` make this step do anything.
@@ -195,14 +184,16 @@ pub struct GpuSim {
     params: SimParams,
     vertices: u32,
     strand_count: u32,
-    group_size: u32,
     _set_layout: DescriptorSetLayout,
     layout: PipelineLayout,
     _pool: DescriptorPool,
-    /// Parameters the kernels read; written only while the device is idle.
+    /// Parameters the kernel reads; written only while the device is idle.
     statics: Buffer,
-    /// Pipelines of the steps in use, in dispatch order.
-    pipelines: Vec<(SimStep, Pipeline)>,
+    /// The kernel, specialized for the steps in use, with their `STEPS` mask.
+    pipeline: Option<(u32, Pipeline)>,
+    /// Steps to compile in even when the parameters do not need them (the benchmark
+    /// measures steps alone this way); `None`: exactly the needed ones.
+    forced_steps: Option<u32>,
     /// Per frame in flight: step constants, timestamps, descriptor sets.
     slots: Vec<SimSlot>,
     /// Simulated time in seconds.
@@ -215,7 +206,7 @@ struct SimSlot {
     sets: [vk::DescriptorSet; 2],
     steps: Buffer,
     timestamps: Option<QueryPool>,
-    /// Substeps recorded by the last `record` into this slot.
+    /// Frames (dispatches) recorded by the last `record` into this slot.
     recorded: usize,
 }
 
@@ -235,16 +226,16 @@ impl GpuSim {
         let frames_in_flight = frames_in_flight.max(1);
         params.validate()?;
         let vertices = textures.layout.vertices_per_strand;
-        if vertices > MAX_GROUP_SIZE {
+        if vertices > MAX_VERTICES {
             return Err(Error::Parameter(format!(
-                "the simulation handles at most {MAX_GROUP_SIZE} vertices per strand, got {vertices}"
+                "the simulation handles at most {MAX_VERTICES} vertices per strand, got {vertices}"
             )));
         }
         let bindings = bindings();
         let set_layout = DescriptorSetLayout::new(device, "sim.set_layout", &bindings)?;
         let push = [vk::PushConstantRange::default()
             .stage_flags(vk::ShaderStageFlags::COMPUTE)
-            .size(4)];
+            .size(8)];
         let layout = PipelineLayout::new(device, "sim.pipeline_layout", &[&set_layout], &push)?;
         let pool = DescriptorPool::new(
             device,
@@ -276,7 +267,7 @@ impl GpuSim {
                 Some(QueryPool::timestamps(
                     device,
                     &format!("sim.timestamps[{slot}]"),
-                    1 + (STEP_CAPACITY * SimStep::ALL.len()) as u32,
+                    1 + STEP_CAPACITY as u32,
                 )?)
             } else {
                 None
@@ -293,12 +284,12 @@ impl GpuSim {
             params: params.clone(),
             vertices,
             strand_count: textures.layout.strand_count,
-            group_size: (MAX_GROUP_SIZE / vertices) * vertices,
             _set_layout: set_layout,
             layout,
             _pool: pool,
             statics,
-            pipelines: Vec::new(),
+            pipeline: None,
+            forced_steps: None,
             slots,
             time: 0.0,
         };
@@ -307,9 +298,13 @@ impl GpuSim {
         Ok(sim)
     }
 
+    fn specialization(&self, steps: u32) -> Specialization {
+        Specialization::new(&[(0, GROUP_SIZE), (1, self.vertices), (2, steps)])
+    }
+
     /// Runs `simulate_rest.comp` once: local rest vectors, rest lengths, root frames.
     fn compute_rest_data(&self) -> Result<()> {
-        let spec = Specialization::new(&[(0, self.group_size), (1, self.vertices)]);
+        let spec = self.specialization(0);
         let pipeline = Pipeline::compute(&self.device, "simulate_rest.comp", &self.layout, &spec)?;
         let d = &*self.device;
         d.submit_once(|cmd| {
@@ -325,13 +320,6 @@ impl GpuSim {
                     &[self.slots[0].sets[0]],
                     &[],
                 );
-                d.raw.cmd_push_constants(
-                    cmd,
-                    self.layout.raw(),
-                    vk::ShaderStageFlags::COMPUTE,
-                    0,
-                    &0u32.to_ne_bytes(),
-                );
                 d.raw.cmd_dispatch(cmd, self.group_count(), 1, 1);
             }
             d.end_label(cmd);
@@ -344,13 +332,28 @@ impl GpuSim {
         &self.params
     }
 
-    /// The steps that will be dispatched, in order.
+    /// The steps compiled into the kernel, in the order it runs them.
     pub fn active_steps(&self) -> Vec<SimStep> {
-        self.pipelines.iter().map(|(s, _)| *s).collect()
+        let mask = self.pipeline.as_ref().map_or(0, |(m, _)| *m);
+        SimStep::ALL
+            .into_iter()
+            .filter(|s| mask & s.bit() != 0)
+            .collect()
     }
 
-    /// Changes parameters; builds pipelines for steps that become needed and drops the
-    /// ones that no longer are.
+    /// Compiles exactly `steps` into the kernel (integration always runs), whatever the
+    /// parameters need; `None` returns to the needed ones. For measuring steps alone.
+    pub fn force_steps(
+        &mut self,
+        steps: Option<&[SimStep]>,
+        textures: &StrandTextures,
+    ) -> Result<()> {
+        self.forced_steps =
+            steps.map(|s| s.iter().fold(SimStep::Integrate.bit(), |m, s| m | s.bit()));
+        self.set_params(self.params.clone(), textures)
+    }
+
+    /// Changes parameters; rebuilds the kernel when the set of needed steps changes.
     pub fn set_params(&mut self, params: SimParams, textures: &StrandTextures) -> Result<()> {
         params.validate()?;
         let statics = SimStatic {
@@ -363,36 +366,33 @@ impl GpuSim {
             ),
             counts2: UVec4::new(params.length_iterations, 0, 0, 0),
         };
-        // Only rewrite what the kernels read when it changes: frames in flight may be
+        // Only rewrite what the kernel reads when it changes: frames in flight may be
         // reading it (wind strength, for one, lives in the per-step constants instead).
         let bytes = bytemuck::bytes_of(&statics);
         if &self.statics.mapped()[..bytes.len()] != bytes {
             self.statics.write(0, bytes);
         }
-        let mut pipelines = Vec::new();
-        let mut old = std::mem::take(&mut self.pipelines);
-        let spec = Specialization::new(&[(0, self.group_size), (1, self.vertices)]);
-        for step in SimStep::ALL {
-            if !step.needed(&params, self.vertices) {
-                continue;
-            }
-            let pipeline = match old.iter().position(|(s, _)| *s == step) {
-                Some(i) => old.swap_remove(i).1,
-                None => Pipeline::compute(&self.device, step.shader(), &self.layout, &spec)?,
-            };
-            pipelines.push((step, pipeline));
+        let needed = SimStep::ALL
+            .into_iter()
+            .filter(|s| s.needed(&params, self.vertices))
+            .fold(0, |m, s| m | s.bit());
+        let mask = self.forced_steps.unwrap_or(needed);
+        if self.pipeline.as_ref().map(|(m, _)| *m) != Some(mask) {
+            let spec = self.specialization(mask);
+            let pipeline = Pipeline::compute(&self.device, "simulate.comp", &self.layout, &spec)?;
+            self.pipeline = Some((mask, pipeline));
         }
-        self.pipelines = pipelines;
         self.params = params;
         Ok(())
     }
 
     fn group_count(&self) -> u32 {
-        self.strand_count.div_ceil(self.group_size / self.vertices)
+        self.strand_count.div_ceil(GROUP_SIZE)
     }
 
-    /// Records `constants.len()` substeps. The step constants are written into the step
-    /// buffer now, so the submission must complete before the next call.
+    /// Records the simulation of `constants.len() / substeps` frames: one dispatch per
+    /// frame, each running that frame's substeps. The step constants are written into
+    /// the step buffer now, so the submission must complete before the next call.
     pub fn record(
         &mut self,
         cmd: vk::CommandBuffer,
@@ -406,6 +406,9 @@ impl GpuSim {
                 constants.len()
             )));
         }
+        let Some((_, pipeline)) = &self.pipeline else {
+            return Ok(());
+        };
         let data: Vec<GpuStep> = constants.iter().map(GpuStep::from).collect();
         self.slots[slot].steps.write(0, bytemuck::cast_slice(&data));
         let frame = &self.slots[slot];
@@ -427,66 +430,54 @@ impl GpuSim {
                 vk::AccessFlags2::SHADER_STORAGE_READ | vk::AccessFlags2::SHADER_STORAGE_WRITE,
             ),
         );
+        let per_frame = self.params.substeps as usize;
+        let frames = constants.len().div_ceil(per_frame);
         // One timestamp before the first dispatch and one after every dispatch.
-        let used_queries = 1 + (constants.len() * self.pipelines.len()) as u32;
         if let Some(q) = &frame.timestamps {
-            q.reset_first(used_queries);
+            q.reset_first(1 + frames as u32);
             unsafe {
                 raw.cmd_write_timestamp2(cmd, vk::PipelineStageFlags2::COMPUTE_SHADER, q.raw(), 0)
             };
         }
-        let mut query = 1;
-        let groups = self.group_count();
-        for (index, _) in constants.iter().enumerate() {
+        unsafe {
+            raw.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, pipeline.raw());
+        }
+        for (index, chunk) in constants.chunks(per_frame).enumerate() {
+            let push = [(index * per_frame) as u32, chunk.len() as u32];
+            d.begin_label(cmd, "simulate frame");
             unsafe {
+                raw.cmd_bind_descriptor_sets(
+                    cmd,
+                    vk::PipelineBindPoint::COMPUTE,
+                    self.layout.raw(),
+                    0,
+                    &[frame.sets[textures.current]],
+                    &[],
+                );
                 raw.cmd_push_constants(
                     cmd,
                     self.layout.raw(),
                     vk::ShaderStageFlags::COMPUTE,
                     0,
-                    &(index as u32).to_ne_bytes(),
-                )
-            };
-            for (k, (step, pipeline)) in self.pipelines.iter().enumerate() {
-                // Integrate reads the current image and writes the previous one, which
-                // from then on is current: the remaining steps use the other set.
-                let set = if *step == SimStep::Integrate {
-                    frame.sets[textures.current]
-                } else {
-                    frame.sets[1 - textures.current]
-                };
-                d.begin_label(cmd, step.name());
-                unsafe {
-                    raw.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, pipeline.raw());
-                    raw.cmd_bind_descriptor_sets(
-                        cmd,
-                        vk::PipelineBindPoint::COMPUTE,
-                        self.layout.raw(),
-                        0,
-                        &[set],
-                        &[],
-                    );
-                    raw.cmd_dispatch(cmd, groups, 1, 1);
-                }
-                d.end_label(cmd);
-                // Every step depends on the one before: a barrier after each dispatch. The
-                // last one needs none here: whoever reads the result next (the fur pass,
-                // a copy, the next submission) brings its own barrier.
-                let last = index + 1 == constants.len() && k + 1 == self.pipelines.len();
-                if !last {
-                    after_dispatch(d, cmd);
-                }
-                // After the barrier, so the wait for this dispatch counts towards it.
-                if let Some(q) = &frame.timestamps {
-                    let stage = vk::PipelineStageFlags2::COMPUTE_SHADER;
-                    unsafe { raw.cmd_write_timestamp2(cmd, stage, q.raw(), query) };
-                    query += 1;
-                }
+                    bytemuck::cast_slice(&push),
+                );
+                raw.cmd_dispatch(cmd, self.group_count(), 1, 1);
             }
+            d.end_label(cmd);
             textures.current = 1 - textures.current;
+            // The next frame reads what this one wrote. The last needs no barrier here:
+            // whoever reads the result next (the fur pass, a copy, the next submission)
+            // brings its own.
+            if index + 1 < frames {
+                after_dispatch(d, cmd);
+            }
+            if let Some(q) = &frame.timestamps {
+                let stage = vk::PipelineStageFlags2::COMPUTE_SHADER;
+                unsafe { raw.cmd_write_timestamp2(cmd, stage, q.raw(), 1 + index as u32) };
+            }
         }
         d.end_label(cmd);
-        self.slots[slot].recorded = constants.len();
+        self.slots[slot].recorded = frames;
         Ok(())
     }
 
@@ -511,7 +502,7 @@ impl GpuSim {
     }
 
     /// Simulates `frames` frames in slot 0 and waits for the GPU; returns the GPU
-    /// milliseconds of the last submission (NaN without timestamps).
+    /// milliseconds per frame of the last submission (NaN without timestamps).
     pub fn run_frames(
         &mut self,
         textures: &mut StrandTextures,
@@ -526,47 +517,22 @@ impl GpuSim {
             let constants = self.next_constants(n, &head_at);
             let device = self.device.clone();
             device.submit_once(|cmd| self.record(cmd, 0, textures, &constants))?;
-            ms = self.last_gpu_ms(0)?;
+            ms = self.last_gpu_ms(0)? / n as f64;
             remaining -= n;
         }
         Ok(ms)
     }
 
-    /// GPU milliseconds of all dispatches of the last submission (NaN without
-    /// timestamps).
+    /// GPU milliseconds from before the first dispatch of slot `slot`'s last submission
+    /// to after its last (NaN without timestamps).
     pub fn last_gpu_ms(&self, slot: usize) -> Result<f64> {
-        Ok(self.last_timings(slot)?.total_ms)
-    }
-
-    /// Per-step GPU costs of the last submission, from the timestamps written after
-    /// every dispatch.
-    pub fn last_timings(&self, slot: usize) -> Result<SimTimings> {
         let frame = &self.slots[slot];
-        let recorded = frame.recorded;
-        let Some(q) = &frame.timestamps else {
-            return Ok(SimTimings {
-                total_ms: f64::NAN,
-                substeps: recorded,
-                per_substep: Vec::new(),
-            });
-        };
-        let steps = self.pipelines.len();
-        let t = q.timestamps_ms(1 + (recorded * steps) as u32)?;
-        let mut per_substep: Vec<(SimStep, f64)> =
-            self.pipelines.iter().map(|(s, _)| (*s, 0.0)).collect();
-        for substep in 0..recorded {
-            for (k, entry) in per_substep.iter_mut().enumerate() {
-                let i = 1 + substep * steps + k;
-                entry.1 += t[i] - t[i - 1];
+        match &frame.timestamps {
+            Some(q) if frame.recorded > 0 => {
+                let t = q.timestamps_ms(1 + frame.recorded as u32)?;
+                Ok(t.last().copied().unwrap_or(f64::NAN))
             }
+            _ => Ok(f64::NAN),
         }
-        for entry in &mut per_substep {
-            entry.1 /= recorded.max(1) as f64;
-        }
-        Ok(SimTimings {
-            total_ms: t.last().copied().unwrap_or(f64::NAN),
-            substeps: recorded,
-            per_substep,
-        })
     }
 }

@@ -11,4 +11,4 @@ pub use motion::{Motion, MotionKind};
 pub use params::{SimParams, StepConstants};
 pub use rest::RestPose;
 mod gpu;
-pub use gpu::{GpuSim, SimStep, SimTimings};
+pub use gpu::{GpuSim, SimStep, MAX_VERTICES};

@@ -1,0 +1,150 @@
+#version 450
+// The simulation of one frame: every substep of Han & Harada for one master strand per
+// invocation. The strand lives in private arrays from the first load to the last store,
+// and the named steps run in the paper's order inside each substep:
+//   integrate → global shape → local shape → edge length → wind.
+// Steps a scene does not use are compiled out (STEPS, a specialization constant).
+//
+// Ping-pong: the frame reads current = positions[k] and previous = positions[1 − k],
+// and writes the new current into positions[1 − k] and the new previous into
+// positions[k]; the CPU then flips k. Each texel is read and written by its own strand's
+// invocation only, so no barrier is needed inside the dispatch.
+#include "sim_common.glsl"
+
+layout(constant_id = 2) const uint STEPS = 0x1fu;
+const uint STEP_GLOBAL = 2u;
+const uint STEP_LOCAL = 4u;
+const uint STEP_LENGTH = 8u;
+const uint STEP_WIND = 16u;
+
+vec3 x[V];   // current positions, world space
+vec3 p[V];   // positions one substep ago
+
+// Step 1, integrate: Verlet with gravity and damping, x' = x + r (x − x_prev) + g h².
+// The root follows the head transform and is never simulated.
+void integrate(uint strand, Step st) {
+    vec3 root = (st.head * vec4(imageLoad(rest_positions, strand_texel(strand, 0u, V, sim.counts.y)).xyz, 1.0)).xyz;
+    p[0] = x[0];
+    x[0] = root;
+    for (uint i = 1u; i < V; ++i) {
+        vec3 next = x[i] + (x[i] - p[i]) * st.gravity_h2.w + st.gravity_h2.xyz;
+        p[i] = x[i];
+        x[i] = next;
+    }
+}
+
+// Step 2, global shape: x += S_G (H x_rest − x) for vertices 1..=cutoff.
+void global_shape(uint strand, Step st) {
+    uint cutoff = min(sim.counts.z, V - 1u);
+    for (uint i = 1u; i <= cutoff; ++i) {
+        vec3 target = (st.head * vec4(imageLoad(rest_positions, strand_texel(strand, i, V, sim.counts.y)).xyz, 1.0)).xyz;
+        x[i] = x[i] + (target - x[i]) * sim.stiffness.x;
+    }
+}
+
+// Step 3, local shape (Han & Harada §4.2), iterated. Walking root to tip with the frame F
+// (starting from H · F₀), segment i's correction S_L F (vᵢ − Fᵀ(xᵢ₊₁ − xᵢ)) is split
+// evenly between its ends (all of it to x₁, the root being pinned), then F turns onto
+// the corrected segment. F (v − Fᵀd) equals xᵢ + F v − xᵢ₊₁ for an orthonormal F and is
+// exactly zero at rest (simulate_rest.comp computed v with the same arithmetic).
+void local_shape(uint strand, Step st) {
+    float s_l = sim.stiffness.y;
+    mat3 root = mat3(root_frames[3u * strand].xyz, root_frames[3u * strand + 1u].xyz,
+                     root_frames[3u * strand + 2u].xyz);
+    mat3 head = mat3(st.head);
+    for (uint it = 0u; it < sim.counts.w; ++it) {
+        mat3 frame = head * root;
+        for (uint i = 0u; i + 1u < V; ++i) {
+            vec3 v = imageLoad(rest_local, strand_texel(strand, i, V, sim.counts.y)).xyz;
+            vec3 xi = x[i];
+            vec3 xj = x[i + 1u];
+            vec3 delta = (frame * (v - transpose(frame) * (xj - xi))) * s_l;
+            if (i == 0u) {
+                xj = xj + delta;
+            } else {
+                xi = xi - delta * 0.5;
+                xj = xj + delta * 0.5;
+            }
+            x[i] = xi;
+            x[i + 1u] = xj;
+            frame = advance_frame(frame, transpose(frame) * (xj - xi));
+        }
+    }
+}
+
+// Step 4, edge length, iterated: even segments, then odd ones. Segment (p1, p2) with
+// rest length d: n = (p1 − p2)/|p1 − p2|, Δ = (|p1 − p2| − d) n, p1 −= Δ/2, p2 += Δ/2
+// (the root has inverse mass 0, so p2 takes all of Δ on the first segment).
+void edge_length(uint strand) {
+    for (uint it = 0u; it < sim.counts2.x; ++it) {
+        for (uint parity = 0u; parity < 2u; ++parity) {
+            for (uint i = parity; i + 1u < V; i += 2u) {
+                float rest = imageLoad(rest_positions, strand_texel(strand, i + 1u, V, sim.counts.y)).w;
+                vec3 d = x[i] - x[i + 1u];
+                float len = length(d);
+                if (len > MIN_LENGTH) {
+                    vec3 delta = d * (1.0 / len) * (len - rest);
+                    if (i == 0u) {
+                        x[1] = x[1] + delta;
+                    } else {
+                        x[i] = x[i] - delta * 0.5;
+                        x[i + 1u] = x[i + 1u] + delta * 0.5;
+                    }
+                }
+            }
+        }
+    }
+}
+
+// Step 5, wind (seed eq. 7–8). W = a W1 + (1−a) W2 + a W3 + (1−a) W4 with
+// a = (strand mod 20)/20; each vertex moves by the part of W across its unit tangent t,
+// (t × W) × t (scaled by h² on the CPU). Tangents come from the positions before this
+// step, so the walk keeps the previous vertex's old position.
+void wind(uint strand, Step st) {
+    float a = float(strand % 20u) / 20.0;
+    float b = 1.0 - a;
+    vec3 w = st.wind_h2[0].xyz * a + st.wind_h2[1].xyz * b + st.wind_h2[2].xyz * a + st.wind_h2[3].xyz * b;
+    vec3 before = x[0];
+    for (uint i = 1u; i < V; ++i) {
+        vec3 tangent = i + 1u < V ? x[i] - x[i + 1u] : before - x[i];
+        before = x[i];
+        float len = length(tangent);
+        if (len > MIN_LENGTH) {
+            tangent = tangent * (1.0 / len);
+            x[i] = x[i] + (w - tangent * dot(w, tangent));
+        }
+    }
+}
+
+void main() {
+    uint strand = gl_GlobalInvocationID.x;
+    if (strand >= sim.counts.x) {
+        return;
+    }
+    for (uint i = 0u; i < V; ++i) {
+        ivec2 t = strand_texel(strand, i, V, sim.counts.y);
+        x[i] = imageLoad(current_positions, t).xyz;
+        p[i] = imageLoad(previous_positions, t).xyz;
+    }
+    for (uint s = 0u; s < push.count; ++s) {
+        Step st = steps[push.step + s];
+        integrate(strand, st);
+        if ((STEPS & STEP_GLOBAL) != 0u) {
+            global_shape(strand, st);
+        }
+        if ((STEPS & STEP_LOCAL) != 0u) {
+            local_shape(strand, st);
+        }
+        if ((STEPS & STEP_LENGTH) != 0u) {
+            edge_length(strand);
+        }
+        if ((STEPS & STEP_WIND) != 0u) {
+            wind(strand, st);
+        }
+    }
+    for (uint i = 0u; i < V; ++i) {
+        ivec2 t = strand_texel(strand, i, V, sim.counts.y);
+        imageStore(previous_positions, t, vec4(x[i], 1.0));
+        imageStore(current_positions, t, vec4(p[i], 1.0));
+    }
+}

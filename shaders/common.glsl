@@ -7,7 +7,6 @@
 
 layout(set = 0, binding = 0, std140) uniform Frame {
     mat4 view_proj;
-    mat4 inv_view_proj;
     mat4 model;          // head transform H
     vec4 eye;            // xyz camera position, w = world size of a pixel at distance 1
     vec4 light;          // xyz unit vector towards the light, w = intensity
@@ -18,10 +17,13 @@ layout(set = 0, binding = 0, std140) uniform Frame {
     vec4 lod;            // hairs per unit area, full-density distance, max level, cull margin
     vec4 hair;           // width, minimum width in pixels, jitter radius, length jitter
     vec4 viewport;       // width, height, 1/width, 1/height
+    vec4 draw;           // ribbon threshold (px), vertex-LOD segment (px, 0 = off), hair length, unused
     uvec4 strands;       // vertices per strand, strands per row, fixed level (0 = adaptive), flags
 } frame;
 
 const uint FLAG_CULL = 1u;
+const uint FLAG_THICKNESS_COMPENSATION = 2u;
+const uint FLAG_COUNT = 4u;
 
 layout(set = 0, binding = 1, rgba32f) uniform readonly image2D strand_positions;
 
@@ -31,6 +33,14 @@ layout(set = 0, binding = 2, std430) readonly buffer Ownership {
 
 vec3 strand_vertex(uint strand, uint vertex) {
     return imageLoad(strand_positions, strand_texel(strand, vertex, frame.strands.x, frame.strands.y)).xyz;
+}
+
+// Density level of detail at point p: 1 up to the full-density distance D, then
+// (D / d)² so that hairs per pixel stay roughly constant.
+float lod_factor(vec3 p) {
+    float d = max(distance(p, frame.eye.xyz), 1e-6);
+    float r = frame.lod.y / d;
+    return min(1.0, r * r);
 }
 
 uint hash_u32(uint x) {

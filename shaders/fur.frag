@@ -1,33 +1,24 @@
 #version 450
-// Fur pass, fragment stage: Kajiya–Kay lighting with a root-to-tip colour ramp.
-//   diffuse  = Kd · sin(t, l)
-//   specular = Ks · ((t·l)(t·e) + sin(t, l) sin(t, e))^p
-// t: unit hair tangent, l: unit vector towards the light, e: unit vector from the eye
-// towards the fragment (with e pointing this way the formula peaks on the mirror cone).
-// The CPU copy of this model is `render::kajiya_kay`.
-#include "common.glsl"
+// Fur pass, fragment stage: the hair's colour from its Kajiya–Kay terms (interpolated
+// from the strand vertices with VERTEX_SHADING, evaluated here otherwise) and its
+// root-to-tip ramp (see shading.glsl). Alpha is the hair's coverage of the pixel (1 for
+// ribbons): blended at one sample per pixel, alpha to coverage under MSAA.
+#include "shading.glsl"
 
+#if VERTEX_SHADING
+layout(location = 0) in vec4 g_lit_along_coverage;
+#else
 layout(location = 0) in vec4 g_tangent_along;
+layout(location = 1) in vec4 g_world_coverage;
+#endif
 layout(location = 0) out vec4 out_color;
 
 void main() {
-    vec3 t = normalize(g_tangent_along.xyz);
-    float along = g_tangent_along.w;
-    vec2 ndc = gl_FragCoord.xy * frame.viewport.zw * 2.0 - 1.0;
-    vec4 world = frame.inv_view_proj * vec4(ndc, gl_FragCoord.z, 1.0);
-    vec3 e = normalize(world.xyz / world.w - frame.eye.xyz);
-    vec3 l = frame.light.xyz;
-
-    float tl = dot(t, l);
-    float te = dot(t, e);
-    float sin_tl = sqrt(max(1.0 - tl * tl, 0.0));
-    float sin_te = sqrt(max(1.0 - te * te, 0.0));
-    float diffuse = frame.shading.x * sin_tl;
-    float specular = frame.shading.y * pow(max(tl * te + sin_tl * sin_te, 0.0), frame.shading.z);
-
-    vec3 base = mix(frame.root_color.rgb, frame.tip_color.rgb, along);
-    float occlusion = mix(1.0 - frame.root_color.w, 1.0, along);
-    vec3 color = base * occlusion * (frame.shading.w + diffuse * frame.light.w)
-               + vec3(specular * frame.light.w) * occlusion;
-    out_color = vec4(color, 1.0);
+#if VERTEX_SHADING
+    vec4 v = g_lit_along_coverage;
+    out_color = vec4(hair_color(v.xy, v.z), v.w);
+#else
+    vec2 lit = kajiya_kay(normalize(g_tangent_along.xyz), g_world_coverage.xyz);
+    out_color = vec4(hair_color(lit, g_tangent_along.w), g_world_coverage.w);
+#endif
 }

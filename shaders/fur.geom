@@ -1,20 +1,113 @@
 #version 450
-// Fur pass, geometry stage: emits one interpolated hair as a camera-facing ribbon,
-// tapered from root to tip and never thinner than `frame.hair.y` pixels.
-// STRAND_VERTICES is defined by the renderer when it compiles this stage.
-#include "common.glsl"
+// Fur pass, geometry stage: emits one interpolated hair, the blend of its triangle's
+// three master hairs at the point's barycentric coordinates plus a per-hair jitter.
+//
+// Compiled in two forms (the renderer defines LINES):
+// - LINES = 1: a line strip. The hair's coverage of its pixels, width / pixel size,
+//   travels as alpha: blended at one sample per pixel, alpha to coverage under MSAA.
+//   For hairs under a pixel wide.
+// - LINES = 0: a camera-facing ribbon of the hair's true width, opaque.
+// A hair is drawn by one form only: ribbons take the hairs at least `frame.draw.x`
+// pixels wide at the root, lines the rest.
+//
+// Widths taper from root to tip and are never under `frame.hair.y` pixels. With
+// thickness compensation, hairs thinned out by the density LOD are widened by the
+// same factor, so coverage is kept.
+//
+// Vertex LOD (frame.draw.y > 0, a tolerance in pixels): a strand vertex is left out
+// when the segment that skips it passes within the tolerance of where the vertex would
+// have been drawn, its width included. Straight hairs become a single segment, curled
+// ones keep their curls; the root and the tip are always drawn where they are.
+//
+// With VERTEX_SHADING = 1 the Kajiya–Kay terms are evaluated here, per emitted vertex;
+// otherwise per fragment. STRAND_VERTICES, LINES, VERTEX_SHADING and COUNT_HAIRS are
+// defined by the renderer.
+#include "shading.glsl"
 
 layout(points) in;
+#if LINES
+layout(line_strip, max_vertices = STRAND_VERTICES) out;
+#else
 layout(triangle_strip, max_vertices = 2 * STRAND_VERTICES) out;
+#endif
 
 layout(location = 0) in uvec3 e_hair[];
 layout(location = 1) in vec3 e_bary[];
 layout(location = 2) in uint e_keep[];
 
-layout(location = 0) out vec4 g_tangent_along;   // world tangent, position along the hair
+#if VERTEX_SHADING
+layout(location = 0) out vec4 g_lit_along_coverage;
+#else
+layout(location = 0) out vec4 g_tangent_along;    // world tangent, position along the hair
+layout(location = 1) out vec4 g_world_coverage;   // world position, coverage
+#endif
+
+#if COUNT_HAIRS
+layout(set = 0, binding = 3, std430) buffer Counters {
+    uint hairs_drawn;
+    uint segments_drawn;
+} counters;
+#endif
+
+const uint V = uint(STRAND_VERTICES);
+
+vec3 P[STRAND_VERTICES];       // the hair's vertices, world space
+float W[STRAND_VERTICES];      // its width at each, world units
+float S[STRAND_VERTICES];      // the world size of a pixel at each
 
 vec3 blended(uvec3 h, vec3 b, uint k) {
     return b.x * strand_vertex(h.x, k) + b.y * strand_vertex(h.y, k) + b.z * strand_vertex(h.z, k);
+}
+
+float along(uint k) {
+    return float(k) / float(V - 1u);
+}
+
+// Whether the segment a → c draws every vertex between within `tolerance` pixels of
+// where it is: its position, and its width (coverage) as well.
+bool skippable(uint a, uint c, float tolerance) {
+    for (uint m = a + 1u; m < c; ++m) {
+        float f = float(m - a) / float(c - a);
+        float off = distance(mix(P[a], P[c], f), P[m]) + abs(mix(W[a], W[c], f) - W[m]);
+        if (off > tolerance * S[m]) {
+            return false;
+        }
+    }
+    return true;
+}
+
+void emit_vertex(uint k, vec3 t) {
+#if VERTEX_SHADING
+    vec4 a = vec4(kajiya_kay(t, P[k]), along(k), 1.0);
+#else
+    vec4 a = vec4(t, along(k));
+    vec4 b = vec4(P[k], 1.0);
+#endif
+#if LINES
+    float coverage = min(W[k] / S[k], 1.0);
+#if VERTEX_SHADING
+    g_lit_along_coverage = vec4(a.xyz, coverage);
+#else
+    g_tangent_along = a;
+    g_world_coverage = vec4(b.xyz, coverage);
+#endif
+    gl_Position = frame.view_proj * vec4(P[k], 1.0);
+    EmitVertex();
+#else
+    vec3 side = cross(t, frame.eye.xyz - P[k]);
+    float side_len = length(side);
+    side = side_len > 1e-12 ? side * (0.5 * W[k] / side_len) : vec3(0.5 * W[k], 0.0, 0.0);
+    for (int s = -1; s <= 1; s += 2) {
+#if VERTEX_SHADING
+        g_lit_along_coverage = a;
+#else
+        g_tangent_along = a;
+        g_world_coverage = b;
+#endif
+        gl_Position = frame.view_proj * vec4(P[k] + float(s) * side, 1.0);
+        EmitVertex();
+    }
+#endif
 }
 
 void main() {
@@ -23,42 +116,66 @@ void main() {
     }
     uvec3 h = e_hair[0];
     vec3 b = e_bary[0];
-    uint V = uint(STRAND_VERTICES);
+    vec3 root = blended(h, b, 0u);
+    float pixel = frame.eye.w;                    // world size of a pixel at distance 1
+    float thickness = frame.hair.x;
+    if ((frame.strands.w & FLAG_THICKNESS_COMPENSATION) != 0u) {
+        thickness /= lod_factor(root);
+    }
+    float root_pixel = pixel * distance(root, frame.eye.xyz);
+    float root_pixels = max(thickness / root_pixel, frame.hair.y);
+#if LINES
+    if (root_pixels >= frame.draw.x) {
+        return;
+    }
+#else
+    if (root_pixels < frame.draw.x) {
+        return;
+    }
+#endif
     uint seed = hash_u32(uint(gl_PrimitiveIDIn) * 0x9e3779b9u
                          ^ hash_u32(floatBitsToUint(b.x) ^ hash_u32(floatBitsToUint(b.y))));
     vec3 jitter = (vec3(hash_unit(seed), hash_unit(seed + 1u), hash_unit(seed + 2u)) * 2.0 - 1.0)
                 * frame.hair.z;
     float length_scale = 1.0 - frame.hair.w * hash_unit(seed + 3u);
 
-    vec3 root = blended(h, b, 0u);
-    vec3 next = root + (blended(h, b, 1u) - root) * length_scale;
-    vec3 p = root;
-    vec3 t = vec3(0.0, 1.0, 0.0);
     for (uint k = 0u; k < V; ++k) {
+        vec3 p = k == 0u ? root : root + (blended(h, b, k) - root) * length_scale;
+        P[k] = p + jitter * along(k);
+        S[k] = pixel * distance(P[k], frame.eye.xyz);
+        W[k] = max(thickness * (1.0 - 0.8 * along(k)), frame.hair.y * S[k]);
+    }
+
+    float tolerance = frame.draw.y;
+    vec3 t = vec3(0.0, 1.0, 0.0);
+    uint segments = 0u;
+    uint k = 0u;
+    while (true) {
+        // The tangent of the strand's own segment here (the tip keeps the last one).
         if (k + 1u < V) {
-            vec3 d = next - p;
+            vec3 d = P[k + 1u] - P[k];
             if (dot(d, d) > 1e-24) {
                 t = normalize(d);
             }
         }
-        float along = float(k) / float(V - 1u);
-        vec3 world = p + jitter * along;
-        vec3 to_eye = frame.eye.xyz - world;
-        float dist = length(to_eye);
-        vec3 side = cross(t, to_eye);
-        float side_len = length(side);
-        side = side_len > 1e-12 ? side / side_len : vec3(1.0, 0.0, 0.0);
-        float width = max(frame.hair.x * (1.0 - 0.8 * along), frame.hair.y * frame.eye.w * dist);
-        g_tangent_along = vec4(t, along);
-        gl_Position = frame.view_proj * vec4(world - side * (0.5 * width), 1.0);
-        EmitVertex();
-        g_tangent_along = vec4(t, along);
-        gl_Position = frame.view_proj * vec4(world + side * (0.5 * width), 1.0);
-        EmitVertex();
-        p = next;
-        if (k + 2u < V) {
-            next = root + (blended(h, b, k + 2u) - root) * length_scale;
+        emit_vertex(k, t);
+        if (k + 1u >= V) {
+            break;
         }
+        uint next = k + 1u;
+        if (tolerance > 0.0) {
+            while (next + 1u < V && skippable(k, next + 1u, tolerance)) {
+                next += 1u;
+            }
+        }
+        k = next;
+        segments += 1u;
     }
     EndPrimitive();
+#if COUNT_HAIRS
+    if ((frame.strands.w & FLAG_COUNT) != 0u) {
+        atomicAdd(counters.hairs_drawn, 1u);
+        atomicAdd(counters.segments_drawn, segments);
+    }
+#endif
 }

@@ -19,12 +19,6 @@ layout(location = 0) in uint v_hair[];
 layout(location = 0) out uint c_hair[];
 layout(location = 1) patch out uint p_mask;
 
-float lod_factor(vec3 p) {
-    float d = max(distance(p, frame.eye.xyz), 1e-6);
-    float r = frame.lod.y / d;
-    return min(1.0, r * r);
-}
-
 float edge_level(vec3 a, vec3 b) {
     float spacing_inv = sqrt(frame.lod.x * lod_factor((a + b) * 0.5));
     return clamp(ceil(distance(a, b) * spacing_inv), 1.0, frame.lod.z);

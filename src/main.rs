@@ -5,13 +5,15 @@ use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::time::Instant;
 
+mod args;
+
 use anyhow::{bail, Context as _};
+use args::{SceneArgs, SimArgs};
 use ash::vk;
 use clap::{Args, Parser, Subcommand};
-use fur::scene::Mesh;
-use fur::session::{FurSession, SceneOptions};
-use fur::sim::{Motion, MotionKind, SimParams};
-use glam::Vec3;
+use fur::scene::ModelSpec;
+use fur::session::FurSession;
+use fur::sim::{Motion, MotionKind};
 
 /// Real-time fur rendering and simulation on Vulkan: master hairs grown from a mesh,
 /// simulated in compute shaders (Han & Harada 2012), interpolated by tessellation,
@@ -39,6 +41,12 @@ enum Command {
         /// A small suite that finishes in seconds (for CI).
         #[arg(long)]
         quick: bool,
+        /// Run only these sections (comma-separated); `fur bench --list` names them.
+        #[arg(long, value_delimiter = ',')]
+        only: Vec<String>,
+        /// List the sections and exit.
+        #[arg(long)]
+        list: bool,
         /// Output folder.
         #[arg(long, default_value = "bench")]
         out_dir: PathBuf,
@@ -46,27 +54,27 @@ enum Command {
         #[arg(long)]
         validate: bool,
     },
-    /// Write the built-in default model as an OBJ file.
+    /// Write a built-in model as an OBJ file.
     ExportModel {
         /// Where to write it.
         #[arg(default_value = "assets/blob.obj")]
         out: PathBuf,
+        /// Which built-in model: blob or sphere.
+        #[arg(long, default_value = "blob")]
+        model: ModelSpec,
     },
 }
 
 #[derive(Args, Clone)]
 struct ViewArgs {
-    /// OBJ model to grow fur on (default: the built-in blob).
-    #[arg(long)]
-    model: Option<PathBuf>,
+    #[command(flatten)]
+    scene: SceneArgs,
     /// Initial window width in pixels.
     #[arg(long, default_value_t = 1280)]
     width: u32,
     /// Initial window height in pixels.
     #[arg(long, default_value_t = 720)]
     height: u32,
-    #[command(flatten)]
-    groom: GroomArgs,
     #[command(flatten)]
     sim: SimArgs,
     /// Present without waiting for vertical blank (mailbox or immediate when available).
@@ -88,9 +96,8 @@ struct ViewArgs {
 
 #[derive(Args, Clone)]
 struct RenderArgs {
-    /// OBJ model to grow fur on (default: the built-in blob, see `fur export-model`).
-    #[arg(long)]
-    model: Option<PathBuf>,
+    #[command(flatten)]
+    scene: SceneArgs,
     /// Output PNG of a single frame.
     #[arg(long, default_value = "fur.png")]
     out: PathBuf,
@@ -100,18 +107,7 @@ struct RenderArgs {
     /// Image height in pixels.
     #[arg(long, default_value_t = 720)]
     height: u32,
-    /// Camera orbit angle around the vertical axis, degrees.
-    #[arg(long, default_value_t = 25.0, allow_negative_numbers = true)]
-    yaw: f32,
-    /// Camera elevation, degrees.
-    #[arg(long, default_value_t = 15.0, allow_negative_numbers = true)]
-    pitch: f32,
-    /// Camera distance as a multiple of the model's bounding radius.
-    #[arg(long, default_value_t = 2.6)]
-    distance: f32,
 
-    #[command(flatten)]
-    groom: GroomArgs,
     #[command(flatten)]
     sim: SimArgs,
 
@@ -136,102 +132,20 @@ struct RenderArgs {
     validate: bool,
 }
 
-/// Groom and density.
-#[derive(Args, Clone)]
-struct GroomArgs {
-    /// Hair length as a fraction of the model's bounding radius.
-    #[arg(long, default_value_t = 0.2)]
-    hair_length: f32,
-    /// Segments per master hair (1..=63).
-    #[arg(long, default_value_t = 16)]
-    segments: u32,
-    /// Multiplies the interpolated-hair density.
-    #[arg(long, default_value_t = 1.0)]
-    density_scale: f32,
-    /// Comb strength (0 = hairs stand along the normals).
-    #[arg(long, default_value_t = 0.9)]
-    comb: f32,
-    /// Curl radius as a fraction of the segment length.
-    #[arg(long, default_value_t = 0.0)]
-    curl: f32,
-}
-
-/// Simulation parameters (see `SimParams` for units and ranges).
-#[derive(Args, Clone)]
-struct SimArgs {
-    /// Substeps per frame (1..=64).
-    #[arg(long, default_value_t = 1)]
-    substeps: u32,
-    /// Gravity in m/s², pointing down.
-    #[arg(long, default_value_t = 9.82, allow_negative_numbers = true)]
-    gravity: f32,
-    /// Fraction of velocity lost per 1/60 s (0..1).
-    #[arg(long, default_value_t = 0.08)]
-    damping: f32,
-    /// Global shape stiffness S_G (0..1).
-    #[arg(long, default_value_t = 0.2)]
-    global_stiffness: f32,
-    /// Fraction of each strand the global constraint covers (0..1).
-    #[arg(long, default_value_t = 1.0)]
-    global_range: f32,
-    /// Local shape stiffness S_L (0..1).
-    #[arg(long, default_value_t = 0.9)]
-    local_stiffness: f32,
-    /// Local shape passes per substep (0..=64).
-    #[arg(long, default_value_t = 2)]
-    local_iterations: u32,
-    /// Edge-length passes per substep (0..=64).
-    #[arg(long, default_value_t = 2)]
-    length_iterations: u32,
-    /// Wind vector "x,y,z" in m/s² (0,0,0 = no wind).
-    #[arg(long, default_value = "6,0,2", value_parser = parse_vec3)]
-    wind: Vec3,
-}
-
-fn parse_vec3(s: &str) -> Result<Vec3, String> {
-    let parts: Vec<f32> = s
-        .split(',')
-        .map(|p| p.trim().parse::<f32>())
-        .collect::<Result<_, _>>()
-        .map_err(|e| format!("expected x,y,z: {e}"))?;
-    match parts[..] {
-        [x, y, z] => Ok(Vec3::new(x, y, z)),
-        _ => Err(format!(
-            "expected three comma-separated numbers, got {}",
-            parts.len()
-        )),
-    }
-}
-
-impl SimArgs {
-    fn params(&self) -> SimParams {
-        SimParams {
-            substeps: self.substeps,
-            gravity: Vec3::new(0.0, -self.gravity, 0.0),
-            damping: self.damping,
-            global_stiffness: self.global_stiffness,
-            global_range: self.global_range,
-            local_stiffness: self.local_stiffness,
-            local_iterations: self.local_iterations,
-            length_iterations: self.length_iterations,
-            wind: self.wind,
-            ..SimParams::default()
-        }
-    }
-}
-
 fn main() -> ExitCode {
     env_logger::Builder::from_env(env_logger::Env::default().default_filter_or("warn")).init();
     let cli = Cli::parse();
     let result = match cli.command {
         Some(Command::Render(args)) => render(&args),
         Some(Command::View(args)) => view(args),
-        Some(Command::ExportModel { out }) => export_model(&out),
+        Some(Command::ExportModel { out, model }) => export_model(&out, &model),
         Some(Command::Bench {
             quick,
+            only,
+            list,
             out_dir,
             validate,
-        }) => bench(quick, &out_dir, validate),
+        }) => bench(quick, &only, list, &out_dir, validate),
         None => render(&cli.render),
     };
     match result {
@@ -243,9 +157,28 @@ fn main() -> ExitCode {
     }
 }
 
-fn bench(quick: bool, out_dir: &Path, validate: bool) -> anyhow::Result<()> {
+fn bench(
+    quick: bool,
+    only: &[String],
+    list: bool,
+    out_dir: &Path,
+    validate: bool,
+) -> anyhow::Result<()> {
+    if list {
+        for section in fur::bench::Section::ALL {
+            println!("{:<16} {}", section.name(), section.about());
+        }
+        return Ok(());
+    }
+    let sections = fur::bench::Section::parse_list(only)?;
+    if out_dir.is_file() {
+        bail!(
+            "--out-dir {} is a file; the benchmark writes a folder",
+            out_dir.display()
+        );
+    }
     let device = fur::gpu::headless(validate)?;
-    let options = fur::bench::BenchOptions { quick };
+    let options = fur::bench::BenchOptions { quick, sections };
     let bar = indicatif::ProgressBar::new(fur::bench::task_count(&options)).with_style(
         indicatif::ProgressStyle::with_template("{bar:40} {pos}/{len} {elapsed} {msg}")
             .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
@@ -270,16 +203,10 @@ fn view(args: ViewArgs) -> anyhow::Result<()> {
     if args.frames == Some(0) {
         bail!("--frames must be at least 1");
     }
+    args.scene.check()?;
     let options = fur::viewer::ViewerOptions {
-        model: args.model,
-        scene: SceneOptions {
-            hair_length: args.groom.hair_length,
-            segments: args.groom.segments,
-            comb: args.groom.comb,
-            curl: args.groom.curl,
-            density_scale: args.groom.density_scale,
-            ..SceneOptions::default()
-        },
+        model: args.scene.model.clone(),
+        scene: args.scene.options(),
         sim: args.sim.params(),
         vsync: !args.no_vsync,
         frames: args.frames,
@@ -294,33 +221,32 @@ fn view(args: ViewArgs) -> anyhow::Result<()> {
     Ok(())
 }
 
-fn export_model(out: &Path) -> anyhow::Result<()> {
-    Mesh::blob().write_obj(out)?;
+fn export_model(out: &Path, model: &ModelSpec) -> anyhow::Result<()> {
+    if let ModelSpec::File(path) = model {
+        bail!(
+            "--model names a built-in model ({}), not a file: {}",
+            ModelSpec::BUILT_IN.join(", "),
+            path.display()
+        );
+    }
+    model.load()?.write_obj(out)?;
     println!("wrote {}", out.display());
     Ok(())
 }
+
+/// Frames measured before this many are warm-up (lazy shader compilation, caches).
+const WARM_UP_FRAMES: usize = 2;
 
 fn render(args: &RenderArgs) -> anyhow::Result<()> {
     if args.frames == 0 {
         bail!("--frames must be at least 1");
     }
-    let mesh = match &args.model {
-        Some(path) => Mesh::load_obj(path)?,
-        None => Mesh::blob(),
-    };
+    args.scene.check()?;
+    let mesh = args.scene.model.load()?;
     let (_, radius) = mesh.bounds();
-    let scene = SceneOptions {
-        hair_length: args.groom.hair_length,
-        segments: args.groom.segments,
-        comb: args.groom.comb,
-        curl: args.groom.curl,
-        density_scale: args.groom.density_scale,
-        yaw_deg: args.yaw,
-        pitch_deg: args.pitch,
-        distance: args.distance,
-    };
-    let (groom, settings) = scene.resolve(&mesh)?;
+    let (groom, mut settings) = args.scene.options().resolve(&mesh)?;
     let simulate = args.frames > 1 || args.out_dir.is_some();
+    settings.count_hairs = !simulate;
     let motion = Motion {
         kind: if simulate {
             args.motion
@@ -350,67 +276,86 @@ fn render(args: &RenderArgs) -> anyhow::Result<()> {
         1,
     )?;
     let masters = session.strands.count();
-    let groom_segments = session.strands.vertices_per_strand - 1;
     if simulate {
-        let dir = args
-            .out_dir
-            .clone()
-            .unwrap_or_else(|| PathBuf::from("frames"));
-        std::fs::create_dir_all(&dir)
-            .with_context(|| format!("cannot create {}", dir.display()))?;
-        let bar = indicatif::ProgressBar::new(u64::from(args.frames)).with_style(
-            indicatif::ProgressStyle::with_template(
-                "{bar:40} {pos}/{len} frames {elapsed} (eta {eta}) {msg}",
-            )
-            .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
-        );
-        let mut sim_ms = Vec::new();
-        for frame in 0..args.frames {
-            let (image, timings) = session.step_and_render()?;
-            image.write_png(&dir.join(format!("frame_{frame:04}.png")))?;
-            sim_ms.push(timings.simulation_ms);
-            bar.set_message(format!(
-                "sim {:.2} ms, fur {:.1} ms",
-                timings.simulation_ms, timings.render.fur_ms
-            ));
-            bar.inc(1);
-        }
-        bar.finish();
-        sim_ms.sort_by(f64::total_cmp);
-        println!(
-            "wrote {} frames to {}: {masters} master hairs; GPU simulation median {:.3} ms per frame",
-            args.frames,
-            dir.display(),
-            sim_ms[sim_ms.len() / 2]
-        );
+        render_sequence(args, &mut session)?;
     } else {
         let start = Instant::now();
         let (image, report) = session.render()?;
         let elapsed = start.elapsed();
         image.write_png(&args.out)?;
-        let hairs = report
+        let points = report
             .statistics
-            .map(|s| {
-                let segments = u64::from(groom_segments);
+            .map(|s| format!(", {} tessellated points", s.tess_eval_invocations))
+            .unwrap_or_default();
+        let hairs = report
+            .counts
+            .map(|c| {
                 format!(
-                    ", {} tessellated points, {} hairs drawn (corner and edge points shared by two \
-                     triangles are drawn once)",
-                    s.tess_eval_invocations,
-                    s.geometry_primitives / (2 * segments)
+                    ", {} hairs drawn in {} segments (points shared by two triangles are drawn once)",
+                    c.hairs, c.segments
                 )
             })
             .unwrap_or_default();
         println!(
-            "wrote {} ({}×{}): {masters} master hairs{hairs}; frame {:.1} ms (GPU: mesh {:.2} ms, fur {:.2} ms)",
+            "wrote {} ({}×{}): {masters} master hairs{points}{hairs}; one cold frame {:.1} ms \
+             (use --frames N for warm timings)",
             args.out.display(),
             args.width,
             args.height,
             elapsed.as_secs_f64() * 1e3,
-            report.mesh_ms,
-            report.fur_ms,
         );
     }
     drop(session);
     device.instance().check_validation()?;
+    Ok(())
+}
+
+/// Simulates and renders `args.frames` frames into PNGs; ends with the median frame
+/// time of the warm frames.
+fn render_sequence(args: &RenderArgs, session: &mut FurSession) -> anyhow::Result<()> {
+    let dir = args
+        .out_dir
+        .clone()
+        .unwrap_or_else(|| PathBuf::from("frames"));
+    std::fs::create_dir_all(&dir).with_context(|| format!("cannot create {}", dir.display()))?;
+    let bar = indicatif::ProgressBar::new(u64::from(args.frames)).with_style(
+        indicatif::ProgressStyle::with_template(
+            "{bar:40} {pos}/{len} frames {elapsed} (eta {eta}) {msg}",
+        )
+        .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
+    );
+    let mut frame_ms = Vec::new();
+    for frame in 0..args.frames {
+        let start = Instant::now();
+        let (image, _) = session.step_and_render()?;
+        frame_ms.push(start.elapsed().as_secs_f64() * 1e3);
+        image.write_png(&dir.join(format!("frame_{frame:04}.png")))?;
+        bar.set_message(format!("{:.1} ms", frame_ms[frame_ms.len() - 1]));
+        bar.inc(1);
+    }
+    bar.finish();
+    println!(
+        "wrote {} frames to {}: {} master hairs",
+        args.frames,
+        dir.display(),
+        session.strands.count()
+    );
+    let warm = if frame_ms.len() > WARM_UP_FRAMES {
+        &frame_ms[WARM_UP_FRAMES..]
+    } else {
+        &frame_ms[..]
+    };
+    let note = if frame_ms.len() > WARM_UP_FRAMES {
+        format!(
+            "over {} warm frames: simulation, both passes and the image copy",
+            warm.len()
+        )
+    } else {
+        "over cold frames only (use more than 2 frames for warm timings)".to_string()
+    };
+    println!(
+        "median frame {:.1} ms ({note})",
+        fur::bench::metrics::median(warm)
+    );
     Ok(())
 }

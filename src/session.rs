@@ -9,7 +9,7 @@ use glam::DMat4;
 use crate::error::Error;
 use crate::error::Result;
 use crate::gpu::Device;
-use crate::render::{FrameReport, FrameSettings, Renderer, RgbaImage};
+use crate::render::{FrameReport, FrameSettings, Primitive, Renderer, RgbaImage, Shading};
 use crate::scene::{Camera, GroomParams, Mesh, Strands};
 use crate::sim::{GpuSim, Motion, SimParams};
 use crate::strand_textures::StrandTextures;
@@ -29,6 +29,50 @@ pub struct SceneOptions {
     pub pitch_deg: f32,
     /// Camera distance in bounding radii.
     pub distance: f32,
+    pub draw: DrawOptions,
+}
+
+/// How the fur is drawn: the levers that trade speed for image quality (measured by
+/// `fur bench`). Distances are in bounding radii.
+#[derive(Clone, Debug, PartialEq)]
+pub struct DrawOptions {
+    pub samples: u32,
+    pub primitive: Primitive,
+    pub ribbon_above_px: f32,
+    pub shading: Shading,
+    pub vertex_lod_px: f32,
+    /// Full-density distance of the density LOD, in bounding radii.
+    pub lod_distance: f32,
+    pub thickness_compensation: bool,
+}
+
+impl Default for DrawOptions {
+    fn default() -> Self {
+        let style = crate::render::FurStyle::default();
+        Self {
+            samples: style.samples,
+            primitive: style.primitive,
+            ribbon_above_px: style.ribbon_above_px,
+            shading: style.shading,
+            vertex_lod_px: style.vertex_lod_px,
+            lod_distance: style.lod_distance,
+            thickness_compensation: style.thickness_compensation,
+        }
+    }
+}
+
+impl DrawOptions {
+    /// Today's reference-quality drawing: 4× MSAA ribbons lit per fragment, every
+    /// strand vertex drawn.
+    pub fn reference_quality() -> Self {
+        Self {
+            samples: 4,
+            primitive: Primitive::Ribbons,
+            shading: Shading::Fragment,
+            vertex_lod_px: 0.0,
+            ..Self::default()
+        }
+    }
 }
 
 impl Default for SceneOptions {
@@ -42,11 +86,44 @@ impl Default for SceneOptions {
             yaw_deg: 25.0,
             pitch_deg: 15.0,
             distance: 2.6,
+            draw: DrawOptions::default(),
         }
     }
 }
 
+/// Bounding radius of the original demo's sphere ([`crate::scene::ModelSpec::Sphere`]),
+/// the half-diagonal of its 4 × 4 × 4 box.
+const SPHERE_BOUNDS: f32 = 3.464_101_6;
+
 impl SceneOptions {
+    /// The original fur demo's scene on its sphere: master hairs of 12 vertices with
+    /// segments of 0.05 along the normals, seen from the side of the poles' axis with the
+    /// whole sphere in frame. The density gives the whole sphere 35,193 interpolated
+    /// hairs: as many as the distinct points of the original's tessellation levels
+    /// (⌊350 · area⌋ per triangle: 35,129), which it drew 189,600 times.
+    pub fn original() -> Self {
+        Self {
+            hair_length: 0.55 / SPHERE_BOUNDS,
+            segments: 11,
+            comb: 0.0,
+            curl: 0.0,
+            density_scale: 0.33,
+            yaw_deg: 90.0,
+            pitch_deg: 15.0,
+            distance: 7.5 / SPHERE_BOUNDS,
+            draw: DrawOptions::default(),
+        }
+    }
+
+    /// The defaults for a model: the original scene for the built-in sphere, the
+    /// general defaults otherwise.
+    pub fn for_model(model: &crate::scene::ModelSpec) -> Self {
+        match model {
+            crate::scene::ModelSpec::Sphere => Self::original(),
+            _ => Self::default(),
+        }
+    }
+
     /// The groom and frame settings for `mesh`.
     pub fn resolve(&self, mesh: &Mesh) -> Result<(GroomParams, FrameSettings)> {
         for (name, v) in [
@@ -83,7 +160,14 @@ impl SceneOptions {
         style.density *= self.density_scale / (radius * radius);
         style.hair_width *= radius;
         style.jitter *= radius;
-        style.lod_distance *= radius;
+        let draw = &self.draw;
+        style.lod_distance = draw.lod_distance * radius;
+        style.samples = draw.samples;
+        style.primitive = draw.primitive;
+        style.ribbon_above_px = draw.ribbon_above_px;
+        style.shading = draw.shading;
+        style.vertex_lod_px = draw.vertex_lod_px;
+        style.thickness_compensation = draw.thickness_compensation;
         style.validate()?;
         groom.validate()?;
         Ok((groom, settings))
@@ -131,7 +215,14 @@ impl FurSession {
         let head = motion.head(0.0).as_mat4();
         let textures = StrandTextures::new(device, &strands, head)?;
         let sim = GpuSim::with_slots(device, &textures, sim_params, frames_in_flight)?;
-        let renderer = Renderer::new(device, &mesh, &textures, extent, frames_in_flight)?;
+        let renderer = Renderer::new(
+            device,
+            &mesh,
+            &textures,
+            extent,
+            frames_in_flight,
+            settings.style.samples,
+        )?;
         Ok(Self {
             device: device.clone(),
             mesh,
@@ -171,7 +262,8 @@ impl FurSession {
             .sim
             .next_constants(sim_frames, |t| user * motion.head(t));
         self.settings.head = self.head_at(self.sim.time).as_mat4();
-        self.renderer.update(slot, &self.settings);
+        self.renderer.update(slot, &self.settings)?;
+        self.renderer.begin_frame(cmd, slot);
         if !constants.is_empty() {
             self.sim.record(cmd, slot, &mut self.textures, &constants)?;
         }

@@ -96,6 +96,8 @@ pub struct StrandTextures {
     pub current: usize,
     /// Per strand, the root frame's three columns (3 × vec4); from the rest pass.
     pub root_frames: Buffer,
+    /// Length of the longest master hair (rest pose), scene units.
+    pub hair_length: f32,
 }
 
 pub const STRAND_FORMAT: vk::Format = vk::Format::R32G32B32A32_SFLOAT;
@@ -142,6 +144,12 @@ impl StrandTextures {
             positions,
             current: 0,
             root_frames,
+            hair_length: (0..strands.count())
+                .map(|s| {
+                    let x = strands.strand(s);
+                    x.windows(2).map(|w| w[0].distance(w[1])).sum::<f32>()
+                })
+                .fold(0.0, f32::max),
         };
         let rest_texels = layout.texels_from(strands.positions.iter().map(|p| p.extend(0.0)));
         let posed = layout.texels_from(

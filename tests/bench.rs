@@ -1,5 +1,6 @@
 //! `fur bench --quick` runs (validation on) and writes a complete, finite CSV, its
-//! Markdown table and the charts.
+//! Markdown tables and the charts; `--only` runs chosen sections and rejects unknown
+//! ones before any work.
 
 use std::collections::HashSet;
 use std::path::Path;
@@ -55,26 +56,33 @@ fn quick_bench_writes_every_expected_measurement() {
             "missing {section} / {case} / {metric}"
         );
     };
-    for step in [
-        "integrate",
-        "global shape",
-        "local shape",
-        "edge length",
-        "wind",
-    ] {
-        expect("stages", step, "gpu_ms");
-    }
-    for stage in ["simulation total", "mesh pass", "fur pass"] {
-        expect("stages", stage, "gpu_ms");
-    }
-    for count in [
-        "master hairs",
-        "patches",
-        "tessellated points",
-        "hairs drawn",
-        "hair segments drawn",
-    ] {
-        expect("stages", count, "count");
+    for scene in ["blob", "sphere"] {
+        for drawing in ["default", "reference quality"] {
+            for metric in ["wall_ms", "gpu_ms", "hairs_drawn", "speedup_vs_original"] {
+                expect("frame", &format!("{scene}, {drawing}"), metric);
+            }
+        }
+        for pass in [
+            "simulation",
+            "mesh pass",
+            "fur pass",
+            "clear, resolve, copy",
+        ] {
+            expect("frame_passes", &format!("{scene}, {pass}"), "wall_ms");
+        }
+        for setting in ["reference quality", "default", "1x lines"] {
+            let case = format!("{scene}: {setting}");
+            for metric in [
+                "frame_ms",
+                "flip",
+                "rmse",
+                "hairs_drawn",
+                "segments_drawn",
+                "pareto",
+            ] {
+                expect("render_quality", &case, metric);
+            }
+        }
     }
     for it in [1, 2] {
         for sub in [1, 2] {
@@ -90,16 +98,21 @@ fn quick_bench_writes_every_expected_measurement() {
             }
         }
     }
-    for scale in ["0.25", "1"] {
-        for metric in ["rmse", "fur_pass_ms", "hairs_drawn", "pareto"] {
-            expect("render_accuracy", &format!("density x{scale}"), metric);
-        }
+    for step in [
+        "integrate",
+        "global shape",
+        "local shape",
+        "edge length",
+        "wind",
+    ] {
+        expect("sim_steps", step, "step_ms");
     }
     expect("sim_scaling", "1024 strands", "ns_per_strand");
     for saving in [
-        "wind off: no wind dispatch",
-        "S_G = 0: no global-shape dispatch",
+        "wind off: wind step compiled out",
+        "S_G = 0: global-shape step compiled out",
         "culling: hairs drawn",
+        "density LOD: hairs drawn",
     ] {
         for metric in ["with", "without", "ratio"] {
             expect("savings", saving, metric);
@@ -107,13 +120,42 @@ fn quick_bench_writes_every_expected_measurement() {
     }
     let md = std::fs::read_to_string(dir.join("results.md")).unwrap();
     assert!(md.contains("| iterations | substeps |"));
-    for chart in [
-        "sim_pareto.png",
-        "render_pareto.png",
-        "sim_scaling.png",
-        "render_scaling.png",
-    ] {
+    assert!(md.contains("| setting | frame ms | ꟻLIP | RMSE |"));
+    for chart in ["sim_pareto.png", "render_pareto.png", "sim_scaling.png"] {
         let bytes = std::fs::read(dir.join(chart)).unwrap();
         assert_eq!(&bytes[1..4], b"PNG", "{chart} is not a PNG");
     }
+}
+
+#[test]
+fn only_runs_the_chosen_sections_and_rejects_unknown_ones() {
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("bench_only");
+    let _ = std::fs::remove_dir_all(&dir);
+    let run = |only: &str| {
+        Command::new(env!("CARGO_BIN_EXE_fur"))
+            .args(["bench", "--quick", "--only", only, "--out-dir"])
+            .arg(&dir)
+            .output()
+            .unwrap()
+    };
+    let out = run("sim_steps");
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let csv = std::fs::read_to_string(dir.join("results.csv")).unwrap();
+    let sections: HashSet<&str> = csv
+        .lines()
+        .skip(1)
+        .filter_map(|l| l.split(',').next())
+        .collect();
+    assert_eq!(sections, HashSet::from(["sim_steps"]));
+    let bad = run("frame,warp_drive");
+    assert!(!bad.status.success());
+    let stderr = String::from_utf8_lossy(&bad.stderr);
+    assert!(
+        stderr.contains("warp_drive") && stderr.contains("sim_scaling"),
+        "{stderr}"
+    );
 }

@@ -93,6 +93,12 @@ fn impossible_parameters_are_clear_errors() {
     assert_fails_cleanly(&["render", "--wind", "1,2"], "three");
     assert_fails_cleanly(&["render", "--motion", "dance"], "dance");
     assert_fails_cleanly(&["render", "--frames", "0"], "frames");
+    assert_fails_cleanly(&["render", "--samples", "3"], "samples per pixel");
+    assert_fails_cleanly(&["render", "--primitive", "cones"], "cones");
+    assert_fails_cleanly(&["render", "--shading", "flat"], "flat");
+    assert_fails_cleanly(&["render", "--vertex-lod=-1"], "vertex LOD");
+    assert_fails_cleanly(&["render", "--yaw", "nan"], "--yaw");
+    assert_fails_cleanly(&["export-model", "--model", "teapot.obj"], "built-in");
 }
 
 #[test]
@@ -120,6 +126,15 @@ fn a_simulated_sequence_moves_and_is_validated() {
     ]);
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert!(out.status.success(), "fur failed:\n{stderr}");
+    // The run ends with the median of its warm frames.
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    let last = stdout.lines().last().unwrap_or_default();
+    let ms: f64 = last
+        .strip_prefix("median frame ")
+        .and_then(|rest| rest.split(" ms").next())
+        .and_then(|v| v.parse().ok())
+        .unwrap_or_else(|| panic!("no median frame line: {stdout}"));
+    assert!(ms > 0.0 && last.contains("2 warm frames"), "{last}");
     let frames: Vec<Vec<u8>> = (0..4)
         .map(|i| std::fs::read(dir.join(format!("frame_{i:04}.png"))).expect("frame written"))
         .collect();
@@ -166,4 +181,45 @@ fn the_shipped_model_is_the_built_in_one() {
         String::from_utf8_lossy(&run.stderr)
     );
     assert!(out.exists());
+}
+
+#[test]
+fn the_original_sphere_is_built_in_and_exports() {
+    let obj = Path::new(env!("CARGO_TARGET_TMPDIR")).join("sphere.obj");
+    let out = fur(&["export-model", "--model", "sphere", obj.to_str().unwrap()]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let sphere = fur::scene::Mesh::load_obj(&obj).unwrap();
+    assert_eq!(
+        (sphere.vertex_count(), sphere.triangle_count()),
+        (3161, 6240)
+    );
+    let png = Path::new(env!("CARGO_TARGET_TMPDIR")).join("sphere.png");
+    let run = fur(&[
+        "render",
+        "--validate",
+        "--model",
+        "sphere",
+        "--out",
+        png.to_str().unwrap(),
+        "--width",
+        "96",
+        "--height",
+        "54",
+        "--samples",
+        "1",
+        "--primitive",
+        "lines",
+    ]);
+    let stdout = String::from_utf8_lossy(&run.stdout);
+    assert!(
+        run.status.success(),
+        "{}",
+        String::from_utf8_lossy(&run.stderr)
+    );
+    assert!(stdout.contains("3161 master hairs"), "{stdout}");
+    assert!(png.exists());
 }

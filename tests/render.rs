@@ -3,7 +3,7 @@
 
 mod common;
 
-use fur::render::{kajiya_kay, FrameSettings, FurStyle, Lighting};
+use fur::render::{kajiya_kay, FrameSettings, FurStyle, Lighting, Primitive};
 use fur::scene::{Camera, GroomParams, Mesh};
 use glam::Vec3;
 
@@ -39,8 +39,8 @@ fn default_scene_grows_fur_beyond_the_silhouette_and_is_lit() {
         draw_fur: false,
         ..settings.clone()
     };
-    let (furry_image, stats) = common::render(&device, &mesh, &blob_groom(), &settings, SIZE);
-    let (bare_image, _) = common::render(&device, &mesh, &blob_groom(), &bare, SIZE);
+    let (furry_image, stats, _) = common::render(&device, &mesh, &blob_groom(), &settings, SIZE);
+    let (bare_image, _, _) = common::render(&device, &mesh, &blob_groom(), &bare, SIZE);
     common::keep(&furry_image, "default_furry");
     let furry = common::covered(&furry_image);
     let skin = common::covered(&bare_image);
@@ -115,25 +115,56 @@ fn every_interpolated_hair_is_generated_and_drawn_exactly_once() {
             segment_length: 0.05,
             ..Default::default()
         };
-        let (_, stats) = common::render(&device, &mesh, &groom, &settings, (64, 64));
-        // Each patch evaluates each of its points once…
-        assert_eq!(
-            stats.tess_eval_invocations,
-            f * points_per_patch(n),
-            "level {n}: {stats:?}"
-        );
-        assert_eq!(
-            stats.geometry_invocations, stats.tess_eval_invocations,
-            "level {n}"
-        );
-        // …and points shared along edges and corners are drawn by one patch only:
-        // every distinct point of the tessellated surface is one hair.
         let unique = v + e * (n - 1) + f * inner_points(n);
         let segments = u64::from(groom.segments);
-        assert_eq!(
-            stats.geometry_primitives,
-            unique * 2 * segments,
-            "level {n}: {stats:?}"
+        for primitive in [Primitive::Ribbons, Primitive::Lines] {
+            for samples in [1, 4] {
+                settings.style.primitive = primitive;
+                settings.style.samples = samples;
+                settings.style.vertex_lod_px = 0.0;
+                let (_, stats, counts) =
+                    common::render(&device, &mesh, &groom, &settings, (64, 64));
+                // Each patch evaluates each of its points once…
+                assert_eq!(
+                    stats.tess_eval_invocations,
+                    f * points_per_patch(n),
+                    "level {n}: {stats:?}"
+                );
+                assert_eq!(
+                    stats.geometry_invocations, stats.tess_eval_invocations,
+                    "level {n}"
+                );
+                // …and points shared along edges and corners are drawn by one patch
+                // only: every distinct point of the tessellated surface is one hair,
+                // with all its segments.
+                assert_eq!(counts.hairs, unique, "level {n}, {primitive:?}");
+                assert_eq!(
+                    counts.segments,
+                    unique * segments,
+                    "level {n}, {primitive:?}"
+                );
+                let per_segment = if primitive == Primitive::Ribbons {
+                    2
+                } else {
+                    1
+                };
+                assert_eq!(
+                    stats.geometry_primitives,
+                    unique * per_segment * segments,
+                    "level {n}, {primitive:?}: {stats:?}"
+                );
+            }
+        }
+        // With vertex LOD the same hairs are drawn, in fewer segments (the groom's
+        // comb bends them gently).
+        settings.style.primitive = Primitive::Ribbons;
+        settings.style.vertex_lod_px = 1.0;
+        let (_, _, counts) = common::render(&device, &mesh, &groom, &settings, (64, 64));
+        assert_eq!(counts.hairs, unique, "level {n} with vertex LOD");
+        assert!(
+            counts.segments < unique * segments && counts.segments >= unique,
+            "level {n}: vertex LOD drew {} segments for {unique} hairs",
+            counts.segments
         );
     }
     common::assert_clean(&device);
@@ -159,7 +190,7 @@ fn hair_count_grows_as_the_camera_approaches_and_culled_triangles_cost_nothing()
         };
         settings.style.density = 3000.0;
         settings.style.lod_distance = 2.0;
-        let (_, stats) = common::render(&device, &mesh, &groom, &settings, (96, 96));
+        let (_, stats, _) = common::render(&device, &mesh, &groom, &settings, (96, 96));
         counts.push(stats.tess_eval_invocations);
     }
     assert!(
@@ -178,7 +209,7 @@ fn hair_count_grows_as_the_camera_approaches_and_culled_triangles_cost_nothing()
         },
         ..Default::default()
     };
-    let (_, stats) = common::render(&device, &mesh, &groom, &away, (96, 96));
+    let (_, stats, _) = common::render(&device, &mesh, &groom, &away, (96, 96));
     assert_eq!(stats.patches, mesh.triangle_count() as u64);
     assert_eq!(
         stats.tess_eval_invocations, 0,
@@ -192,9 +223,9 @@ fn hair_count_grows_as_the_camera_approaches_and_culled_triangles_cost_nothing()
         distance: 2.0,
         ..Default::default()
     };
-    let (_, from_below) = common::render(&device, &plane, &groom, &away, (96, 96));
+    let (_, from_below, _) = common::render(&device, &plane, &groom, &away, (96, 96));
     away.camera.pitch_deg = 60.0;
-    let (_, from_above) = common::render(&device, &plane, &groom, &away, (96, 96));
+    let (_, from_above, _) = common::render(&device, &plane, &groom, &away, (96, 96));
     assert_eq!(
         from_below.tess_eval_invocations, 0,
         "back-facing triangles generated hairs"
@@ -246,7 +277,7 @@ fn kajiya_kay_brightness_follows_the_cpu_formula() {
             },
             ..Default::default()
         };
-        let (image, _) = common::render(&device, &plane, &groom, &settings, (128, 96));
+        let (image, _, _) = common::render(&device, &plane, &groom, &settings, (128, 96));
         common::keep(&image, &format!("kajiya_kay_{angle}"));
         let covered = common::covered(&image);
         let lumas: Vec<f32> = (0..image.height)
@@ -318,7 +349,7 @@ fn fifty_thousand_master_hairs_tile_the_strand_textures() {
         },
         ..Default::default()
     };
-    let (image, stats) = common::render(&device, &mesh, &groom, &settings, (96, 72));
+    let (image, stats, _) = common::render(&device, &mesh, &groom, &settings, (96, 72));
     common::keep(&image, "fifty_thousand");
     assert!(stats.geometry_invocations > 10_000, "{stats:?}");
     assert!(common::covered(&image).iter().filter(|c| **c).count() > 1000);

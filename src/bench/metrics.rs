@@ -65,6 +65,23 @@ pub fn max_stretch(positions: &[Vec3], rest_lengths: &[f64], v: usize) -> f64 {
     worst
 }
 
+/// Mean ꟻLIP error (NVIDIA's perceptual difference, 0 = identical, 1 = maximal) of
+/// `test` against `reference`, at the default viewing condition (67 pixels per degree).
+pub fn flip(reference: &RgbaImage, test: &RgbaImage) -> f64 {
+    assert_eq!(
+        (reference.width, reference.height),
+        (test.width, test.height),
+        "images differ in size"
+    );
+    let (w, h) = (reference.width, reference.height);
+    let error = nv_flip::flip(
+        nv_flip::FlipImageRgb8::with_data(w, h, &reference.rgb()),
+        nv_flip::FlipImageRgb8::with_data(w, h, &test.rgb()),
+        nv_flip::DEFAULT_PIXELS_PER_DEGREE,
+    );
+    f64::from(nv_flip::FlipPool::from_image(&error).mean())
+}
+
 /// Which points are on the Pareto front of (cost, error): no other point is at most as
 /// costly and at most as wrong while better in one of the two.
 pub fn pareto_front(points: &[(f64, f64)]) -> Vec<bool> {
@@ -117,6 +134,21 @@ mod tests {
         // Alpha is ignored.
         let clear = image(&[[0, 0, 0, 0]; 4], 2);
         assert_eq!(rmse(&black, &clear), 0.0);
+    }
+
+    #[test]
+    fn flip_is_zero_for_equal_images_and_grows_with_the_difference() {
+        let grey = image(&[[128, 128, 128, 255]; 64], 8);
+        let mut speck = grey.clone();
+        speck.data[4 * 27..4 * 27 + 3].copy_from_slice(&[255, 255, 255]);
+        let white = image(&[[255, 255, 255, 255]; 64], 8);
+        assert_eq!(flip(&grey, &grey), 0.0);
+        let small = flip(&grey, &speck);
+        let large = flip(&grey, &white);
+        assert!(
+            small > 0.0 && small < large && large <= 1.0,
+            "{small} {large}"
+        );
     }
 
     #[test]

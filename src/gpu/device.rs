@@ -24,6 +24,9 @@ pub struct DeviceInfo {
     pub timestamp_period: f32,
     pub timestamps: bool,
     pub pipeline_statistics: bool,
+    /// Stores and atomics in vertex, tessellation and geometry shaders (the fur pass
+    /// counts what it draws with them).
+    pub vertex_pipeline_stores: bool,
 }
 
 /// The logical device. Shared through `Arc` by every resource created from it.
@@ -63,7 +66,8 @@ impl Device {
         let features = vk::PhysicalDeviceFeatures::default()
             .tessellation_shader(true)
             .geometry_shader(true)
-            .pipeline_statistics_query(info.pipeline_statistics);
+            .pipeline_statistics_query(info.pipeline_statistics)
+            .vertex_pipeline_stores_and_atomics(info.vertex_pipeline_stores);
         let mut features13 = vk::PhysicalDeviceVulkan13Features::default()
             .dynamic_rendering(true)
             .synchronization2(true);
@@ -371,6 +375,7 @@ fn select_physical_device(
             timestamp_period: props.limits.timestamp_period,
             timestamps: timestamp_bits > 0,
             pipeline_statistics: features.pipeline_statistics_query == vk::TRUE,
+            vertex_pipeline_stores: features.vertex_pipeline_stores_and_atomics == vk::TRUE,
         };
         if best.as_ref().is_none_or(|b| score > b.0) {
             best = Some((score, physical, family, info));

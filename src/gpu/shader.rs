@@ -11,6 +11,7 @@ use crate::error::{Error, Result, VkContext};
 /// Every shader source shipped in `shaders/`, by file name.
 pub const SOURCES: &[(&str, &str)] = &[
     ("common.glsl", include_str!("../../shaders/common.glsl")),
+    ("shading.glsl", include_str!("../../shaders/shading.glsl")),
     ("strands.glsl", include_str!("../../shaders/strands.glsl")),
     (
         "sim_common.glsl",

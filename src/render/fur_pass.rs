@@ -1,38 +1,117 @@
 //! The fur pass: mesh triangles as 3-point patches through
 //! vertex → tessellation control → tessellation evaluation (point mode) → geometry →
 //! fragment. See the shaders `fur.*` for what each stage does.
+//!
+//! The geometry stage comes in two forms, line strips and ribbons, each with lighting
+//! per vertex or per fragment; only the forms a frame draws are built (on first use)
+//! and drawn.
 
 use std::sync::Arc;
 
 use ash::vk;
 
-use super::pipeline::{graphics_pipeline, GraphicsDesc};
+use super::pipeline::{graphics_pipeline, Blend, GraphicsDesc};
+use super::target::sample_flag;
+use super::uniforms::{FurStyle, Primitive, Shading};
 use crate::error::Result;
 use crate::gpu::{Device, Pipeline, PipelineLayout, ShaderModule};
 
+/// One compiled form of the fur pipeline.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Variant {
+    pub lines: bool,
+    pub shading: Shading,
+}
+
 pub struct FurPass {
-    pipeline: Pipeline,
+    device: Arc<Device>,
+    vertices_per_strand: u32,
+    samples: u32,
+    /// Whether the geometry stage may count what it draws (the device supports stores
+    /// and atomics in vertex-pipeline stages).
+    counts: bool,
+    pipelines: Vec<(Variant, Pipeline)>,
 }
 
 impl FurPass {
-    /// Builds the pipeline for strands of `vertices_per_strand` vertices (the geometry
-    /// shader's output size is fixed at compile time).
-    pub fn new(
-        device: &Arc<Device>,
-        layout: &PipelineLayout,
-        vertices_per_strand: u32,
-    ) -> Result<Self> {
-        let defines = [("STRAND_VERTICES", vertices_per_strand.to_string())];
+    /// A pass for strands of `vertices_per_strand` vertices (the geometry shader's
+    /// output size is fixed at compile time) into a target of `samples` per pixel.
+    pub fn new(device: &Arc<Device>, vertices_per_strand: u32, samples: u32) -> Self {
+        Self {
+            device: device.clone(),
+            vertices_per_strand,
+            samples,
+            counts: device.info.vertex_pipeline_stores,
+            pipelines: Vec::new(),
+        }
+    }
+
+    /// The forms `style` draws with hairs `root_px` pixels wide at the root (the range
+    /// over the model): opaque ribbons first, then the blended lines over them.
+    pub fn variants(style: &FurStyle, root_px: (f32, f32)) -> Vec<Variant> {
+        let (lines, ribbons) = match style.primitive {
+            Primitive::Lines => (true, false),
+            Primitive::Ribbons => (false, true),
+            Primitive::Auto => (
+                root_px.0 < style.ribbon_above_px,
+                root_px.1 >= style.ribbon_above_px,
+            ),
+        };
+        [(ribbons, false), (lines, true)]
+            .into_iter()
+            .filter(|(wanted, _)| *wanted)
+            .map(|(_, lines)| Variant {
+                lines,
+                shading: style.shading,
+            })
+            .collect()
+    }
+
+    /// Builds the pipelines of `variants` that do not exist yet.
+    pub fn prepare(&mut self, layout: &PipelineLayout, variants: &[Variant]) -> Result<()> {
+        for &variant in variants {
+            if !self.pipelines.iter().any(|(v, _)| *v == variant) {
+                let pipeline = self.build(layout, variant)?;
+                self.pipelines.push((variant, pipeline));
+            }
+        }
+        Ok(())
+    }
+
+    fn build(&self, layout: &PipelineLayout, variant: Variant) -> Result<Pipeline> {
+        let flag = |on: bool| u32::from(on).to_string();
+        let vertex_shading = flag(variant.shading == Shading::Vertex);
+        let geometry_defines = [
+            ("STRAND_VERTICES", self.vertices_per_strand.to_string()),
+            ("LINES", flag(variant.lines)),
+            ("VERTEX_SHADING", vertex_shading.clone()),
+            ("COUNT_HAIRS", flag(self.counts)),
+        ];
+        let device = &self.device;
         let vert = ShaderModule::new(device, "fur.vert", &[])?;
         let tesc = ShaderModule::new(device, "fur.tesc", &[])?;
         let tese = ShaderModule::new(device, "fur.tese", &[])?;
-        let geom = ShaderModule::new(device, "fur.geom", &defines)?;
-        let frag = ShaderModule::new(device, "fur.frag", &[])?;
-        let pipeline = graphics_pipeline(
+        let geom = ShaderModule::new(device, "fur.geom", &geometry_defines)?;
+        let frag = ShaderModule::new(device, "fur.frag", &[("VERTEX_SHADING", vertex_shading)])?;
+        // Lines carry coverage in alpha: blended at one sample per pixel, turned into
+        // sample coverage under MSAA. Ribbons are opaque. Both write depth: a blended
+        // line hides the hairs drawn after it behind it, a measured trade (without depth
+        // writes, hairs behind drawn later cover the ones in front, far worse).
+        let blend = match (variant.lines, self.samples) {
+            (false, _) => Blend::Opaque,
+            (true, 1) => Blend::Alpha,
+            (true, _) => Blend::AlphaToCoverage,
+        };
+        let name = format!(
+            "fur pass ({}, {} shading)",
+            if variant.lines { "lines" } else { "ribbons" },
+            variant.shading.name()
+        );
+        graphics_pipeline(
             device,
             layout,
             &GraphicsDesc {
-                name: "fur pass",
+                name: &name,
                 stages: &[
                     (vk::ShaderStageFlags::VERTEX, &vert),
                     (vk::ShaderStageFlags::TESSELLATION_CONTROL, &tesc),
@@ -44,18 +123,32 @@ impl FurPass {
                 vertex_bindings: &[],
                 vertex_attributes: &[],
                 patch_control_points: Some(3),
+                samples: sample_flag(self.samples),
+                blend,
+                depth_write: true,
             },
-        )?;
-        Ok(Self { pipeline })
+        )
     }
 
-    /// Records the draw; the caller has bound the descriptor set and index buffer.
-    pub fn draw(&self, device: &Device, cmd: vk::CommandBuffer, index_count: u32) {
-        unsafe {
-            device
-                .raw
-                .cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, self.pipeline.raw());
-            device.raw.cmd_draw_indexed(cmd, index_count, 1, 0, 0, 0);
+    /// Records the draws of `variants` (prepared before); the caller has bound the
+    /// descriptor set and index buffer.
+    pub fn draw(
+        &self,
+        device: &Device,
+        cmd: vk::CommandBuffer,
+        index_count: u32,
+        variants: &[Variant],
+    ) {
+        for variant in variants {
+            let Some((_, pipeline)) = self.pipelines.iter().find(|(v, _)| v == variant) else {
+                continue;
+            };
+            unsafe {
+                device
+                    .raw
+                    .cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, pipeline.raw());
+                device.raw.cmd_draw_indexed(cmd, index_count, 1, 0, 0, 0);
+            }
         }
     }
 }

@@ -5,7 +5,8 @@ use std::sync::Arc;
 use ash::vk;
 use glam::Vec3;
 
-use super::pipeline::{graphics_pipeline, GraphicsDesc};
+use super::pipeline::{graphics_pipeline, Blend, GraphicsDesc};
+use super::target::sample_flag;
 use crate::error::Result;
 use crate::gpu::{Buffer, Device, Pipeline, PipelineLayout, ShaderModule};
 use crate::scene::Mesh;
@@ -24,7 +25,13 @@ pub struct MeshPass {
 }
 
 impl MeshPass {
-    pub fn new(device: &Arc<Device>, layout: &PipelineLayout, mesh: &Mesh) -> Result<Self> {
+    /// The pass for `mesh` into a target of `samples` per pixel.
+    pub fn new(
+        device: &Arc<Device>,
+        layout: &PipelineLayout,
+        mesh: &Mesh,
+        samples: u32,
+    ) -> Result<Self> {
         let vert = ShaderModule::new(device, "mesh.vert", &[])?;
         let frag = ShaderModule::new(device, "mesh.frag", &[])?;
         let stride = std::mem::size_of::<MeshVertex>() as u32;
@@ -58,6 +65,9 @@ impl MeshPass {
                     },
                 ],
                 patch_control_points: None,
+                samples: sample_flag(samples),
+                blend: Blend::Opaque,
+                depth_write: true,
             },
         )?;
         let data: Vec<MeshVertex> = mesh

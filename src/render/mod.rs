@@ -1,12 +1,16 @@
-//! The render passes: mesh (skin) and fur, into an offscreen 4× MSAA target.
+//! The render passes: mesh (skin) and fur, into an offscreen target.
 
 mod fur_pass;
+mod image;
 mod mesh_pass;
 mod pipeline;
 mod renderer;
 mod target;
 mod uniforms;
 
-pub use renderer::{FrameReport, Renderer};
-pub use target::{RenderTarget, RgbaImage};
-pub use uniforms::{kajiya_kay, FrameSettings, FrameUniforms, FurStyle, Lighting};
+pub use image::RgbaImage;
+pub use renderer::{FrameReport, HairCounts, Renderer};
+pub use target::{check_samples, RenderTarget};
+pub use uniforms::{
+    kajiya_kay, FrameSettings, FrameUniforms, FurStyle, Lighting, Primitive, Shading, StrandShape,
+};

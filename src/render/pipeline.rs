@@ -1,11 +1,11 @@
-//! The graphics-pipeline state both passes share: dynamic rendering into the 4× MSAA
-//! target, depth tested and written, dynamic viewport and scissor.
+//! The graphics-pipeline state both passes share: dynamic rendering into the render
+//! target at its sample count, depth tested, dynamic viewport and scissor.
 
 use std::sync::Arc;
 
 use ash::vk;
 
-use super::target::{COLOR_FORMAT, DEPTH_FORMAT, SAMPLES};
+use super::target::{COLOR_FORMAT, DEPTH_FORMAT};
 use crate::error::Result;
 use crate::gpu::{Device, Pipeline, PipelineLayout, ShaderModule};
 
@@ -18,6 +18,20 @@ pub struct GraphicsDesc<'a> {
     pub vertex_attributes: &'a [vk::VertexInputAttributeDescription],
     /// Control points per patch when the pipeline tessellates.
     pub patch_control_points: Option<u32>,
+    pub samples: vk::SampleCountFlags,
+    pub blend: Blend,
+    pub depth_write: bool,
+}
+
+/// How fragments combine with the target.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Blend {
+    /// Overwrite (alpha ignored).
+    Opaque,
+    /// `src · α + dst · (1 − α)`; the target's alpha stays 1.
+    Alpha,
+    /// Alpha becomes the fraction of samples covered (MSAA), no blending.
+    AlphaToCoverage,
 }
 
 pub fn graphics_pipeline(
@@ -50,14 +64,26 @@ pub fn graphics_pipeline(
         .cull_mode(vk::CullModeFlags::NONE)
         .front_face(vk::FrontFace::COUNTER_CLOCKWISE)
         .line_width(1.0);
-    let multisample =
-        vk::PipelineMultisampleStateCreateInfo::default().rasterization_samples(SAMPLES);
+    let multisample = vk::PipelineMultisampleStateCreateInfo::default()
+        .rasterization_samples(desc.samples)
+        .alpha_to_coverage_enable(desc.blend == Blend::AlphaToCoverage);
     let depth = vk::PipelineDepthStencilStateCreateInfo::default()
         .depth_test_enable(true)
-        .depth_write_enable(true)
+        .depth_write_enable(desc.depth_write)
         .depth_compare_op(vk::CompareOp::LESS);
-    let blend_attachments = [vk::PipelineColorBlendAttachmentState::default()
-        .color_write_mask(vk::ColorComponentFlags::RGBA)];
+    let mut attachment = vk::PipelineColorBlendAttachmentState::default()
+        .color_write_mask(vk::ColorComponentFlags::RGBA);
+    if desc.blend == Blend::Alpha {
+        attachment = attachment
+            .blend_enable(true)
+            .src_color_blend_factor(vk::BlendFactor::SRC_ALPHA)
+            .dst_color_blend_factor(vk::BlendFactor::ONE_MINUS_SRC_ALPHA)
+            .color_blend_op(vk::BlendOp::ADD)
+            .src_alpha_blend_factor(vk::BlendFactor::ZERO)
+            .dst_alpha_blend_factor(vk::BlendFactor::ONE)
+            .alpha_blend_op(vk::BlendOp::ADD);
+    }
+    let blend_attachments = [attachment];
     let blend = vk::PipelineColorBlendStateCreateInfo::default().attachments(&blend_attachments);
     let dynamic_states = [vk::DynamicState::VIEWPORT, vk::DynamicState::SCISSOR];
     let dynamic = vk::PipelineDynamicStateCreateInfo::default().dynamic_states(&dynamic_states);

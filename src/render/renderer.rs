@@ -1,14 +1,20 @@
 //! One frame: the mesh pass then the fur pass into the offscreen target, with
-//! timestamps around each pass and pipeline statistics over the fur pass.
+//! timestamps around each pass, pipeline statistics over the fur pass and, on request,
+//! counts of the hairs and segments drawn.
+//!
+//! On a tiled or binning rasteriser (lavapipe) a timestamp between the passes of one
+//! rendering scope lands part-way through the next pass's binning, so the per-pass
+//! timestamps misattribute there; `fur bench` measures passes by running each alone.
 
 use std::sync::Arc;
 
 use ash::vk;
 
-use super::fur_pass::FurPass;
+use super::fur_pass::{FurPass, Variant};
+use super::image::RgbaImage;
 use super::mesh_pass::MeshPass;
-use super::target::{RenderTarget, RgbaImage};
-use super::uniforms::{FrameSettings, FrameUniforms};
+use super::target::{check_samples, RenderTarget};
+use super::uniforms::{FrameSettings, FrameUniforms, StrandShape};
 use crate::error::Result;
 use crate::gpu::{
     memory_barrier, Buffer, DescriptorPool, DescriptorSetLayout, Device, FurStatistics,
@@ -17,13 +23,15 @@ use crate::gpu::{
 use crate::scene::Mesh;
 use crate::strand_textures::StrandTextures;
 
-/// Points one render descriptor set at its uniforms, position image and ownership masks.
+/// Points one render descriptor set at its uniforms, position image, ownership masks
+/// and hair counters.
 fn write_render_set(
     device: &Device,
     set: vk::DescriptorSet,
     uniforms: &Buffer,
     positions: &crate::gpu::Image,
     ownership: &Buffer,
+    counters: &Buffer,
 ) {
     let ubo = [vk::DescriptorBufferInfo::default()
         .buffer(uniforms.raw())
@@ -33,6 +41,9 @@ fn write_render_set(
         .image_layout(vk::ImageLayout::GENERAL)];
     let owners = [vk::DescriptorBufferInfo::default()
         .buffer(ownership.raw())
+        .range(vk::WHOLE_SIZE)];
+    let counts = [vk::DescriptorBufferInfo::default()
+        .buffer(counters.raw())
         .range(vk::WHOLE_SIZE)];
     let writes = [
         vk::WriteDescriptorSet::default()
@@ -50,12 +61,17 @@ fn write_render_set(
             .dst_binding(2)
             .descriptor_type(vk::DescriptorType::STORAGE_BUFFER)
             .buffer_info(&owners),
+        vk::WriteDescriptorSet::default()
+            .dst_set(set)
+            .dst_binding(3)
+            .descriptor_type(vk::DescriptorType::STORAGE_BUFFER)
+            .buffer_info(&counts),
     ];
     unsafe { device.raw.update_descriptor_sets(&writes, &[]) };
 }
 
-/// Bindings of descriptor set 0 (see `shaders/common.glsl`).
-fn bindings() -> [(vk::DescriptorType, vk::ShaderStageFlags); 3] {
+/// Bindings of descriptor set 0 (see `shaders/common.glsl` and `shaders/fur.geom`).
+fn bindings() -> [(vk::DescriptorType, vk::ShaderStageFlags); 4] {
     let hair_stages = vk::ShaderStageFlags::VERTEX
         | vk::ShaderStageFlags::TESSELLATION_CONTROL
         | vk::ShaderStageFlags::TESSELLATION_EVALUATION
@@ -67,21 +83,40 @@ fn bindings() -> [(vk::DescriptorType, vk::ShaderStageFlags); 3] {
         ),
         (vk::DescriptorType::STORAGE_IMAGE, hair_stages),
         (vk::DescriptorType::STORAGE_BUFFER, hair_stages),
+        (
+            vk::DescriptorType::STORAGE_BUFFER,
+            vk::ShaderStageFlags::GEOMETRY,
+        ),
     ]
 }
 
-/// Timestamp slots.
-const TS_START: u32 = 0;
-const TS_MESH: u32 = 1;
-const TS_FUR: u32 = 2;
+/// Timestamp slots: the frame's start (before its simulation), the passes' start, after
+/// the mesh pass, after the fur pass.
+const TS_FRAME: u32 = 0;
+const TS_START: u32 = 1;
+const TS_MESH: u32 = 2;
+const TS_FUR: u32 = 3;
+const TIMESTAMPS: u32 = 4;
+
+/// What the fur pass drew (counted by its geometry stage).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct HairCounts {
+    pub hairs: u64,
+    pub segments: u64,
+}
 
 /// What a rendered frame reports.
 #[derive(Clone, Debug)]
 pub struct FrameReport {
     pub statistics: Option<FurStatistics>,
-    /// GPU milliseconds of the mesh pass and the fur pass (timestamps).
+    /// Hairs and segments drawn, when the frame counted them and the device can.
+    pub counts: Option<HairCounts>,
+    /// GPU milliseconds of the mesh pass and the fur pass (timestamps; misattributed
+    /// on binning rasterisers, see the module documentation).
     pub mesh_ms: f64,
     pub fur_ms: f64,
+    /// GPU milliseconds of the whole frame, simulation included.
+    pub frame_ms: f64,
 }
 
 pub struct Renderer {
@@ -94,8 +129,10 @@ pub struct Renderer {
     _ownership: Buffer,
     indices: Buffer,
     index_count: u32,
-    vertices_per_strand: u32,
-    strands_per_row: u32,
+    shape: StrandShape,
+    /// The model's bounding sphere in model space (centre, radius).
+    bounds: (glam::Vec3, f32),
+    mesh: Mesh,
     mesh_pass: MeshPass,
     fur_pass: FurPass,
     pub target: RenderTarget,
@@ -108,18 +145,24 @@ struct RenderSlot {
     sets: [vk::DescriptorSet; 2],
     timestamps: Option<QueryPool>,
     statistics: Option<QueryPool>,
+    /// Hairs and segments drawn (two u32), reset at the start of every frame.
+    counters: Buffer,
+    /// The fur pipelines this slot's frame draws, chosen by `update`.
+    variants: Vec<Variant>,
 }
 
 impl Renderer {
-    /// A renderer with `frames_in_flight` sets of per-frame resources (1 headless).
+    /// A renderer with `frames_in_flight` sets of per-frame resources (1 headless),
+    /// drawing into a target of `samples` per pixel.
     pub fn new(
         device: &Arc<Device>,
         mesh: &Mesh,
         strands: &StrandTextures,
         extent: vk::Extent2D,
         frames_in_flight: usize,
+        samples: u32,
     ) -> Result<Self> {
-        let target = RenderTarget::new(device, extent)?;
+        let target = RenderTarget::new(device, extent, samples)?;
         let bindings = bindings();
         let set_layout = DescriptorSetLayout::new(device, "render.set_layout", &bindings)?;
         let pipeline_layout =
@@ -152,15 +195,29 @@ impl Renderer {
                 vk::BufferUsageFlags::UNIFORM_BUFFER,
                 gpu_allocator::MemoryLocation::CpuToGpu,
             )?;
+            let counters = Buffer::new(
+                device,
+                &format!("render.counters[{slot}]"),
+                8,
+                vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::TRANSFER_DST,
+                gpu_allocator::MemoryLocation::GpuToCpu,
+            )?;
             let sets = pool.allocate(&set_layout, 2)?;
             for (i, set) in sets.iter().enumerate() {
-                write_render_set(device, *set, &uniforms, &strands.positions[i], &ownership);
+                write_render_set(
+                    device,
+                    *set,
+                    &uniforms,
+                    &strands.positions[i],
+                    &ownership,
+                    &counters,
+                );
             }
             let timestamps = if device.info.timestamps {
                 Some(QueryPool::timestamps(
                     device,
                     &format!("render.timestamps[{slot}]"),
-                    3,
+                    TIMESTAMPS,
                 )?)
             } else {
                 None
@@ -178,11 +235,13 @@ impl Renderer {
                 sets: [sets[0], sets[1]],
                 timestamps,
                 statistics,
+                counters,
+                variants: Vec::new(),
             });
         }
         let vertices_per_strand = strands.layout.vertices_per_strand;
-        let mesh_pass = MeshPass::new(device, &pipeline_layout, mesh)?;
-        let fur_pass = FurPass::new(device, &pipeline_layout, vertices_per_strand)?;
+        let mesh_pass = MeshPass::new(device, &pipeline_layout, mesh, samples)?;
+        let fur_pass = FurPass::new(device, vertices_per_strand, samples);
         Ok(Self {
             device: device.clone(),
             _set_layout: set_layout,
@@ -192,8 +251,13 @@ impl Renderer {
             _ownership: ownership,
             indices,
             index_count: mesh.indices.len() as u32,
-            vertices_per_strand,
-            strands_per_row: strands.layout.strands_per_row,
+            shape: StrandShape {
+                vertices_per_strand,
+                strands_per_row: strands.layout.strands_per_row,
+                hair_length: strands.hair_length,
+            },
+            bounds: mesh.bounds(),
+            mesh: mesh.clone(),
             mesh_pass,
             fur_pass,
             target,
@@ -203,31 +267,99 @@ impl Renderer {
     /// Recreates the render target for a new image size.
     pub fn resize(&mut self, extent: vk::Extent2D) -> Result<()> {
         if extent != self.target.extent {
-            self.target = RenderTarget::new(&self.device, extent)?;
+            self.target = RenderTarget::new(&self.device, extent, self.target.samples)?;
         }
         Ok(())
     }
 
-    /// Writes the uniforms of frame slot `slot`. Call before recording the frame, once
-    /// the slot's previous frame has finished.
-    pub fn update(&mut self, slot: usize, settings: &FrameSettings) {
-        let max_level = self.device.info.limits.max_tessellation_generation_level as f32;
-        let uniforms = FrameUniforms::new(
-            settings,
-            self.target.extent.width,
-            self.target.extent.height,
-            self.vertices_per_strand,
-            self.strands_per_row,
-            max_level,
-        );
-        self.slots[slot]
-            .uniforms
-            .write(0, bytemuck::bytes_of(&uniforms));
+    /// The sample counts per pixel this device can render.
+    pub fn supported_samples(&self) -> Vec<u32> {
+        super::target::supported_samples(&self.device)
     }
 
-    /// Records both passes into the target; the resolved image is left in
-    /// `COLOR_ATTACHMENT_OPTIMAL` for [`RenderTarget::copy_out`] or a blit. `current`
-    /// selects the position image the simulation last wrote; its writes are made visible.
+    /// Recreates the target and the pipelines for `samples` per pixel. Nothing may be
+    /// in flight.
+    fn set_samples(&mut self, samples: u32) -> Result<()> {
+        check_samples(&self.device, samples)?;
+        let target = RenderTarget::new(&self.device, self.target.extent, samples)?;
+        self.mesh_pass = MeshPass::new(&self.device, &self.pipeline_layout, &self.mesh, samples)?;
+        self.fur_pass = FurPass::new(&self.device, self.shape.vertices_per_strand, samples);
+        self.target = target;
+        Ok(())
+    }
+
+    /// The smallest and largest width, in pixels, of a hair's root anywhere on the
+    /// model: roots lie within the model's bounding sphere.
+    fn root_pixel_range(&self, settings: &FrameSettings) -> (f32, f32) {
+        let style = &settings.style;
+        let centre = settings.head.transform_point3(self.bounds.0);
+        let eye = settings.camera.eye();
+        let near = (eye.distance(centre) - self.bounds.1).max(1e-6);
+        let far = eye.distance(centre) + self.bounds.1;
+        let pixel = settings
+            .camera
+            .pixel_at_unit_distance(self.target.extent.height)
+            * settings.supersample.max(1) as f32;
+        let width_px = |d: f32| {
+            let lod = (style.lod_distance / d).powi(2).min(1.0);
+            let thickness = if style.thickness_compensation {
+                style.hair_width / lod
+            } else {
+                style.hair_width
+            };
+            (thickness / (pixel * d)).max(style.min_pixel_width)
+        };
+        // Without compensation the width falls with distance; with it, it falls up to
+        // the full-density distance and grows beyond.
+        let mut samples = vec![width_px(near), width_px(far)];
+        if (near..=far).contains(&style.lod_distance) {
+            samples.push(width_px(style.lod_distance));
+        }
+        let lo = samples.iter().copied().fold(f32::MAX, f32::min);
+        let hi = samples.iter().copied().fold(0.0, f32::max);
+        (lo, hi)
+    }
+
+    /// Prepares frame slot `slot` for `settings`: builds the pipelines it needs and
+    /// writes its uniforms. Call before recording the frame, once the slot's previous
+    /// frame has finished; a change of sample count needs the device idle.
+    pub fn update(&mut self, slot: usize, settings: &FrameSettings) -> Result<()> {
+        if settings.style.samples != self.target.samples {
+            self.set_samples(settings.style.samples)?;
+        }
+        let variants = FurPass::variants(&settings.style, self.root_pixel_range(settings));
+        self.fur_pass.prepare(&self.pipeline_layout, &variants)?;
+        let max_level = self.device.info.limits.max_tessellation_generation_level as f32;
+        let extent = self.target.extent;
+        let uniforms = FrameUniforms::new(
+            settings,
+            (extent.width, extent.height),
+            &self.shape,
+            max_level,
+        );
+        let frame = &mut self.slots[slot];
+        frame.uniforms.write(0, bytemuck::bytes_of(&uniforms));
+        frame.variants = variants;
+        Ok(())
+    }
+
+    /// Starts frame slot `slot`'s queries: records the frame's first timestamp. Call
+    /// first in the frame's command buffer, before its simulation.
+    pub fn begin_frame(&self, cmd: vk::CommandBuffer, slot: usize) {
+        let frame = &self.slots[slot];
+        if let Some(q) = &frame.timestamps {
+            q.reset();
+        }
+        if let Some(q) = &frame.statistics {
+            q.reset();
+        }
+        self.timestamp(cmd, slot, TS_FRAME);
+    }
+
+    /// Records both passes into the target, after [`Renderer::begin_frame`]; the
+    /// resolved image is left in `COLOR_ATTACHMENT_OPTIMAL` for
+    /// [`RenderTarget::copy_out`] or a blit. `current` selects the position image the
+    /// simulation last wrote; its writes are made visible.
     pub fn record(
         &self,
         cmd: vk::CommandBuffer,
@@ -238,13 +370,23 @@ impl Renderer {
         let d = &*self.device;
         let raw = &d.raw;
         let frame = &self.slots[slot];
-        if let Some(q) = &frame.timestamps {
-            q.reset();
-        }
-        if let Some(q) = &frame.statistics {
-            q.reset();
-        }
         d.begin_label(cmd, "frame");
+        if settings.count_hairs {
+            // The previous frame's counts have been read (its fence waited on).
+            unsafe { raw.cmd_fill_buffer(cmd, frame.counters.raw(), 0, vk::WHOLE_SIZE, 0) };
+            memory_barrier(
+                d,
+                cmd,
+                (
+                    vk::PipelineStageFlags2::ALL_TRANSFER,
+                    vk::AccessFlags2::TRANSFER_WRITE,
+                ),
+                (
+                    vk::PipelineStageFlags2::GEOMETRY_SHADER,
+                    vk::AccessFlags2::SHADER_STORAGE_READ | vk::AccessFlags2::SHADER_STORAGE_WRITE,
+                ),
+            );
+        }
         // The simulation's last writes must land before the hair stages read them.
         memory_barrier(
             d,
@@ -277,15 +419,7 @@ impl Renderer {
                 },
             },
         ];
-        let color = [vk::RenderingAttachmentInfo::default()
-            .image_view(self.target.color.view())
-            .image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
-            .resolve_mode(vk::ResolveModeFlags::AVERAGE)
-            .resolve_image_view(self.target.resolve.view())
-            .resolve_image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
-            .load_op(vk::AttachmentLoadOp::CLEAR)
-            .store_op(vk::AttachmentStoreOp::DONT_CARE)
-            .clear_value(clear[0])];
+        let color = [self.target.color_attachment(clear[0])];
         let depth = vk::RenderingAttachmentInfo::default()
             .image_view(self.target.depth.view())
             .image_layout(vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL)
@@ -337,7 +471,8 @@ impl Renderer {
         self.timestamp(cmd, slot, TS_MESH);
         if settings.draw_fur {
             d.begin_label(cmd, "fur pass");
-            self.fur_pass.draw(d, cmd, self.index_count);
+            self.fur_pass
+                .draw(d, cmd, self.index_count, &frame.variants);
             d.end_label(cmd);
         }
         self.timestamp(cmd, slot, TS_FUR);
@@ -362,21 +497,32 @@ impl Renderer {
     /// Reads the queries of slot `slot`'s last submitted frame (waits for them).
     pub fn report(&self, slot: usize, settings: &FrameSettings) -> Result<FrameReport> {
         let frame = &self.slots[slot];
-        let (mesh_ms, fur_ms) = match &frame.timestamps {
+        let (mesh_ms, fur_ms, frame_ms) = match &frame.timestamps {
             Some(q) => {
-                let t = q.timestamps_ms(3)?;
-                (t[1] - t[0], t[2] - t[1])
+                let t = q.timestamps_ms(TIMESTAMPS)?;
+                let [frame, start, mesh, fur] =
+                    [TS_FRAME, TS_START, TS_MESH, TS_FUR].map(|i| t[i as usize]);
+                (mesh - start, fur - mesh, fur - frame)
             }
-            None => (f64::NAN, f64::NAN),
+            None => (f64::NAN, f64::NAN, f64::NAN),
         };
         let statistics = match (&frame.statistics, settings.draw_fur) {
             (Some(q), true) => Some(q.fur_statistics_result()?),
             _ => None,
         };
+        let counts = (settings.count_hairs && self.device.info.vertex_pipeline_stores).then(|| {
+            let words: &[u32] = bytemuck::cast_slice(&frame.counters.mapped()[..8]);
+            HairCounts {
+                hairs: u64::from(words[0]),
+                segments: u64::from(words[1]),
+            }
+        });
         Ok(FrameReport {
             statistics,
+            counts,
             mesh_ms,
             fur_ms,
+            frame_ms,
         })
     }
 
@@ -386,9 +532,10 @@ impl Renderer {
         strands: &StrandTextures,
         settings: &FrameSettings,
     ) -> Result<(RgbaImage, FrameReport)> {
-        self.update(0, settings);
+        self.update(0, settings)?;
         let device = self.device.clone();
         device.submit_once(|cmd| {
+            self.begin_frame(cmd, 0);
             self.record(cmd, 0, strands.current, settings);
             self.target.copy_out(&device, cmd);
             Ok(())

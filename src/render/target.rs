@@ -1,30 +1,64 @@
-//! The offscreen render target: 4× MSAA colour and depth, resolved into a single-sample
-//! image that is copied to a host-visible buffer for PNG output.
+//! The offscreen render target: colour and depth at the chosen sample count; with
+//! MSAA the colour is resolved into a single-sample image, without it that image is
+//! drawn into directly. The single-sample image is copied to a host-visible buffer for
+//! PNG output, or blitted to a window.
 
-use std::path::Path;
 use std::sync::Arc;
 
 use ash::vk;
 use gpu_allocator::MemoryLocation;
 
+use super::image::RgbaImage;
 use crate::error::{Error, Result};
 use crate::gpu::{image_barriers, whole_image_copy, Buffer, Device, Image, ImageDesc};
 
 pub const COLOR_FORMAT: vk::Format = vk::Format::R8G8B8A8_SRGB;
 pub const DEPTH_FORMAT: vk::Format = vk::Format::D32_SFLOAT;
-pub const SAMPLES: vk::SampleCountFlags = vk::SampleCountFlags::TYPE_4;
 
-/// Colour, depth, resolve and readback for one image size.
+/// The sample-count flag for `samples` per pixel.
+pub fn sample_flag(samples: u32) -> vk::SampleCountFlags {
+    vk::SampleCountFlags::from_raw(samples)
+}
+
+/// The sample counts per pixel the device renders colour and depth at.
+pub fn supported_samples(device: &Device) -> Vec<u32> {
+    let limits = &device.info.limits;
+    let supported = limits.framebuffer_color_sample_counts & limits.framebuffer_depth_sample_counts;
+    (0..7)
+        .map(|b| 1u32 << b)
+        .filter(|n| supported.contains(sample_flag(*n)))
+        .collect()
+}
+
+/// Checks that the device renders colour and depth at `samples` per pixel.
+pub fn check_samples(device: &Device, samples: u32) -> Result<()> {
+    let supported = supported_samples(device);
+    if supported.contains(&samples) {
+        return Ok(());
+    }
+    let counts: Vec<String> = supported.iter().map(u32::to_string).collect();
+    Err(Error::Parameter(format!(
+        "{} cannot render {samples} samples per pixel; it supports {}",
+        device.info.name,
+        counts.join(", ")
+    )))
+}
+
+/// Colour, depth, resolve and readback for one image size and sample count.
 pub struct RenderTarget {
     pub extent: vk::Extent2D,
-    pub color: Image,
+    pub samples: u32,
+    /// The multisampled colour image (None at one sample per pixel).
+    pub color: Option<Image>,
     pub depth: Image,
+    /// The single-sample image: resolved into, or drawn into without MSAA.
     pub resolve: Image,
     readback: Buffer,
 }
 
 impl RenderTarget {
-    pub fn new(device: &Arc<Device>, extent: vk::Extent2D) -> Result<Self> {
+    pub fn new(device: &Arc<Device>, extent: vk::Extent2D, samples: u32) -> Result<Self> {
+        check_samples(device, samples)?;
         let limit = device
             .info
             .limits
@@ -37,18 +71,22 @@ impl RenderTarget {
                 extent.width, extent.height
             )));
         }
-        let color = Image::new(
-            device,
-            "target.color",
-            ImageDesc {
-                extent,
-                format: COLOR_FORMAT,
-                usage: vk::ImageUsageFlags::COLOR_ATTACHMENT
-                    | vk::ImageUsageFlags::TRANSIENT_ATTACHMENT,
-                samples: SAMPLES,
-                aspect: vk::ImageAspectFlags::COLOR,
-            },
-        )?;
+        let color = if samples > 1 {
+            Some(Image::new(
+                device,
+                "target.color",
+                ImageDesc {
+                    extent,
+                    format: COLOR_FORMAT,
+                    usage: vk::ImageUsageFlags::COLOR_ATTACHMENT
+                        | vk::ImageUsageFlags::TRANSIENT_ATTACHMENT,
+                    samples: sample_flag(samples),
+                    aspect: vk::ImageAspectFlags::COLOR,
+                },
+            )?)
+        } else {
+            None
+        };
         let depth = Image::new(
             device,
             "target.depth",
@@ -57,7 +95,7 @@ impl RenderTarget {
                 format: DEPTH_FORMAT,
                 usage: vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT
                     | vk::ImageUsageFlags::TRANSIENT_ATTACHMENT,
-                samples: SAMPLES,
+                samples: sample_flag(samples),
                 aspect: vk::ImageAspectFlags::DEPTH,
             },
         )?;
@@ -81,6 +119,7 @@ impl RenderTarget {
         )?;
         Ok(Self {
             extent,
+            samples,
             color,
             depth,
             resolve,
@@ -118,30 +157,49 @@ impl RenderTarget {
             vk::AccessFlags2::TRANSFER_READ | vk::AccessFlags2::COLOR_ATTACHMENT_WRITE,
         );
         let undefined = vk::ImageLayout::UNDEFINED;
-        image_barriers(
-            device,
-            cmd,
-            &[
-                self.color.barrier(
-                    earlier_color,
-                    color_out,
-                    undefined,
-                    vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
-                ),
-                self.depth.barrier(
-                    earlier_depth,
-                    depth_out,
-                    undefined,
-                    vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL,
-                ),
-                self.resolve.barrier(
-                    earlier_resolve,
-                    color_out,
-                    undefined,
-                    vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
-                ),
-            ],
-        );
+        let mut barriers = vec![
+            self.depth.barrier(
+                earlier_depth,
+                depth_out,
+                undefined,
+                vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL,
+            ),
+            self.resolve.barrier(
+                earlier_resolve,
+                color_out,
+                undefined,
+                vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
+            ),
+        ];
+        if let Some(color) = &self.color {
+            barriers.push(color.barrier(
+                earlier_color,
+                color_out,
+                undefined,
+                vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
+            ));
+        }
+        image_barriers(device, cmd, &barriers);
+    }
+
+    /// The colour attachment of a rendering scope: the multisampled image resolved
+    /// into the single-sample one, or the single-sample image itself.
+    pub fn color_attachment(&self, clear: vk::ClearValue) -> vk::RenderingAttachmentInfo<'static> {
+        let attachment = vk::RenderingAttachmentInfo::default()
+            .image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
+            .load_op(vk::AttachmentLoadOp::CLEAR)
+            .clear_value(clear);
+        match &self.color {
+            Some(color) => attachment
+                .image_view(color.view())
+                .resolve_mode(vk::ResolveModeFlags::AVERAGE)
+                .resolve_image_view(self.resolve.view())
+                .resolve_image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
+                .store_op(vk::AttachmentStoreOp::DONT_CARE),
+            None => attachment
+                .image_view(self.resolve.view())
+                .store_op(vk::AttachmentStoreOp::STORE),
+        }
     }
 
     /// Copies the resolved image into the readback buffer.
@@ -222,51 +280,5 @@ impl RenderTarget {
             height: self.extent.height,
             data: self.readback.mapped().to_vec(),
         }
-    }
-}
-
-/// An 8-bit RGBA image in memory.
-#[derive(Clone, Debug, PartialEq)]
-pub struct RgbaImage {
-    pub width: u32,
-    pub height: u32,
-    pub data: Vec<u8>,
-}
-
-impl RgbaImage {
-    pub fn pixel(&self, x: u32, y: u32) -> [u8; 4] {
-        let i = ((y * self.width + x) * 4) as usize;
-        [
-            self.data[i],
-            self.data[i + 1],
-            self.data[i + 2],
-            self.data[i + 3],
-        ]
-    }
-
-    /// Rec. 709 luma of the (sRGB-encoded) pixel, 0..1.
-    pub fn luma(&self, x: u32, y: u32) -> f32 {
-        let [r, g, b, _] = self.pixel(x, y);
-        (0.2126 * f32::from(r) + 0.7152 * f32::from(g) + 0.0722 * f32::from(b)) / 255.0
-    }
-
-    pub fn write_png(&self, path: &Path) -> Result<()> {
-        let error = |message: String| Error::ImageWrite {
-            path: path.to_path_buf(),
-            message,
-        };
-        if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
-            std::fs::create_dir_all(dir).map_err(|e| error(e.to_string()))?;
-        }
-        let file = std::fs::File::create(path).map_err(|e| error(e.to_string()))?;
-        let mut encoder = png::Encoder::new(std::io::BufWriter::new(file), self.width, self.height);
-        encoder.set_color(png::ColorType::Rgba);
-        encoder.set_depth(png::BitDepth::Eight);
-        encoder.set_source_srgb(png::SrgbRenderingIntent::Perceptual);
-        let mut writer = encoder.write_header().map_err(|e| error(e.to_string()))?;
-        writer
-            .write_image_data(&self.data)
-            .map_err(|e| error(e.to_string()))?;
-        writer.finish().map_err(|e| error(e.to_string()))
     }
 }

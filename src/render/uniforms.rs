@@ -6,6 +6,73 @@ use glam::{Mat4, UVec4, Vec3, Vec4};
 use crate::error::{Error, Result};
 use crate::scene::Camera;
 
+/// What the geometry stage emits for each hair.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum Primitive {
+    /// Line strips carrying their coverage as alpha for hairs narrower than
+    /// [`FurStyle::ribbon_above_px`] at the root, ribbons for the wider ones.
+    Auto,
+    /// Line strips for every hair.
+    Lines,
+    /// Camera-facing ribbons of the true width for every hair.
+    #[default]
+    Ribbons,
+}
+
+impl Primitive {
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Auto => "auto",
+            Self::Lines => "lines",
+            Self::Ribbons => "ribbons",
+        }
+    }
+}
+
+impl std::str::FromStr for Primitive {
+    type Err = String;
+
+    fn from_str(s: &str) -> std::result::Result<Self, String> {
+        match s {
+            "auto" => Ok(Self::Auto),
+            "lines" => Ok(Self::Lines),
+            "ribbons" => Ok(Self::Ribbons),
+            _ => Err(format!("expected auto, lines or ribbons, got `{s}`")),
+        }
+    }
+}
+
+/// Where Kajiya–Kay is evaluated.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum Shading {
+    /// Per emitted strand vertex, in the geometry stage (colours interpolated).
+    #[default]
+    Vertex,
+    /// Per fragment.
+    Fragment,
+}
+
+impl Shading {
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Vertex => "vertex",
+            Self::Fragment => "fragment",
+        }
+    }
+}
+
+impl std::str::FromStr for Shading {
+    type Err = String;
+
+    fn from_str(s: &str) -> std::result::Result<Self, String> {
+        match s {
+            "vertex" => Ok(Self::Vertex),
+            "fragment" => Ok(Self::Fragment),
+            _ => Err(format!("expected vertex or fragment, got `{s}`")),
+        }
+    }
+}
+
 /// How the fur is generated and drawn.
 #[derive(Clone, Debug, PartialEq)]
 pub struct FurStyle {
@@ -27,6 +94,22 @@ pub struct FurStyle {
     pub cull_margin: f32,
     /// Use this tessellation level everywhere instead of the adaptive one (0 = adaptive).
     pub fixed_level: u32,
+    /// Lines, ribbons, or each where it fits.
+    pub primitive: Primitive,
+    /// With [`Primitive::Auto`], hairs at least this many pixels wide at the root are
+    /// drawn as ribbons.
+    pub ribbon_above_px: f32,
+    /// Per-vertex or per-fragment lighting.
+    pub shading: Shading,
+    /// Vertex LOD tolerance in pixels: a strand vertex is skipped when the segment
+    /// drawn instead passes within this distance of it, width included (0 = draw every
+    /// vertex). The root and the tip are always drawn.
+    pub vertex_lod_px: f32,
+    /// Widen hairs thinned out by the density LOD by the same factor (coverage kept).
+    pub thickness_compensation: bool,
+    /// Samples per pixel of the render target (1 = no MSAA); the device decides which
+    /// counts exist.
+    pub samples: u32,
 }
 
 impl Default for FurStyle {
@@ -41,6 +124,12 @@ impl Default for FurStyle {
             cull: true,
             cull_margin: 0.3,
             fixed_level: 0,
+            primitive: Primitive::Ribbons,
+            ribbon_above_px: 1.0,
+            shading: Shading::Vertex,
+            vertex_lod_px: 0.02,
+            thickness_compensation: true,
+            samples: 4,
         }
     }
 }
@@ -64,12 +153,20 @@ impl FurStyle {
             ("jitter", self.jitter, f32::MAX),
             ("length jitter", self.length_jitter, 1.0),
             ("cull margin", self.cull_margin, 1.0),
+            ("ribbon threshold (px)", self.ribbon_above_px, 1e6),
+            ("vertex LOD tolerance (px)", self.vertex_lod_px, 1e6),
         ] {
             if !(v.is_finite() && (0.0..=hi).contains(&v)) {
                 return Err(Error::Parameter(format!(
                     "{name} must be in [0, {hi}], got {v}"
                 )));
             }
+        }
+        if !matches!(self.samples, 1 | 2 | 4 | 8 | 16) {
+            return Err(Error::Parameter(format!(
+                "samples per pixel must be 1, 2, 4, 8 or 16, got {}",
+                self.samples
+            )));
         }
         Ok(())
     }
@@ -112,7 +209,7 @@ impl Default for Lighting {
     }
 }
 
-/// Kajiya–Kay on the CPU, exactly as `fur.frag` evaluates it: `t` the unit tangent, `l`
+/// Kajiya–Kay on the CPU, exactly as `shaders/shading.glsl` evaluates it: `t` the unit tangent, `l`
 /// the unit direction towards the light, `e` the unit direction from the eye to the
 /// point. Returns (diffuse, specular) before colour and intensity.
 pub fn kajiya_kay(t: Vec3, l: Vec3, e: Vec3, kd: f32, ks: f32, p: f32) -> (f32, f32) {
@@ -125,12 +222,20 @@ pub fn kajiya_kay(t: Vec3, l: Vec3, e: Vec3, kd: f32, ks: f32, p: f32) -> (f32, 
     )
 }
 
+/// What the fur pass needs to know of the master strands.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct StrandShape {
+    pub vertices_per_strand: u32,
+    pub strands_per_row: u32,
+    /// Length of the longest master hair, scene units.
+    pub hair_length: f32,
+}
+
 /// The `Frame` uniform block of `shaders/common.glsl` (std140).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, bytemuck::Pod, bytemuck::Zeroable)]
 pub struct FrameUniforms {
     pub view_proj: Mat4,
-    pub inv_view_proj: Mat4,
     pub model: Mat4,
     pub eye: Vec4,
     pub light: Vec4,
@@ -141,10 +246,13 @@ pub struct FrameUniforms {
     pub lod: Vec4,
     pub hair: Vec4,
     pub viewport: Vec4,
+    pub draw: Vec4,
     pub strands: UVec4,
 }
 
 pub const FLAG_CULL: u32 = 1;
+pub const FLAG_THICKNESS_COMPENSATION: u32 = 2;
+pub const FLAG_COUNT: u32 = 4;
 
 /// Everything one frame is drawn with.
 #[derive(Clone, Debug, PartialEq)]
@@ -156,6 +264,13 @@ pub struct FrameSettings {
     pub head: Mat4,
     pub draw_mesh: bool,
     pub draw_fur: bool,
+    /// Count the hairs and segments the fur pass draws (an atomic per hair; for tests
+    /// and reports, off when timing).
+    pub count_hairs: bool,
+    /// Pixels of the render target per pixel of the image it stands for along each
+    /// axis: > 1 for supersampled references, whose hair widths and pixel-based limits
+    /// must be those of the final image.
+    pub supersample: u32,
 }
 
 impl Default for FrameSettings {
@@ -167,6 +282,8 @@ impl Default for FrameSettings {
             head: Mat4::IDENTITY,
             draw_mesh: true,
             draw_fur: true,
+            count_hairs: false,
+            supersample: 1,
         }
     }
 }
@@ -174,20 +291,33 @@ impl Default for FrameSettings {
 impl FrameUniforms {
     pub fn new(
         settings: &FrameSettings,
-        width: u32,
-        height: u32,
-        vertices_per_strand: u32,
-        strands_per_row: u32,
+        (width, height): (u32, u32),
+        strands: &StrandShape,
         max_level: f32,
     ) -> Self {
         let (w, h) = (width as f32, height as f32);
         let view_proj = settings.camera.view_projection(w / h);
-        let pixel_at_unit_distance = 2.0 * (settings.camera.fov_y_deg.to_radians() * 0.5).tan() / h;
+        let pixel_at_unit_distance =
+            settings.camera.pixel_at_unit_distance(height) * settings.supersample.max(1) as f32;
         let s = &settings.style;
         let l = &settings.lighting;
+        let mut flags = 0;
+        if s.cull {
+            flags |= FLAG_CULL;
+        }
+        if s.thickness_compensation {
+            flags |= FLAG_THICKNESS_COMPENSATION;
+        }
+        if settings.count_hairs {
+            flags |= FLAG_COUNT;
+        }
+        let ribbon_above = match s.primitive {
+            Primitive::Auto => s.ribbon_above_px,
+            Primitive::Lines => f32::MAX,
+            Primitive::Ribbons => 0.0,
+        };
         Self {
             view_proj,
-            inv_view_proj: view_proj.inverse(),
             model: settings.head,
             eye: settings.camera.eye().extend(pixel_at_unit_distance),
             light: l.light_direction.normalize_or(Vec3::Y).extend(l.intensity),
@@ -198,11 +328,12 @@ impl FrameUniforms {
             lod: Vec4::new(s.density, s.lod_distance, max_level, s.cull_margin),
             hair: Vec4::new(s.hair_width, s.min_pixel_width, s.jitter, s.length_jitter),
             viewport: Vec4::new(w, h, 1.0 / w, 1.0 / h),
+            draw: Vec4::new(ribbon_above, s.vertex_lod_px, strands.hair_length, 0.0),
             strands: UVec4::new(
-                vertices_per_strand,
-                strands_per_row,
+                strands.vertices_per_strand,
+                strands.strands_per_row,
                 s.fixed_level.min(max_level as u32),
-                if s.cull { FLAG_CULL } else { 0 },
+                flags,
             ),
         }
     }

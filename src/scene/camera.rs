@@ -55,6 +55,11 @@ impl Camera {
         proj
     }
 
+    /// World size of one pixel of an image `height` pixels tall, at distance 1.
+    pub fn pixel_at_unit_distance(&self, height: u32) -> f32 {
+        2.0 * (self.fov_y_deg.to_radians() * 0.5).tan() / height.max(1) as f32
+    }
+
     pub fn view_projection(&self, aspect: f32) -> Mat4 {
         self.projection(aspect) * self.view()
     }

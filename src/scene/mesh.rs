@@ -329,6 +329,48 @@ impl Mesh {
         }
     }
 
+    /// A UV sphere of `radius` around the origin with its poles on ±z: `rings` latitude
+    /// bands and `segments` longitude bands. Each pole is one vertex; every inner ring
+    /// has `segments + 1` vertices, the first and last coinciding on the seam (as in
+    /// most exporters, and in the original fur demo's scene: `uv_sphere(2.0, 40, 80)`
+    /// has 3,161 vertices and 6,240 triangles).
+    pub fn uv_sphere(radius: f32, rings: u32, segments: u32) -> Self {
+        let rings = rings.max(2);
+        let segments = segments.max(3);
+        let mut positions = vec![Vec3::new(0.0, 0.0, radius)];
+        for k in 1..rings {
+            let theta = std::f32::consts::PI * k as f32 / rings as f32;
+            for j in 0..=segments {
+                let phi = std::f32::consts::TAU * j as f32 / segments as f32;
+                let d = Vec3::new(
+                    theta.sin() * phi.cos(),
+                    theta.sin() * phi.sin(),
+                    theta.cos(),
+                );
+                positions.push(d * radius);
+            }
+        }
+        positions.push(Vec3::new(0.0, 0.0, -radius));
+        let south = positions.len() as u32 - 1;
+        let ring = |k: u32, j: u32| 1 + (k - 1) * (segments + 1) + j;
+        let mut indices = Vec::new();
+        for j in 0..segments {
+            indices.extend_from_slice(&[0, ring(1, j), ring(1, j + 1)]);
+            for k in 1..rings - 1 {
+                let (a, b) = (ring(k, j), ring(k, j + 1));
+                let (c, d) = (ring(k + 1, j), ring(k + 1, j + 1));
+                indices.extend_from_slice(&[a, c, d, a, d, b]);
+            }
+            indices.extend_from_slice(&[ring(rings - 1, j), south, ring(rings - 1, j + 1)]);
+        }
+        let normals = positions.iter().map(|p| p.normalize()).collect();
+        Self {
+            positions,
+            normals,
+            indices,
+        }
+    }
+
     /// A flat `nx` × `nz` grid of quads (two triangles each) in the XZ plane, centred on
     /// the origin, `size` wide, facing +Y.
     pub fn grid(nx: u32, nz: u32, size: f32) -> Self {
@@ -370,6 +412,21 @@ mod tests {
         assert_eq!(m.triangle_count(), 20 * 4usize.pow(3));
         // V - E + F = 2 for a closed genus-0 surface.
         assert_eq!(m.vertex_count() + m.triangle_count(), m.edge_count() + 2);
+    }
+
+    #[test]
+    fn the_original_uv_sphere_has_its_counts_and_faces_outwards() {
+        let m = Mesh::uv_sphere(2.0, 40, 80);
+        assert_eq!(m.vertex_count(), 3161);
+        assert_eq!(m.triangle_count(), 6240);
+        for t in m.indices.chunks_exact(3) {
+            let [a, b, c] = [t[0], t[1], t[2]].map(|i| m.positions[i as usize]);
+            let n = (b - a).cross(c - a);
+            assert!(n.length() > 0.0, "degenerate triangle {t:?}");
+            assert!(n.dot(a + b + c) > 0.0, "triangle {t:?} faces inwards");
+        }
+        assert!(m.positions.iter().all(|p| (p.length() - 2.0).abs() < 1e-5));
+        assert_eq!(m.positions[0], Vec3::new(0.0, 0.0, 2.0));
     }
 
     #[test]

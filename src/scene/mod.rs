@@ -3,7 +3,9 @@
 mod camera;
 mod groom;
 mod mesh;
+mod model;
 
 pub use camera::Camera;
 pub use groom::{hash_unit, GroomParams, Strands};
 pub use mesh::Mesh;
+pub use model::ModelSpec;

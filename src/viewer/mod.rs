@@ -31,7 +31,7 @@ const FRAMES_IN_FLIGHT: usize = 2;
 /// What `fur view` was asked to do.
 #[derive(Clone, Debug)]
 pub struct ViewerOptions {
-    pub model: Option<PathBuf>,
+    pub model: crate::scene::ModelSpec,
     pub scene: SceneOptions,
     pub sim: SimParams,
     pub vsync: bool,
@@ -66,13 +66,13 @@ pub fn run(options: ViewerOptions) -> Result<()> {
     if let Some(v) = &viewer {
         if !v.frame_times.is_empty() {
             println!(
-                "{} frames: median frame time {:.1} ms; last GPU timings: simulation {:.2} ms, mesh {:.2} ms, fur {:.2} ms; {} hairs drawn",
+                "{} frames: median frame time {:.1} ms; last GPU timings: frame {:.2} ms, simulation {:.2} ms; {} hairs drawn in {} segments",
                 v.frame_times.len() + 1,
                 crate::bench::metrics::median(&v.frame_times),
+                v.hud.gpu_frame_ms,
                 v.hud.sim_ms,
-                v.hud.mesh_ms,
-                v.hud.fur_ms,
-                v.hud.hairs
+                v.hud.hairs,
+                v.hud.segments
             );
         }
     }
@@ -180,10 +180,11 @@ struct Controls {
 #[derive(Clone, Debug, Default)]
 pub(crate) struct Hud {
     pub frame_ms: f64,
+    /// GPU time of the whole frame, simulation included (timestamps).
+    pub gpu_frame_ms: f64,
     pub sim_ms: f64,
-    pub mesh_ms: f64,
-    pub fur_ms: f64,
     pub hairs: u64,
+    pub segments: u64,
     pub points: u64,
     pub masters: usize,
 }
@@ -236,11 +237,10 @@ impl Viewer {
                 .map_err(|e| Error::Window(format!("cannot create a window: {e}")))?,
         );
         let (device, surface) = crate::gpu::windowed(options.validate, &*window)?;
-        let mesh = match &options.model {
-            Some(path) => Mesh::load_obj(path)?,
-            None => Mesh::blob(),
-        };
-        let (groom, settings) = options.scene.resolve(&mesh)?;
+        let mesh = options.model.load()?;
+        let (groom, mut settings) = options.scene.resolve(&mesh)?;
+        // The HUD shows the hairs and segments drawn (two atomics per hair).
+        settings.count_hairs = true;
         let size = window.inner_size();
         let extent = vk::Extent2D {
             width: size.width.max(1),
@@ -566,6 +566,10 @@ impl Viewer {
             .handle_platform_output(&self.window, std::mem::take(&mut output.platform_output));
         self.apply_changes(changes)?;
         self.update_scene();
+        if self.session.settings.style.samples != self.session.renderer.target.samples {
+            // The target and every pipeline are rebuilt: nothing may be in flight.
+            self.device.wait_idle()?;
+        }
 
         let frame = &mut self.frames[slot];
         let mut textures = std::mem::take(&mut output.textures_delta);
@@ -743,12 +747,13 @@ impl Viewer {
         if simulated {
             self.hud.sim_ms = timings.simulation_ms;
         }
-        self.hud.mesh_ms = timings.render.mesh_ms;
-        self.hud.fur_ms = timings.render.fur_ms;
+        self.hud.gpu_frame_ms = timings.render.frame_ms;
         if let Some(s) = timings.render.statistics {
-            let segments = u64::from(self.session.strands.vertices_per_strand - 1);
-            self.hud.hairs = s.geometry_primitives / (2 * segments);
             self.hud.points = s.tess_eval_invocations;
+        }
+        if let Some(c) = timings.render.counts {
+            self.hud.hairs = c.hairs;
+            self.hud.segments = c.segments;
         }
         if let Some(path) = screenshot {
             self.session.renderer.target.pixels().write_png(&path)?;
@@ -765,7 +770,15 @@ impl Viewer {
             let old = &self.session.settings;
             settings.camera = old.camera;
             settings.lighting = old.lighting.clone();
-            settings.style.cull = old.style.cull;
+            // The groom sets the model-scaled density and widths; every drawing choice
+            // made in the panel stays.
+            let scaled = settings.style;
+            settings.style = crate::render::FurStyle {
+                density: scaled.density,
+                hair_width: scaled.hair_width,
+                jitter: scaled.jitter,
+                ..old.style.clone()
+            };
             self.rebuild_session(&groom, settings)?;
             self.scene = scene;
         }

@@ -3,6 +3,7 @@
 use std::path::PathBuf;
 
 use super::Hud;
+use crate::render::{FurStyle, Primitive, Shading};
 use crate::session::{FurSession, SceneOptions};
 use crate::sim::SimParams;
 
@@ -64,15 +65,14 @@ impl PanelState {
                     hud.frame_ms
                 ));
                 ui.label(format!(
-                    "GPU: simulation {:.2} ms/frame ({:.2} per substep), mesh {:.2} ms, fur {:.2} ms",
+                    "GPU: frame {:.2} ms, simulation {:.2} ms ({:.2} per substep)",
+                    hud.gpu_frame_ms,
                     hud.sim_ms,
                     hud.sim_ms / f64::from(session.sim.params().substeps),
-                    hud.mesh_ms,
-                    hud.fur_ms
                 ));
                 ui.label(format!(
-                    "{} master hairs, {} tessellated points, {} hairs drawn",
-                    hud.masters, hud.points, hud.hairs
+                    "{} master hairs, {} tessellated points, {} hairs drawn in {} segments",
+                    hud.masters, hud.points, hud.hairs, hud.segments
                 ));
                 ui.horizontal(|ui| {
                     ui.checkbox(controls.paused, "paused (space)");
@@ -151,6 +151,7 @@ impl PanelState {
                     ui.add(egui::Slider::new(&mut f.jitter, 0.0..=0.2).text("jitter"));
                     ui.add(egui::Slider::new(&mut f.length_jitter, 0.0..=1.0).text("length jitter"));
                     ui.checkbox(&mut f.cull, "cull back-facing / off-screen triangles");
+                    draw_controls(ui, f, &session.renderer.supported_samples());
                     ui.checkbox(&mut session.settings.draw_mesh, "draw skin");
                     ui.checkbox(&mut session.settings.draw_fur, "draw fur");
                 });
@@ -158,6 +159,40 @@ impl PanelState {
             });
         changes
     }
+}
+
+/// The speed/quality levers of the fur pass.
+fn draw_controls(ui: &mut egui::Ui, f: &mut FurStyle, samples: &[u32]) {
+    egui::ComboBox::from_label("samples per pixel")
+        .selected_text(f.samples.to_string())
+        .show_ui(ui, |ui| {
+            for &n in samples {
+                ui.selectable_value(&mut f.samples, n, n.to_string());
+            }
+        });
+    egui::ComboBox::from_label("hairs as")
+        .selected_text(f.primitive.name())
+        .show_ui(ui, |ui| {
+            for p in [Primitive::Ribbons, Primitive::Lines, Primitive::Auto] {
+                ui.selectable_value(&mut f.primitive, p, p.name());
+            }
+        });
+    if f.primitive == Primitive::Auto {
+        ui.add(egui::Slider::new(&mut f.ribbon_above_px, 0.0..=8.0).text("ribbons from (px)"));
+    }
+    egui::ComboBox::from_label("lighting")
+        .selected_text(f.shading.name())
+        .show_ui(ui, |ui| {
+            for s in [Shading::Vertex, Shading::Fragment] {
+                ui.selectable_value(&mut f.shading, s, s.name());
+            }
+        });
+    ui.add(
+        egui::Slider::new(&mut f.vertex_lod_px, 0.0..=2.0)
+            .text("vertex LOD tolerance (px)")
+            .logarithmic(true),
+    );
+    ui.checkbox(&mut f.thickness_compensation, "thickness compensation");
 }
 
 fn color(ui: &mut egui::Ui, label: &str, value: &mut glam::Vec3) {

@@ -23,24 +23,33 @@ pub fn assert_clean(device: &Arc<Device>) {
 
 use ash::vk;
 use fur::gpu::FurStatistics;
-use fur::render::{FrameSettings, Renderer, RgbaImage};
+use fur::render::{FrameSettings, HairCounts, Renderer, RgbaImage};
 use fur::scene::{GroomParams, Mesh, Strands};
 use fur::strand_textures::StrandTextures;
 
-/// Renders `mesh` with `groom` once and returns the image and the fur statistics.
+/// Renders `mesh` with `groom` once and returns the image, the fur statistics and the
+/// hairs and segments the fur pass counted.
 pub fn render(
     device: &Arc<Device>,
     mesh: &Mesh,
     groom: &GroomParams,
     settings: &FrameSettings,
     (width, height): (u32, u32),
-) -> (RgbaImage, FurStatistics) {
+) -> (RgbaImage, FurStatistics, HairCounts) {
     let strands = Strands::grow(mesh, groom).unwrap();
     let textures = StrandTextures::new(device, &strands, settings.head).unwrap();
+    let extent = vk::Extent2D { width, height };
     let mut renderer =
-        Renderer::new(device, mesh, &textures, vk::Extent2D { width, height }, 1).unwrap();
-    let (image, report) = renderer.render(&textures, settings).unwrap();
-    (image, report.statistics.unwrap_or_default())
+        Renderer::new(device, mesh, &textures, extent, 1, settings.style.samples).unwrap();
+    let settings = FrameSettings {
+        count_hairs: true,
+        ..settings.clone()
+    };
+    let (image, report) = renderer.render(&textures, &settings).unwrap();
+    let counts = report
+        .counts
+        .expect("lavapipe counts hairs (vertexPipelineStoresAndAtomics)");
+    (image, report.statistics.unwrap_or_default(), counts)
 }
 
 /// Pixels that differ from the clear colour.

@@ -1,0 +1,191 @@
+//! Command-line options shared by `fur render` and `fur view`: the scene (model, camera,
+//! groom), how the fur is drawn, and the simulation.
+
+use clap::Args;
+use fur::render::{Primitive, Shading};
+use fur::scene::ModelSpec;
+use fur::session::SceneOptions;
+use fur::sim::SimParams;
+use glam::Vec3;
+
+/// The model, the camera, the groom and the drawing. Options left out take the model's
+/// defaults: `--model sphere` is the original fur demo's scene.
+#[derive(Args, Clone)]
+pub struct SceneArgs {
+    /// Model: `blob` (built in), `sphere` (the original demo's scene: a UV sphere of
+    /// radius 2, 40 × 80 bands, hairs of 12 vertices) or the path of an OBJ file.
+    #[arg(long, default_value = "blob")]
+    pub model: ModelSpec,
+    /// Camera orbit angle around the vertical axis, degrees [default: 25; sphere: 90].
+    #[arg(long, allow_negative_numbers = true)]
+    pub yaw: Option<f32>,
+    /// Camera elevation, degrees [default: 15].
+    #[arg(long, allow_negative_numbers = true)]
+    pub pitch: Option<f32>,
+    /// Camera distance in bounding radii of the model [default: 2.6; sphere: 2.17].
+    #[arg(long)]
+    pub distance: Option<f32>,
+    #[command(flatten)]
+    pub groom: GroomArgs,
+    #[command(flatten)]
+    pub draw: DrawArgs,
+}
+
+/// Groom and density.
+#[derive(Args, Clone)]
+pub struct GroomArgs {
+    /// Hair length as a fraction of the model's bounding radius [default: 0.2; sphere:
+    /// 0.159, i.e. 0.55 units].
+    #[arg(long)]
+    pub hair_length: Option<f32>,
+    /// Segments per master hair, 1..=63 [default: 16; sphere: 11].
+    #[arg(long)]
+    pub segments: Option<u32>,
+    /// Multiplies the interpolated-hair density [default: 1; sphere: 0.33].
+    #[arg(long)]
+    pub density_scale: Option<f32>,
+    /// Comb strength, 0 = hairs stand along the normals [default: 0.9; sphere: 0].
+    #[arg(long)]
+    pub comb: Option<f32>,
+    /// Curl radius as a fraction of the segment length [default: 0].
+    #[arg(long)]
+    pub curl: Option<f32>,
+}
+
+/// How the fur is drawn: speed against image quality (`fur bench` measures each).
+#[derive(Args, Clone)]
+pub struct DrawArgs {
+    /// Samples per pixel: 1 (coverage from the hair's width, blended) or an MSAA count
+    /// the device supports (lavapipe: 4) [default: 1].
+    #[arg(long)]
+    pub samples: Option<u32>,
+    /// What each hair is drawn as: `lines` (coverage in alpha), `ribbons` (true width),
+    /// or `auto`: ribbons for hairs at least --ribbon-above pixels wide at the root,
+    /// lines for the rest [default: auto].
+    #[arg(long)]
+    pub primitive: Option<Primitive>,
+    /// Root width in pixels from which `auto` draws ribbons [default: 1.5].
+    #[arg(long)]
+    pub ribbon_above: Option<f32>,
+    /// Where Kajiya–Kay lighting runs: `vertex` (per strand vertex, geometry stage) or
+    /// `fragment` [default: vertex].
+    #[arg(long)]
+    pub shading: Option<Shading>,
+    /// Vertex LOD: skip strand vertices so drawn segments span about this many pixels;
+    /// 0 draws every vertex [default: see `fur render --help` output of DrawOptions].
+    #[arg(long)]
+    pub vertex_lod: Option<f32>,
+    /// Full-density distance in bounding radii: farther away the density falls with
+    /// the square of the distance [default: 6].
+    #[arg(long)]
+    pub lod_distance: Option<f32>,
+    /// Widen hairs the density LOD thins out, so coverage is kept: on or off
+    /// [default: on].
+    #[arg(long, value_parser = clap::builder::BoolishValueParser::new())]
+    pub thickness_compensation: Option<bool>,
+}
+
+impl SceneArgs {
+    /// The model's default scene with the given options applied.
+    pub fn options(&self) -> SceneOptions {
+        let mut o = SceneOptions::for_model(&self.model);
+        let g = &self.groom;
+        set(&mut o.yaw_deg, self.yaw);
+        set(&mut o.pitch_deg, self.pitch);
+        set(&mut o.distance, self.distance);
+        set(&mut o.hair_length, g.hair_length);
+        set(&mut o.segments, g.segments);
+        set(&mut o.density_scale, g.density_scale);
+        set(&mut o.comb, g.comb);
+        set(&mut o.curl, g.curl);
+        let (d, a) = (&mut o.draw, &self.draw);
+        set(&mut d.samples, a.samples);
+        set(&mut d.primitive, a.primitive);
+        set(&mut d.ribbon_above_px, a.ribbon_above);
+        set(&mut d.shading, a.shading);
+        set(&mut d.vertex_lod_px, a.vertex_lod);
+        set(&mut d.lod_distance, a.lod_distance);
+        set(&mut d.thickness_compensation, a.thickness_compensation);
+        o
+    }
+
+    /// Angles must be finite (distances and sizes are checked where they are used).
+    pub fn check(&self) -> anyhow::Result<()> {
+        for (name, v) in [("--yaw", self.yaw), ("--pitch", self.pitch)] {
+            if let Some(v) = v.filter(|v| !v.is_finite()) {
+                anyhow::bail!("{name} must be a finite number of degrees, got {v}");
+            }
+        }
+        Ok(())
+    }
+}
+
+fn set<T>(field: &mut T, value: Option<T>) {
+    if let Some(v) = value {
+        *field = v;
+    }
+}
+
+/// Simulation parameters (see `SimParams` for units and ranges).
+#[derive(Args, Clone)]
+pub struct SimArgs {
+    /// Substeps per frame (1..=64).
+    #[arg(long, default_value_t = 1)]
+    pub substeps: u32,
+    /// Gravity in m/s², pointing down.
+    #[arg(long, default_value_t = 9.82, allow_negative_numbers = true)]
+    pub gravity: f32,
+    /// Fraction of velocity lost per 1/60 s (0..1).
+    #[arg(long, default_value_t = 0.08)]
+    pub damping: f32,
+    /// Global shape stiffness S_G (0..1).
+    #[arg(long, default_value_t = 0.2)]
+    pub global_stiffness: f32,
+    /// Fraction of each strand the global constraint covers (0..1).
+    #[arg(long, default_value_t = 1.0)]
+    pub global_range: f32,
+    /// Local shape stiffness S_L (0..1).
+    #[arg(long, default_value_t = 0.9)]
+    pub local_stiffness: f32,
+    /// Local shape passes per substep (0..=64).
+    #[arg(long, default_value_t = 2)]
+    pub local_iterations: u32,
+    /// Edge-length passes per substep (0..=64).
+    #[arg(long, default_value_t = 2)]
+    pub length_iterations: u32,
+    /// Wind vector "x,y,z" in m/s² (0,0,0 = no wind).
+    #[arg(long, default_value = "6,0,2", value_parser = parse_vec3)]
+    pub wind: Vec3,
+}
+
+fn parse_vec3(s: &str) -> Result<Vec3, String> {
+    let parts: Vec<f32> = s
+        .split(',')
+        .map(|p| p.trim().parse::<f32>())
+        .collect::<Result<_, _>>()
+        .map_err(|e| format!("expected x,y,z: {e}"))?;
+    match parts[..] {
+        [x, y, z] => Ok(Vec3::new(x, y, z)),
+        _ => Err(format!(
+            "expected three comma-separated numbers, got {}",
+            parts.len()
+        )),
+    }
+}
+
+impl SimArgs {
+    pub fn params(&self) -> SimParams {
+        SimParams {
+            substeps: self.substeps,
+            gravity: Vec3::new(0.0, -self.gravity, 0.0),
+            damping: self.damping,
+            global_stiffness: self.global_stiffness,
+            global_range: self.global_range,
+            local_stiffness: self.local_stiffness,
+            local_iterations: self.local_iterations,
+            length_iterations: self.length_iterations,
+            wind: self.wind,
+            ..SimParams::default()
+        }
+    }
+}

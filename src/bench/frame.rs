@@ -1,0 +1,199 @@
+//! Steady-state frame time: the default blob and the original demo's sphere scene,
+//! simulated (shake and wind) and drawn every frame, with today's default drawing and
+//! with the reference-quality drawing (4× MSAA ribbons lit per fragment, every strand
+//! vertex); then each pass of a default frame alone.
+
+use std::fmt::Write as _;
+use std::time::Instant;
+
+use glam::Vec3;
+
+use super::metrics::median;
+use super::Bench;
+use crate::error::Result;
+use crate::scene::ModelSpec;
+use crate::session::{DrawOptions, FurSession, SceneOptions};
+use crate::sim::{Motion, MotionKind, SimParams};
+
+/// The original OpenGL demo's frame on its own scene, measured on this project's
+/// 2-core machine kind with Mesa's llvmpipe (1,345–1,641 ms; ~1,400 ms typical).
+pub const ORIGINAL_FRAME_MS: f64 = 1400.0;
+
+const SCENES: [(&str, ModelSpec); 2] = [("blob", ModelSpec::Blob), ("sphere", ModelSpec::Sphere)];
+
+pub(super) fn tasks(_quick: bool) -> u64 {
+    2 * SCENES.len() as u64
+}
+
+/// Medians of one configuration's frames: (wall ms, GPU ms).
+struct FrameTimes {
+    wall: f64,
+    gpu: f64,
+}
+
+impl Bench<'_> {
+    fn session(&self, model: &ModelSpec, draw: &DrawOptions) -> Result<FurSession> {
+        let mesh = model.load()?;
+        let options = SceneOptions {
+            draw: draw.clone(),
+            ..SceneOptions::for_model(model)
+        };
+        let (groom, settings) = options.resolve(&mesh)?;
+        let radius = f64::from(mesh.bounds().1);
+        let motion = Motion {
+            kind: MotionKind::Shake,
+            amplitude: 0.25 * radius,
+            rate: 1.0,
+        };
+        let sim = SimParams {
+            wind: Vec3::new(6.0, 0.0, 2.0),
+            ..SimParams::default()
+        };
+        FurSession::new(
+            self.device,
+            mesh,
+            &groom,
+            sim,
+            motion,
+            settings,
+            self.frame_extent(),
+            1,
+        )
+    }
+
+    /// At least 20 measured frames (5 in the quick suite) after warm-up.
+    fn frame_counts(&self) -> (usize, usize) {
+        if self.quick {
+            (1, 5)
+        } else {
+            (5, 20)
+        }
+    }
+
+    /// Simulated and drawn frames, each its own submission.
+    fn time_frames(&self, session: &mut FurSession) -> Result<FrameTimes> {
+        let (warm, measured) = self.frame_counts();
+        let (mut wall, mut gpu) = (Vec::new(), Vec::new());
+        for frame in 0..warm + measured {
+            let start = Instant::now();
+            let (_, timings) = session.step_and_render()?;
+            if frame >= warm {
+                wall.push(start.elapsed().as_secs_f64() * 1e3);
+                gpu.push(timings.render.frame_ms);
+            }
+        }
+        Ok(FrameTimes {
+            wall: median(&wall),
+            gpu: median(&gpu),
+        })
+    }
+
+    /// Still frames (no simulation) with the passes `session.settings` asks for.
+    fn time_still(&self, session: &mut FurSession) -> Result<f64> {
+        let (warm, measured) = self.frame_counts();
+        let mut wall = Vec::new();
+        for frame in 0..warm + measured {
+            let start = Instant::now();
+            session.render()?;
+            if frame >= warm {
+                wall.push(start.elapsed().as_secs_f64() * 1e3);
+            }
+        }
+        Ok(median(&wall))
+    }
+
+    pub(super) fn frame(&mut self) -> Result<()> {
+        let extent = self.frame_extent();
+        let (warm, measured) = self.frame_counts();
+        let _ = writeln!(
+            self.md,
+            "## Frame time ({}×{})\n\nSimulated (shake, wind, gravity) and drawn every frame; median \
+             of {measured} frames after {warm} warm-up frames; wall clock from submission to fence \
+             (simulation, both passes, resolve, copy to the host), and GPU time from timestamps. \
+             *Default*: this release's drawing settings; *reference quality*: 4× MSAA ribbons lit \
+             per fragment, every strand vertex (the settings before this release). The original \
+             OpenGL demo took ~{ORIGINAL_FRAME_MS:.0} ms (1,345–1,641) a frame on its sphere scene \
+             on this machine kind.\n\n\
+             | scene | drawing | hairs drawn | wall ms | GPU ms | × the original's frame rate |\n\
+             | --- | --- | --- | --- | --- | --- |",
+            extent.width, extent.height
+        );
+        for (name, model) in &SCENES {
+            for (label, draw) in [
+                ("default", DrawOptions::default()),
+                ("reference quality", DrawOptions::reference_quality()),
+            ] {
+                let mut session = self.session(model, &draw)?;
+                let times = self.time_frames(&mut session)?;
+                session.settings.count_hairs = true;
+                let hairs = session
+                    .render()?
+                    .1
+                    .counts
+                    .map_or(f64::NAN, |c| c.hairs as f64);
+                let case = format!("{name}, {label}");
+                let speedup = ORIGINAL_FRAME_MS / times.wall;
+                self.row("frame", case.clone(), "wall_ms", times.wall, "ms");
+                self.row("frame", case.clone(), "gpu_ms", times.gpu, "ms");
+                self.row("frame", case.clone(), "hairs_drawn", hairs, "count");
+                self.row("frame", case.clone(), "speedup_vs_original", speedup, "x");
+                let _ = writeln!(
+                    self.md,
+                    "| {name} | {label} | {hairs} | {:.1} | {:.1} | {speedup:.1}× |",
+                    times.wall, times.gpu
+                );
+                (self.progress)(&case);
+            }
+        }
+        let _ = writeln!(
+            self.md,
+            "\nEach pass of a default frame alone (still frames; the simulation alone is one \
+             dispatch per submission):\n\n\
+             | scene | simulation | mesh pass | fur pass | neither (clear, resolve, copy) |\n\
+             | --- | --- | --- | --- | --- |"
+        );
+        for (name, model) in &SCENES {
+            let mut session = self.session(model, &DrawOptions::default())?;
+            let mut sim_ms = Vec::new();
+            for frame in 0..warm + measured {
+                let start = Instant::now();
+                let (user, motion) = (session.user, session.motion);
+                session
+                    .sim
+                    .run_frames(&mut session.textures, 1, |t| user * motion.head(t))?;
+                if frame >= warm {
+                    sim_ms.push(start.elapsed().as_secs_f64() * 1e3);
+                }
+            }
+            let sim = median(&sim_ms);
+            let mut passes = Vec::new();
+            for (mesh, fur) in [(true, false), (false, true), (false, false)] {
+                session.settings.draw_mesh = mesh;
+                session.settings.draw_fur = fur;
+                passes.push(self.time_still(&mut session)?);
+            }
+            for (pass, ms) in [
+                ("simulation", sim),
+                ("mesh pass", passes[0]),
+                ("fur pass", passes[1]),
+                ("clear, resolve, copy", passes[2]),
+            ] {
+                self.row(
+                    "frame_passes",
+                    format!("{name}, {pass}"),
+                    "wall_ms",
+                    ms,
+                    "ms",
+                );
+            }
+            let _ = writeln!(
+                self.md,
+                "| {name} | {sim:.2} | {:.1} | {:.1} | {:.1} |",
+                passes[0], passes[1], passes[2]
+            );
+            (self.progress)(&format!("{name} passes alone"));
+        }
+        self.md.push('\n');
+        Ok(())
+    }
+}

@@ -1,0 +1,141 @@
+//! Image quality against cost: one still frame of a scene, drawn with given settings
+//! and compared with a supersampled reference of the same frame.
+//!
+//! The reference is the frame at `factor`× the width and height, drawn the most exact
+//! way the renderer has (ribbons of the true width, 4× MSAA, lighting per fragment,
+//! every strand vertex), with every pixel-based limit (minimum hair width, LOD) taken
+//! at the final image's pixel size, then box-filtered down in linear light: 16 × 4
+//! samples per pixel at the default factor 4.
+
+use std::sync::Arc;
+use std::time::Instant;
+
+use ash::vk;
+
+use super::metrics::median;
+use crate::error::Result;
+use crate::gpu::Device;
+use crate::render::{FrameSettings, FurStyle, HairCounts, Renderer, RgbaImage};
+use crate::scene::{Mesh, Strands};
+use crate::session::{DrawOptions, SceneOptions};
+use crate::strand_textures::StrandTextures;
+
+/// A still frame of a scene, ready to be drawn in different ways.
+pub struct Shot {
+    device: Arc<Device>,
+    pub mesh: Mesh,
+    pub settings: FrameSettings,
+    pub extent: vk::Extent2D,
+    /// The scene's size: style settings given in bounding radii scale with it.
+    pub radius: f32,
+    textures: StrandTextures,
+}
+
+/// One drawing of a [`Shot`].
+pub struct Drawn {
+    pub image: RgbaImage,
+    /// Median wall-clock milliseconds of a whole frame (clear, both passes, resolve,
+    /// copy to the host) over the measured frames.
+    pub frame_ms: f64,
+    pub counts: Option<HairCounts>,
+}
+
+impl Shot {
+    pub fn new(
+        device: &Arc<Device>,
+        mesh: Mesh,
+        options: &SceneOptions,
+        extent: vk::Extent2D,
+    ) -> Result<Self> {
+        let (groom, settings) = options.resolve(&mesh)?;
+        let strands = Strands::grow(&mesh, &groom)?;
+        let textures = StrandTextures::new(device, &strands, settings.head)?;
+        Ok(Self {
+            device: device.clone(),
+            radius: mesh.bounds().1,
+            mesh,
+            settings,
+            extent,
+            textures,
+        })
+    }
+
+    /// The frame's style with the drawing choices of `draw` (distances in radii).
+    pub fn style(&self, draw: &DrawOptions) -> FurStyle {
+        FurStyle {
+            samples: draw.samples,
+            primitive: draw.primitive,
+            ribbon_above_px: draw.ribbon_above_px,
+            shading: draw.shading,
+            vertex_lod_px: draw.vertex_lod_px,
+            lod_distance: draw.lod_distance * self.radius,
+            thickness_compensation: draw.thickness_compensation,
+            ..self.settings.style.clone()
+        }
+    }
+
+    /// Draws the frame with `style` `warm + measured` times; times the measured ones.
+    pub fn draw(&self, style: &FurStyle, (warm, measured): (usize, usize)) -> Result<Drawn> {
+        self.draw_at(style, self.extent, 1, (warm, measured.max(1)), true)
+    }
+
+    fn draw_at(
+        &self,
+        style: &FurStyle,
+        extent: vk::Extent2D,
+        supersample: u32,
+        (warm, measured): (usize, usize),
+        count: bool,
+    ) -> Result<Drawn> {
+        let mut renderer = Renderer::new(
+            &self.device,
+            &self.mesh,
+            &self.textures,
+            extent,
+            1,
+            style.samples,
+        )?;
+        let mut settings = FrameSettings {
+            style: style.clone(),
+            supersample,
+            ..self.settings.clone()
+        };
+        let mut ms = Vec::new();
+        let mut image = None;
+        for frame in 0..warm + measured {
+            let start = Instant::now();
+            image = Some(renderer.render(&self.textures, &settings)?.0);
+            if frame >= warm {
+                ms.push(start.elapsed().as_secs_f64() * 1e3);
+            }
+        }
+        let mut counts = None;
+        if count {
+            // One more frame, counted (the atomics would perturb the timing).
+            settings.count_hairs = true;
+            let (counted, report) = renderer.render(&self.textures, &settings)?;
+            image = Some(counted);
+            counts = report.counts;
+        }
+        Ok(Drawn {
+            image: image.unwrap_or_else(|| renderer.target.pixels()),
+            frame_ms: median(&ms),
+            counts,
+        })
+    }
+
+    /// The supersampled reference of this frame (see the module documentation).
+    pub fn reference(&self, factor: u32) -> Result<RgbaImage> {
+        let style = self.style(&DrawOptions {
+            lod_distance: self.settings.style.lod_distance / self.radius,
+            thickness_compensation: self.settings.style.thickness_compensation,
+            ..DrawOptions::reference_quality()
+        });
+        let extent = vk::Extent2D {
+            width: self.extent.width * factor,
+            height: self.extent.height * factor,
+        };
+        let big = self.draw_at(&style, extent, factor, (0, 1), false)?;
+        big.image.downsample(factor)
+    }
+}

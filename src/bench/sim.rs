@@ -1,0 +1,341 @@
+//! The simulation's sections: accuracy against the converged CPU reference, the cost of
+//! each step, and scaling with the number of strands.
+
+use std::fmt::Write as _;
+use std::time::Instant;
+
+use glam::{DVec3, Vec3};
+
+use super::metrics::{max_stretch, median, pareto_front, position_error};
+use super::plot::{Plot, Series, PALETTE};
+use super::Bench;
+use crate::error::Result;
+use crate::scene::{GroomParams, Mesh, Strands};
+use crate::session::SceneOptions;
+use crate::sim::{CpuSim, GpuSim, Motion, MotionKind, SimParams, SimStep};
+use crate::strand_textures::StrandTextures;
+
+/// The settings being measured for the simulation trade: iterations (local and length
+/// alike) and substeps.
+const DEFAULT_ITERATIONS: u32 = 2;
+const DEFAULT_SUBSTEPS: u32 = 1;
+
+pub(super) fn accuracy_tasks(quick: bool) -> u64 {
+    if quick {
+        4
+    } else {
+        15
+    }
+}
+
+pub(super) fn scaling_tasks(quick: bool) -> u64 {
+    if quick {
+        2
+    } else {
+        4
+    }
+}
+
+/// The master hairs of the default scene.
+pub(super) fn blob_strands() -> Result<Strands> {
+    let blob = Mesh::blob();
+    let (groom, _) = SceneOptions::default().resolve(&blob)?;
+    Strands::grow(&blob, &groom)
+}
+
+impl Bench<'_> {
+    /// GPU simulation against the converged CPU f64 reference (8× substeps, 64
+    /// iterations), over iterations and substeps; cost measured on the default blob.
+    pub(super) fn simulation_accuracy(&mut self) -> Result<()> {
+        let iterations: &[u32] = if self.quick {
+            &[1, 2]
+        } else {
+            &[1, 2, 4, 8, 16]
+        };
+        let substeps: &[u32] = if self.quick { &[1, 2] } else { &[1, 2, 4] };
+        let frames = if self.quick { 10 } else { 60 };
+        let mesh = Mesh::icosphere(if self.quick { 1 } else { 2 });
+        let groom = GroomParams {
+            segment_length: 0.2 / 16.0,
+            curl: 0.4,
+            ..Default::default()
+        };
+        let hair_length = f64::from(groom.segment_length * groom.segments as f32);
+        let strands = Strands::grow(&mesh, &groom)?;
+        let motion = Motion {
+            kind: MotionKind::Shake,
+            amplitude: 0.25,
+            rate: 1.0,
+        };
+        let base = SimParams {
+            wind: Vec3::new(6.0, 0.0, 2.0),
+            ..SimParams::default()
+        };
+        let reference = {
+            let params = SimParams {
+                substeps: 8 * DEFAULT_SUBSTEPS,
+                local_iterations: 64,
+                length_iterations: 64,
+                ..base.clone()
+            };
+            let mut cpu = CpuSim::<f64>::new(&strands, params, motion.head(0.0));
+            for _ in 0..frames {
+                cpu.step_frame(|t| motion.head(t));
+            }
+            cpu
+        };
+        let reference_positions: Vec<DVec3> = reference
+            .current
+            .iter()
+            .map(|p| DVec3::new(p.0, p.1, p.2))
+            .collect();
+        let rest_lengths = reference.rest.lengths.clone();
+        let blob_strands = blob_strands()?;
+
+        let mut points = Vec::new();
+        for &sub in substeps {
+            for &it in iterations {
+                let params = SimParams {
+                    substeps: sub,
+                    local_iterations: it,
+                    length_iterations: it,
+                    ..base.clone()
+                };
+                let mut textures =
+                    StrandTextures::new(self.device, &strands, motion.head(0.0).as_mat4())?;
+                let mut gpu = GpuSim::new(self.device, &textures, params.clone())?;
+                gpu.run_frames(&mut textures, frames, |t| motion.head(t))?;
+                let positions = textures.read_positions(textures.current)?;
+                let (mean, max) = position_error(&positions, &reference_positions, hair_length);
+                let stretch = max_stretch(
+                    &positions,
+                    &rest_lengths,
+                    strands.vertices_per_strand as usize,
+                );
+                let (ms, _) = self.sim_ms_per_frame(&blob_strands, &params)?;
+                let case = format!("iterations {it}, substeps {sub}");
+                self.row(
+                    "sim_accuracy",
+                    case.clone(),
+                    "mean_position_error",
+                    mean,
+                    "fraction of hair length",
+                );
+                self.row(
+                    "sim_accuracy",
+                    case.clone(),
+                    "max_position_error",
+                    max,
+                    "fraction of hair length",
+                );
+                self.row(
+                    "sim_accuracy",
+                    case.clone(),
+                    "max_stretch",
+                    stretch,
+                    "fraction of rest length",
+                );
+                self.row("sim_accuracy", case.clone(), "gpu_ms_per_frame", ms, "ms");
+                points.push((it, sub, ms, mean, max, stretch));
+                (self.progress)(&case);
+            }
+        }
+        let front = pareto_front(&points.iter().map(|p| (p.2, p.3)).collect::<Vec<_>>());
+        let _ = writeln!(
+            self.md,
+            "## Simulation: accuracy against cost\n\nError after {frames} frames of shake + wind + \
+             gravity on {} strands, against the CPU f64 reference at 8 substeps and 64 iterations; \
+             cost on the default blob ({} strands). Errors are fractions of the hair length; \
+             iterations apply to the local-shape and edge-length constraints alike.\n\n\
+             | iterations | substeps | GPU ms/frame | mean error | max error | max stretch | Pareto |\n\
+             | --- | --- | --- | --- | --- | --- | --- |",
+            strands.count(),
+            blob_strands.count()
+        );
+        for (p, on_front) in points.iter().zip(&front) {
+            let default = p.0 == DEFAULT_ITERATIONS && p.1 == DEFAULT_SUBSTEPS;
+            self.row(
+                "sim_accuracy",
+                format!("iterations {}, substeps {}", p.0, p.1),
+                "pareto",
+                f64::from(u8::from(*on_front)),
+                "bool",
+            );
+            let _ = writeln!(
+                self.md,
+                "| {}{} | {} | {:.3} | {:.2e} | {:.2e} | {:.2e} | {} |",
+                p.0,
+                if default { " (default)" } else { "" },
+                p.1,
+                p.2,
+                p.3,
+                p.4,
+                p.5,
+                if *on_front { "yes" } else { "" }
+            );
+        }
+        self.md.push('\n');
+        let series = substeps
+            .iter()
+            .enumerate()
+            .map(|(k, &sub)| Series {
+                name: format!("{sub} substep{}", if sub > 1 { "s" } else { "" }),
+                points: points
+                    .iter()
+                    .filter(|p| p.1 == sub)
+                    .map(|p| (p.2, p.3))
+                    .collect(),
+                color: PALETTE[k % PALETTE.len()],
+                line: true,
+            })
+            .collect();
+        let highlight = points
+            .iter()
+            .find(|p| p.0 == DEFAULT_ITERATIONS && p.1 == DEFAULT_SUBSTEPS)
+            .map(|p| (p.2, p.3, "DEFAULT".to_string()));
+        self.plots.push((
+            "sim_pareto.png",
+            Plot {
+                title: "SIMULATION: ERROR VS COST (1,2,4.. ITERATIONS)".into(),
+                x_label: "GPU MS PER FRAME".into(),
+                y_label: "MEAN ERROR / HAIR LENGTH".into(),
+                log_x: true,
+                log_y: true,
+                series,
+                highlight,
+            },
+        ));
+        Ok(())
+    }
+
+    /// Median milliseconds per simulated frame for `strands` under `params`, each
+    /// frame its own submission: (GPU from timestamps, wall clock from submission to
+    /// fence). `steps` compiles exactly those steps into the kernel.
+    pub(super) fn sim_ms_per_frame(
+        &self,
+        strands: &Strands,
+        params: &SimParams,
+    ) -> Result<(f64, f64)> {
+        self.sim_ms_with_steps(strands, params, None)
+    }
+
+    fn sim_ms_with_steps(
+        &self,
+        strands: &Strands,
+        params: &SimParams,
+        steps: Option<&[SimStep]>,
+    ) -> Result<(f64, f64)> {
+        let mut textures = StrandTextures::new(self.device, strands, glam::Mat4::IDENTITY)?;
+        let mut gpu = GpuSim::new(self.device, &textures, params.clone())?;
+        gpu.force_steps(steps, &textures)?;
+        let motion = Motion {
+            kind: MotionKind::Shake,
+            amplitude: 0.2,
+            rate: 1.0,
+        };
+        let (warm, measured) = self.frames();
+        let (mut gpu_ms, mut wall_ms) = (Vec::new(), Vec::new());
+        for frame in 0..warm + measured {
+            let start = Instant::now();
+            let t = gpu.run_frames(&mut textures, 1, |t| motion.head(t))?;
+            if frame >= warm {
+                gpu_ms.push(t);
+                wall_ms.push(start.elapsed().as_secs_f64() * 1e3);
+            }
+        }
+        Ok((median(&gpu_ms), median(&wall_ms)))
+    }
+
+    /// The cost of each step: the kernel with the steps up to it compiled in, minus the
+    /// kernel without it (each step's cost measured by running it, not by timestamps
+    /// between steps, which the fused kernel has none of).
+    pub(super) fn simulation_steps(&mut self) -> Result<()> {
+        let strands = blob_strands()?;
+        let params = SimParams {
+            wind: Vec3::new(6.0, 0.0, 2.0),
+            ..SimParams::default()
+        };
+        let _ = writeln!(
+            self.md,
+            "## Simulation: cost of each step\n\nThe default blob ({} strands of {} vertices), default \
+             parameters with wind; one dispatch per frame running the steps compiled in. A step's \
+             cost is the difference it makes.\n\n| steps compiled in | GPU ms/frame | step alone, ms |\n| --- | --- | --- |",
+            strands.count(),
+            strands.vertices_per_strand
+        );
+        let mut previous = 0.0;
+        for n in 1..=SimStep::ALL.len() {
+            let steps = &SimStep::ALL[1..n];
+            let (ms, _) = self.sim_ms_with_steps(&strands, &params, Some(steps))?;
+            let step = SimStep::ALL[n - 1].name();
+            let names: Vec<&str> = SimStep::ALL[..n].iter().map(|s| s.name()).collect();
+            self.row("sim_steps", step, "gpu_ms_per_frame", ms, "ms");
+            self.row("sim_steps", step, "step_ms", ms - previous, "ms");
+            let _ = writeln!(
+                self.md,
+                "| {} | {ms:.3} | {:.3} |",
+                names.join(" + "),
+                ms - previous
+            );
+            previous = ms;
+        }
+        self.md.push('\n');
+        (self.progress)("simulation steps");
+        Ok(())
+    }
+
+    /// Simulation cost against the number of master strands (flat grids of fur).
+    pub(super) fn simulation_scaling(&mut self) -> Result<()> {
+        let counts: &[u32] = if self.quick {
+            &[1_000, 4_000]
+        } else {
+            &[1_000, 10_000, 50_000, 100_000]
+        };
+        let params = SimParams {
+            wind: Vec3::new(6.0, 0.0, 2.0),
+            ..SimParams::default()
+        };
+        let groom = GroomParams::default();
+        let mut points = Vec::new();
+        let _ = writeln!(
+            self.md,
+            "## Simulation: cost against strands\n\n{} vertices per strand, default parameters with wind.\n\n\
+             | master strands | GPU ms/frame | wall ms/frame | GPU ns per strand |\n| --- | --- | --- | --- |",
+            groom.vertices_per_strand()
+        );
+        for &n in counts {
+            let side = (f64::from(n).sqrt().round() as u32).max(2) - 1;
+            let mesh = Mesh::grid(side, side, 2.0);
+            let strands = Strands::grow(&mesh, &groom)?;
+            let (ms, wall) = self.sim_ms_per_frame(&strands, &params)?;
+            let count = strands.count();
+            let ns = ms * 1e6 / count as f64;
+            let case = format!("{count} strands");
+            self.row("sim_scaling", case.clone(), "gpu_ms_per_frame", ms, "ms");
+            self.row("sim_scaling", case.clone(), "wall_ms_per_frame", wall, "ms");
+            self.row("sim_scaling", case.clone(), "ns_per_strand", ns, "ns");
+            let _ = writeln!(self.md, "| {count} | {ms:.3} | {wall:.3} | {ns:.1} |");
+            points.push((count as f64, ns));
+            (self.progress)(&case);
+        }
+        self.md.push('\n');
+        self.plots.push((
+            "sim_scaling.png",
+            Plot {
+                title: "SIMULATION: COST PER STRAND".into(),
+                x_label: "MASTER STRANDS".into(),
+                y_label: "NS PER STRAND PER FRAME".into(),
+                log_x: true,
+                log_y: false,
+                series: vec![Series {
+                    name: "ALL STEPS".into(),
+                    points,
+                    color: PALETTE[2],
+                    line: true,
+                }],
+                highlight: None,
+            },
+        ));
+        Ok(())
+    }
+}

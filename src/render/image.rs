@@ -1,0 +1,150 @@
+//! Images in memory: 8-bit sRGB RGBA as the renderer reads them back, with PNG output
+//! and the box-filter downsampling that turns a supersampled render into a reference.
+
+use std::path::Path;
+
+use crate::error::{Error, Result};
+
+/// An 8-bit RGBA image in memory.
+#[derive(Clone, Debug, PartialEq)]
+pub struct RgbaImage {
+    pub width: u32,
+    pub height: u32,
+    pub data: Vec<u8>,
+}
+
+impl RgbaImage {
+    pub fn pixel(&self, x: u32, y: u32) -> [u8; 4] {
+        let i = ((y * self.width + x) * 4) as usize;
+        [
+            self.data[i],
+            self.data[i + 1],
+            self.data[i + 2],
+            self.data[i + 3],
+        ]
+    }
+
+    /// Rec. 709 luma of the (sRGB-encoded) pixel, 0..1.
+    pub fn luma(&self, x: u32, y: u32) -> f32 {
+        let [r, g, b, _] = self.pixel(x, y);
+        (0.2126 * f32::from(r) + 0.7152 * f32::from(g) + 0.0722 * f32::from(b)) / 255.0
+    }
+
+    pub fn write_png(&self, path: &Path) -> Result<()> {
+        let error = |message: String| Error::ImageWrite {
+            path: path.to_path_buf(),
+            message,
+        };
+        if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
+            std::fs::create_dir_all(dir).map_err(|e| error(e.to_string()))?;
+        }
+        let file = std::fs::File::create(path).map_err(|e| error(e.to_string()))?;
+        let mut encoder = png::Encoder::new(std::io::BufWriter::new(file), self.width, self.height);
+        encoder.set_color(png::ColorType::Rgba);
+        encoder.set_depth(png::BitDepth::Eight);
+        encoder.set_source_srgb(png::SrgbRenderingIntent::Perceptual);
+        let mut writer = encoder.write_header().map_err(|e| error(e.to_string()))?;
+        writer
+            .write_image_data(&self.data)
+            .map_err(|e| error(e.to_string()))?;
+        writer.finish().map_err(|e| error(e.to_string()))
+    }
+}
+
+/// sRGB-encoded 8-bit value to linear light.
+fn srgb_to_linear(v: u8) -> f32 {
+    let c = f32::from(v) / 255.0;
+    if c <= 0.04045 {
+        c / 12.92
+    } else {
+        ((c + 0.055) / 1.055).powf(2.4)
+    }
+}
+
+/// Linear light to an sRGB-encoded 8-bit value.
+fn linear_to_srgb(c: f32) -> u8 {
+    let c = c.clamp(0.0, 1.0);
+    let s = if c <= 0.003_130_8 {
+        c * 12.92
+    } else {
+        1.055 * c.powf(1.0 / 2.4) - 0.055
+    };
+    (s * 255.0).round() as u8
+}
+
+impl RgbaImage {
+    /// Averages every `factor` × `factor` block in linear light (as an MSAA resolve of
+    /// an sRGB target does). The size must be a multiple of `factor`.
+    pub fn downsample(&self, factor: u32) -> Result<Self> {
+        if factor == 0 || self.width % factor != 0 || self.height % factor != 0 {
+            return Err(Error::Parameter(format!(
+                "cannot downsample {}×{} by {factor}",
+                self.width, self.height
+            )));
+        }
+        let lut: Vec<f32> = (0..=255u8).map(srgb_to_linear).collect();
+        let (w, h) = (self.width / factor, self.height / factor);
+        let n = (factor * factor) as f32;
+        let mut data = Vec::with_capacity((w * h * 4) as usize);
+        for y in 0..h {
+            for x in 0..w {
+                let mut sum = [0.0f32; 4];
+                for dy in 0..factor {
+                    for dx in 0..factor {
+                        let p = self.pixel(x * factor + dx, y * factor + dy);
+                        for c in 0..3 {
+                            sum[c] += lut[p[c] as usize];
+                        }
+                        sum[3] += f32::from(p[3]);
+                    }
+                }
+                data.extend_from_slice(&[
+                    linear_to_srgb(sum[0] / n),
+                    linear_to_srgb(sum[1] / n),
+                    linear_to_srgb(sum[2] / n),
+                    (sum[3] / n).round() as u8,
+                ]);
+            }
+        }
+        Ok(Self {
+            width: w,
+            height: h,
+            data,
+        })
+    }
+
+    /// The RGB bytes, row after row (alpha dropped).
+    pub fn rgb(&self) -> Vec<u8> {
+        self.data
+            .chunks_exact(4)
+            .flat_map(|p| [p[0], p[1], p[2]])
+            .collect()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn downsampling_averages_in_linear_light() {
+        // Half black, half white averages to linear 0.5, sRGB 188 (not 128).
+        let image = RgbaImage {
+            width: 2,
+            height: 2,
+            data: [[0, 0, 0, 255], [255, 255, 255, 255]]
+                .repeat(2)
+                .into_iter()
+                .flatten()
+                .collect(),
+        };
+        let small = image.downsample(2).unwrap();
+        assert_eq!((small.width, small.height), (1, 1));
+        assert_eq!(small.pixel(0, 0), [188, 188, 188, 255]);
+        assert!(image.downsample(3).is_err());
+        // Every value survives a round trip through linear light.
+        for v in 0..=255u8 {
+            assert_eq!(linear_to_srgb(srgb_to_linear(v)), v);
+        }
+    }
+}

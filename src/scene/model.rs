@@ -1,0 +1,52 @@
+//! Which model to grow fur on: a built-in one or an OBJ file.
+
+use std::path::PathBuf;
+
+use super::Mesh;
+use crate::error::Result;
+
+/// A model named on the command line: `blob`, `sphere`, or a path to an OBJ file
+/// (write `./sphere` for a file of that name).
+#[derive(Clone, Debug, PartialEq, Default)]
+pub enum ModelSpec {
+    /// The default model, see [`Mesh::blob`].
+    #[default]
+    Blob,
+    /// The original fur demo's scene model: a UV sphere of radius 2 with 40 latitude
+    /// and 80 longitude bands, poles on ±z ([`Mesh::uv_sphere`]).
+    Sphere,
+    File(PathBuf),
+}
+
+impl ModelSpec {
+    pub const BUILT_IN: [&'static str; 2] = ["blob", "sphere"];
+
+    pub fn load(&self) -> Result<Mesh> {
+        match self {
+            Self::Blob => Ok(Mesh::blob()),
+            Self::Sphere => Ok(Mesh::uv_sphere(2.0, 40, 80)),
+            Self::File(path) => Mesh::load_obj(path),
+        }
+    }
+
+    pub fn name(&self) -> String {
+        match self {
+            Self::Blob => "blob".into(),
+            Self::Sphere => "sphere".into(),
+            Self::File(path) => path.display().to_string(),
+        }
+    }
+}
+
+impl std::str::FromStr for ModelSpec {
+    type Err = String;
+
+    fn from_str(s: &str) -> std::result::Result<Self, String> {
+        Ok(match s {
+            "blob" => Self::Blob,
+            "sphere" => Self::Sphere,
+            "" => return Err("expected blob, sphere or the path of an OBJ file".into()),
+            path => Self::File(PathBuf::from(path)),
+        })
+    }
+}

@@ -1,0 +1,219 @@
+//! The fur pass's speed/quality levers keep what they must (lavapipe, validation on):
+//! a hair drawn as a line covers what its ribbon covers, vertex LOD keeps every hair's
+//! root and tip, and the built-in sphere is the original demo's scene.
+
+mod common;
+
+use fur::render::{FrameSettings, FurStyle, Lighting, Primitive, RgbaImage};
+use fur::scene::{Camera, GroomParams, Mesh, ModelSpec, Strands};
+use fur::session::SceneOptions;
+use glam::Vec3;
+
+/// A few master hairs on a small plane seen from the side, unlit: each pixel's
+/// brightness is the hair's coverage of it (root and tip colours as given).
+fn sparse_settings(root: Vec3, tip: Vec3) -> FrameSettings {
+    FrameSettings {
+        camera: Camera {
+            target: Vec3::new(0.0, 0.15, 0.0),
+            yaw_deg: 10.0,
+            pitch_deg: 25.0,
+            distance: 1.6,
+            ..Default::default()
+        },
+        lighting: Lighting {
+            kd: 0.0,
+            ks: 0.0,
+            ambient: 1.0,
+            root_occlusion: 0.0,
+            root_color: root,
+            tip_color: tip,
+            ..Default::default()
+        },
+        style: FurStyle {
+            fixed_level: 1, // master hairs only
+            jitter: 0.0,
+            length_jitter: 0.0,
+            cull: false,
+            hair_width: 0.004,
+            min_pixel_width: 0.75,
+            ..FurStyle::default()
+        },
+        draw_mesh: false,
+        ..Default::default()
+    }
+}
+
+fn sparse_groom(curl: f32) -> GroomParams {
+    GroomParams {
+        segments: 12,
+        segment_length: 0.025,
+        comb_strength: 0.6,
+        comb_direction: Vec3::X,
+        curl,
+        ..Default::default()
+    }
+}
+
+/// Linear-light intensity of every pixel's red channel, 0..1.
+fn linear_red(image: &RgbaImage) -> Vec<f32> {
+    image
+        .data
+        .chunks_exact(4)
+        .map(|p| {
+            let c = f32::from(p[0]) / 255.0;
+            if c <= 0.04045 {
+                c / 12.92
+            } else {
+                ((c + 0.055) / 1.055).powf(2.4)
+            }
+        })
+        .collect()
+}
+
+/// Each pixel's value averaged over its 3×3 neighbourhood.
+fn blurred(values: &[f32], width: usize) -> Vec<f32> {
+    let height = values.len() / width;
+    let mut out = vec![0.0; values.len()];
+    for y in 0..height {
+        for x in 0..width {
+            let mut sum = 0.0;
+            for dy in -1i32..=1 {
+                for dx in -1i32..=1 {
+                    let (xx, yy) = (x as i32 + dx, y as i32 + dy);
+                    if xx >= 0 && yy >= 0 && (xx as usize) < width && (yy as usize) < height {
+                        sum += values[yy as usize * width + xx as usize];
+                    }
+                }
+            }
+            out[y * width + x] = sum / 9.0;
+        }
+    }
+    out
+}
+
+#[test]
+fn a_hair_drawn_as_a_line_covers_what_its_ribbon_covers() {
+    let device = common::device();
+    let plane = Mesh::grid(3, 3, 0.6);
+    let groom = sparse_groom(0.3);
+    let size = (160, 120);
+    let white = Vec3::ONE;
+    let mut coverages = Vec::new();
+    for (primitive, samples) in [
+        (Primitive::Ribbons, 4),
+        (Primitive::Lines, 1),
+        (Primitive::Lines, 4),
+    ] {
+        let mut settings = sparse_settings(white, white);
+        settings.style.primitive = primitive;
+        settings.style.samples = samples;
+        let (image, _, counts) = common::render(&device, &plane, &groom, &settings, size);
+        common::keep(&image, &format!("coverage_{primitive:?}_{samples}x"));
+        assert_eq!(counts.hairs, plane.vertex_count() as u64);
+        coverages.push((format!("{primitive:?} at {samples}x"), linear_red(&image)));
+    }
+    let (_, ribbon) = &coverages[0];
+    let ink = |c: &[f32]| c.iter().sum::<f32>();
+    assert!(ink(ribbon) > 100.0, "the ribbons cover almost nothing");
+    for (name, line) in &coverages[1..] {
+        // The same amount of hair (coverage from width)…
+        let ratio = ink(line) / ink(ribbon);
+        assert!(
+            (0.8..1.25).contains(&ratio),
+            "{name} covers {ratio:.2} of the ribbons' area"
+        );
+        // …in the same place: within a pixel, the coverage agrees.
+        let (a, b) = (
+            blurred(ribbon, size.0 as usize),
+            blurred(line, size.0 as usize),
+        );
+        let difference: f32 = a.iter().zip(&b).map(|(a, b)| (a - b).abs()).sum();
+        assert!(
+            difference < 0.35 * ink(ribbon),
+            "{name} covers other pixels: difference {difference:.1} of {:.1}",
+            ink(ribbon)
+        );
+    }
+    common::assert_clean(&device);
+}
+
+/// Pixels where one colour channel dominates: `channel` bright and three times the
+/// other (sRGB values), i.e. the last few percent of a hair's colour ramp.
+fn marked(image: &RgbaImage, channel: usize, other: usize) -> Vec<(i32, i32)> {
+    let mut out = Vec::new();
+    for y in 0..image.height {
+        for x in 0..image.width {
+            let p = image.pixel(x, y);
+            if p[channel] > 60 && u32::from(p[channel]) > 3 * u32::from(p[other]) {
+                out.push((x as i32, y as i32));
+            }
+        }
+    }
+    out
+}
+
+/// Whether every pixel of `a` lies within one pixel of some pixel of `b`.
+fn within_a_pixel(a: &[(i32, i32)], b: &[(i32, i32)]) -> bool {
+    a.iter().all(|&(x, y)| {
+        b.iter()
+            .any(|&(bx, by)| (bx - x).abs() <= 1 && (by - y).abs() <= 1)
+    })
+}
+
+#[test]
+fn vertex_lod_keeps_every_root_and_tip_within_a_pixel() {
+    let device = common::device();
+    let plane = Mesh::grid(3, 3, 0.6);
+    let groom = sparse_groom(0.0); // combed into gentle curves
+    let size = (160, 120);
+    // Roots blue, tips red: the ends of each hair are where one colour dominates.
+    let mut settings = sparse_settings(Vec3::new(0.0, 0.0, 1.0), Vec3::new(1.0, 0.0, 0.0));
+    settings.style.vertex_lod_px = 0.0;
+    let (exact, _, all) = common::render(&device, &plane, &groom, &settings, size);
+    settings.style.vertex_lod_px = 0.5;
+    let (lod, _, fewer) = common::render(&device, &plane, &groom, &settings, size);
+    common::keep(&exact, "lod_exact");
+    common::keep(&lod, "lod_decimated");
+    assert_eq!(fewer.hairs, all.hairs);
+    assert!(
+        fewer.segments * 2 < all.segments,
+        "vertex LOD kept {} of {} segments",
+        fewer.segments,
+        all.segments
+    );
+    for (name, channel, other) in [("tip", 0, 2), ("root", 2, 0)] {
+        let (a, b) = (marked(&exact, channel, other), marked(&lod, channel, other));
+        assert!(
+            a.len() >= plane.vertex_count(),
+            "too few {name} pixels: {}",
+            a.len()
+        );
+        assert!(
+            within_a_pixel(&a, &b) && within_a_pixel(&b, &a),
+            "vertex LOD moved a {name} by more than a pixel"
+        );
+    }
+    common::assert_clean(&device);
+}
+
+#[test]
+fn the_built_in_sphere_is_the_original_demos_scene() {
+    let device = common::device();
+    let mesh = ModelSpec::Sphere.load().unwrap();
+    assert_eq!((mesh.vertex_count(), mesh.triangle_count()), (3161, 6240));
+    let options = SceneOptions::original();
+    let (groom, mut settings) = options.resolve(&mesh).unwrap();
+    assert_eq!(groom.vertices_per_strand(), 12);
+    assert!((groom.segment_length - 0.05).abs() < 1e-6);
+    let strands = Strands::grow(&mesh, &groom).unwrap();
+    // Straight along the normals.
+    let first = strands.strand(0);
+    assert!((first[11] - first[0]).normalize().dot(Vec3::Z) > 0.9999);
+    // Over the whole sphere as many interpolated hairs as the original's tessellation
+    // had distinct points (35,129).
+    settings.style.cull = false;
+    let (_, _, counts) = common::render(&device, &mesh, &groom, &settings, (64, 36));
+    let off = (counts.hairs as f64 / 35_129.0 - 1.0).abs();
+    assert!(off < 0.01, "{} hairs over the sphere", counts.hairs);
+    common::assert_clean(&device);
+}

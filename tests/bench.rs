@@ -91,7 +91,7 @@ fn quick_bench_writes_every_expected_measurement() {
                 "mean_position_error",
                 "max_position_error",
                 "max_stretch",
-                "gpu_ms_per_frame",
+                "wall_ms_per_frame",
                 "pareto",
             ] {
                 expect("sim_accuracy", &case, metric);

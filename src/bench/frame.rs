@@ -113,10 +113,16 @@ impl Bench<'_> {
              *Default*: this release's drawing settings; *reference quality*: 4× MSAA ribbons lit \
              per fragment, every strand vertex (the settings before this release). The original \
              OpenGL demo took ~{ORIGINAL_FRAME_MS:.0} ms (1,345–1,641) a frame on its sphere scene \
-             on this machine kind.\n\n\
-             | scene | drawing | hairs drawn | wall ms | GPU ms | × the original's frame rate |\n\
-             | --- | --- | --- | --- | --- | --- |",
-            extent.width, extent.height
+             on this machine kind at 1280×720{}.\n\n\
+             | scene | drawing | hairs drawn | segments | wall ms | GPU ms | × the original's frame rate |\n\
+             | --- | --- | --- | --- | --- | --- | --- |",
+            extent.width,
+            extent.height,
+            if self.quick {
+                " (the quick suite's small frames are not comparable)"
+            } else {
+                ""
+            }
         );
         for (name, model) in &SCENES {
             for (label, draw) in [
@@ -126,20 +132,19 @@ impl Bench<'_> {
                 let mut session = self.session(model, &draw)?;
                 let times = self.time_frames(&mut session)?;
                 session.settings.count_hairs = true;
-                let hairs = session
-                    .render()?
-                    .1
-                    .counts
-                    .map_or(f64::NAN, |c| c.hairs as f64);
+                let counts = session.render()?.1.counts;
+                let hairs = counts.map_or(f64::NAN, |c| c.hairs as f64);
+                let segments = counts.map_or(f64::NAN, |c| c.segments as f64);
                 let case = format!("{name}, {label}");
                 let speedup = ORIGINAL_FRAME_MS / times.wall;
                 self.row("frame", case.clone(), "wall_ms", times.wall, "ms");
                 self.row("frame", case.clone(), "gpu_ms", times.gpu, "ms");
                 self.row("frame", case.clone(), "hairs_drawn", hairs, "count");
+                self.row("frame", case.clone(), "segments_drawn", segments, "count");
                 self.row("frame", case.clone(), "speedup_vs_original", speedup, "x");
                 let _ = writeln!(
                     self.md,
-                    "| {name} | {label} | {hairs} | {:.1} | {:.1} | {speedup:.1}× |",
+                    "| {name} | {label} | {hairs} | {segments} | {:.1} | {:.1} | {speedup:.1}× |",
                     times.wall, times.gpu
                 );
                 (self.progress)(&case);

@@ -1,5 +1,7 @@
 //! Image quality against cost: one still frame of a scene, drawn with given settings
-//! and compared with a supersampled reference of the same frame.
+//! and compared with a supersampled reference of the same frame. The frame is taken
+//! after the hair has settled for a moment under gravity, wind and a shake, so the
+//! strands are bent as they are in motion, not straight as groomed.
 //!
 //! The reference is the frame at `factor`× the width and height, drawn the most exact
 //! way the renderer has (ribbons of the true width, 4× MSAA, lighting per fragment,
@@ -18,7 +20,11 @@ use crate::gpu::Device;
 use crate::render::{FrameSettings, FurStyle, HairCounts, Renderer, RgbaImage};
 use crate::scene::{Mesh, Strands};
 use crate::session::{DrawOptions, SceneOptions};
+use crate::sim::{GpuSim, Motion, MotionKind, SimParams};
 use crate::strand_textures::StrandTextures;
+
+/// Simulated frames before the shot.
+const SETTLE_FRAMES: usize = 20;
 
 /// A still frame of a scene, ready to be drawn in different ways.
 pub struct Shot {
@@ -47,12 +53,25 @@ impl Shot {
         options: &SceneOptions,
         extent: vk::Extent2D,
     ) -> Result<Self> {
-        let (groom, settings) = options.resolve(&mesh)?;
+        let (groom, mut settings) = options.resolve(&mesh)?;
         let strands = Strands::grow(&mesh, &groom)?;
-        let textures = StrandTextures::new(device, &strands, settings.head)?;
+        let mut textures = StrandTextures::new(device, &strands, settings.head)?;
+        let radius = mesh.bounds().1;
+        let motion = Motion {
+            kind: MotionKind::Shake,
+            amplitude: 0.25 * f64::from(radius),
+            rate: 1.0,
+        };
+        let params = SimParams {
+            wind: glam::Vec3::new(6.0, 0.0, 2.0),
+            ..SimParams::default()
+        };
+        let mut sim = GpuSim::new(device, &textures, params)?;
+        sim.run_frames(&mut textures, SETTLE_FRAMES, |t| motion.head(t))?;
+        settings.head = motion.head(sim.time).as_mat4();
         Ok(Self {
             device: device.clone(),
-            radius: mesh.bounds().1,
+            radius,
             mesh,
             settings,
             extent,

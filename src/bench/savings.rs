@@ -45,9 +45,9 @@ impl Bench<'_> {
                 },
             ),
         ];
-        let (with_all, _) = self.sim_ms_per_frame(&strands, &full)?;
+        let (_, with_all) = self.sim_ms_per_frame(&strands, &full)?;
         for (name, params) in sim_cases {
-            let (without, _) = self.sim_ms_per_frame(&strands, &params)?;
+            let (_, without) = self.sim_ms_per_frame(&strands, &params)?;
             self.saving(name, with_all, without, "simulation ms/frame");
             (self.progress)(name);
         }

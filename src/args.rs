@@ -71,8 +71,9 @@ pub struct DrawArgs {
     /// `fragment` [default: vertex].
     #[arg(long)]
     pub shading: Option<Shading>,
-    /// Vertex LOD: skip strand vertices so drawn segments span about this many pixels;
-    /// 0 draws every vertex [default: see `fur render --help` output of DrawOptions].
+    /// Vertex LOD tolerance in pixels: a strand vertex is skipped when the segment drawn
+    /// instead passes within this distance of it, width included; 0 draws every vertex
+    /// [default: 0.05].
     #[arg(long)]
     pub vertex_lod: Option<f32>,
     /// Full-density distance in bounding radii: farther away the density falls with

@@ -57,12 +57,13 @@ fn cases(quick: bool) -> Vec<Case> {
             default.clone(),
         ),
         case(
-            "4x ribbons, fragment lighting, vertex LOD 0.02 px",
+            &format!("4x ribbons, fragment lighting, vertex LOD {lod} px"),
             DrawOptions {
                 shading: Shading::Fragment,
-                ..with(4, Primitive::Ribbons, 0.02)
+                ..with(4, Primitive::Ribbons, lod)
             },
         ),
+        case("4x ribbons, vertex LOD 0.02 px", with(4, Primitive::Ribbons, 0.02)),
         case(
             "4x ribbons, vertex LOD 0.1 px",
             with(4, Primitive::Ribbons, 0.1),

@@ -127,7 +127,7 @@ impl Default for FurStyle {
             primitive: Primitive::Ribbons,
             ribbon_above_px: 1.0,
             shading: Shading::Vertex,
-            vertex_lod_px: 0.02,
+            vertex_lod_px: 0.05,
             thickness_compensation: true,
             samples: 4,
         }

@@ -217,3 +217,44 @@ fn the_built_in_sphere_is_the_original_demos_scene() {
     assert!(off < 0.01, "{} hairs over the sphere", counts.hairs);
     common::assert_clean(&device);
 }
+
+#[test]
+fn the_sample_count_can_change_between_frames() {
+    let device = common::device();
+    let mesh = Mesh::icosphere(2);
+    let groom = GroomParams {
+        segments: 4,
+        segment_length: 0.05,
+        ..Default::default()
+    };
+    let strands = Strands::grow(&mesh, &groom).unwrap();
+    let textures =
+        fur::strand_textures::StrandTextures::new(&device, &strands, glam::Mat4::IDENTITY).unwrap();
+    let extent = ash::vk::Extent2D {
+        width: 64,
+        height: 48,
+    };
+    let mut renderer = fur::render::Renderer::new(&device, &mesh, &textures, extent, 1, 4).unwrap();
+    let mut settings = FrameSettings {
+        camera: Camera {
+            distance: 4.0,
+            ..Default::default()
+        },
+        ..Default::default()
+    };
+    let mut images = Vec::new();
+    for samples in [4, 1, 4] {
+        settings.style.samples = samples;
+        let (image, _) = renderer.render(&textures, &settings).unwrap();
+        assert_eq!(renderer.target.samples, samples);
+        images.push(image);
+    }
+    // The same frame: identical at equal sample counts, different across them.
+    assert_eq!(images[0], images[2]);
+    assert_ne!(images[0], images[1]);
+    settings.style.samples = 3;
+    assert!(renderer.render(&textures, &settings).is_err());
+    drop(renderer);
+    drop(textures);
+    common::assert_clean(&device);
+}

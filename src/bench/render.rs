@@ -63,7 +63,10 @@ fn cases(quick: bool) -> Vec<Case> {
                 ..with(4, Primitive::Ribbons, lod)
             },
         ),
-        case("4x ribbons, vertex LOD 0.02 px", with(4, Primitive::Ribbons, 0.02)),
+        case(
+            "4x ribbons, vertex LOD 0.02 px",
+            with(4, Primitive::Ribbons, 0.02),
+        ),
         case(
             "4x ribbons, vertex LOD 0.1 px",
             with(4, Primitive::Ribbons, 0.1),

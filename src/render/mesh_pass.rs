@@ -32,10 +32,40 @@ impl MeshPass {
         mesh: &Mesh,
         samples: u32,
     ) -> Result<Self> {
+        let data: Vec<MeshVertex> = mesh
+            .positions
+            .iter()
+            .zip(&mesh.normals)
+            .map(|(&position, &normal)| MeshVertex { position, normal })
+            .collect();
+        let vertices = Buffer::with_data(
+            device,
+            "mesh.vertices",
+            vk::BufferUsageFlags::VERTEX_BUFFER,
+            &data,
+        )?;
+        Ok(Self {
+            pipeline: Self::pipeline(device, layout, samples)?,
+            vertices,
+        })
+    }
+
+    /// Rebuilds the pipeline for a target of `samples` per pixel.
+    pub fn set_samples(
+        &mut self,
+        device: &Arc<Device>,
+        layout: &PipelineLayout,
+        samples: u32,
+    ) -> Result<()> {
+        self.pipeline = Self::pipeline(device, layout, samples)?;
+        Ok(())
+    }
+
+    fn pipeline(device: &Arc<Device>, layout: &PipelineLayout, samples: u32) -> Result<Pipeline> {
         let vert = ShaderModule::new(device, "mesh.vert", &[])?;
         let frag = ShaderModule::new(device, "mesh.frag", &[])?;
         let stride = std::mem::size_of::<MeshVertex>() as u32;
-        let pipeline = graphics_pipeline(
+        graphics_pipeline(
             device,
             layout,
             &GraphicsDesc {
@@ -69,20 +99,7 @@ impl MeshPass {
                 blend: Blend::Opaque,
                 depth_write: true,
             },
-        )?;
-        let data: Vec<MeshVertex> = mesh
-            .positions
-            .iter()
-            .zip(&mesh.normals)
-            .map(|(&position, &normal)| MeshVertex { position, normal })
-            .collect();
-        let vertices = Buffer::with_data(
-            device,
-            "mesh.vertices",
-            vk::BufferUsageFlags::VERTEX_BUFFER,
-            &data,
-        )?;
-        Ok(Self { pipeline, vertices })
+        )
     }
 
     /// Binds the mesh's vertex buffer. The renderer binds it once per frame, even when

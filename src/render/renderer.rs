@@ -132,7 +132,6 @@ pub struct Renderer {
     shape: StrandShape,
     /// The model's bounding sphere in model space (centre, radius).
     bounds: (glam::Vec3, f32),
-    mesh: Mesh,
     mesh_pass: MeshPass,
     fur_pass: FurPass,
     pub target: RenderTarget,
@@ -257,7 +256,6 @@ impl Renderer {
                 hair_length: strands.hair_length,
             },
             bounds: mesh.bounds(),
-            mesh: mesh.clone(),
             mesh_pass,
             fur_pass,
             target,
@@ -282,7 +280,8 @@ impl Renderer {
     fn set_samples(&mut self, samples: u32) -> Result<()> {
         check_samples(&self.device, samples)?;
         let target = RenderTarget::new(&self.device, self.target.extent, samples)?;
-        self.mesh_pass = MeshPass::new(&self.device, &self.pipeline_layout, &self.mesh, samples)?;
+        self.mesh_pass
+            .set_samples(&self.device, &self.pipeline_layout, samples)?;
         self.fur_pass = FurPass::new(&self.device, self.shape.vertices_per_strand, samples);
         self.target = target;
         Ok(())

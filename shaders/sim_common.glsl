@@ -14,11 +14,15 @@ layout(set = 0, binding = 0, std140) uniform SimStatic {
     vec4 stiffness;     // S_G, S_L
     uvec4 counts;       // strand count, strands per row, global cutoff vertex, local iterations
     uvec4 counts2;      // length iterations
+    vec4 collision;     // margin, friction, 1 / cell, cell
+    vec4 sdf_origin;    // model-space position of grid point (0, 0, 0)
+    uvec4 sdf_dims;     // grid points along x, y, z
 } sim;
 
 // Per-substep constants, written by the CPU before submission (StepConstants).
 struct Step {
     mat4 head;          // H: model to world
+    mat4 head_inverse;  // H⁻¹: world to model
     vec4 gravity_h2;    // xyz = g h², w = velocity retention
     vec4 wind_h2[4];    // W1..W4 scaled by magnitude and h²
 };
@@ -38,6 +42,10 @@ layout(set = 0, binding = 4, std430) REST_ACCESS buffer RootFrames {
 };
 layout(set = 0, binding = 5, rgba32f) uniform image2D previous_positions;
 layout(set = 0, binding = 6, rgba32f) uniform image2D current_positions;
+// The body's signed distance field (src/sim/sdf.rs): one value per grid point, x fastest.
+layout(set = 0, binding = 7, std430) readonly buffer Sdf {
+    float sdf[];
+};
 
 layout(push_constant) uniform Push {
     uint step;          // index into steps[] of the first substep

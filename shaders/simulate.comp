@@ -1,8 +1,8 @@
 #version 450
 // The simulation of one frame: every substep of Han & Harada for one master strand per
 // invocation. The strand lives in private arrays from the first load to the last store,
-// and the named steps run in the paper's order inside each substep:
-//   integrate → global shape → local shape → edge length → wind.
+// and the named steps run in the paper's order inside each substep, then collision:
+//   integrate → global shape → local shape → edge length → wind → collision.
 // Steps a scene does not use are compiled out (STEPS, a specialization constant).
 //
 // Ping-pong: the frame reads current = positions[k] and previous = positions[1 − k],
@@ -16,6 +16,9 @@ const uint STEP_GLOBAL = 2u;
 const uint STEP_LOCAL = 4u;
 const uint STEP_LENGTH = 8u;
 const uint STEP_WIND = 16u;
+const uint STEP_COLLISION = 32u;
+// Projections onto the collision margin per vertex and substep, at most (src/sim/cpu.rs).
+const uint PROJECTIONS = 3u;
 
 vec3 x[V];   // current positions, world space
 vec3 p[V];   // positions one substep ago
@@ -116,6 +119,87 @@ void wind(uint strand, Step st) {
     }
 }
 
+float sdf_at(uvec3 c) {
+    return sdf[c.x + sim.sdf_dims.x * (c.y + sim.sdf_dims.y * c.z)];
+}
+
+// The trilinear distance at model-space point m and its gradient; false outside the
+// grid. The arithmetic, step by step, is `Sdf::sample` in src/sim/sdf.rs.
+bool sdf_sample(vec3 m, out float value, out vec3 gradient) {
+    float inv = sim.collision.z;
+    vec3 g = (m - sim.sdf_origin.xyz) * inv;
+    vec3 last = vec3(sim.sdf_dims.xyz - 1u);
+    if (!(all(greaterThanEqual(g, vec3(0.0))) && all(lessThanEqual(g, last)))) {
+        return false;
+    }
+    uvec3 c = min(uvec3(floor(g)), sim.sdf_dims.xyz - 2u);
+    vec3 f = g - vec3(c);
+    float c000 = sdf_at(c), c100 = sdf_at(c + uvec3(1, 0, 0));
+    float c010 = sdf_at(c + uvec3(0, 1, 0)), c110 = sdf_at(c + uvec3(1, 1, 0));
+    float c001 = sdf_at(c + uvec3(0, 0, 1)), c101 = sdf_at(c + uvec3(1, 0, 1));
+    float c011 = sdf_at(c + uvec3(0, 1, 1)), c111 = sdf_at(c + uvec3(1, 1, 1));
+    float x00 = c000 + (c100 - c000) * f.x;
+    float x10 = c010 + (c110 - c010) * f.x;
+    float x01 = c001 + (c101 - c001) * f.x;
+    float x11 = c011 + (c111 - c011) * f.x;
+    float y0 = x00 + (x10 - x00) * f.y;
+    float y1 = x01 + (x11 - x01) * f.y;
+    value = y0 + (y1 - y0) * f.z;
+    float dx0 = (c100 - c000) + ((c110 - c010) - (c100 - c000)) * f.y;
+    float dx1 = (c101 - c001) + ((c111 - c011) - (c101 - c001)) * f.y;
+    gradient = vec3(dx0 + (dx1 - dx0) * f.z, (x10 - x00) + ((x11 - x01) - (x10 - x00)) * f.z,
+                    y1 - y0) * inv;
+    return true;
+}
+
+// Step 6, collision with the body: a vertex closer than the margin to the surface moves
+// out along the field's gradient to the margin. The move is not velocity (the previous
+// position moves with it, so nothing pops out); of the vertex's velocity the part into
+// the body is removed (an inelastic contact) and friction removes part of the sliding
+// part. The root is never moved. A vertex whose nearest grid value is beyond the margin by more
+// than the grid's diagonal cannot be within it (distance is 1-Lipschitz) and costs one
+// load.
+void collide(Step st) {
+    float margin = sim.collision.x;
+    float reach = margin + 2.0 * sim.collision.w;
+    for (uint i = 1u; i < V; ++i) {
+        vec3 m = (st.head_inverse * vec4(x[i], 1.0)).xyz;
+        vec3 g = (m - sim.sdf_origin.xyz) * sim.collision.z;
+        if (all(greaterThanEqual(g, vec3(0.0))) && all(lessThanEqual(g, vec3(sim.sdf_dims.xyz - 1u)))
+                && sdf_at(uvec3(round(g))) > reach) {
+            continue;
+        }
+        // The first contact's normal splits the velocity; a few more projections settle
+        // a vertex that one step along a curved field leaves short of the margin.
+        vec3 velocity = x[i] - p[i];
+        vec3 contact = vec3(0.0);
+        bool touched = false;
+        for (uint k = 0u; k < PROJECTIONS; ++k) {
+            float d;
+            vec3 gradient;
+            if (!sdf_sample((st.head_inverse * vec4(x[i], 1.0)).xyz, d, gradient) || !(d < margin)) {
+                break;
+            }
+            float len = length(gradient);
+            if (!(len > MIN_LENGTH)) {
+                break;
+            }
+            vec3 n = mat3(st.head) * (gradient * (1.0 / len));
+            x[i] = x[i] + n * (margin - d);
+            if (!touched) {
+                contact = n;
+                touched = true;
+            }
+        }
+        if (touched) {
+            float normal = dot(velocity, contact);
+            vec3 tangential = velocity - contact * normal;
+            vec3 kept = tangential * (1.0 - sim.collision.y) + contact * max(normal, 0.0);
+            p[i] = x[i] - kept;
+        }
+    }
+}
+
 void main() {
     uint strand = gl_GlobalInvocationID.x;
     if (strand >= sim.counts.x) {
@@ -140,6 +224,9 @@ void main() {
         }
         if ((STEPS & STEP_WIND) != 0u) {
             wind(strand, st);
+        }
+        if ((STEPS & STEP_COLLISION) != 0u) {
+            collide(st);
         }
     }
     for (uint i = 0u; i < V; ++i) {

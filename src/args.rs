@@ -157,6 +157,19 @@ pub struct SimArgs {
     /// Wind vector "x,y,z" in m/s² (0,0,0 = no wind).
     #[arg(long, default_value = "6,0,2", value_parser = parse_vec3)]
     pub wind: Vec3,
+    /// Keep the hair out of the body (a signed distance field of the model): on or off.
+    #[arg(long, default_value = "on", value_parser = clap::builder::BoolishValueParser::new())]
+    pub collision: bool,
+    /// How far outside the surface hair is kept, as a fraction of the hair length (0..1).
+    #[arg(long, default_value_t = 0.02)]
+    pub collision_margin: f32,
+    /// Fraction of a colliding vertex's sliding velocity removed per substep (0..1).
+    #[arg(long, default_value_t = 0.1)]
+    pub friction: f32,
+    /// Distance-field cells along the model's longest axis (8..=256); 0 chooses from the
+    /// hair length (cells about a third of it, 16..=128).
+    #[arg(long, default_value_t = 0)]
+    pub sdf_resolution: u32,
 }
 
 fn parse_vec3(s: &str) -> Result<Vec3, String> {
@@ -186,6 +199,10 @@ impl SimArgs {
             local_iterations: self.local_iterations,
             length_iterations: self.length_iterations,
             wind: self.wind,
+            collision: self.collision,
+            collision_margin: self.collision_margin,
+            friction: self.friction,
+            sdf_resolution: self.sdf_resolution,
             ..SimParams::default()
         }
     }

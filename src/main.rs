@@ -275,6 +275,13 @@ fn render(args: &RenderArgs) -> anyhow::Result<()> {
         extent,
         1,
     )?;
+    if let Some(warning) = session
+        .body
+        .as_ref()
+        .and_then(|(_, report)| report.warning(&args.scene.model.name()))
+    {
+        eprintln!("warning: {warning}");
+    }
     let masters = session.strands.count();
     if simulate {
         render_sequence(args, &mut session)?;

@@ -11,7 +11,7 @@ use crate::error::Result;
 use crate::gpu::Device;
 use crate::render::{FrameReport, FrameSettings, Primitive, Renderer, RgbaImage, Shading};
 use crate::scene::{Camera, GroomParams, Mesh, Strands};
-use crate::sim::{GpuSim, Motion, SimParams};
+use crate::sim::{GpuSim, Motion, Sdf, SdfReport, SimParams};
 use crate::strand_textures::StrandTextures;
 
 /// A scene described relative to the model's size, so one set of defaults suits any
@@ -188,6 +188,8 @@ pub struct FurSession {
     pub strands: Strands,
     pub textures: StrandTextures,
     pub sim: GpuSim,
+    /// The body's distance field and what building it found, when collision is on.
+    pub body: Option<(Arc<Sdf>, SdfReport)>,
     pub renderer: Renderer,
     pub motion: Motion,
     /// Where the user has put the model (the viewer moves it; identity otherwise).
@@ -214,7 +216,26 @@ impl FurSession {
         let strands = Strands::grow(&mesh, groom)?;
         let head = motion.head(0.0).as_mat4();
         let textures = StrandTextures::new(device, &strands, head)?;
-        let sim = GpuSim::with_slots(device, &textures, sim_params, frames_in_flight)?;
+        let body = if sim_params.collision {
+            let (min, max) = mesh.positions.iter().fold(
+                (glam::Vec3::splat(f32::MAX), glam::Vec3::splat(f32::MIN)),
+                |(lo, hi), p| (lo.min(*p), hi.max(*p)),
+            );
+            let padding = textures.hair_length;
+            let extent = (max - min).max_element() + 2.0 * padding;
+            let cells = sim_params.sdf_cells(extent, textures.hair_length);
+            let (sdf, report) = Sdf::build(&mesh, cells, padding)?;
+            Some((Arc::new(sdf), report))
+        } else {
+            None
+        };
+        let sim = GpuSim::with_body(
+            device,
+            &textures,
+            sim_params,
+            frames_in_flight,
+            body.as_ref().map(|(sdf, _)| &**sdf),
+        )?;
         let renderer = Renderer::new(
             device,
             &mesh,
@@ -229,6 +250,7 @@ impl FurSession {
             strands,
             textures,
             sim,
+            body,
             renderer,
             motion,
             user: DMat4::IDENTITY,

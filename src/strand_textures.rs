@@ -144,12 +144,7 @@ impl StrandTextures {
             positions,
             current: 0,
             root_frames,
-            hair_length: (0..strands.count())
-                .map(|s| {
-                    let x = strands.strand(s);
-                    x.windows(2).map(|w| w[0].distance(w[1])).sum::<f32>()
-                })
-                .fold(0.0, f32::max),
+            hair_length: strands.hair_length(),
         };
         let rest_texels = layout.texels_from(strands.positions.iter().map(|p| p.extend(0.0)));
         let posed = layout.texels_from(

@@ -84,6 +84,16 @@ impl Strands {
         self.positions.len() / self.vertices_per_strand as usize
     }
 
+    /// Length of the longest master hair (its polyline), scene units.
+    pub fn hair_length(&self) -> f32 {
+        (0..self.count())
+            .map(|s| {
+                let x = self.strand(s);
+                x.windows(2).map(|w| w[0].distance(w[1])).sum::<f32>()
+            })
+            .fold(0.0, f32::max)
+    }
+
     pub fn strand(&self, s: usize) -> &[Vec3] {
         let v = self.vertices_per_strand as usize;
         &self.positions[s * v..(s + 1) * v]

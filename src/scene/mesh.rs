@@ -341,7 +341,8 @@ impl Mesh {
         for k in 1..rings {
             let theta = std::f32::consts::PI * k as f32 / rings as f32;
             for j in 0..=segments {
-                let phi = std::f32::consts::TAU * j as f32 / segments as f32;
+                // The seam's two columns are the same points, exactly.
+                let phi = std::f32::consts::TAU * (j % segments) as f32 / segments as f32;
                 let d = Vec3::new(
                     theta.sin() * phi.cos(),
                     theta.sin() * phi.sin(),

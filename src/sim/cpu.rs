@@ -3,10 +3,13 @@
 
 use std::ops::{Add, Div, Mul, Neg, Sub};
 
+use std::sync::Arc;
+
 use glam::{DMat4, Vec3};
 
 use super::params::{SimParams, StepConstants};
 use super::rest::RestPose;
+use super::sdf::Sdf;
 use crate::scene::Strands;
 
 /// A floating-point scalar the reference runs on.
@@ -177,6 +180,10 @@ pub struct CpuSim<T: Real> {
     pub current: Vec<V3<T>>,
     /// Simulated time in seconds.
     pub time: f64,
+    /// The body's distance field, for collision.
+    pub sdf: Option<Arc<Sdf>>,
+    /// The longest master hair, which the collision margin is a fraction of.
+    pub hair_length: f32,
 }
 
 impl<T: Real> CpuSim<T> {
@@ -195,7 +202,16 @@ impl<T: Real> CpuSim<T> {
             previous: current.clone(),
             current,
             time: 0.0,
+            sdf: None,
+            hair_length: strands.hair_length(),
         }
+    }
+
+    /// Collides the strands with the body whose distance field is `sdf` (when
+    /// `params.collision` is on).
+    pub fn with_sdf(mut self, sdf: Arc<Sdf>) -> Self {
+        self.sdf = Some(sdf);
+        self
     }
 
     pub fn vertices_per_strand(&self) -> usize {
@@ -223,6 +239,16 @@ impl<T: Real> CpuSim<T> {
         let cutoff = self.params.global_cutoff(v as u32) as usize;
         let s_g = T::from_f32(self.params.global_stiffness);
         let s_l = T::from_f32(self.params.local_stiffness);
+        let collider = self
+            .sdf
+            .as_deref()
+            .filter(|_| self.params.collision)
+            .map(|sdf| Collider {
+                sdf,
+                to_model: Head::new(c.head_inverse),
+                margin: T::from_f32(self.params.collision_margin * self.hair_length),
+                friction: T::from_f32(self.params.friction),
+            });
         for s in 0..self.rest.count() {
             let range = s * v..(s + 1) * v;
             let rest = &self.rest.positions[range.clone()];
@@ -262,9 +288,63 @@ impl<T: Real> CpuSim<T> {
                     *xi = *xi + wind_push(&old, i, w);
                 }
             }
+            // Collision with the body.
+            if let Some(collider) = &collider {
+                for i in 1..v {
+                    collider.push_out(&head, &mut x[i], &mut prev[i]);
+                }
+            }
         }
     }
 }
+
+/// The body as the collision step sees it.
+struct Collider<'a, T> {
+    sdf: &'a Sdf,
+    /// World to model space (H⁻¹).
+    to_model: Head<T>,
+    margin: T,
+    friction: T,
+}
+
+impl<T: Real> Collider<'_, T> {
+    /// Moves a vertex closer than the margin to the surface out along the field's
+    /// gradient to the margin. The move is not velocity (the previous position moves
+    /// with it, so nothing pops out); of the vertex's velocity the part into the body
+    /// is removed (an inelastic contact) and friction removes part of the sliding
+    /// part. The arithmetic is `collide` in `shaders/simulate.comp`.
+    fn push_out(&self, head: &Head<T>, x: &mut V3<T>, previous: &mut V3<T>) {
+        let velocity = *x - *previous;
+        // The first contact's normal splits the velocity; a few more projections settle
+        // a vertex that one step along a curved field leaves short of the margin.
+        let mut contact = None;
+        for _ in 0..PROJECTIONS {
+            let Some((d, g)) = self.sdf.sample(self.to_model.point(*x)) else {
+                break;
+            };
+            if d.partial_cmp(&self.margin) != Some(std::cmp::Ordering::Less) {
+                break;
+            }
+            let len = g.length();
+            if len.partial_cmp(&min_length::<T>()) != Some(std::cmp::Ordering::Greater) {
+                break;
+            }
+            let n = head.rotation.mul_vec(g.scale(T::ONE / len));
+            *x = *x + n.scale(self.margin - d);
+            contact.get_or_insert(n);
+        }
+        if let Some(n) = contact {
+            let normal = velocity.dot(n);
+            let tangential = velocity - n.scale(normal);
+            let outward = if normal > T::ZERO { normal } else { T::ZERO };
+            let kept = tangential.scale(T::ONE - self.friction) + n.scale(outward);
+            *previous = *x - kept;
+        }
+    }
+}
+
+/// Projections onto the margin per vertex and substep, at most.
+const PROJECTIONS: usize = 3;
 
 /// The head transform split into rotation and translation.
 pub(crate) struct Head<T> {

@@ -10,10 +10,11 @@
 use std::sync::Arc;
 
 use ash::vk;
-use glam::{DMat4, Mat4, UVec4, Vec4};
+use glam::{DMat4, Mat4, UVec4, Vec3, Vec4};
 use gpu_allocator::MemoryLocation;
 
 use super::params::{SimParams, StepConstants};
+use super::sdf::Sdf;
 use crate::error::{Error, Result};
 use crate::gpu::{
     memory_barrier, Buffer, DescriptorPool, DescriptorSetLayout, Device, Pipeline, PipelineLayout,
@@ -35,6 +36,9 @@ struct SimStatic {
     stiffness: Vec4,
     counts: UVec4,
     counts2: UVec4,
+    collision: Vec4,
+    sdf_origin: Vec4,
+    sdf_dims: UVec4,
 }
 
 /// `Step` in `shaders/sim_common.glsl` (std430).
@@ -42,6 +46,7 @@ struct SimStatic {
 #[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
 struct GpuStep {
     head: Mat4,
+    head_inverse: Mat4,
     gravity_h2: Vec4,
     wind_h2: [Vec4; 4],
 }
@@ -50,6 +55,7 @@ impl From<&StepConstants> for GpuStep {
     fn from(c: &StepConstants) -> Self {
         Self {
             head: c.head,
+            head_inverse: c.head_inverse,
             gravity_h2: c.gravity_h2.extend(c.velocity_retention),
             wind_h2: c.wind_h2.map(|w| w.extend(0.0)),
         }
@@ -64,15 +70,17 @@ pub enum SimStep {
     Local,
     Length,
     Wind,
+    Collision,
 }
 
 impl SimStep {
-    pub const ALL: [SimStep; 5] = [
+    pub const ALL: [SimStep; 6] = [
         Self::Integrate,
         Self::Global,
         Self::Local,
         Self::Length,
         Self::Wind,
+        Self::Collision,
     ];
 
     pub fn name(self) -> &'static str {
@@ -82,6 +90,7 @@ impl SimStep {
             Self::Local => "local shape",
             Self::Length => "edge length",
             Self::Wind => "wind",
+            Self::Collision => "collision",
         }
     }
 
@@ -90,19 +99,20 @@ impl SimStep {
         1 << self as u32
     }
 
-    /// Whether `params` make this step do anything.
-    pub fn needed(self, params: &SimParams, vertices: u32) -> bool {
+    /// Whether `params` make this step do anything (collision also needs a body).
+    pub fn needed(self, params: &SimParams, vertices: u32, has_body: bool) -> bool {
         match self {
             Self::Integrate => true,
             Self::Global => params.global_cutoff(vertices) > 0,
             Self::Local => params.local_stiffness > 0.0 && params.local_iterations > 0,
             Self::Length => params.length_iterations > 0,
             Self::Wind => params.wind_enabled(),
+            Self::Collision => params.collision && has_body,
         }
     }
 }
 
-fn bindings() -> [(vk::DescriptorType, vk::ShaderStageFlags); 7] {
+fn bindings() -> [(vk::DescriptorType, vk::ShaderStageFlags); 8] {
     let c = vk::ShaderStageFlags::COMPUTE;
     [
         (vk::DescriptorType::UNIFORM_BUFFER, c),
@@ -112,6 +122,7 @@ fn bindings() -> [(vk::DescriptorType, vk::ShaderStageFlags); 7] {
         (vk::DescriptorType::STORAGE_BUFFER, c),
         (vk::DescriptorType::STORAGE_IMAGE, c),
         (vk::DescriptorType::STORAGE_IMAGE, c),
+        (vk::DescriptorType::STORAGE_BUFFER, c),
     ]
 }
 
@@ -138,6 +149,7 @@ fn write_sim_set(
     statics: &Buffer,
     steps: &Buffer,
     textures: &StrandTextures,
+    body: &Buffer,
 ) {
     let bindings = bindings();
     let buffer = |b: &Buffer| {
@@ -150,10 +162,11 @@ fn write_sim_set(
             .image_view(i.view())
             .image_layout(vk::ImageLayout::GENERAL)]
     };
-    let (b0, b1, b4) = (
+    let (b0, b1, b4, b7) = (
         buffer(statics),
         buffer(steps),
         buffer(&textures.root_frames),
+        buffer(body),
     );
     let (i2, i3) = (image(&textures.rest), image(&textures.rest_local));
     let (i5, i6) = (
@@ -174,6 +187,7 @@ fn write_sim_set(
         write(4).buffer_info(&b4),
         write(5).image_info(&i5),
         write(6).image_info(&i6),
+        write(7).buffer_info(&b7),
     ];
     unsafe { device.raw.update_descriptor_sets(&writes, &[]) };
 }
@@ -194,10 +208,24 @@ pub struct GpuSim {
     /// Steps to compile in even when the parameters do not need them (the benchmark
     /// measures steps alone this way); `None`: exactly the needed ones.
     forced_steps: Option<u32>,
+    /// The body's distance field (one `f32` per grid point; a placeholder without a
+    /// body) and its grid.
+    _body: Buffer,
+    grid: Option<BodyGrid>,
+    /// The longest master hair, which the collision margin is a fraction of.
+    hair_length: f32,
     /// Per frame in flight: step constants, timestamps, descriptor sets.
     slots: Vec<SimSlot>,
     /// Simulated time in seconds.
     pub time: f64,
+}
+
+/// Where the body's distance field lies.
+#[derive(Clone, Copy, Debug)]
+struct BodyGrid {
+    origin: Vec3,
+    cell: f32,
+    dims: [u32; 3],
 }
 
 /// The resources of one frame in flight.
@@ -211,17 +239,20 @@ struct SimSlot {
 }
 
 impl GpuSim {
-    /// A simulation with one set of per-frame resources (see [`GpuSim::with_slots`]).
+    /// A simulation with one set of per-frame resources and no body to collide with
+    /// (see [`GpuSim::with_body`]).
     pub fn new(device: &Arc<Device>, textures: &StrandTextures, params: SimParams) -> Result<Self> {
-        Self::with_slots(device, textures, params, 1)
+        Self::with_body(device, textures, params, 1, None)
     }
 
-    /// A simulation whose submissions can overlap `frames_in_flight` deep.
-    pub fn with_slots(
+    /// A simulation whose submissions can overlap `frames_in_flight` deep, colliding
+    /// with the body whose distance field is `body` (when `params.collision` is on).
+    pub fn with_body(
         device: &Arc<Device>,
         textures: &StrandTextures,
         params: SimParams,
         frames_in_flight: usize,
+        body: Option<&Sdf>,
     ) -> Result<Self> {
         let frames_in_flight = frames_in_flight.max(1);
         params.validate()?;
@@ -250,6 +281,20 @@ impl GpuSim {
             vk::BufferUsageFlags::UNIFORM_BUFFER,
             MemoryLocation::CpuToGpu,
         )?;
+        let body_buffer = match body {
+            Some(sdf) => Buffer::with_data(
+                device,
+                "sim.body_sdf",
+                vk::BufferUsageFlags::STORAGE_BUFFER,
+                &sdf.values,
+            )?,
+            None => Buffer::with_data(
+                device,
+                "sim.no_body",
+                vk::BufferUsageFlags::STORAGE_BUFFER,
+                &[0.0f32; 4],
+            )?,
+        };
         let mut slots = Vec::new();
         for slot in 0..frames_in_flight {
             let steps = Buffer::new(
@@ -261,7 +306,7 @@ impl GpuSim {
             )?;
             let sets = pool.allocate(&set_layout, 2)?;
             for (k, set) in sets.iter().enumerate() {
-                write_sim_set(device, *set, k, &statics, &steps, textures);
+                write_sim_set(device, *set, k, &statics, &steps, textures, &body_buffer);
             }
             let timestamps = if device.info.timestamps {
                 Some(QueryPool::timestamps(
@@ -290,6 +335,13 @@ impl GpuSim {
             statics,
             pipeline: None,
             forced_steps: None,
+            _body: body_buffer,
+            hair_length: textures.hair_length,
+            grid: body.map(|sdf| BodyGrid {
+                origin: sdf.origin,
+                cell: sdf.cell,
+                dims: sdf.dims,
+            }),
             slots,
             time: 0.0,
         };
@@ -365,6 +417,14 @@ impl GpuSim {
                 params.local_iterations,
             ),
             counts2: UVec4::new(params.length_iterations, 0, 0, 0),
+            collision: self.grid.map_or(Vec4::ZERO, |g| {
+                let margin = params.collision_margin * self.hair_length;
+                Vec4::new(margin, params.friction, 1.0 / g.cell, g.cell)
+            }),
+            sdf_origin: self.grid.map_or(Vec4::ZERO, |g| g.origin.extend(0.0)),
+            sdf_dims: self.grid.map_or(UVec4::ZERO, |g| {
+                UVec4::new(g.dims[0], g.dims[1], g.dims[2], 0)
+            }),
         };
         // Only rewrite what the kernel reads when it changes: frames in flight may be
         // reading it (wind strength, for one, lives in the per-step constants instead).
@@ -374,9 +434,12 @@ impl GpuSim {
         }
         let needed = SimStep::ALL
             .into_iter()
-            .filter(|s| s.needed(&params, self.vertices))
+            .filter(|s| s.needed(&params, self.vertices, self.grid.is_some()))
             .fold(0, |m, s| m | s.bit());
-        let mask = self.forced_steps.unwrap_or(needed);
+        let mut mask = self.forced_steps.unwrap_or(needed);
+        if self.grid.is_none() {
+            mask &= !SimStep::Collision.bit();
+        }
         if self.pipeline.as_ref().map(|(m, _)| *m) != Some(mask) {
             let spec = self.specialization(mask);
             let pipeline = Pipeline::compute(&self.device, "simulate.comp", &self.layout, &spec)?;

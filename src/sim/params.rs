@@ -31,6 +31,16 @@ pub struct SimParams {
     pub wind: Vec3,
     /// Half-angle of the cone the four wind vectors spread over, in degrees, [0, 90].
     pub wind_cone_deg: f32,
+    /// Keep strands out of the body (needs the body's distance field).
+    pub collision: bool,
+    /// Strand vertices are kept at least this far outside the surface, as a fraction
+    /// of the longest hair's length, [0, 1].
+    pub collision_margin: f32,
+    /// Fraction of a colliding vertex's tangential velocity removed per substep, [0, 1].
+    pub friction: f32,
+    /// Distance-field cells along the model's longest axis; 0 chooses from the hair
+    /// length (a cell about a third of it, 16..=128 cells).
+    pub sdf_resolution: u32,
 }
 
 impl Default for SimParams {
@@ -47,6 +57,10 @@ impl Default for SimParams {
             length_iterations: 2,
             wind: Vec3::ZERO,
             wind_cone_deg: 40.0,
+            collision: true,
+            collision_margin: 0.02,
+            friction: 0.1,
+            sdf_resolution: 0,
         }
     }
 }
@@ -82,6 +96,15 @@ impl SimParams {
         range("global range", self.global_range, 0.0, 1.0)?;
         range("local stiffness", self.local_stiffness, 0.0, 1.0)?;
         range("wind cone angle", self.wind_cone_deg, 0.0, 90.0)?;
+        range("collision margin", self.collision_margin, 0.0, 1.0)?;
+        range("friction", self.friction, 0.0, 1.0)?;
+        let (lo, hi) = super::sdf::RESOLUTION_RANGE;
+        if self.sdf_resolution != 0 && !(lo..=hi).contains(&self.sdf_resolution) {
+            return Err(Error::Parameter(format!(
+                "the distance field's resolution must be 0 (from the model) or {lo}..={hi}, got {}",
+                self.sdf_resolution
+            )));
+        }
         for (name, v) in [
             ("substeps", self.substeps),
             ("local iterations", self.local_iterations),
@@ -102,6 +125,16 @@ impl SimParams {
             }
         }
         Ok(())
+    }
+
+    /// The distance field's resolution for hairs of `hair_length` on a model whose
+    /// padded bounding box is `extent` long on its longest axis.
+    pub fn sdf_cells(&self, extent: f32, hair_length: f32) -> u32 {
+        if self.sdf_resolution > 0 {
+            return self.sdf_resolution;
+        }
+        let cells = (3.0 * extent / hair_length.max(1e-12)).ceil();
+        (cells.min(1e6) as u32).clamp(16, 128)
     }
 
     /// Seconds per substep.
@@ -127,6 +160,8 @@ impl SimParams {
 pub struct StepConstants {
     /// Model-to-world head transform H at the end of the substep.
     pub head: glam::Mat4,
+    /// Its inverse (world to model), where the body's distance field is sampled.
+    pub head_inverse: glam::Mat4,
     /// Velocity kept by the Verlet step: (1 - damping)^(h·60).
     pub velocity_retention: f32,
     /// Gravity times h².
@@ -157,6 +192,7 @@ impl StepConstants {
         };
         Self {
             head: head.as_mat4(),
+            head_inverse: head.inverse().as_mat4(),
             velocity_retention: retention as f32,
             gravity_h2: (params.gravity.as_dvec3() * h2).as_vec3(),
             wind_h2,

@@ -263,6 +263,13 @@ impl Viewer {
             swapchain.extent,
             FRAMES_IN_FLIGHT,
         )?;
+        if let Some(warning) = session
+            .body
+            .as_ref()
+            .and_then(|(_, report)| report.warning(&options.model.name()))
+        {
+            eprintln!("warning: {warning}");
+        }
         let raw = &device.raw;
         let pool_info = vk::CommandPoolCreateInfo::default()
             .queue_family_index(device.queue_family)
@@ -784,9 +791,19 @@ impl Viewer {
         }
         if let Some(params) = changes.sim {
             self.device.wait_idle()?;
-            self.session
-                .sim
-                .set_params(params, &self.session.textures)?;
+            if params.collision && self.session.body.is_none() {
+                // Collision was off when the scene was built: build the body's field.
+                let (groom, _) = self.scene.resolve(&self.mesh)?;
+                let settings = self.session.settings.clone();
+                self.session
+                    .sim
+                    .set_params(params, &self.session.textures)?;
+                self.rebuild_session(&groom, settings)?;
+            } else {
+                self.session
+                    .sim
+                    .set_params(params, &self.session.textures)?;
+            }
         }
         if std::mem::take(&mut self.ui.reset_requested) {
             let (groom, _) = self.scene.resolve(&self.mesh)?;

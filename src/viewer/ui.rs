@@ -119,6 +119,9 @@ impl PanelState {
                         p.gravity.y = -g;
                         changed = true;
                     }
+                    changed |= ui.checkbox(&mut p.collision, "collide with the body").changed();
+                    changed |= ui.add(egui::Slider::new(&mut p.collision_margin, 0.0..=0.2).text("collision margin (of hair length)")).changed();
+                    changed |= ui.add(egui::Slider::new(&mut p.friction, 0.0..=1.0).text("friction")).changed();
                     if changed {
                         // Wind is driven by the toggle and strength above.
                         p.wind = session.sim.params().wind;

@@ -42,9 +42,10 @@ layout(set = 0, binding = 4, std430) REST_ACCESS buffer RootFrames {
 };
 layout(set = 0, binding = 5, rgba32f) uniform image2D previous_positions;
 layout(set = 0, binding = 6, rgba32f) uniform image2D current_positions;
-// The body's signed distance field (src/sim/sdf.rs): one value per grid point, x fastest.
+// The body's signed distance field (src/sim/sdf.rs): per grid point, x fastest, the
+// distance and the field's gradient there.
 layout(set = 0, binding = 7, std430) readonly buffer Sdf {
-    float sdf[];
+    vec4 sdf[];
 };
 
 layout(push_constant) uniform Push {

@@ -119,36 +119,20 @@ void wind(uint strand, Step st) {
     }
 }
 
-float sdf_at(uvec3 c) {
-    return sdf[c.x + sim.sdf_dims.x * (c.y + sim.sdf_dims.y * c.z)];
-}
-
-// The trilinear distance at model-space point m and its gradient; false outside the
-// grid. The arithmetic, step by step, is `Sdf::sample` in src/sim/sdf.rs.
+// The distance at model-space point m to first order from its nearest grid point, and
+// the gradient there; false outside the grid. The arithmetic, step by step, is
+// `Sdf::sample` in src/sim/sdf.rs.
 bool sdf_sample(vec3 m, out float value, out vec3 gradient) {
-    float inv = sim.collision.z;
-    vec3 g = (m - sim.sdf_origin.xyz) * inv;
+    vec3 g = (m - sim.sdf_origin.xyz) * sim.collision.z;
     vec3 last = vec3(sim.sdf_dims.xyz - 1u);
     if (!(all(greaterThanEqual(g, vec3(0.0))) && all(lessThanEqual(g, last)))) {
         return false;
     }
-    uvec3 c = min(uvec3(floor(g)), sim.sdf_dims.xyz - 2u);
-    vec3 f = g - vec3(c);
-    float c000 = sdf_at(c), c100 = sdf_at(c + uvec3(1, 0, 0));
-    float c010 = sdf_at(c + uvec3(0, 1, 0)), c110 = sdf_at(c + uvec3(1, 1, 0));
-    float c001 = sdf_at(c + uvec3(0, 0, 1)), c101 = sdf_at(c + uvec3(1, 0, 1));
-    float c011 = sdf_at(c + uvec3(0, 1, 1)), c111 = sdf_at(c + uvec3(1, 1, 1));
-    float x00 = c000 + (c100 - c000) * f.x;
-    float x10 = c010 + (c110 - c010) * f.x;
-    float x01 = c001 + (c101 - c001) * f.x;
-    float x11 = c011 + (c111 - c011) * f.x;
-    float y0 = x00 + (x10 - x00) * f.y;
-    float y1 = x01 + (x11 - x01) * f.y;
-    value = y0 + (y1 - y0) * f.z;
-    float dx0 = (c100 - c000) + ((c110 - c010) - (c100 - c000)) * f.y;
-    float dx1 = (c101 - c001) + ((c111 - c011) - (c101 - c001)) * f.y;
-    gradient = vec3(dx0 + (dx1 - dx0) * f.z, (x10 - x00) + ((x11 - x01) - (x10 - x00)) * f.z,
-                    y1 - y0) * inv;
+    uvec3 c = uvec3(floor(g + 0.5));
+    vec3 offset = (g - vec3(c)) * sim.collision.w;
+    vec4 s = sdf[c.x + sim.sdf_dims.x * (c.y + sim.sdf_dims.y * c.z)];
+    gradient = s.yzw;
+    value = s.x + (s.y * offset.x + s.z * offset.y + s.w * offset.z);
     return true;
 }
 
@@ -156,19 +140,10 @@ bool sdf_sample(vec3 m, out float value, out vec3 gradient) {
 // out along the field's gradient to the margin. The move is not velocity (the previous
 // position moves with it, so nothing pops out); of the vertex's velocity the part into
 // the body is removed (an inelastic contact) and friction removes part of the sliding
-// part. The root is never moved. A vertex whose nearest grid value is beyond the margin by more
-// than the grid's diagonal cannot be within it (distance is 1-Lipschitz) and costs one
-// load.
+// part. The root is never moved.
 void collide(Step st) {
     float margin = sim.collision.x;
-    float reach = margin + 2.0 * sim.collision.w;
     for (uint i = 1u; i < V; ++i) {
-        vec3 m = (st.head_inverse * vec4(x[i], 1.0)).xyz;
-        vec3 g = (m - sim.sdf_origin.xyz) * sim.collision.z;
-        if (all(greaterThanEqual(g, vec3(0.0))) && all(lessThanEqual(g, vec3(sim.sdf_dims.xyz - 1u)))
-                && sdf_at(uvec3(round(g))) > reach) {
-            continue;
-        }
         // The first contact's normal splits the velocity; a few more projections settle
         // a vertex that one step along a curved field leaves short of the margin.
         vec3 velocity = x[i] - p[i];

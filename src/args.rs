@@ -158,7 +158,8 @@ pub struct SimArgs {
     #[arg(long, default_value = "6,0,2", value_parser = parse_vec3)]
     pub wind: Vec3,
     /// Keep the hair out of the body (a signed distance field of the model): on or off.
-    #[arg(long, default_value = "on", value_parser = clap::builder::BoolishValueParser::new())]
+    #[arg(long, default_value = "on", action = clap::ArgAction::Set,
+          value_parser = clap::builder::BoolishValueParser::new())]
     pub collision: bool,
     /// How far outside the surface hair is kept, as a fraction of the hair length (0..1).
     #[arg(long, default_value_t = 0.02)]

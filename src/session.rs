@@ -217,14 +217,7 @@ impl FurSession {
         let head = motion.head(0.0).as_mat4();
         let textures = StrandTextures::new(device, &strands, head)?;
         let body = if sim_params.collision {
-            let (min, max) = mesh.positions.iter().fold(
-                (glam::Vec3::splat(f32::MAX), glam::Vec3::splat(f32::MIN)),
-                |(lo, hi), p| (lo.min(*p), hi.max(*p)),
-            );
-            let padding = textures.hair_length;
-            let extent = (max - min).max_element() + 2.0 * padding;
-            let cells = sim_params.sdf_cells(extent, textures.hair_length);
-            let (sdf, report) = Sdf::build(&mesh, cells, padding)?;
+            let (sdf, report) = Sdf::for_hair(&mesh, &sim_params, textures.hair_length)?;
             Some((Arc::new(sdf), report))
         } else {
             None

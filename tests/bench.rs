@@ -111,6 +111,7 @@ fn quick_bench_writes_every_expected_measurement() {
     for saving in [
         "wind off: wind step compiled out",
         "S_G = 0: global-shape step compiled out",
+        "collision off: collision step compiled out",
         "culling: hairs drawn",
         "density LOD: hairs drawn",
     ] {

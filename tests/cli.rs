@@ -98,6 +98,13 @@ fn impossible_parameters_are_clear_errors() {
     assert_fails_cleanly(&["render", "--shading", "flat"], "flat");
     assert_fails_cleanly(&["render", "--vertex-lod=-1"], "vertex LOD");
     assert_fails_cleanly(&["render", "--yaw", "nan"], "--yaw");
+    assert_fails_cleanly(&["render", "--collision", "maybe"], "maybe");
+    assert_fails_cleanly(&["render", "--friction", "2"], "friction");
+    assert_fails_cleanly(&["render", "--sdf-resolution", "4"], "resolution");
+    assert_fails_cleanly(
+        &["render", "--thickness-compensation", "perhaps"],
+        "perhaps",
+    );
     assert_fails_cleanly(&["export-model", "--model", "teapot.obj"], "built-in");
 }
 

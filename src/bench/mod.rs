@@ -8,6 +8,7 @@
 //! rasteriser (lavapipe) a timestamp between two passes lands part-way through the
 //! second's binning and misattributes.
 
+mod collision;
 mod frame;
 pub mod metrics;
 pub mod plot;
@@ -43,16 +44,18 @@ pub enum Section {
     SimAccuracy,
     SimSteps,
     SimScaling,
+    Collision,
     Savings,
 }
 
 impl Section {
-    pub const ALL: [Section; 6] = [
+    pub const ALL: [Section; 7] = [
         Self::Frame,
         Self::RenderQuality,
         Self::SimAccuracy,
         Self::SimSteps,
         Self::SimScaling,
+        Self::Collision,
         Self::Savings,
     ];
 
@@ -63,6 +66,7 @@ impl Section {
             Self::SimAccuracy => "sim_accuracy",
             Self::SimSteps => "sim_steps",
             Self::SimScaling => "sim_scaling",
+            Self::Collision => "collision",
             Self::Savings => "savings",
         }
     }
@@ -74,6 +78,7 @@ impl Section {
             Self::SimAccuracy => "simulation error against the converged CPU f64 reference, per iterations and substeps",
             Self::SimSteps => "cost of each simulation step, compiled in alone",
             Self::SimScaling => "simulation cost per strand from 1K to 100K strands",
+            Self::Collision => "distance-field build cost and size, collision cost, penetration against resolution",
             Self::Savings => "what skipping work the scene does not need saves",
         }
     }
@@ -173,6 +178,7 @@ pub fn task_count(options: &BenchOptions) -> u64 {
             Section::SimAccuracy => sim::accuracy_tasks(options.quick),
             Section::SimSteps => 1,
             Section::SimScaling => sim::scaling_tasks(options.quick),
+            Section::Collision => collision::tasks(options.quick),
             Section::Savings => savings::TASKS,
         })
         .sum()
@@ -205,6 +211,7 @@ pub fn run(
             Section::SimAccuracy => bench.simulation_accuracy()?,
             Section::SimSteps => bench.simulation_steps()?,
             Section::SimScaling => bench.simulation_scaling()?,
+            Section::Collision => bench.collision()?,
             Section::Savings => bench.savings()?,
         }
     }

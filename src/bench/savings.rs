@@ -6,7 +6,7 @@ use std::fmt::Write as _;
 use glam::Vec3;
 
 use super::quality::Shot;
-use super::sim::blob_strands;
+use super::sim::{blob_body, blob_strands};
 use super::Bench;
 use crate::error::Result;
 use crate::render::FurStyle;
@@ -14,7 +14,7 @@ use crate::scene::Mesh;
 use crate::session::SceneOptions;
 use crate::sim::SimParams;
 
-pub(super) const TASKS: u64 = 4;
+pub(super) const TASKS: u64 = 5;
 
 impl Bench<'_> {
     pub(super) fn savings(&mut self) -> Result<()> {
@@ -44,10 +44,18 @@ impl Bench<'_> {
                     ..full.clone()
                 },
             ),
+            (
+                "collision off: collision step compiled out",
+                SimParams {
+                    collision: false,
+                    ..full.clone()
+                },
+            ),
         ];
-        let (_, with_all) = self.sim_ms_per_frame(&strands, &full)?;
+        let body = blob_body(&strands, &full)?;
+        let (_, with_all) = self.sim_ms_with_steps(&strands, &full, None, Some(&body))?;
         for (name, params) in sim_cases {
-            let (_, without) = self.sim_ms_per_frame(&strands, &params)?;
+            let (_, without) = self.sim_ms_with_steps(&strands, &params, None, Some(&body))?;
             self.saving(name, with_all, without, "simulation ms/frame");
             (self.progress)(name);
         }

@@ -12,7 +12,7 @@ use super::Bench;
 use crate::error::Result;
 use crate::scene::{GroomParams, Mesh, Strands};
 use crate::session::SceneOptions;
-use crate::sim::{CpuSim, GpuSim, Motion, MotionKind, SimParams, SimStep};
+use crate::sim::{CpuSim, GpuSim, Motion, MotionKind, Sdf, SimParams, SimStep};
 use crate::strand_textures::StrandTextures;
 
 /// The settings being measured for the simulation trade: iterations (local and length
@@ -41,6 +41,11 @@ pub(super) fn blob_strands() -> Result<Strands> {
     let blob = Mesh::blob();
     let (groom, _) = SceneOptions::default().resolve(&blob)?;
     Strands::grow(&blob, &groom)
+}
+
+/// The default scene's body at `params`' resolution (as a session builds it).
+pub(super) fn blob_body(strands: &Strands, params: &SimParams) -> Result<Sdf> {
+    Ok(Sdf::for_hair(&Mesh::blob(), params, strands.hair_length())?.0)
 }
 
 impl Bench<'_> {
@@ -218,17 +223,20 @@ impl Bench<'_> {
         strands: &Strands,
         params: &SimParams,
     ) -> Result<(f64, f64)> {
-        self.sim_ms_with_steps(strands, params, None)
+        self.sim_ms_with_steps(strands, params, None, None)
     }
 
-    fn sim_ms_with_steps(
+    /// As [`Bench::sim_ms_per_frame`], colliding with `body` when given, with exactly
+    /// `steps` compiled in when given.
+    pub(super) fn sim_ms_with_steps(
         &self,
         strands: &Strands,
         params: &SimParams,
         steps: Option<&[SimStep]>,
+        body: Option<&Sdf>,
     ) -> Result<(f64, f64)> {
         let mut textures = StrandTextures::new(self.device, strands, glam::Mat4::IDENTITY)?;
-        let mut gpu = GpuSim::new(self.device, &textures, params.clone())?;
+        let mut gpu = GpuSim::with_body(self.device, &textures, params.clone(), 1, body)?;
         gpu.force_steps(steps, &textures)?;
         let motion = Motion {
             kind: MotionKind::Shake,
@@ -254,6 +262,7 @@ impl Bench<'_> {
     /// between steps, which the fused kernel has none of).
     pub(super) fn simulation_steps(&mut self) -> Result<()> {
         let strands = blob_strands()?;
+        let body = blob_body(&strands, &SimParams::default())?;
         let params = SimParams {
             wind: Vec3::new(6.0, 0.0, 2.0),
             ..SimParams::default()
@@ -269,7 +278,7 @@ impl Bench<'_> {
         let mut previous = 0.0;
         for n in 1..=SimStep::ALL.len() {
             let steps = &SimStep::ALL[1..n];
-            let (_, ms) = self.sim_ms_with_steps(&strands, &params, Some(steps))?;
+            let (_, ms) = self.sim_ms_with_steps(&strands, &params, Some(steps), Some(&body))?;
             let step = SimStep::ALL[n - 1].name();
             let names: Vec<&str> = SimStep::ALL[..n].iter().map(|s| s.name()).collect();
             self.row("sim_steps", step, "wall_ms_per_frame", ms, "ms");

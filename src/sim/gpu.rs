@@ -286,7 +286,7 @@ impl GpuSim {
                 device,
                 "sim.body_sdf",
                 vk::BufferUsageFlags::STORAGE_BUFFER,
-                &sdf.values,
+                &sdf.texels(),
             )?,
             None => Buffer::with_data(
                 device,

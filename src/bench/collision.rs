@@ -1,0 +1,250 @@
+//! Body collision: what the distance field costs to build and hold at each resolution,
+//! what the collision step adds to a simulated frame, and how far hair still gets into
+//! the body (measured with exact distances) against the field's resolution.
+
+use std::fmt::Write as _;
+
+use glam::Vec3;
+
+use super::sim::{blob_body, blob_strands};
+use super::Bench;
+use crate::error::Result;
+use crate::scene::{GroomParams, Mesh, Strands};
+use crate::sim::{GpuSim, Motion, MotionKind, Sdf, SimParams};
+use crate::strand_textures::StrandTextures;
+
+fn resolutions(quick: bool) -> &'static [u32] {
+    if quick {
+        &[16, 32]
+    } else {
+        &[16, 32, 64, 128]
+    }
+}
+
+pub(super) fn tasks(quick: bool) -> u64 {
+    2 + resolutions(quick).len() as u64
+}
+
+/// Exact signed distances from `points` to `mesh` (ray-cast sign).
+fn exact_distances(mesh: &Mesh, points: &[Vec3]) -> Vec<f32> {
+    let vertices: Vec<[f32; 3]> = mesh.positions.iter().map(|p| p.to_array()).collect();
+    let queries: Vec<[f32; 3]> = points.iter().map(|p| p.to_array()).collect();
+    mesh_to_sdf::generate_sdf(
+        &vertices,
+        mesh_to_sdf::Topology::TriangleList(Some(&mesh.indices)),
+        &queries,
+        mesh_to_sdf::AccelerationMethod::Bvh(mesh_to_sdf::SignMethod::Raycast),
+    )
+}
+
+impl Bench<'_> {
+    /// Hair combed down over the blob, shaken under strong gravity for `frames` frames
+    /// on the GPU, colliding with `body` (or not): (mean, max) depth of strand vertices
+    /// inside the body, fractions of the hair length, from exact distances.
+    fn penetration(
+        &self,
+        strands: &Strands,
+        body: &Sdf,
+        frames: usize,
+        collision: bool,
+    ) -> Result<(f64, f64)> {
+        let mesh = Mesh::blob();
+        let radius = f64::from(mesh.bounds().1);
+        let params = SimParams {
+            gravity: Vec3::new(0.0, -40.0, 0.0),
+            global_stiffness: 0.0,
+            local_stiffness: 0.3,
+            collision,
+            ..SimParams::default()
+        };
+        let motion = Motion {
+            kind: MotionKind::Shake,
+            amplitude: 0.2 * radius,
+            rate: 2.0,
+        };
+        let mut textures = StrandTextures::new(self.device, strands, motion.head(0.0).as_mat4())?;
+        let mut gpu = GpuSim::with_body(self.device, &textures, params, 1, Some(body))?;
+        let v = strands.vertices_per_strand as usize;
+        let (mut sum, mut count, mut max) = (0.0f64, 0usize, 0.0f64);
+        // Sample the depth over the run's second half.
+        for chunk in 0..4 {
+            gpu.run_frames(&mut textures, frames / 4, |t| motion.head(t))?;
+            if chunk < 2 {
+                continue;
+            }
+            let to_model = motion.head(gpu.time).inverse().as_mat4();
+            let model: Vec<Vec3> = textures
+                .read_positions(textures.current)?
+                .iter()
+                .enumerate()
+                .filter(|(i, _)| i % v != 0)
+                .map(|(_, p)| to_model.transform_point3(*p))
+                .collect();
+            for d in exact_distances(&mesh, &model) {
+                let depth = f64::from((-d).max(0.0));
+                sum += depth;
+                count += 1;
+                max = max.max(depth);
+            }
+        }
+        let hair = f64::from(strands.hair_length());
+        Ok((sum / count.max(1) as f64 / hair, max / hair))
+    }
+
+    pub(super) fn collision(&mut self) -> Result<()> {
+        let frames = if self.quick { 20 } else { 200 };
+        let blob = Mesh::blob();
+        let (_, radius) = blob.bounds();
+        // The penetration scene: hair a quarter of the radius long, combed down hard.
+        let groom = GroomParams {
+            segments: 12,
+            segment_length: 0.3 * radius / 12.0,
+            comb_direction: Vec3::NEG_Y,
+            comb_strength: 3.0,
+            ..Default::default()
+        };
+        let pressed = Strands::grow(&blob, &groom)?;
+        let hair = pressed.hair_length();
+        let default_cells = SimParams::default().sdf_cells(
+            {
+                let (min, max) = blob.positions.iter().fold(
+                    (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN)),
+                    |(lo, hi), p| (lo.min(*p), hi.max(*p)),
+                );
+                (max - min).max_element() + 2.0 * hair
+            },
+            hair,
+        );
+        let _ = writeln!(
+            self.md,
+            "## Collision\n\nThe blob's distance field at each resolution (cells along the longest \
+             axis of the box padded by the hair length): build time on the CPU and size on the \
+             device; then hair a quarter of the radius long, combed down hard, shaken under 4× \
+             gravity for {frames} frames on the GPU: the depth of strand vertices inside the body \
+             over the second half, from exact distances, as fractions of the hair length \
+             (default margin {}: vertices are kept that far outside; default resolution here \
+             {default_cells}).\n\n\
+             | resolution | grid points | build ms | MiB | mean depth | max depth |\n\
+             | --- | --- | --- | --- | --- | --- |",
+            SimParams::default().collision_margin
+        );
+        let mut resolutions = resolutions(self.quick).to_vec();
+        if !resolutions.contains(&default_cells) {
+            resolutions.push(default_cells);
+            resolutions.sort_unstable();
+        }
+        for cells in resolutions {
+            let (sdf, report) = Sdf::build(&blob, cells, hair)?;
+            let (mean, max) = self.penetration(&pressed, &sdf, frames, true)?;
+            let label = if cells == default_cells {
+                format!("resolution {cells} (default)")
+            } else {
+                format!("resolution {cells}")
+            };
+            let points = sdf.values.len();
+            let mib = sdf.bytes() as f64 / (1024.0 * 1024.0);
+            self.row(
+                "collision",
+                label.clone(),
+                "grid_points",
+                points as f64,
+                "count",
+            );
+            self.row(
+                "collision",
+                label.clone(),
+                "build_ms",
+                report.build_ms,
+                "ms",
+            );
+            self.row("collision", label.clone(), "device_mib", mib, "MiB");
+            self.row(
+                "collision",
+                label.clone(),
+                "mean_penetration",
+                mean,
+                "fraction of hair length",
+            );
+            self.row(
+                "collision",
+                label.clone(),
+                "max_penetration",
+                max,
+                "fraction of hair length",
+            );
+            let _ = writeln!(
+                self.md,
+                "| {label} | {points} | {:.1} | {mib:.2} | {mean:.2e} | {max:.2e} |",
+                report.build_ms
+            );
+            (self.progress)(&label);
+        }
+        // Without collision, for scale.
+        let (sdf, _) = Sdf::build(&blob, default_cells, hair)?;
+        let (mean, max) = self.penetration(&pressed, &sdf, frames, false)?;
+        self.row(
+            "collision",
+            "collision off",
+            "mean_penetration",
+            mean,
+            "fraction of hair length",
+        );
+        self.row(
+            "collision",
+            "collision off",
+            "max_penetration",
+            max,
+            "fraction of hair length",
+        );
+        let _ = writeln!(self.md, "| collision off | | | | {mean:.2e} | {max:.2e} |");
+        (self.progress)("collision off");
+
+        // The cost in the default scene.
+        let strands = blob_strands()?;
+        let body = blob_body(&strands, &SimParams::default())?;
+        let params = SimParams {
+            wind: Vec3::new(6.0, 0.0, 2.0),
+            ..SimParams::default()
+        };
+        let (_, with) = self.sim_ms_with_steps(&strands, &params, None, Some(&body))?;
+        let (_, without) = self.sim_ms_with_steps(
+            &strands,
+            &SimParams {
+                collision: false,
+                ..params
+            },
+            None,
+            Some(&body),
+        )?;
+        self.row(
+            "collision",
+            "default scene, collision on",
+            "ms_per_frame",
+            with,
+            "ms",
+        );
+        self.row(
+            "collision",
+            "default scene, collision off",
+            "ms_per_frame",
+            without,
+            "ms",
+        );
+        self.row(
+            "collision",
+            "default scene",
+            "added_fraction",
+            with / without - 1.0,
+            "fraction",
+        );
+        let _ = writeln!(
+            self.md,
+            "\nThe default blob ({} strands), simulation per frame with wind: {with:.3} ms with \
+             collision, {without:.3} ms without: collision adds {:.0} %.\n",
+            strands.count(),
+            100.0 * (with / without - 1.0)
+        );
+        (self.progress)("collision cost");
+        Ok(())
+    }
+}

@@ -13,7 +13,7 @@ pub enum Error {
     #[error("the Vulkan loader could not be loaded ({0}); install libvulkan1 and a Vulkan driver (e.g. mesa-vulkan-drivers)")]
     Loader(#[from] ash::LoadingError),
 
-    #[error("Vulkan call {call} failed: {result}")]
+    #[error("Vulkan call {call} failed: {result}{}", hint(*.result))]
     Vulkan {
         call: &'static str,
         result: vk::Result,
@@ -25,9 +25,10 @@ pub enum Error {
     #[error("no usable Vulkan device:\n{0}")]
     NoSuitableDevice(String),
 
-    #[error("allocating GPU memory for `{name}` failed: {source}")]
+    #[error("allocating {} of GPU memory for `{name}` failed (out of device memory?): {source}", size_text(*.bytes))]
     Allocation {
         name: String,
+        bytes: u64,
         #[source]
         source: gpu_allocator::AllocationError,
     },
@@ -52,6 +53,87 @@ pub enum Error {
 
     #[error("cannot write image {path}: {message}")]
     ImageWrite { path: PathBuf, message: String },
+
+    /// A file-system operation (write, create a folder, rename) on a path failed.
+    #[error("cannot {operation} {path}: {message}")]
+    Io {
+        operation: &'static str,
+        path: PathBuf,
+        message: String,
+    },
+
+    #[error("interrupted")]
+    Interrupted,
+
+    #[error("leak: {0}")]
+    Leak(String),
+}
+
+impl Error {
+    /// An [`Error::Io`] from an `std::io::Error`.
+    pub fn io(operation: &'static str, path: &std::path::Path, error: std::io::Error) -> Self {
+        Error::Io {
+            operation,
+            path: path.to_path_buf(),
+            message: error.to_string(),
+        }
+    }
+}
+
+/// Checks, before any work, that a file can be written at `path`: it is not a folder,
+/// its folder exists or can be made, and a file can be created there.
+pub fn check_output_file(path: &std::path::Path) -> Result<()> {
+    if path.is_dir() {
+        return Err(Error::Io {
+            operation: "write the output file",
+            path: path.to_path_buf(),
+            message: "it is a folder; give a file name".into(),
+        });
+    }
+    let dir = path
+        .parent()
+        .filter(|d| !d.as_os_str().is_empty())
+        .unwrap_or(std::path::Path::new("."));
+    check_output_dir(dir)
+}
+
+/// Checks, before any work, that files can be written into the folder `dir`, making it
+/// if needed.
+pub fn check_output_dir(dir: &std::path::Path) -> Result<()> {
+    if dir.is_file() {
+        return Err(Error::Io {
+            operation: "write into the folder",
+            path: dir.to_path_buf(),
+            message: "it is a file, not a folder".into(),
+        });
+    }
+    std::fs::create_dir_all(dir).map_err(|e| Error::io("create the folder", dir, e))?;
+    let probe = dir.join(format!(".fur-write-check-{}", std::process::id()));
+    std::fs::File::create(&probe).map_err(|e| Error::io("write into the folder", dir, e))?;
+    let _ = std::fs::remove_file(&probe);
+    Ok(())
+}
+
+/// A byte count for people.
+fn size_text(bytes: u64) -> String {
+    if bytes >= 1 << 20 {
+        format!("{:.1} MiB", bytes as f64 / f64::from(1u32 << 20))
+    } else {
+        format!("{bytes} bytes")
+    }
+}
+
+/// What a Vulkan error means for the user.
+fn hint(result: vk::Result) -> &'static str {
+    match result {
+        vk::Result::ERROR_DEVICE_LOST => {
+            " (the GPU stopped responding or reset; the work was too large or the driver failed)"
+        }
+        vk::Result::ERROR_OUT_OF_DEVICE_MEMORY | vk::Result::ERROR_OUT_OF_HOST_MEMORY => {
+            " (out of memory: use a smaller image, fewer samples or hairs)"
+        }
+        _ => "",
+    }
 }
 
 /// Attaches the name of the failing Vulkan call to a raw `vk::Result`.

@@ -10,6 +10,7 @@
 pub mod bench;
 pub mod error;
 pub mod gpu;
+pub mod interrupt;
 pub mod render;
 pub mod scene;
 pub mod session;

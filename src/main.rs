@@ -135,6 +135,7 @@ struct RenderArgs {
 fn main() -> ExitCode {
     env_logger::Builder::from_env(env_logger::Env::default().default_filter_or("warn")).init();
     let cli = Cli::parse();
+    fur::interrupt::install();
     let result = match cli.command {
         Some(Command::Render(args)) => render(&args),
         Some(Command::View(args)) => view(args),
@@ -150,6 +151,11 @@ fn main() -> ExitCode {
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
+        Err(e) if matches!(e.downcast_ref(), Some(fur::Error::Interrupted)) => {
+            // Everything was dropped on the way out: the device is idle.
+            eprintln!("interrupted");
+            ExitCode::from(130)
+        }
         Err(e) => {
             eprintln!("error: {e:#}");
             ExitCode::FAILURE
@@ -171,12 +177,7 @@ fn bench(
         return Ok(());
     }
     let sections = fur::bench::Section::parse_list(only)?;
-    if out_dir.is_file() {
-        bail!(
-            "--out-dir {} is a file; the benchmark writes a folder",
-            out_dir.display()
-        );
-    }
+    fur::error::check_output_dir(out_dir)?;
     let device = fur::gpu::headless(validate)?;
     let options = fur::bench::BenchOptions { quick, sections };
     let bar = indicatif::ProgressBar::new(fur::bench::task_count(&options)).with_style(
@@ -195,7 +196,7 @@ fn bench(
         report.rows.len(),
         out_dir.display()
     );
-    device.instance().check_validation()?;
+    fur::gpu::shut_down(device)?;
     Ok(())
 }
 
@@ -204,6 +205,10 @@ fn view(args: ViewArgs) -> anyhow::Result<()> {
         bail!("--frames must be at least 1");
     }
     args.scene.check()?;
+    let script = fur::viewer::Script::parse(&args.script)?;
+    if let Some(frames) = args.frames {
+        script.check_within(frames)?;
+    }
     let options = fur::viewer::ViewerOptions {
         model: args.scene.model.clone(),
         scene: args.scene.options(),
@@ -213,7 +218,7 @@ fn view(args: ViewArgs) -> anyhow::Result<()> {
         validate: args.validate,
         width: args.width,
         height: args.height,
-        script: fur::viewer::Script::parse(&args.script)?,
+        script,
         screenshot_dir: args.screenshot_dir,
     };
     options.sim.validate()?;
@@ -229,10 +234,16 @@ fn export_model(out: &Path, model: &ModelSpec) -> anyhow::Result<()> {
             path.display()
         );
     }
+    fur::error::check_output_file(out)?;
     model.load()?.write_obj(out)?;
     println!("wrote {}", out.display());
     Ok(())
 }
+
+/// What a frame without any hair means.
+const NO_FUR: &str = "no hair was drawn: every furred triangle is off-screen, facing away \
+    (culled) or too small for the density; move the camera (--yaw, --pitch, --distance) or \
+    raise --density-scale";
 
 /// Frames measured before this many are warm-up (lazy shader compilation, caches).
 const WARM_UP_FRAMES: usize = 2;
@@ -242,10 +253,23 @@ fn render(args: &RenderArgs) -> anyhow::Result<()> {
         bail!("--frames must be at least 1");
     }
     args.scene.check()?;
-    let mesh = args.scene.model.load()?;
+    let simulate = args.frames > 1 || args.out_dir.is_some();
+    // Every output path is checked before any work starts.
+    let frames_dir = args
+        .out_dir
+        .clone()
+        .unwrap_or_else(|| PathBuf::from("frames"));
+    if simulate {
+        fur::error::check_output_dir(&frames_dir)?;
+    } else {
+        fur::error::check_output_file(&args.out)?;
+    }
+    let (mesh, warnings) = args.scene.model.prepare()?;
+    for warning in warnings {
+        eprintln!("warning: {warning}");
+    }
     let (_, radius) = mesh.bounds();
     let (groom, mut settings) = args.scene.options().resolve(&mesh)?;
-    let simulate = args.frames > 1 || args.out_dir.is_some();
     settings.count_hairs = !simulate;
     let motion = Motion {
         kind: if simulate {
@@ -284,12 +308,15 @@ fn render(args: &RenderArgs) -> anyhow::Result<()> {
     }
     let masters = session.strands.count();
     if simulate {
-        render_sequence(args, &mut session)?;
+        render_sequence(args, &frames_dir, &mut session)?;
     } else {
         let start = Instant::now();
         let (image, report) = session.render()?;
         let elapsed = start.elapsed();
         image.write_png(&args.out)?;
+        if report.counts.is_some_and(|c| c.hairs == 0) {
+            eprintln!("warning: {NO_FUR}");
+        }
         let points = report
             .statistics
             .map(|s| format!(", {} tessellated points", s.tess_eval_invocations))
@@ -313,18 +340,13 @@ fn render(args: &RenderArgs) -> anyhow::Result<()> {
         );
     }
     drop(session);
-    device.instance().check_validation()?;
+    fur::gpu::shut_down(device)?;
     Ok(())
 }
 
 /// Simulates and renders `args.frames` frames into PNGs; ends with the median frame
 /// time of the warm frames.
-fn render_sequence(args: &RenderArgs, session: &mut FurSession) -> anyhow::Result<()> {
-    let dir = args
-        .out_dir
-        .clone()
-        .unwrap_or_else(|| PathBuf::from("frames"));
-    std::fs::create_dir_all(&dir).with_context(|| format!("cannot create {}", dir.display()))?;
+fn render_sequence(args: &RenderArgs, dir: &Path, session: &mut FurSession) -> anyhow::Result<()> {
     let bar = indicatif::ProgressBar::new(u64::from(args.frames)).with_style(
         indicatif::ProgressStyle::with_template(
             "{bar:40} {pos}/{len} frames {elapsed} (eta {eta}) {msg}",
@@ -333,8 +355,16 @@ fn render_sequence(args: &RenderArgs, session: &mut FurSession) -> anyhow::Resul
     );
     let mut frame_ms = Vec::new();
     for frame in 0..args.frames {
+        fur::interrupt::check()?;
+        // The first frame (a warm-up frame, not timed) counts what it draws.
+        session.settings.count_hairs = frame == 0;
         let start = Instant::now();
-        let (image, _) = session.step_and_render()?;
+        let (image, timings) = session
+            .step_and_render()
+            .with_context(|| format!("simulating and drawing frame {frame}"))?;
+        if timings.render.counts.is_some_and(|c| c.hairs == 0) {
+            eprintln!("warning: {NO_FUR}");
+        }
         frame_ms.push(start.elapsed().as_secs_f64() * 1e3);
         image.write_png(&dir.join(format!("frame_{frame:04}.png")))?;
         bar.set_message(format!("{:.1} ms", frame_ms[frame_ms.len() - 1]));

@@ -174,6 +174,70 @@ impl SceneOptions {
     }
 }
 
+/// Strand vertices (master hairs × their vertices) a scene may have: 8 M take 512 MiB
+/// of strand textures.
+pub const MAX_STRAND_VERTICES: u64 = 8_000_000;
+/// Hair segments a frame may draw at most (about 15 s a frame on lavapipe).
+pub const MAX_SEGMENTS_PER_FRAME: u64 = 20_000_000;
+/// Render-target memory an image may take (colour, depth and resolve).
+pub const MAX_TARGET_BYTES: u64 = 4 << 30;
+
+/// Refuses, before any work, a scene whose size would run for minutes or exhaust
+/// memory, naming the limit and the value: the strand vertices, the hairs the density
+/// asks for (an upper bound: every triangle in view at full density) and the render
+/// target's memory.
+pub fn check_work(
+    mesh: &Mesh,
+    groom: &GroomParams,
+    settings: &FrameSettings,
+    extent: vk::Extent2D,
+) -> Result<()> {
+    let vertices = u64::from(groom.vertices_per_strand());
+    let strand_vertices = mesh.vertex_count() as u64 * vertices;
+    if strand_vertices > MAX_STRAND_VERTICES {
+        return Err(Error::Parameter(format!(
+            "the model's {} vertices each grow a master hair of {vertices} vertices: {strand_vertices} \
+             strand vertices, over the limit of {MAX_STRAND_VERTICES}; use fewer --segments or a \
+             model with fewer vertices",
+            mesh.vertex_count()
+        )));
+    }
+    // Points a triangle can generate at the largest tessellation level (64).
+    let most_per_triangle = 3.0 * 64.0 * 64.0 / 4.0 + 3.0 * 64.0;
+    let density = f64::from(settings.style.density);
+    let hairs: f64 = mesh
+        .indices
+        .chunks_exact(3)
+        .map(|t| {
+            let [a, b, c] = [t[0], t[1], t[2]].map(|i| mesh.positions[i as usize].as_dvec3());
+            let area = 0.5 * (b - a).cross(c - a).length();
+            let edges = (b - a).length() + (c - b).length() + (a - c).length();
+            (area * density + edges * density.sqrt()).min(most_per_triangle)
+        })
+        .sum();
+    let segments = hairs * f64::from(groom.segments);
+    if segments > MAX_SEGMENTS_PER_FRAME as f64 {
+        return Err(Error::Parameter(format!(
+            "the density asks for up to {:.3e} hairs of {} segments a frame ({:.3e} segments), over \
+             the limit of {MAX_SEGMENTS_PER_FRAME:.0e}; lower --density-scale or --segments",
+            hairs, groom.segments, segments
+        )));
+    }
+    let samples = u64::from(settings.style.samples);
+    let bytes = u64::from(extent.width) * u64::from(extent.height) * (8 * samples + 8);
+    if bytes > MAX_TARGET_BYTES {
+        return Err(Error::Parameter(format!(
+            "a {}×{} image at {samples} samples per pixel needs {:.1} GiB of render target, over \
+             the limit of {} GiB",
+            extent.width,
+            extent.height,
+            bytes as f64 / f64::from(1u32 << 30),
+            MAX_TARGET_BYTES >> 30
+        )));
+    }
+    Ok(())
+}
+
 /// What a frame reports beyond the image.
 #[derive(Clone, Debug)]
 pub struct FrameTimings {
@@ -213,6 +277,7 @@ impl FurSession {
         settings.style.validate()?;
         motion.validate()?;
         sim_params.validate()?;
+        check_work(&mesh, groom, &settings, extent)?;
         let strands = Strands::grow(&mesh, groom)?;
         let head = motion.head(0.0).as_mat4();
         let textures = StrandTextures::new(device, &strands, head)?;

@@ -230,3 +230,59 @@ fn the_original_sphere_is_built_in_and_exports() {
     assert!(stdout.contains("3161 master hairs"), "{stdout}");
     assert!(png.exists());
 }
+
+#[test]
+fn nothing_is_left_alive_at_exit() {
+    // A render, a simulated sequence with collision, and a benchmark section, each
+    // with the validation layer on: its object tracker reports any Vulkan object still
+    // alive when the device is destroyed, and gpu-allocator any memory not freed.
+    let dir = scratch("leaks");
+    let png = dir.join("one.png");
+    let runs: [Vec<&str>; 3] = [
+        vec![
+            "render",
+            "--validate",
+            "--width",
+            "64",
+            "--height",
+            "36",
+            "--density-scale",
+            "0.1",
+            "--out",
+            png.to_str().unwrap(),
+        ],
+        vec![
+            "render",
+            "--validate",
+            "--frames",
+            "3",
+            "--width",
+            "64",
+            "--height",
+            "36",
+            "--density-scale",
+            "0.1",
+            "--out-dir",
+            dir.to_str().unwrap(),
+        ],
+        vec![
+            "bench",
+            "--validate",
+            "--quick",
+            "--only",
+            "sim_steps",
+            "--out-dir",
+            dir.to_str().unwrap(),
+        ],
+    ];
+    for args in runs {
+        let out = fur(&args);
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert!(out.status.success(), "{args:?}: {stderr}");
+        assert!(
+            !stderr.contains("validation at teardown") && !stderr.to_lowercase().contains("leak"),
+            "{args:?} left something alive:\n{stderr}"
+        );
+    }
+    assert!(png.exists() && !dir.join("one.png.partial").exists());
+}

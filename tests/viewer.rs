@@ -59,6 +59,12 @@ fn assert_ok(out: &Output) {
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert!(out.status.success(), "fur view failed:\n{stderr}");
     assert!(!stderr.contains("panicked"), "{stderr}");
+    // Nothing left alive at exit: the validation layer's object tracker and
+    // gpu-allocator report leaks while the device is torn down.
+    assert!(
+        !stderr.contains("validation at teardown") && !stderr.to_lowercase().contains("leak"),
+        "{stderr}"
+    );
 }
 
 #[test]

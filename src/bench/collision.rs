@@ -68,6 +68,7 @@ impl Bench<'_> {
         let (mut sum, mut count, mut max) = (0.0f64, 0usize, 0.0f64);
         // Sample the depth over the run's second half.
         for chunk in 0..4 {
+            crate::interrupt::check()?;
             gpu.run_frames(&mut textures, frames / 4, |t| motion.head(t))?;
             if chunk < 2 {
                 continue;

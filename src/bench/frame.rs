@@ -75,6 +75,7 @@ impl Bench<'_> {
         let (warm, measured) = self.frame_counts();
         let (mut wall, mut gpu) = (Vec::new(), Vec::new());
         for frame in 0..warm + measured {
+            crate::interrupt::check()?;
             let start = Instant::now();
             let (_, timings) = session.step_and_render()?;
             if frame >= warm {
@@ -93,6 +94,7 @@ impl Bench<'_> {
         let (warm, measured) = self.frame_counts();
         let mut wall = Vec::new();
         for frame in 0..warm + measured {
+            crate::interrupt::check()?;
             let start = Instant::now();
             session.render()?;
             if frame >= warm {
@@ -161,6 +163,7 @@ impl Bench<'_> {
             let mut session = self.session(model, &DrawOptions::default())?;
             let mut sim_ms = Vec::new();
             for frame in 0..warm + measured {
+                crate::interrupt::check()?;
                 let start = Instant::now();
                 let (user, motion) = (session.user, session.motion);
                 session

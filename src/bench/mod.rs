@@ -122,11 +122,11 @@ pub struct Report {
 impl Report {
     /// Writes `results.csv`, `results.md` and the charts into `dir`.
     pub fn write(&self, dir: &Path) -> Result<()> {
-        let io = |e: std::io::Error| Error::ImageWrite {
-            path: dir.to_path_buf(),
-            message: e.to_string(),
+        std::fs::create_dir_all(dir).map_err(|e| Error::io("create the folder", dir, e))?;
+        let io = |name: &str| {
+            let path = dir.join(name);
+            move |e: std::io::Error| Error::io("write", &path, e)
         };
-        std::fs::create_dir_all(dir).map_err(io)?;
         let mut csv = String::from("section,case,metric,value,unit\n");
         for r in &self.rows {
             let _ = writeln!(
@@ -139,8 +139,8 @@ impl Report {
                 csv_field(r.unit)
             );
         }
-        std::fs::write(dir.join("results.csv"), csv).map_err(io)?;
-        std::fs::write(dir.join("results.md"), &self.markdown).map_err(io)?;
+        std::fs::write(dir.join("results.csv"), csv).map_err(io("results.csv"))?;
+        std::fs::write(dir.join("results.md"), &self.markdown).map_err(io("results.md"))?;
         for (name, plot) in &self.plots {
             plot.render().write_png(&dir.join(name))?;
         }

@@ -122,6 +122,7 @@ impl Shot {
         let mut ms = Vec::new();
         let mut image = None;
         for frame in 0..warm + measured {
+            crate::interrupt::check()?;
             let start = Instant::now();
             image = Some(renderer.render(&self.textures, &settings)?.0);
             if frame >= warm {

@@ -85,6 +85,7 @@ impl Bench<'_> {
             };
             let mut cpu = CpuSim::<f64>::new(&strands, params, motion.head(0.0));
             for _ in 0..frames {
+                crate::interrupt::check()?;
                 cpu.step_frame(|t| motion.head(t));
             }
             cpu
@@ -247,6 +248,7 @@ impl Bench<'_> {
         let (warm, measured) = if self.quick { (1, 3) } else { (5, 60) };
         let (mut gpu_ms, mut wall_ms) = (Vec::new(), Vec::new());
         for frame in 0..warm + measured {
+            crate::interrupt::check()?;
             let start = Instant::now();
             let t = gpu.run_frames(&mut textures, 1, |t| motion.head(t))?;
             if frame >= warm {

@@ -45,6 +45,7 @@ impl Buffer {
                 unsafe { device.raw.destroy_buffer(raw, None) };
                 return Err(Error::Allocation {
                     name: name.into(),
+                    bytes: size,
                     source,
                 });
             }

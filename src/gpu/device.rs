@@ -97,6 +97,7 @@ impl Device {
                 unsafe { raw.destroy_device(None) };
                 return Err(Error::Allocation {
                     name: "allocator".into(),
+                    bytes: 0,
                     source,
                 });
             }

@@ -60,6 +60,7 @@ impl Image {
                 unsafe { device.raw.destroy_image(raw, None) };
                 return Err(Error::Allocation {
                     name: name.into(),
+                    bytes: requirements.size,
                     source,
                 });
             }

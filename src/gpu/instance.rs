@@ -14,6 +14,8 @@ const VALIDATION_LAYER: &CStr = c"VK_LAYER_KHRONOS_validation";
 #[derive(Debug, Default)]
 pub struct ValidationLog {
     messages: Mutex<Vec<String>>,
+    /// How many messages an error has already reported.
+    reported: std::sync::atomic::AtomicUsize,
 }
 
 impl ValidationLog {
@@ -142,6 +144,9 @@ impl Instance {
     /// An error if the validation layer reported anything so far.
     pub fn check_validation(&self) -> Result<()> {
         let messages = self.validation_messages();
+        self.log
+            .reported
+            .store(messages.len(), std::sync::atomic::Ordering::SeqCst);
         match messages.first() {
             None => Ok(()),
             Some(first) => Err(crate::Error::Validation {
@@ -167,6 +172,12 @@ impl Drop for Instance {
                 debug_utils.destroy_debug_utils_messenger(self.messenger, None);
             }
             self.raw.destroy_instance(None);
+        }
+        // What the layer said while the device was torn down (objects left alive, for
+        // one) comes after every check: say it here rather than lose it.
+        let reported = self.log.reported.load(std::sync::atomic::Ordering::SeqCst);
+        for message in self.log.messages().iter().skip(reported) {
+            eprintln!("validation at teardown: {message}");
         }
     }
 }

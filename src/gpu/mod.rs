@@ -25,6 +25,22 @@ pub use swapchain::{Surface, Swapchain};
 
 use crate::error::Result;
 
+/// Destroys the device and reports what outlived the work: a Vulkan object never
+/// released (it holds the device, which then cannot be destroyed), or anything the
+/// validation layer said, teardown included (its object tracker names every object
+/// still alive when the device goes).
+pub fn shut_down(device: Arc<Device>) -> Result<()> {
+    let instance = device.instance().clone();
+    let device_alive = Arc::downgrade(&device);
+    drop(device);
+    if device_alive.upgrade().is_some() {
+        return Err(crate::Error::Leak(
+            "an object still holds the Vulkan device at exit: something was never released".into(),
+        ));
+    }
+    instance.check_validation()
+}
+
 /// A headless context: instance plus device, ready for offscreen work.
 pub fn headless(validation: bool) -> Result<Arc<Device>> {
     let instance = Arc::new(Instance::new(&InstanceDesc {

@@ -48,8 +48,9 @@ impl Camera {
 
     /// Vulkan clip space: depth 0..1, y pointing down the framebuffer.
     pub fn projection(&self, aspect: f32) -> Mat4 {
-        let near = (self.distance * 0.01).max(1e-3);
-        let far = self.distance * 10.0 + 10.0;
+        // Both planes follow the distance, so a model of any size is framed alike.
+        let near = self.distance * 0.01;
+        let far = self.distance * 20.0;
         let mut proj = Mat4::perspective_rh(self.fov_y_deg.to_radians(), aspect, near, far);
         proj.y_axis.y = -proj.y_axis.y;
         proj

@@ -28,15 +28,28 @@ impl Mesh {
     }
 
     /// Loads an OBJ file (all its objects, triangulated). Normals come from the file
-    /// when every face has them, otherwise from area-weighted face normals.
+    /// when every face has them, otherwise from area-weighted face normals. A UTF-8
+    /// byte-order mark and bytes that are not UTF-8 (in comments and names, as some
+    /// exporters write them) are accepted.
     pub fn load_obj(path: &Path) -> Result<Self> {
         let error = |message: String| Error::Model {
             path: path.to_path_buf(),
             message,
         };
-        if !path.is_file() {
+        if path.is_dir() {
+            return Err(error("it is a folder, not an OBJ file".into()));
+        }
+        if !path.exists() {
             return Err(error("no such file".into()));
         }
+        let bytes = std::fs::read(path).map_err(|e| error(e.to_string()))?;
+        Self::parse_obj(&bytes).map_err(error)
+    }
+
+    /// Parses OBJ text (see [`Mesh::load_obj`]); the error says what is wrong.
+    pub fn parse_obj(bytes: &[u8]) -> std::result::Result<Self, String> {
+        let bytes = bytes.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(bytes);
+        let text = String::from_utf8_lossy(bytes);
         let options = tobj::LoadOptions {
             triangulate: true,
             single_index: false,
@@ -44,7 +57,10 @@ impl Mesh {
             ignore_lines: true,
         };
         let (models, _materials) =
-            tobj::load_obj(path, &options).map_err(|e| error(e.to_string()))?;
+            tobj::load_obj_buf(&mut std::io::Cursor::new(text.as_bytes()), &options, |_| {
+                Ok(Default::default())
+            })
+            .map_err(|e| format!("not a valid OBJ file ({e})"))?;
         let mut positions = Vec::new();
         let mut file_normals: Vec<Vec3> = Vec::new();
         let mut normal_indices: Vec<u32> = Vec::new();
@@ -53,10 +69,10 @@ impl Mesh {
         for model in &models {
             let m = &model.mesh;
             if m.positions.len() % 3 != 0 {
-                return Err(error(format!(
+                return Err(format!(
                     "object `{}` has a truncated position list",
                     model.name
-                )));
+                ));
             }
             let base = positions.len() as u32;
             let normal_base = file_normals.len() as u32;
@@ -72,24 +88,24 @@ impl Mesh {
             );
             for &i in &m.indices {
                 if (base + i) as usize >= positions.len() {
-                    return Err(error(format!(
+                    return Err(format!(
                         "object `{}` references vertex {} of {}",
                         model.name,
                         i + 1,
                         m.positions.len() / 3
-                    )));
+                    ));
                 }
                 indices.push(base + i);
             }
             if m.normal_indices.len() == m.indices.len() && !m.normals.is_empty() {
                 for &i in &m.normal_indices {
                     if i as usize >= m.normals.len() / 3 {
-                        return Err(error(format!(
+                        return Err(format!(
                             "object `{}` references normal {} of {}",
                             model.name,
                             i + 1,
                             m.normals.len() / 3
-                        )));
+                        ));
                     }
                     normal_indices.push(normal_base + i);
                 }
@@ -98,12 +114,10 @@ impl Mesh {
             }
         }
         if indices.is_empty() {
-            return Err(error(
-                "the file has no faces: fur grows from triangles".into(),
-            ));
+            return Err("the file has no faces: fur grows from triangles".into());
         }
         if let Some(p) = positions.iter().find(|p| !p.is_finite()) {
-            return Err(error(format!("a vertex position is not finite: {p}")));
+            return Err(format!("a vertex position is not finite: {p}"));
         }
         let normals = if all_faces_have_normals {
             let mut normals = vec![Vec3::ZERO; positions.len()];
@@ -121,10 +135,12 @@ impl Mesh {
         };
         mesh.drop_degenerate_triangles();
         if mesh.indices.is_empty() {
-            return Err(error("every face is degenerate (zero area)".into()));
+            return Err("every face is degenerate (zero area)".into());
         }
         mesh.compact();
-        if mesh.normals.is_empty() || mesh.normals.iter().any(|n| n.length_squared() < 1e-20) {
+        // A normal that cannot be normalised (zero, infinite or NaN: from broken `vn`
+        // lines or ones that cancel out) discards the file's normals.
+        if mesh.normals.is_empty() || mesh.normals.iter().any(|n| n.try_normalize().is_none()) {
             mesh.normals = mesh.face_weighted_normals();
         } else {
             mesh.normals.iter_mut().for_each(|n| *n = n.normalize());
@@ -146,10 +162,45 @@ impl Mesh {
             let (a, b, c) = (t[0] + 1, t[1] + 1, t[2] + 1);
             let _ = writeln!(text, "f {a}//{a} {b}//{b} {c}//{c}");
         }
-        std::fs::write(path, text).map_err(|e| Error::Model {
-            path: path.to_path_buf(),
-            message: e.to_string(),
-        })
+        std::fs::write(path, text).map_err(|e| Error::io("write the model to", path, e))
+    }
+
+    /// Bounding radii a model is drawn at as it is; outside, [`Mesh::normalize_scale`]
+    /// rescales it.
+    pub const SCALE_RANGE: (f32, f32) = (1e-3, 1e4);
+
+    /// Scales a model whose bounding radius is outside [`Mesh::SCALE_RANGE`] about its
+    /// centre to a radius of 1 (fur, camera and collision follow the model's size, but
+    /// the depth range and the simulation's forces need a sane one). Returns the factor
+    /// applied, if any.
+    pub fn normalize_scale(&mut self) -> Option<f32> {
+        let (centre, radius) = self.bounds();
+        let (lo, hi) = Self::SCALE_RANGE;
+        if (lo..=hi).contains(&radius) {
+            return None;
+        }
+        let factor = 1.0 / radius;
+        for p in &mut self.positions {
+            *p = (*p - centre) * factor + centre * factor;
+        }
+        Some(factor)
+    }
+
+    /// Flips the normals when most of them point into the model (an inside-out mesh:
+    /// fur would grow inwards). Returns whether it did.
+    pub fn orient_outwards(&mut self) -> bool {
+        let (centre, _) = self.bounds();
+        let outward: f32 = self
+            .positions
+            .iter()
+            .zip(&self.normals)
+            .map(|(p, n)| n.dot(*p - centre).signum())
+            .sum();
+        if outward >= 0.0 {
+            return false;
+        }
+        self.normals.iter_mut().for_each(|n| *n = -*n);
+        true
     }
 
     /// Removes triangles with repeated indices or zero area.
@@ -213,7 +264,9 @@ impl Mesh {
             (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN)),
             |(lo, hi), p| (lo.min(*p), hi.max(*p)),
         );
-        ((min + max) * 0.5, (max - min).length() * 0.5)
+        // In f64: the squared diagonal of a model 1e20 units across overflows f32.
+        let diagonal = (max.as_dvec3() - min.as_dvec3()).length();
+        ((min * 0.5 + max * 0.5), (diagonal * 0.5) as f32)
     }
 
     /// The number of distinct undirected edges.

@@ -29,6 +29,29 @@ impl ModelSpec {
         }
     }
 
+    /// Loads the model ready to grow fur on: scaled into [`Mesh::SCALE_RANGE`] and
+    /// turned right side out when needed, with a warning naming the model for each.
+    pub fn prepare(&self) -> Result<(Mesh, Vec<String>)> {
+        let mut mesh = self.load()?;
+        let mut warnings = Vec::new();
+        let (_, radius) = mesh.bounds();
+        if let Some(factor) = mesh.normalize_scale() {
+            warnings.push(format!(
+                "model {} has a bounding radius of {radius:e} units; it is drawn scaled by \
+                 {factor:e} to a radius of 1",
+                self.name()
+            ));
+        }
+        if mesh.orient_outwards() {
+            warnings.push(format!(
+                "model {}: most normals point into the model (inside out); they were flipped so \
+                 the fur grows outwards",
+                self.name()
+            ));
+        }
+        Ok((mesh, warnings))
+    }
+
     pub fn name(&self) -> String {
         match self {
             Self::Blob => "blob".into(),

@@ -62,7 +62,15 @@ pub fn run(options: ViewerOptions) -> Result<()> {
     event_loop
         .run_app(&mut app)
         .map_err(|e| Error::Window(format!("the window system failed: {e}")))?;
-    let viewer = app.viewer.take();
+    let mut viewer = app.viewer.take();
+    if let Some(v) = viewer.as_mut() {
+        // Frames still in flight may carry a screenshot: finish them all.
+        if let Err(e) = v.finish_all() {
+            if app.result.is_ok() {
+                app.result = Err(e);
+            }
+        }
+    }
     if let Some(v) = &viewer {
         if !v.frame_times.is_empty() {
             println!(
@@ -78,8 +86,14 @@ pub fn run(options: ViewerOptions) -> Result<()> {
     }
     // Destroying the viewer can report problems too: check after it is gone.
     let instance = viewer.as_ref().map(|v| v.device.instance().clone());
+    let device_alive = viewer.as_ref().map(|v| Arc::downgrade(&v.device));
     drop(viewer);
     app.result?;
+    if device_alive.is_some_and(|d| d.upgrade().is_some()) {
+        return Err(Error::Leak(
+            "an object still holds the Vulkan device after the viewer closed".into(),
+        ));
+    }
     instance.map_or(Ok(()), |i| i.check_validation())
 }
 
@@ -237,7 +251,10 @@ impl Viewer {
                 .map_err(|e| Error::Window(format!("cannot create a window: {e}")))?,
         );
         let (device, surface) = crate::gpu::windowed(options.validate, &*window)?;
-        let mesh = options.model.load()?;
+        let (mesh, warnings) = options.model.prepare()?;
+        for warning in warnings {
+            eprintln!("warning: {warning}");
+        }
         let (groom, mut settings) = options.scene.resolve(&mesh)?;
         // The HUD shows the hairs and segments drawn (two atomics per hair).
         settings.count_hairs = true;
@@ -512,6 +529,9 @@ impl Viewer {
 
     /// Renders one frame. Returns false when the viewer should close.
     fn frame(&mut self) -> Result<bool> {
+        if crate::interrupt::requested() {
+            return Ok(false);
+        }
         let actions: Vec<Action> = self.script.due(self.frame_index).cloned().collect();
         for action in &actions {
             self.apply(action);
@@ -733,6 +753,15 @@ impl Viewer {
             self.needs_resize = true;
         }
         Ok(true)
+    }
+
+    /// Waits for every frame in flight and finishes it (screenshots included).
+    fn finish_all(&mut self) -> Result<()> {
+        self.device.wait_idle()?;
+        for slot in 0..self.frames.len() {
+            self.finish_slot(slot)?;
+        }
+        Ok(())
     }
 
     /// After slot `slot`'s previous frame finished: HUD timings, screenshot, UI frees.

@@ -85,6 +85,18 @@ impl Script {
     }
 
     /// The actions due at `frame`.
+    /// Rejects steps that would never run in a viewer closing after `frames` frames
+    /// (steps run before the frame they name, frames counting from 0).
+    pub fn check_within(&self, frames: u64) -> Result<()> {
+        match self.events.iter().find(|(f, _)| *f >= frames) {
+            Some((f, action)) => Err(Error::Parameter(format!(
+                "script step at frame {f} ({action:?}) would never run: the viewer closes after \
+                 {frames} frames (--frames); steps run at frames 0..{frames}"
+            ))),
+            None => Ok(()),
+        }
+    }
+
     pub fn due(&self, frame: u64) -> impl Iterator<Item = &Action> {
         self.events
             .iter()

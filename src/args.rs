@@ -167,7 +167,7 @@ pub struct SimArgs {
     /// Fraction of a colliding vertex's sliding velocity removed per substep (0..1).
     #[arg(long, default_value_t = 0.1)]
     pub friction: f32,
-    /// Distance-field cells along the model's longest axis (8..=256); 0 chooses from the
+    /// Distance-field cells along the model's longest axis (8..=128); 0 chooses from the
     /// hair length (cells about a third of it, 16..=128).
     #[arg(long, default_value_t = 0)]
     pub sdf_resolution: u32,

@@ -146,3 +146,32 @@ impl<T> VkContext<T> for std::result::Result<T, vk::Result> {
         self.map_err(|result| Error::Vulkan { call, result })
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn memory_and_device_errors_say_what_and_how_big() {
+        let oom = Error::Allocation {
+            name: "target.color".into(),
+            bytes: 3 << 20,
+            source: gpu_allocator::AllocationError::OutOfMemory,
+        };
+        let text = oom.to_string();
+        assert!(
+            text.contains("3.0 MiB") && text.contains("target.color"),
+            "{text}"
+        );
+        let lost = Error::Vulkan {
+            call: "vkQueueSubmit",
+            result: vk::Result::ERROR_DEVICE_LOST,
+        };
+        assert!(lost.to_string().contains("stopped responding"), "{lost}");
+        let full = Error::Vulkan {
+            call: "vkAllocateMemory",
+            result: vk::Result::ERROR_OUT_OF_DEVICE_MEMORY,
+        };
+        assert!(full.to_string().contains("out of memory"), "{full}");
+    }
+}

@@ -286,3 +286,99 @@ fn nothing_is_left_alive_at_exit() {
     }
     assert!(png.exists() && !dir.join("one.png.partial").exists());
 }
+
+/// Sends SIGINT to a running `fur` once `ready` holds, and returns its exit status and
+/// how long it took to stop.
+fn interrupt(
+    args: &[&str],
+    ready: impl Fn() -> bool,
+) -> (Option<i32>, std::time::Duration, String) {
+    use std::time::{Duration, Instant};
+    let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_fur"))
+        .args(args)
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    let start = Instant::now();
+    while !ready() {
+        assert!(start.elapsed() < Duration::from_secs(60), "never got going");
+        assert!(
+            child.try_wait().unwrap().is_none(),
+            "ended before the signal"
+        );
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    let sent = Instant::now();
+    let kill = std::process::Command::new("kill")
+        .args(["-INT", &child.id().to_string()])
+        .status()
+        .unwrap();
+    assert!(kill.success());
+    loop {
+        if let Some(status) = child.try_wait().unwrap() {
+            let out = child.wait_with_output().unwrap();
+            return (
+                status.code(),
+                sent.elapsed(),
+                String::from_utf8_lossy(&out.stderr).into_owned(),
+            );
+        }
+        if sent.elapsed() > Duration::from_secs(20) {
+            let _ = child.kill();
+            panic!("still running 20 s after Ctrl-C");
+        }
+        std::thread::sleep(Duration::from_millis(10));
+    }
+}
+
+#[test]
+fn ctrl_c_stops_a_sequence_and_the_benchmark_cleanly() {
+    let dir = scratch("interrupted");
+    let _ = std::fs::remove_dir_all(&dir);
+    let args = [
+        "render",
+        "--frames",
+        "10000",
+        "--width",
+        "96",
+        "--height",
+        "64",
+        "--density-scale",
+        "0.1",
+        "--out-dir",
+        dir.to_str().unwrap(),
+    ];
+    let third = dir.join("frame_0002.png");
+    let (code, took, stderr) = interrupt(&args, || third.exists());
+    assert_eq!(code, Some(130), "{stderr}");
+    assert!(took.as_secs_f64() < 1.5, "took {took:?} to stop");
+    let names: Vec<String> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    assert!(
+        names.iter().all(|n| n.ends_with(".png")),
+        "half-written files: {names:?}"
+    );
+    assert!(
+        names.len() >= 3,
+        "frames already written were lost: {names:?}"
+    );
+    for name in &names {
+        let bytes = std::fs::read(dir.join(name)).unwrap();
+        assert!(bytes.starts_with(b"\x89PNG"), "{name} is not a whole PNG");
+    }
+
+    let bench = scratch("interrupted_bench");
+    let started = std::time::Instant::now();
+    let (code, took, stderr) = interrupt(
+        &["bench", "--quick", "--out-dir", bench.to_str().unwrap()],
+        || started.elapsed().as_secs_f64() > 3.0,
+    );
+    assert_eq!(code, Some(130), "{stderr}");
+    assert!(
+        took.as_secs_f64() < 2.0,
+        "the benchmark took {took:?} to stop"
+    );
+}

@@ -23,7 +23,7 @@ use crate::error::{Error, Result};
 use crate::scene::Mesh;
 
 /// Grid cells along the longest axis, at most and at least.
-pub const RESOLUTION_RANGE: (u32, u32) = (8, 256);
+pub const RESOLUTION_RANGE: (u32, u32) = (8, 128);
 
 /// A signed distance field on a regular grid of cubic cells.
 #[derive(Clone, Debug, PartialEq)]

@@ -289,6 +289,13 @@ fn render(args: &RenderArgs) -> anyhow::Result<()> {
     };
 
     let device = fur::gpu::headless(args.validate)?;
+    let masters = mesh.vertex_count();
+    if masters > 100_000 {
+        eprintln!(
+            "building the scene: {masters} master hairs of {} vertices…",
+            groom.vertices_per_strand()
+        );
+    }
     let mut session = FurSession::new(
         &device,
         mesh,
@@ -298,7 +305,15 @@ fn render(args: &RenderArgs) -> anyhow::Result<()> {
         settings,
         extent,
         1,
-    )?;
+    )
+    .with_context(|| {
+        format!(
+            "building the scene ({masters} master hairs of {} vertices, {}×{} image)",
+            groom.vertices_per_strand(),
+            args.width,
+            args.height
+        )
+    })?;
     if let Some(warning) = session
         .body
         .as_ref()
@@ -311,7 +326,9 @@ fn render(args: &RenderArgs) -> anyhow::Result<()> {
         render_sequence(args, &frames_dir, &mut session)?;
     } else {
         let start = Instant::now();
-        let (image, report) = session.render()?;
+        let (image, report) = session
+            .render()
+            .with_context(|| format!("drawing the frame ({}×{})", args.width, args.height))?;
         let elapsed = start.elapsed();
         image.write_png(&args.out)?;
         if report.counts.is_some_and(|c| c.hairs == 0) {

@@ -1,5 +1,6 @@
 //! The render passes: mesh (skin) and fur, into an offscreen target.
 
+mod bindings;
 mod fur_pass;
 mod image;
 mod mesh_pass;

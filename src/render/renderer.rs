@@ -10,6 +10,7 @@ use std::sync::Arc;
 
 use ash::vk;
 
+use super::bindings::{bindings, write_render_set};
 use super::fur_pass::{FurPass, Variant};
 use super::image::RgbaImage;
 use super::mesh_pass::MeshPass;
@@ -22,73 +23,6 @@ use crate::gpu::{
 };
 use crate::scene::Mesh;
 use crate::strand_textures::StrandTextures;
-
-/// Points one render descriptor set at its uniforms, position image, ownership masks
-/// and hair counters.
-fn write_render_set(
-    device: &Device,
-    set: vk::DescriptorSet,
-    uniforms: &Buffer,
-    positions: &crate::gpu::Image,
-    ownership: &Buffer,
-    counters: &Buffer,
-) {
-    let ubo = [vk::DescriptorBufferInfo::default()
-        .buffer(uniforms.raw())
-        .range(vk::WHOLE_SIZE)];
-    let image = [vk::DescriptorImageInfo::default()
-        .image_view(positions.view())
-        .image_layout(vk::ImageLayout::GENERAL)];
-    let owners = [vk::DescriptorBufferInfo::default()
-        .buffer(ownership.raw())
-        .range(vk::WHOLE_SIZE)];
-    let counts = [vk::DescriptorBufferInfo::default()
-        .buffer(counters.raw())
-        .range(vk::WHOLE_SIZE)];
-    let writes = [
-        vk::WriteDescriptorSet::default()
-            .dst_set(set)
-            .dst_binding(0)
-            .descriptor_type(vk::DescriptorType::UNIFORM_BUFFER)
-            .buffer_info(&ubo),
-        vk::WriteDescriptorSet::default()
-            .dst_set(set)
-            .dst_binding(1)
-            .descriptor_type(vk::DescriptorType::STORAGE_IMAGE)
-            .image_info(&image),
-        vk::WriteDescriptorSet::default()
-            .dst_set(set)
-            .dst_binding(2)
-            .descriptor_type(vk::DescriptorType::STORAGE_BUFFER)
-            .buffer_info(&owners),
-        vk::WriteDescriptorSet::default()
-            .dst_set(set)
-            .dst_binding(3)
-            .descriptor_type(vk::DescriptorType::STORAGE_BUFFER)
-            .buffer_info(&counts),
-    ];
-    unsafe { device.raw.update_descriptor_sets(&writes, &[]) };
-}
-
-/// Bindings of descriptor set 0 (see `shaders/common.glsl` and `shaders/fur.geom`).
-fn bindings() -> [(vk::DescriptorType, vk::ShaderStageFlags); 4] {
-    let hair_stages = vk::ShaderStageFlags::VERTEX
-        | vk::ShaderStageFlags::TESSELLATION_CONTROL
-        | vk::ShaderStageFlags::TESSELLATION_EVALUATION
-        | vk::ShaderStageFlags::GEOMETRY;
-    [
-        (
-            vk::DescriptorType::UNIFORM_BUFFER,
-            vk::ShaderStageFlags::ALL_GRAPHICS,
-        ),
-        (vk::DescriptorType::STORAGE_IMAGE, hair_stages),
-        (vk::DescriptorType::STORAGE_BUFFER, hair_stages),
-        (
-            vk::DescriptorType::STORAGE_BUFFER,
-            vk::ShaderStageFlags::GEOMETRY,
-        ),
-    ]
-}
 
 /// Timestamp slots: the frame's start (before its simulation), the passes' start, after
 /// the mesh pass, after the fur pass.

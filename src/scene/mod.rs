@@ -4,6 +4,7 @@ mod camera;
 mod groom;
 mod mesh;
 mod model;
+mod shapes;
 
 pub use camera::Camera;
 pub use groom::{hash_unit, GroomParams, Strands};

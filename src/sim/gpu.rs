@@ -10,11 +10,13 @@
 use std::sync::Arc;
 
 use ash::vk;
-use glam::{DMat4, Mat4, UVec4, Vec3, Vec4};
+use glam::{DMat4, UVec4, Vec3, Vec4};
 use gpu_allocator::MemoryLocation;
 
+use super::kernel::{after_dispatch, bindings, write_sim_set, GpuStep, SimStatic};
 use super::params::{SimParams, StepConstants};
 use super::sdf::Sdf;
+pub use super::steps::SimStep;
 use crate::error::{Error, Result};
 use crate::gpu::{
     memory_barrier, Buffer, DescriptorPool, DescriptorSetLayout, Device, Pipeline, PipelineLayout,
@@ -28,169 +30,6 @@ const GROUP_SIZE: u32 = 64;
 pub const MAX_VERTICES: u32 = 64;
 /// Substeps whose constants fit in the step buffer: one submission's worth.
 const STEP_CAPACITY: usize = 1024;
-
-/// `SimStatic` in `shaders/sim_common.glsl` (std140).
-#[repr(C)]
-#[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
-struct SimStatic {
-    stiffness: Vec4,
-    counts: UVec4,
-    counts2: UVec4,
-    collision: Vec4,
-    sdf_origin: Vec4,
-    sdf_dims: UVec4,
-}
-
-/// `Step` in `shaders/sim_common.glsl` (std430).
-#[repr(C)]
-#[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
-struct GpuStep {
-    head: Mat4,
-    head_inverse: Mat4,
-    gravity_h2: Vec4,
-    wind_h2: [Vec4; 4],
-}
-
-impl From<&StepConstants> for GpuStep {
-    fn from(c: &StepConstants) -> Self {
-        Self {
-            head: c.head,
-            head_inverse: c.head_inverse,
-            gravity_h2: c.gravity_h2.extend(c.velocity_retention),
-            wind_h2: c.wind_h2.map(|w| w.extend(0.0)),
-        }
-    }
-}
-
-/// The named steps of a substep, in the order `simulate.comp` runs them.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum SimStep {
-    Integrate,
-    Global,
-    Local,
-    Length,
-    Wind,
-    Collision,
-}
-
-impl SimStep {
-    pub const ALL: [SimStep; 6] = [
-        Self::Integrate,
-        Self::Global,
-        Self::Local,
-        Self::Length,
-        Self::Wind,
-        Self::Collision,
-    ];
-
-    pub fn name(self) -> &'static str {
-        match self {
-            Self::Integrate => "integrate",
-            Self::Global => "global shape",
-            Self::Local => "local shape",
-            Self::Length => "edge length",
-            Self::Wind => "wind",
-            Self::Collision => "collision",
-        }
-    }
-
-    /// This step's bit in the kernel's `STEPS` specialization constant.
-    pub fn bit(self) -> u32 {
-        1 << self as u32
-    }
-
-    /// Whether `params` make this step do anything (collision also needs a body).
-    pub fn needed(self, params: &SimParams, vertices: u32, has_body: bool) -> bool {
-        match self {
-            Self::Integrate => true,
-            Self::Global => params.global_cutoff(vertices) > 0,
-            Self::Local => params.local_stiffness > 0.0 && params.local_iterations > 0,
-            Self::Length => params.length_iterations > 0,
-            Self::Wind => params.wind_enabled(),
-            Self::Collision => params.collision && has_body,
-        }
-    }
-}
-
-fn bindings() -> [(vk::DescriptorType, vk::ShaderStageFlags); 8] {
-    let c = vk::ShaderStageFlags::COMPUTE;
-    [
-        (vk::DescriptorType::UNIFORM_BUFFER, c),
-        (vk::DescriptorType::STORAGE_BUFFER, c),
-        (vk::DescriptorType::STORAGE_IMAGE, c),
-        (vk::DescriptorType::STORAGE_IMAGE, c),
-        (vk::DescriptorType::STORAGE_BUFFER, c),
-        (vk::DescriptorType::STORAGE_IMAGE, c),
-        (vk::DescriptorType::STORAGE_IMAGE, c),
-        (vk::DescriptorType::STORAGE_BUFFER, c),
-    ]
-}
-
-/// Makes a dispatch's storage writes visible to the next dispatch (a pipeline barrier
-/// between dependent compute steps).
-fn after_dispatch(device: &Device, cmd: vk::CommandBuffer) {
-    let compute = vk::PipelineStageFlags2::COMPUTE_SHADER;
-    memory_barrier(
-        device,
-        cmd,
-        (compute, vk::AccessFlags2::SHADER_STORAGE_WRITE),
-        (
-            compute,
-            vk::AccessFlags2::SHADER_STORAGE_READ | vk::AccessFlags2::SHADER_STORAGE_WRITE,
-        ),
-    );
-}
-
-/// Points simulation descriptor set `k` (current = `positions[k]`) at its resources.
-fn write_sim_set(
-    device: &Device,
-    set: vk::DescriptorSet,
-    k: usize,
-    statics: &Buffer,
-    steps: &Buffer,
-    textures: &StrandTextures,
-    body: &Buffer,
-) {
-    let bindings = bindings();
-    let buffer = |b: &Buffer| {
-        [vk::DescriptorBufferInfo::default()
-            .buffer(b.raw())
-            .range(vk::WHOLE_SIZE)]
-    };
-    let image = |i: &crate::gpu::Image| {
-        [vk::DescriptorImageInfo::default()
-            .image_view(i.view())
-            .image_layout(vk::ImageLayout::GENERAL)]
-    };
-    let (b0, b1, b4, b7) = (
-        buffer(statics),
-        buffer(steps),
-        buffer(&textures.root_frames),
-        buffer(body),
-    );
-    let (i2, i3) = (image(&textures.rest), image(&textures.rest_local));
-    let (i5, i6) = (
-        image(&textures.positions[1 - k]),
-        image(&textures.positions[k]),
-    );
-    let write = |binding: u32| {
-        vk::WriteDescriptorSet::default()
-            .dst_set(set)
-            .dst_binding(binding)
-            .descriptor_type(bindings[binding as usize].0)
-    };
-    let writes = [
-        write(0).buffer_info(&b0),
-        write(1).buffer_info(&b1),
-        write(2).image_info(&i2),
-        write(3).image_info(&i3),
-        write(4).buffer_info(&b4),
-        write(5).image_info(&i5),
-        write(6).image_info(&i6),
-        write(7).buffer_info(&b7),
-    ];
-    unsafe { device.raw.update_descriptor_sets(&writes, &[]) };
-}
 
 /// GPU simulation state for one set of strand textures.
 pub struct GpuSim {

@@ -2,15 +2,19 @@
 //! compute-shader implementation.
 
 pub mod cpu;
+mod math;
 mod motion;
 mod params;
 mod rest;
 pub mod sdf;
+mod steps;
 
-pub use cpu::{CpuSim, Real, V3};
+pub use cpu::CpuSim;
+pub use math::{Real, M3, V3};
 pub use motion::{Motion, MotionKind};
 pub use params::{SimParams, StepConstants};
 pub use rest::RestPose;
 pub use sdf::{Sdf, SdfReport};
 mod gpu;
+mod kernel;
 pub use gpu::{GpuSim, SimStep, MAX_VERTICES};

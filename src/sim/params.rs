@@ -6,6 +6,9 @@ use glam::{DMat4, DVec3, Vec3};
 
 use crate::error::{Error, Result};
 
+/// Cells along the longest axis a body's distance field may have, at least and at most.
+pub const SDF_RESOLUTION_RANGE: (u32, u32) = (8, 128);
+
 /// Han & Harada strand simulation parameters. Units: metres, seconds.
 #[derive(Clone, Debug, PartialEq)]
 pub struct SimParams {
@@ -98,7 +101,7 @@ impl SimParams {
         range("wind cone angle", self.wind_cone_deg, 0.0, 90.0)?;
         range("collision margin", self.collision_margin, 0.0, 1.0)?;
         range("friction", self.friction, 0.0, 1.0)?;
-        let (lo, hi) = super::sdf::RESOLUTION_RANGE;
+        let (lo, hi) = SDF_RESOLUTION_RANGE;
         if self.sdf_resolution != 0 && !(lo..=hi).contains(&self.sdf_resolution) {
             return Err(Error::Parameter(format!(
                 "the distance field's resolution must be 0 (from the model) or {lo}..={hi}, got {}",

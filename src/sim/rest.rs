@@ -6,7 +6,7 @@
 //! (from vertex `i` to `i + 1`): its rest vector in frame `i` is `vᵢ = Fᵢᵀ (xᵢ₊₁ − xᵢ)`,
 //! and the next frame turns the x axis onto that segment, `Fᵢ₊₁ = Fᵢ · R(x → v̂ᵢ)`.
 
-use super::cpu::{min_length, Head, Real, M3, V3};
+use super::math::{min_length, Head, Real, M3, V3};
 use crate::scene::Strands;
 
 /// Rest data for all strands, in model space.

@@ -18,12 +18,11 @@ use std::collections::HashMap;
 use glam::Vec3;
 use mesh_to_sdf::{generate_grid_sdf, Grid, SignMethod, Topology};
 
-use super::cpu::{Real, V3};
+use super::math::{Real, V3};
 use crate::error::{Error, Result};
 use crate::scene::Mesh;
 
-/// Grid cells along the longest axis, at most and at least.
-pub const RESOLUTION_RANGE: (u32, u32) = (8, 128);
+pub use super::params::SDF_RESOLUTION_RANGE as RESOLUTION_RANGE;
 
 /// A signed distance field on a regular grid of cubic cells.
 #[derive(Clone, Debug, PartialEq)]
@@ -202,7 +201,7 @@ impl Sdf {
     /// padded by the hair length, at `params`' resolution.
     pub fn for_hair(
         mesh: &Mesh,
-        params: &super::SimParams,
+        params: &super::params::SimParams,
         hair_length: f32,
     ) -> Result<(Self, SdfReport)> {
         let (min, max) = mesh.positions.iter().fold(

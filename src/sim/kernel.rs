@@ -1,0 +1,123 @@
+//! The simulation kernel's interface as the CPU sees it: its descriptor bindings, the
+//! layouts of its uniform block and per-substep constants (`shaders/sim_common.glsl`),
+//! and the barrier between dependent dispatches.
+
+use ash::vk;
+use glam::{Mat4, UVec4, Vec4};
+
+use super::params::StepConstants;
+use crate::gpu::{memory_barrier, Buffer, Device};
+use crate::strand_textures::StrandTextures;
+
+/// `SimStatic` in `shaders/sim_common.glsl` (std140).
+#[repr(C)]
+#[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
+pub(super) struct SimStatic {
+    pub(super) stiffness: Vec4,
+    pub(super) counts: UVec4,
+    pub(super) counts2: UVec4,
+    pub(super) collision: Vec4,
+    pub(super) sdf_origin: Vec4,
+    pub(super) sdf_dims: UVec4,
+}
+
+/// `Step` in `shaders/sim_common.glsl` (std430).
+#[repr(C)]
+#[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
+pub(super) struct GpuStep {
+    pub(super) head: Mat4,
+    pub(super) head_inverse: Mat4,
+    pub(super) gravity_h2: Vec4,
+    pub(super) wind_h2: [Vec4; 4],
+}
+
+impl From<&StepConstants> for GpuStep {
+    fn from(c: &StepConstants) -> Self {
+        Self {
+            head: c.head,
+            head_inverse: c.head_inverse,
+            gravity_h2: c.gravity_h2.extend(c.velocity_retention),
+            wind_h2: c.wind_h2.map(|w| w.extend(0.0)),
+        }
+    }
+}
+
+pub(super) fn bindings() -> [(vk::DescriptorType, vk::ShaderStageFlags); 8] {
+    let c = vk::ShaderStageFlags::COMPUTE;
+    [
+        (vk::DescriptorType::UNIFORM_BUFFER, c),
+        (vk::DescriptorType::STORAGE_BUFFER, c),
+        (vk::DescriptorType::STORAGE_IMAGE, c),
+        (vk::DescriptorType::STORAGE_IMAGE, c),
+        (vk::DescriptorType::STORAGE_BUFFER, c),
+        (vk::DescriptorType::STORAGE_IMAGE, c),
+        (vk::DescriptorType::STORAGE_IMAGE, c),
+        (vk::DescriptorType::STORAGE_BUFFER, c),
+    ]
+}
+
+/// Makes a dispatch's storage writes visible to the next dispatch (a pipeline barrier
+/// between dependent compute steps).
+pub(super) fn after_dispatch(device: &Device, cmd: vk::CommandBuffer) {
+    let compute = vk::PipelineStageFlags2::COMPUTE_SHADER;
+    memory_barrier(
+        device,
+        cmd,
+        (compute, vk::AccessFlags2::SHADER_STORAGE_WRITE),
+        (
+            compute,
+            vk::AccessFlags2::SHADER_STORAGE_READ | vk::AccessFlags2::SHADER_STORAGE_WRITE,
+        ),
+    );
+}
+
+/// Points simulation descriptor set `k` (current = `positions[k]`) at its resources.
+pub(super) fn write_sim_set(
+    device: &Device,
+    set: vk::DescriptorSet,
+    k: usize,
+    statics: &Buffer,
+    steps: &Buffer,
+    textures: &StrandTextures,
+    body: &Buffer,
+) {
+    let bindings = bindings();
+    let buffer = |b: &Buffer| {
+        [vk::DescriptorBufferInfo::default()
+            .buffer(b.raw())
+            .range(vk::WHOLE_SIZE)]
+    };
+    let image = |i: &crate::gpu::Image| {
+        [vk::DescriptorImageInfo::default()
+            .image_view(i.view())
+            .image_layout(vk::ImageLayout::GENERAL)]
+    };
+    let (b0, b1, b4, b7) = (
+        buffer(statics),
+        buffer(steps),
+        buffer(&textures.root_frames),
+        buffer(body),
+    );
+    let (i2, i3) = (image(&textures.rest), image(&textures.rest_local));
+    let (i5, i6) = (
+        image(&textures.positions[1 - k]),
+        image(&textures.positions[k]),
+    );
+    let write = |binding: u32| {
+        vk::WriteDescriptorSet::default()
+            .dst_set(set)
+            .dst_binding(binding)
+            .descriptor_type(bindings[binding as usize].0)
+    };
+    let writes = [
+        write(0).buffer_info(&b0),
+        write(1).buffer_info(&b1),
+        write(2).image_info(&i2),
+        write(3).image_info(&i3),
+        write(4).buffer_info(&b4),
+        write(5).image_info(&i5),
+        write(6).image_info(&i6),
+        write(7).buffer_info(&b7),
+    ];
+    unsafe { device.raw.update_descriptor_sets(&writes, &[]) };
+}

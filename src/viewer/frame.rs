@@ -1,0 +1,394 @@
+//! The viewer's frame loop: the swapchain, one frame's simulation and drawing, what a
+//! finished frame reports (timings, screenshots), and the panel's changes applied
+//! between frames.
+
+use std::time::{Duration, Instant};
+
+use ash::vk;
+use glam::DVec3;
+
+use super::input::controls_view;
+use super::script::Action;
+use super::{ui, Viewer, FRAMES_IN_FLIGHT};
+use crate::error::{Error, Result, VkContext};
+use crate::gpu::{image_barriers, Swapchain};
+use crate::session::FurSession;
+
+impl Viewer {
+    /// The window's drawable size; zero while minimised.
+    pub(super) fn drawable(&self) -> vk::Extent2D {
+        let size = self.window.inner_size();
+        if self.window.is_minimized() == Some(true) {
+            return vk::Extent2D::default();
+        }
+        vk::Extent2D {
+            width: size.width,
+            height: size.height,
+        }
+    }
+
+    pub(super) fn recreate_swapchain(&mut self) -> Result<bool> {
+        let extent = self.drawable();
+        if extent.width == 0 || extent.height == 0 {
+            return Ok(false);
+        }
+        self.device.wait_idle()?;
+        let old = self.swapchain.take();
+        let swapchain = Swapchain::new(
+            &self.device,
+            &self.surface,
+            extent,
+            self.vsync,
+            old.as_ref(),
+        )?;
+        drop(old);
+        self.session.renderer.resize(swapchain.extent)?;
+        self.swapchain = Some(swapchain);
+        self.needs_resize = false;
+        Ok(true)
+    }
+
+    /// Renders one frame. Returns false when the viewer should close.
+    pub(super) fn frame(&mut self) -> Result<bool> {
+        if crate::interrupt::requested() {
+            return Ok(false);
+        }
+        let actions: Vec<Action> = self.script.due(self.frame_index).cloned().collect();
+        for action in &actions {
+            self.apply(action);
+        }
+        if let Some(limit) = self.frame_limit {
+            if self.frame_index >= limit {
+                return Ok(false);
+            }
+        }
+        self.frame_index += 1;
+        let now = Instant::now();
+        let dt = now.duration_since(self.last_frame).as_secs_f64();
+        self.last_frame = now;
+        self.hud.frame_ms = if self.hud.frame_ms == 0.0 {
+            dt * 1e3
+        } else {
+            self.hud.frame_ms * 0.9 + dt * 1e3 * 0.1
+        };
+        self.hud_dt = dt;
+        if self.frame_index > 1 {
+            self.frame_times.push(dt * 1e3);
+        }
+
+        let extent = self.drawable();
+        if extent.width == 0 || extent.height == 0 {
+            // Minimised: nothing to draw into. Keep counting frames so --frames ends.
+            std::thread::sleep(Duration::from_millis(10));
+            return Ok(true);
+        }
+        let current = self.swapchain.as_ref().map(|s| s.extent);
+        if (self.needs_resize || current != Some(extent)) && !self.recreate_swapchain()? {
+            return Ok(true);
+        }
+
+        let slot = (self.frame_index % FRAMES_IN_FLIGHT as u64) as usize;
+        self.device.wait_fence(self.frames[slot].fence)?;
+        self.finish_slot(slot)?;
+
+        let swapchain = self
+            .swapchain
+            .as_ref()
+            .expect("swapchain exists while drawing");
+        let Some(image_index) = swapchain.acquire(self.frames[slot].image_available)? else {
+            self.needs_resize = true;
+            return Ok(true);
+        };
+
+        // UI, then the parameter changes it asked for (some need an idle device).
+        let raw_input = self.egui_state.take_egui_input(&self.window);
+        let mut changes = ui::Changes::default();
+        let egui_ctx = self.egui_ctx.clone();
+        let mut output = egui_ctx.run_ui(raw_input, |root| {
+            let mut view = controls_view(&mut self.controls);
+            changes = self
+                .ui
+                .show(root.ctx(), &mut self.session, &self.hud, &mut view);
+        });
+        self.egui_state
+            .handle_platform_output(&self.window, std::mem::take(&mut output.platform_output));
+        self.apply_changes(changes)?;
+        self.update_scene();
+        if self.session.settings.style.samples != self.session.renderer.target.samples {
+            // The target and every pipeline are rebuilt: nothing may be in flight.
+            self.device.wait_idle()?;
+        }
+
+        let frame = &mut self.frames[slot];
+        let mut textures = std::mem::take(&mut output.textures_delta);
+        for (id, deltas) in textures.set.drain() {
+            for delta in &deltas {
+                self.egui_renderer
+                    .set_texture(self.device.queue, self.upload_pool, id, delta)
+                    .map_err(|e| Error::Window(format!("UI texture upload failed: {e}")))?;
+            }
+        }
+        // Freed after this frame has finished (see finish_slot).
+        frame.free_textures = textures.free.drain().collect();
+        let primitives = self
+            .egui_ctx
+            .tessellate(output.shapes, output.pixels_per_point);
+
+        // Fixed simulation steps, decoupled from the frame rate: as many 1/60 s steps as
+        // wall-clock time has accumulated (at most 4 per frame, so a slow device slows
+        // the simulation down rather than spiralling); one when single-stepping.
+        let dt = f64::from(self.session.sim.params().dt);
+        let sim_frames = if self.controls.paused {
+            self.sim_clock = 0.0;
+            usize::from(std::mem::take(&mut self.controls.single_step))
+        } else if self.frame_limit.is_some() {
+            // Counted runs (tests, benchmarks) step exactly once per frame.
+            1
+        } else {
+            self.sim_clock = (self.sim_clock + self.hud_dt).min(4.0 * dt);
+            let n = (self.sim_clock / dt).floor() as usize;
+            self.sim_clock -= n as f64 * dt;
+            n
+        };
+        let simulate = sim_frames > 0;
+        let screenshot = if std::mem::take(&mut self.controls.screenshot_requested) {
+            self.screenshots_taken += 1;
+            Some(
+                self.screenshot_dir
+                    .join(format!("fur_screenshot_{:03}.png", self.screenshots_taken)),
+            )
+        } else {
+            self.ui.pending_screenshot.take()
+        };
+
+        let d = self.device.clone();
+        let raw = &d.raw;
+        let frame = &mut self.frames[slot];
+        let cmd = frame.cmd;
+        unsafe {
+            raw.reset_fences(&[frame.fence]).vk("vkResetFences")?;
+            raw.reset_command_buffer(cmd, vk::CommandBufferResetFlags::empty())
+                .vk("vkResetCommandBuffer")?;
+            raw.begin_command_buffer(
+                cmd,
+                &vk::CommandBufferBeginInfo::default()
+                    .flags(vk::CommandBufferUsageFlags::ONE_TIME_SUBMIT),
+            )
+            .vk("vkBeginCommandBuffer")?;
+        }
+        frame.simulated = simulate;
+        frame.screenshot = screenshot.clone();
+        self.session.record_frame(cmd, slot, sim_frames)?;
+        let target = &self.session.renderer.target;
+        target.finish(&d, cmd);
+        if screenshot.is_some() {
+            target.copy_to_readback(&d, cmd);
+        }
+        let swapchain = self
+            .swapchain
+            .as_ref()
+            .expect("swapchain exists while drawing");
+        let image = swapchain.images[image_index as usize];
+        let barrier = |src, dst, old, new| {
+            crate::gpu::image_barrier(image, vk::ImageAspectFlags::COLOR, src, dst, old, new)
+        };
+        let blit = (
+            vk::PipelineStageFlags2::BLIT,
+            vk::AccessFlags2::TRANSFER_WRITE,
+        );
+        let attachment = (
+            vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT,
+            vk::AccessFlags2::COLOR_ATTACHMENT_WRITE | vk::AccessFlags2::COLOR_ATTACHMENT_READ,
+        );
+        // The acquire semaphore is waited at ALL_COMMANDS, so this barrier chains to it.
+        image_barriers(
+            &d,
+            cmd,
+            &[barrier(
+                (
+                    vk::PipelineStageFlags2::ALL_COMMANDS,
+                    vk::AccessFlags2::NONE,
+                ),
+                blit,
+                vk::ImageLayout::UNDEFINED,
+                vk::ImageLayout::TRANSFER_DST_OPTIMAL,
+            )],
+        );
+        target.blit_to(&d, cmd, image);
+        image_barriers(
+            &d,
+            cmd,
+            &[barrier(
+                blit,
+                attachment,
+                vk::ImageLayout::TRANSFER_DST_OPTIMAL,
+                vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
+            )],
+        );
+        let color = [vk::RenderingAttachmentInfo::default()
+            .image_view(swapchain.views[image_index as usize])
+            .image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
+            .load_op(vk::AttachmentLoadOp::LOAD)
+            .store_op(vk::AttachmentStoreOp::STORE)];
+        let rendering = vk::RenderingInfo::default()
+            .render_area(swapchain.extent.into())
+            .layer_count(1)
+            .color_attachments(&color);
+        d.begin_label(cmd, "ui");
+        unsafe { raw.cmd_begin_rendering(cmd, &rendering) };
+        self.egui_renderer
+            .cmd_draw(cmd, swapchain.extent, output.pixels_per_point, &primitives)
+            .map_err(|e| Error::Window(format!("UI drawing failed: {e}")))?;
+        unsafe { raw.cmd_end_rendering(cmd) };
+        d.end_label(cmd);
+        image_barriers(
+            &d,
+            cmd,
+            &[barrier(
+                (
+                    vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT,
+                    vk::AccessFlags2::COLOR_ATTACHMENT_WRITE,
+                ),
+                (vk::PipelineStageFlags2::NONE, vk::AccessFlags2::NONE),
+                vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
+                vk::ImageLayout::PRESENT_SRC_KHR,
+            )],
+        );
+        unsafe { raw.end_command_buffer(cmd) }.vk("vkEndCommandBuffer")?;
+
+        let frame = &mut self.frames[slot];
+        let wait = [vk::SemaphoreSubmitInfo::default()
+            .semaphore(frame.image_available)
+            .stage_mask(vk::PipelineStageFlags2::ALL_COMMANDS)];
+        let signal = [vk::SemaphoreSubmitInfo::default()
+            .semaphore(swapchain.render_finished[image_index as usize])
+            .stage_mask(vk::PipelineStageFlags2::ALL_COMMANDS)];
+        let cmds = [vk::CommandBufferSubmitInfo::default().command_buffer(cmd)];
+        let submit = vk::SubmitInfo2::default()
+            .wait_semaphore_infos(&wait)
+            .command_buffer_infos(&cmds)
+            .signal_semaphore_infos(&signal);
+        unsafe { raw.queue_submit2(d.queue, &[submit], frame.fence) }.vk("vkQueueSubmit2")?;
+        frame.submitted = true;
+        if !swapchain.present(image_index)? {
+            self.needs_resize = true;
+        }
+        Ok(true)
+    }
+
+    /// Waits for every frame in flight and finishes it (screenshots included).
+    pub(super) fn finish_all(&mut self) -> Result<()> {
+        self.device.wait_idle()?;
+        for slot in 0..self.frames.len() {
+            self.finish_slot(slot)?;
+        }
+        Ok(())
+    }
+
+    /// After slot `slot`'s previous frame finished: HUD timings, screenshot, UI frees.
+    pub(super) fn finish_slot(&mut self, slot: usize) -> Result<()> {
+        let frame = &mut self.frames[slot];
+        if !frame.submitted {
+            return Ok(());
+        }
+        frame.submitted = false;
+        let textures = std::mem::take(&mut frame.free_textures);
+        let screenshot = frame.screenshot.take();
+        let simulated = frame.simulated;
+        for id in textures {
+            self.egui_renderer
+                .free_texture(id)
+                .map_err(|e| Error::Window(format!("UI texture free failed: {e}")))?;
+        }
+        let timings = self.session.timings(slot, simulated)?;
+        if simulated {
+            self.hud.sim_ms = timings.simulation_ms;
+        }
+        self.hud.gpu_frame_ms = timings.render.frame_ms;
+        if let Some(s) = timings.render.statistics {
+            self.hud.points = s.tess_eval_invocations;
+        }
+        if let Some(c) = timings.render.counts {
+            self.hud.hairs = c.hairs;
+            self.hud.segments = c.segments;
+        }
+        if let Some(path) = screenshot {
+            self.session.renderer.target.pixels().write_png(&path)?;
+            log::info!("screenshot written to {}", path.display());
+            println!("screenshot: {}", path.display());
+        }
+        Ok(())
+    }
+
+    /// Rebuilds or re-parameterises the scene as the panel asked.
+    pub(super) fn apply_changes(&mut self, changes: ui::Changes) -> Result<()> {
+        if let Some(scene) = changes.groom {
+            let (groom, mut settings) = scene.resolve(&self.mesh)?;
+            let old = &self.session.settings;
+            settings.camera = old.camera;
+            settings.lighting = old.lighting.clone();
+            // The groom sets the model-scaled density and widths; every drawing choice
+            // made in the panel stays.
+            let scaled = settings.style;
+            settings.style = crate::render::FurStyle {
+                density: scaled.density,
+                hair_width: scaled.hair_width,
+                jitter: scaled.jitter,
+                ..old.style.clone()
+            };
+            self.rebuild_session(&groom, settings)?;
+            self.scene = scene;
+        }
+        if let Some(params) = changes.sim {
+            self.device.wait_idle()?;
+            if params.collision && self.session.body.is_none() {
+                // Collision was off when the scene was built: build the body's field.
+                let (groom, _) = self.scene.resolve(&self.mesh)?;
+                let settings = self.session.settings.clone();
+                self.session
+                    .sim
+                    .set_params(params, &self.session.textures)?;
+                self.rebuild_session(&groom, settings)?;
+            } else {
+                self.session
+                    .sim
+                    .set_params(params, &self.session.textures)?;
+            }
+        }
+        if std::mem::take(&mut self.ui.reset_requested) {
+            let (groom, _) = self.scene.resolve(&self.mesh)?;
+            self.rebuild_session(&groom, self.session.settings.clone())?;
+            self.controls.model_offset = DVec3::ZERO;
+            self.controls.model_yaw = 0.0;
+        }
+        Ok(())
+    }
+
+    /// Regrows the hairs and restarts the simulation (keeping its parameters and the
+    /// motion), once every frame in flight has finished.
+    pub(super) fn rebuild_session(
+        &mut self,
+        groom: &crate::scene::GroomParams,
+        settings: crate::render::FrameSettings,
+    ) -> Result<()> {
+        self.device.wait_idle()?;
+        let extent = self.session.renderer.target.extent;
+        let sim = self.session.sim.params().clone();
+        self.session = FurSession::new(
+            &self.device,
+            self.mesh.clone(),
+            groom,
+            sim,
+            self.session.motion,
+            settings,
+            extent,
+            FRAMES_IN_FLIGHT,
+        )?;
+        self.hud.masters = self.session.strands.count();
+        // The new session's query pools hold nothing yet.
+        for frame in &mut self.frames {
+            frame.submitted = false;
+        }
+        Ok(())
+    }
+}

@@ -36,7 +36,7 @@ enum Command {
     /// Open a window: live simulation, orbit camera, parameter panel, stage timings.
     View(ViewArgs),
     /// Measure stage costs, the speed/accuracy trade, scaling and savings on this device;
-    /// writes results.csv, results.md and PNG charts.
+    /// writes results.csv, results.md and SVG charts.
     Bench {
         /// A small suite that finishes in seconds (for CI).
         #[arg(long)]

@@ -122,9 +122,12 @@ fn quick_bench_writes_every_expected_measurement() {
     let md = std::fs::read_to_string(dir.join("results.md")).unwrap();
     assert!(md.contains("| iterations | substeps |"));
     assert!(md.contains("| setting | frame ms | ꟻLIP | RMSE |"));
-    for chart in ["sim_pareto.png", "render_pareto.png", "sim_scaling.png"] {
-        let bytes = std::fs::read(dir.join(chart)).unwrap();
-        assert_eq!(&bytes[1..4], b"PNG", "{chart} is not a PNG");
+    for chart in ["sim_pareto.svg", "render_pareto.svg", "sim_scaling.svg"] {
+        let svg = std::fs::read_to_string(dir.join(chart)).unwrap();
+        assert!(
+            svg.starts_with("<svg") && svg.contains("<circle"),
+            "{chart} is not a chart"
+        );
     }
 }
 

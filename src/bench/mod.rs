@@ -142,7 +142,8 @@ impl Report {
         std::fs::write(dir.join("results.csv"), csv).map_err(io("results.csv"))?;
         std::fs::write(dir.join("results.md"), &self.markdown).map_err(io("results.md"))?;
         for (name, plot) in &self.plots {
-            plot.render().write_png(&dir.join(name))?;
+            let path = dir.join(name);
+            std::fs::write(&path, plot.render()?).map_err(|e| Error::io("write", &path, e))?;
         }
         Ok(())
     }

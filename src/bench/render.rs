@@ -213,18 +213,18 @@ impl Bench<'_> {
             }
             self.md.push('\n');
             series.push(Series {
-                name: scene.to_uppercase(),
+                name: scene.to_string(),
                 points: points.iter().map(|p| (p.1, p.2)).collect(),
                 color: PALETTE[k % PALETTE.len()],
                 line: false,
             });
         }
         self.plots.push((
-            "render_pareto.png",
+            "render_pareto.svg",
             Plot {
-                title: "RENDERING: FLIP VS FRAME TIME PER SETTING".into(),
-                x_label: "FRAME MS".into(),
-                y_label: "FLIP VS SUPERSAMPLED REFERENCE".into(),
+                title: "Rendering: ꟻLIP against frame time, one point per setting".into(),
+                x_label: "frame ms (wall clock)".into(),
+                y_label: "ꟻLIP against the supersampled reference".into(),
                 log_x: true,
                 log_y: true,
                 series,

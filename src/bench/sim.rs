@@ -198,13 +198,13 @@ impl Bench<'_> {
         let highlight = points
             .iter()
             .find(|p| p.0 == DEFAULT_ITERATIONS && p.1 == DEFAULT_SUBSTEPS)
-            .map(|p| (p.2, p.3, "DEFAULT".to_string()));
+            .map(|p| (p.2, p.3, "default".to_string()));
         self.plots.push((
-            "sim_pareto.png",
+            "sim_pareto.svg",
             Plot {
-                title: "SIMULATION: ERROR VS COST (1,2,4.. ITERATIONS)".into(),
-                x_label: "GPU MS PER FRAME".into(),
-                y_label: "MEAN ERROR / HAIR LENGTH".into(),
+                title: "Simulation: error against cost (1, 2, 4… iterations)".into(),
+                x_label: "ms per frame".into(),
+                y_label: "mean error / hair length".into(),
                 log_x: true,
                 log_y: true,
                 series,
@@ -335,15 +335,15 @@ impl Bench<'_> {
         }
         self.md.push('\n');
         self.plots.push((
-            "sim_scaling.png",
+            "sim_scaling.svg",
             Plot {
-                title: "SIMULATION: COST PER STRAND".into(),
-                x_label: "MASTER STRANDS".into(),
-                y_label: "NS PER STRAND PER FRAME".into(),
+                title: "Simulation: cost per strand".into(),
+                x_label: "master strands".into(),
+                y_label: "ns per strand per frame".into(),
                 log_x: true,
                 log_y: false,
                 series: vec![Series {
-                    name: "ALL STEPS".into(),
+                    name: "all steps".into(),
                     points,
                     color: PALETTE[2],
                     line: true,

@@ -4,18 +4,21 @@
 use clap::Args;
 use fur::render::{Primitive, Shading};
 use fur::scene::ModelSpec;
+use fur::scene_file::Scene;
 use fur::session::SceneOptions;
 use fur::sim::SimParams;
 use glam::Vec3;
 
-/// The model, the camera, the groom and the drawing. Options left out take the model's
-/// defaults: `--model sphere` is the original fur demo's scene.
+/// The model, the camera, the groom and the drawing. Options left out come from the
+/// scene file, if one is given, else from the model's defaults (`--model sphere` is the
+/// original fur demo's scene).
 #[derive(Args, Clone)]
 pub struct SceneArgs {
-    /// Model: `blob` (built in), `sphere` (the original demo's scene: a UV sphere of
-    /// radius 2, 40 × 80 bands, hairs of 12 vertices) or the path of an OBJ file.
-    #[arg(long, default_value = "blob")]
-    pub model: ModelSpec,
+    /// Model: `blob` (built in, the default), `sphere` (the original demo's scene: a UV
+    /// sphere of radius 2, 40 × 80 bands, hairs of 12 vertices) or the path of an OBJ
+    /// file.
+    #[arg(long)]
+    pub model: Option<ModelSpec>,
     /// Camera orbit angle around the vertical axis, degrees [default: 25; sphere: 90].
     #[arg(long, allow_negative_numbers = true)]
     pub yaw: Option<f32>,
@@ -87,9 +90,8 @@ pub struct DrawArgs {
 }
 
 impl SceneArgs {
-    /// The model's default scene with the given options applied.
-    pub fn options(&self) -> SceneOptions {
-        let mut o = SceneOptions::for_model(&self.model);
+    /// Sets what the command line gives onto `o`.
+    pub fn apply(&self, o: &mut SceneOptions) {
         let g = &self.groom;
         set(&mut o.yaw_deg, self.yaw);
         set(&mut o.pitch_deg, self.pitch);
@@ -107,7 +109,6 @@ impl SceneArgs {
         set(&mut d.vertex_lod_px, a.vertex_lod);
         set(&mut d.lod_distance, a.lod_distance);
         set(&mut d.thickness_compensation, a.thickness_compensation);
-        o
     }
 
     /// Angles must be finite (distances and sizes are checked where they are used).
@@ -127,50 +128,51 @@ fn set<T>(field: &mut T, value: Option<T>) {
     }
 }
 
-/// Simulation parameters (see `SimParams` for units and ranges).
+/// Simulation parameters (see `SimParams` for units and ranges); defaults in brackets.
 #[derive(Args, Clone)]
 pub struct SimArgs {
-    /// Substeps per frame (1..=64).
-    #[arg(long, default_value_t = 1)]
-    pub substeps: u32,
-    /// Gravity in m/s², pointing down.
-    #[arg(long, default_value_t = 9.82, allow_negative_numbers = true)]
-    pub gravity: f32,
-    /// Fraction of velocity lost per 1/60 s (0..1).
-    #[arg(long, default_value_t = 0.08)]
-    pub damping: f32,
-    /// Global shape stiffness S_G (0..1).
-    #[arg(long, default_value_t = 0.2)]
-    pub global_stiffness: f32,
-    /// Fraction of each strand the global constraint covers (0..1).
-    #[arg(long, default_value_t = 1.0)]
-    pub global_range: f32,
-    /// Local shape stiffness S_L (0..1).
-    #[arg(long, default_value_t = 0.9)]
-    pub local_stiffness: f32,
-    /// Local shape passes per substep (0..=64).
-    #[arg(long, default_value_t = 2)]
-    pub local_iterations: u32,
-    /// Edge-length passes per substep (0..=64).
-    #[arg(long, default_value_t = 2)]
-    pub length_iterations: u32,
-    /// Wind vector "x,y,z" in m/s² (0,0,0 = no wind).
-    #[arg(long, default_value = "6,0,2", value_parser = parse_vec3)]
-    pub wind: Vec3,
-    /// Keep the hair out of the body (a signed distance field of the model): on or off.
-    #[arg(long, default_value = "on", action = clap::ArgAction::Set,
-          value_parser = clap::builder::BoolishValueParser::new())]
-    pub collision: bool,
-    /// How far outside the surface hair is kept, as a fraction of the hair length (0..1).
-    #[arg(long, default_value_t = 0.02)]
-    pub collision_margin: f32,
-    /// Fraction of a colliding vertex's sliding velocity removed per substep (0..1).
-    #[arg(long, default_value_t = 0.1)]
-    pub friction: f32,
+    /// Substeps per frame (1..=64) [1].
+    #[arg(long)]
+    pub substeps: Option<u32>,
+    /// Gravity in m/s², pointing down [9.82].
+    #[arg(long, allow_negative_numbers = true)]
+    pub gravity: Option<f32>,
+    /// Fraction of velocity lost per 1/60 s (0..1) [0.08].
+    #[arg(long)]
+    pub damping: Option<f32>,
+    /// Global shape stiffness S_G (0..1) [0.2].
+    #[arg(long)]
+    pub global_stiffness: Option<f32>,
+    /// Fraction of each strand the global constraint covers (0..1) [1].
+    #[arg(long)]
+    pub global_range: Option<f32>,
+    /// Local shape stiffness S_L (0..1) [0.9].
+    #[arg(long)]
+    pub local_stiffness: Option<f32>,
+    /// Local shape passes per substep (0..=64) [2].
+    #[arg(long)]
+    pub local_iterations: Option<u32>,
+    /// Edge-length passes per substep (0..=64) [2].
+    #[arg(long)]
+    pub length_iterations: Option<u32>,
+    /// Wind vector "x,y,z" in m/s², 0,0,0 = no wind [6,0,2].
+    #[arg(long, value_parser = parse_vec3)]
+    pub wind: Option<Vec3>,
+    /// Keep the hair out of the body (a signed distance field of the model): on or off
+    /// [on].
+    #[arg(long, value_parser = clap::builder::BoolishValueParser::new())]
+    pub collision: Option<bool>,
+    /// How far outside the surface hair is kept, as a fraction of the hair length (0..1)
+    /// [0.02].
+    #[arg(long)]
+    pub collision_margin: Option<f32>,
+    /// Fraction of a colliding vertex's sliding velocity removed per substep (0..1) [0.1].
+    #[arg(long)]
+    pub friction: Option<f32>,
     /// Distance-field cells along the model's longest axis (8..=128); 0 chooses from the
-    /// hair length (cells about a third of it, 16..=128).
-    #[arg(long, default_value_t = 0)]
-    pub sdf_resolution: u32,
+    /// hair length (cells about a third of it, 16..=128) [0].
+    #[arg(long)]
+    pub sdf_resolution: Option<u32>,
 }
 
 fn parse_vec3(s: &str) -> Result<Vec3, String> {
@@ -189,22 +191,36 @@ fn parse_vec3(s: &str) -> Result<Vec3, String> {
 }
 
 impl SimArgs {
-    pub fn params(&self) -> SimParams {
-        SimParams {
-            substeps: self.substeps,
-            gravity: Vec3::new(0.0, -self.gravity, 0.0),
-            damping: self.damping,
-            global_stiffness: self.global_stiffness,
-            global_range: self.global_range,
-            local_stiffness: self.local_stiffness,
-            local_iterations: self.local_iterations,
-            length_iterations: self.length_iterations,
-            wind: self.wind,
-            collision: self.collision,
-            collision_margin: self.collision_margin,
-            friction: self.friction,
-            sdf_resolution: self.sdf_resolution,
-            ..SimParams::default()
-        }
+    /// Sets what the command line gives onto `p`.
+    pub fn apply(&self, p: &mut SimParams) {
+        set(&mut p.substeps, self.substeps);
+        set(
+            &mut p.gravity,
+            self.gravity.map(|g| Vec3::new(0.0, -g, 0.0)),
+        );
+        set(&mut p.damping, self.damping);
+        set(&mut p.global_stiffness, self.global_stiffness);
+        set(&mut p.global_range, self.global_range);
+        set(&mut p.local_stiffness, self.local_stiffness);
+        set(&mut p.local_iterations, self.local_iterations);
+        set(&mut p.length_iterations, self.length_iterations);
+        set(&mut p.wind, self.wind);
+        set(&mut p.collision, self.collision);
+        set(&mut p.collision_margin, self.collision_margin);
+        set(&mut p.friction, self.friction);
+        set(&mut p.sdf_resolution, self.sdf_resolution);
     }
+}
+
+/// The scene a run draws: the model's defaults, then the scene file at `path` (if any),
+/// then the command line's options.
+pub fn scene(
+    path: Option<&std::path::Path>,
+    args: &SceneArgs,
+    sim: &SimArgs,
+) -> anyhow::Result<Scene> {
+    let mut scene = Scene::load(path, args.model.clone())?;
+    args.apply(&mut scene.options);
+    sim.apply(&mut scene.sim);
+    Ok(scene)
 }

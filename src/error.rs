@@ -65,6 +65,15 @@ pub enum Error {
     #[error("interrupted")]
     Interrupted,
 
+    /// A scene file that cannot be read, parsed or applied; line 0 when no line applies.
+    #[error("scene file {}: {message}", location(path, *line, *column))]
+    SceneFile {
+        path: PathBuf,
+        line: usize,
+        column: usize,
+        message: String,
+    },
+
     #[error("leak: {0}")]
     Leak(String),
 }
@@ -112,6 +121,15 @@ pub fn check_output_dir(dir: &std::path::Path) -> Result<()> {
     std::fs::File::create(&probe).map_err(|e| Error::io("write into the folder", dir, e))?;
     let _ = std::fs::remove_file(&probe);
     Ok(())
+}
+
+/// `path:line:column`, or the path alone without a line.
+fn location(path: &std::path::Path, line: usize, column: usize) -> String {
+    if line == 0 {
+        path.display().to_string()
+    } else {
+        format!("{}:{line}:{column}", path.display())
+    }
 }
 
 /// A byte count for people.

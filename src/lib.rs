@@ -13,6 +13,7 @@ pub mod gpu;
 pub mod interrupt;
 pub mod render;
 pub mod scene;
+pub mod scene_file;
 pub mod session;
 pub mod sim;
 pub mod strand_textures;

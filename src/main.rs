@@ -47,6 +47,10 @@ enum Command {
         /// List the sections and exit.
         #[arg(long)]
         list: bool,
+        /// Measure this scene file in the frame and render-quality sections instead of
+        /// the blob and the original's sphere.
+        #[arg(long)]
+        scene: Option<PathBuf>,
         /// Output folder.
         #[arg(long, default_value = "bench")]
         out_dir: PathBuf,
@@ -67,14 +71,20 @@ enum Command {
 
 #[derive(Args, Clone)]
 struct ViewArgs {
+    /// A TOML scene file (see assets/scenes/); options given here override it.
+    scene_file: Option<PathBuf>,
     #[command(flatten)]
     scene: SceneArgs,
-    /// Initial window width in pixels.
-    #[arg(long, default_value_t = 1280)]
-    width: u32,
-    /// Initial window height in pixels.
-    #[arg(long, default_value_t = 720)]
-    height: u32,
+    /// Initial window width in pixels [1280].
+    #[arg(long)]
+    width: Option<u32>,
+    /// Initial window height in pixels [720].
+    #[arg(long)]
+    height: Option<u32>,
+    /// Write the panel's state as a scene file when the viewer closes (the panel's
+    /// "save scene" button writes it at once).
+    #[arg(long)]
+    save_scene: Option<PathBuf>,
     #[command(flatten)]
     sim: SimArgs,
     /// Present without waiting for vertical blank (mailbox or immediate when available).
@@ -96,17 +106,19 @@ struct ViewArgs {
 
 #[derive(Args, Clone)]
 struct RenderArgs {
+    /// A TOML scene file (see assets/scenes/); options given here override it.
+    scene_file: Option<PathBuf>,
     #[command(flatten)]
     scene: SceneArgs,
     /// Output PNG of a single frame.
     #[arg(long, default_value = "fur.png")]
     out: PathBuf,
-    /// Image width in pixels.
-    #[arg(long, default_value_t = 1280)]
-    width: u32,
-    /// Image height in pixels.
-    #[arg(long, default_value_t = 720)]
-    height: u32,
+    /// Image width in pixels [1280].
+    #[arg(long)]
+    width: Option<u32>,
+    /// Image height in pixels [720].
+    #[arg(long)]
+    height: Option<u32>,
 
     #[command(flatten)]
     sim: SimArgs,
@@ -117,15 +129,15 @@ struct RenderArgs {
     /// Folder for the PNG sequence (frame_0000.png, …); implies simulation.
     #[arg(long)]
     out_dir: Option<PathBuf>,
-    /// Scripted head motion: still, shake, spin or nod.
-    #[arg(long, default_value = "shake")]
-    motion: MotionKind,
-    /// Motion amplitude: fraction of the model radius for shake, degrees for nod.
-    #[arg(long, default_value_t = 0.25)]
-    amplitude: f64,
-    /// Motion rate: Hz for shake and nod, turns per second for spin.
-    #[arg(long, default_value_t = 1.0)]
-    rate: f64,
+    /// Scripted head motion when simulating: still, shake, spin or nod [shake].
+    #[arg(long)]
+    motion: Option<MotionKind>,
+    /// Motion amplitude: fraction of the model radius for shake, degrees for nod [0.25].
+    #[arg(long, allow_negative_numbers = true)]
+    amplitude: Option<f64>,
+    /// Motion rate: Hz for shake and nod, turns per second for spin [1].
+    #[arg(long, allow_negative_numbers = true)]
+    rate: Option<f64>,
 
     /// Enable the Khronos validation layer; any validation message fails the run.
     #[arg(long)]
@@ -144,9 +156,10 @@ fn main() -> ExitCode {
             quick,
             only,
             list,
+            scene,
             out_dir,
             validate,
-        }) => bench(quick, &only, list, &out_dir, validate),
+        }) => bench(quick, &only, list, scene.as_deref(), &out_dir, validate),
         None => render(&cli.render),
     };
     match result {
@@ -167,6 +180,7 @@ fn bench(
     quick: bool,
     only: &[String],
     list: bool,
+    scene: Option<&Path>,
     out_dir: &Path,
     validate: bool,
 ) -> anyhow::Result<()> {
@@ -179,7 +193,20 @@ fn bench(
     let sections = fur::bench::Section::parse_list(only)?;
     fur::error::check_output_dir(out_dir)?;
     let device = fur::gpu::headless(validate)?;
-    let options = fur::bench::BenchOptions { quick, sections };
+    let scene = match scene {
+        Some(path) => {
+            let name = path
+                .file_stem()
+                .map_or("scene".into(), |n| n.to_string_lossy().into_owned());
+            Some((name, fur::scene_file::Scene::load(Some(path), None)?))
+        }
+        None => None,
+    };
+    let options = fur::bench::BenchOptions {
+        quick,
+        sections,
+        scene,
+    };
     let bar = indicatif::ProgressBar::new(fur::bench::task_count(&options)).with_style(
         indicatif::ProgressStyle::with_template("{bar:40} {pos}/{len} {elapsed} {msg}")
             .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
@@ -209,19 +236,27 @@ fn view(args: ViewArgs) -> anyhow::Result<()> {
     if let Some(frames) = args.frames {
         script.check_within(frames)?;
     }
+    let mut scene = args::scene(args.scene_file.as_deref(), &args.scene, &args.sim)?;
+    set(&mut scene.width, args.width);
+    set(&mut scene.height, args.height);
+    scene.sim.validate()?;
+    if let Some(path) = &args.save_scene {
+        fur::error::check_output_file(path)?;
+    }
+    fur::error::check_output_dir(&args.screenshot_dir)?;
     let options = fur::viewer::ViewerOptions {
-        model: args.scene.model.clone(),
-        scene: args.scene.options(),
-        sim: args.sim.params(),
+        model: scene.model.clone(),
+        scene: scene.options.clone(),
+        sim: scene.sim.clone(),
         vsync: !args.no_vsync,
         frames: args.frames,
         validate: args.validate,
-        width: args.width,
-        height: args.height,
+        width: scene.width,
+        height: scene.height,
         script,
         screenshot_dir: args.screenshot_dir,
+        save_scene: args.save_scene,
     };
-    options.sim.validate()?;
     fur::viewer::run(options)?;
     Ok(())
 }
@@ -240,6 +275,12 @@ fn export_model(out: &Path, model: &ModelSpec) -> anyhow::Result<()> {
     Ok(())
 }
 
+fn set<T>(field: &mut T, value: Option<T>) {
+    if let Some(v) = value {
+        *field = v;
+    }
+}
+
 /// What a frame without any hair means.
 const NO_FUR: &str = "no hair was drawn: every furred triangle is off-screen, facing away \
     (culled) or too small for the density; move the camera (--yaw, --pitch, --distance) or \
@@ -253,6 +294,12 @@ fn render(args: &RenderArgs) -> anyhow::Result<()> {
         bail!("--frames must be at least 1");
     }
     args.scene.check()?;
+    let mut scene = args::scene(args.scene_file.as_deref(), &args.scene, &args.sim)?;
+    set(&mut scene.width, args.width);
+    set(&mut scene.height, args.height);
+    set(&mut scene.motion.kind, args.motion);
+    set(&mut scene.motion.amplitude, args.amplitude);
+    set(&mut scene.motion.rate, args.rate);
     let simulate = args.frames > 1 || args.out_dir.is_some();
     // Every output path is checked before any work starts.
     let frames_dir = args
@@ -264,28 +311,28 @@ fn render(args: &RenderArgs) -> anyhow::Result<()> {
     } else {
         fur::error::check_output_file(&args.out)?;
     }
-    let (mesh, warnings) = args.scene.model.prepare()?;
+    let (mesh, warnings) = scene.model.prepare()?;
     for warning in warnings {
         eprintln!("warning: {warning}");
     }
     let (_, radius) = mesh.bounds();
-    let (groom, mut settings) = args.scene.options().resolve(&mesh)?;
+    let (groom, mut settings) = scene.options.resolve(&mesh)?;
     settings.count_hairs = !simulate;
     let motion = Motion {
         kind: if simulate {
-            args.motion
+            scene.motion.kind
         } else {
             MotionKind::Still
         },
-        amplitude: match args.motion {
-            MotionKind::Shake => args.amplitude * f64::from(radius),
-            _ => args.amplitude,
+        amplitude: match scene.motion.kind {
+            MotionKind::Shake => scene.motion.amplitude * f64::from(radius),
+            _ => scene.motion.amplitude,
         },
-        rate: args.rate,
+        rate: scene.motion.rate,
     };
     let extent = vk::Extent2D {
-        width: args.width,
-        height: args.height,
+        width: scene.width,
+        height: scene.height,
     };
 
     let device = fur::gpu::headless(args.validate)?;
@@ -300,7 +347,7 @@ fn render(args: &RenderArgs) -> anyhow::Result<()> {
         &device,
         mesh,
         &groom,
-        args.sim.params(),
+        scene.sim.clone(),
         motion,
         settings,
         extent,
@@ -310,14 +357,14 @@ fn render(args: &RenderArgs) -> anyhow::Result<()> {
         format!(
             "building the scene ({masters} master hairs of {} vertices, {}×{} image)",
             groom.vertices_per_strand(),
-            args.width,
-            args.height
+            scene.width,
+            scene.height
         )
     })?;
     if let Some(warning) = session
         .body
         .as_ref()
-        .and_then(|(_, report)| report.warning(&args.scene.model.name()))
+        .and_then(|(_, report)| report.warning(&scene.model.name()))
     {
         eprintln!("warning: {warning}");
     }
@@ -328,7 +375,7 @@ fn render(args: &RenderArgs) -> anyhow::Result<()> {
         let start = Instant::now();
         let (image, report) = session
             .render()
-            .with_context(|| format!("drawing the frame ({}×{})", args.width, args.height))?;
+            .with_context(|| format!("drawing the frame ({}×{})", scene.width, scene.height))?;
         let elapsed = start.elapsed();
         image.write_png(&args.out)?;
         if report.counts.is_some_and(|c| c.hairs == 0) {
@@ -351,8 +398,8 @@ fn render(args: &RenderArgs) -> anyhow::Result<()> {
             "wrote {} ({}×{}): {masters} master hairs{points}{hairs}; one cold frame {:.1} ms \
              (use --frames N for warm timings)",
             args.out.display(),
-            args.width,
-            args.height,
+            scene.width,
+            scene.height,
             elapsed.as_secs_f64() * 1e3,
         );
     }

@@ -29,7 +29,10 @@ pub struct SceneOptions {
     pub pitch_deg: f32,
     /// Camera distance in bounding radii.
     pub distance: f32,
+    /// Vertical field of view, degrees.
+    pub fov_deg: f32,
     pub draw: DrawOptions,
+    pub lighting: crate::render::Lighting,
 }
 
 /// How the fur is drawn: the levers that trade speed for image quality (measured by
@@ -44,6 +47,13 @@ pub struct DrawOptions {
     /// Full-density distance of the density LOD, in bounding radii.
     pub lod_distance: f32,
     pub thickness_compensation: bool,
+    /// Hair width at the root, in bounding radii.
+    pub hair_width: f32,
+    pub min_pixel_width: f32,
+    /// Random tip offset of each interpolated hair, in bounding radii.
+    pub jitter: f32,
+    pub length_jitter: f32,
+    pub cull: bool,
 }
 
 impl Default for DrawOptions {
@@ -57,6 +67,11 @@ impl Default for DrawOptions {
             vertex_lod_px: style.vertex_lod_px,
             lod_distance: style.lod_distance,
             thickness_compensation: style.thickness_compensation,
+            hair_width: style.hair_width,
+            min_pixel_width: style.min_pixel_width,
+            jitter: style.jitter,
+            length_jitter: style.length_jitter,
+            cull: style.cull,
         }
     }
 }
@@ -86,7 +101,9 @@ impl Default for SceneOptions {
             yaw_deg: 25.0,
             pitch_deg: 15.0,
             distance: 2.6,
+            fov_deg: 40.0,
             draw: DrawOptions::default(),
+            lighting: crate::render::Lighting::default(),
         }
     }
 }
@@ -111,7 +128,7 @@ impl SceneOptions {
             yaw_deg: 90.0,
             pitch_deg: 15.0,
             distance: 7.5 / SPHERE_BOUNDS,
-            draw: DrawOptions::default(),
+            ..Self::default()
         }
     }
 
@@ -137,6 +154,13 @@ impl SceneOptions {
                 )));
             }
         }
+        if !(self.fov_deg.is_finite() && (1.0..=170.0).contains(&self.fov_deg)) {
+            return Err(Error::Parameter(format!(
+                "field of view must be in [1, 170] degrees, got {}",
+                self.fov_deg
+            )));
+        }
+        self.lighting.validate()?;
         let (center, radius) = mesh.bounds();
         let groom = GroomParams {
             segments: self.segments,
@@ -151,16 +175,20 @@ impl SceneOptions {
                 yaw_deg: self.yaw_deg,
                 pitch_deg: self.pitch_deg,
                 distance: self.distance * radius,
-                ..Default::default()
+                fov_y_deg: self.fov_deg,
             },
+            lighting: self.lighting.clone(),
             ..Default::default()
         };
         // Density and widths are per scene unit; scale them with the model.
         let style = &mut settings.style;
         style.density *= self.density_scale / (radius * radius);
-        style.hair_width *= radius;
-        style.jitter *= radius;
         let draw = &self.draw;
+        style.hair_width = draw.hair_width * radius;
+        style.jitter = draw.jitter * radius;
+        style.min_pixel_width = draw.min_pixel_width;
+        style.length_jitter = draw.length_jitter;
+        style.cull = draw.cull;
         style.lod_distance = draw.lod_distance * radius;
         style.samples = draw.samples;
         style.primitive = draw.primitive;

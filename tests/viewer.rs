@@ -183,3 +183,65 @@ fn bad_scripts_are_rejected_before_opening_a_window() {
     assert!(!out.status.success());
     assert!(stderr.contains("10:fly=away"), "{stderr}");
 }
+
+#[test]
+fn the_viewer_saves_a_scene_that_reproduces_its_view() {
+    let dir = scratch("save_scene");
+    let saved = dir.join("saved.toml");
+    let _ = std::fs::remove_file(&saved);
+    let scene = Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/scenes/velvet.toml");
+    let out = view(
+        &[
+            scene.to_str().unwrap(),
+            "--validate",
+            "--width",
+            "160",
+            "--height",
+            "120",
+            "--frames",
+            "6",
+            "--script",
+            "1:orbit=30,-10; 2:zoom=0.5; 3:wind=off",
+            "--save-scene",
+            saved.to_str().unwrap(),
+        ],
+        Duration::from_secs(120),
+    );
+    assert_ok(&out);
+    let original = fur::scene_file::Scene::load(Some(&scene), None).unwrap();
+    let loaded = fur::scene_file::Scene::load(Some(&saved), None).unwrap();
+    // The file's look, the script's camera and wind, the window's size.
+    assert_eq!(loaded.options.segments, original.options.segments);
+    // The same light (the viewer keeps its direction normalised).
+    let (a, b) = (&loaded.options.lighting, &original.options.lighting);
+    assert!(a.light_direction.normalize().distance(b.light_direction.normalize()) < 1e-5);
+    assert_eq!(
+        fur::render::Lighting {
+            light_direction: b.light_direction,
+            ..a.clone()
+        },
+        *b
+    );
+    assert!((loaded.options.yaw_deg - (original.options.yaw_deg + 30.0)).abs() < 1e-4);
+    assert!((loaded.options.pitch_deg - (original.options.pitch_deg - 10.0)).abs() < 1e-4);
+    assert!((loaded.options.distance - 0.5 * original.options.distance).abs() < 1e-4);
+    assert!((loaded.options.density_scale - original.options.density_scale).abs() < 1e-3);
+    assert_eq!(loaded.sim.wind, glam::Vec3::ZERO);
+    assert_eq!((loaded.width, loaded.height), (160, 120));
+    // And it renders.
+    let png = dir.join("saved.png");
+    let render = Command::new(env!("CARGO_BIN_EXE_fur"))
+        .args([
+            "render",
+            saved.to_str().unwrap(),
+            "--out",
+            png.to_str().unwrap(),
+        ])
+        .output()
+        .unwrap();
+    assert!(
+        render.status.success(),
+        "{}",
+        String::from_utf8_lossy(&render.stderr)
+    );
+}

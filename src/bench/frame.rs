@@ -9,9 +9,8 @@ use std::time::Instant;
 use glam::Vec3;
 
 use super::metrics::median;
-use super::Bench;
+use super::{Bench, BenchScene};
 use crate::error::Result;
-use crate::scene::ModelSpec;
 use crate::session::{DrawOptions, FurSession, SceneOptions};
 use crate::sim::{Motion, MotionKind, SimParams};
 
@@ -19,10 +18,8 @@ use crate::sim::{Motion, MotionKind, SimParams};
 /// 2-core machine kind with Mesa's llvmpipe (1,345–1,641 ms; ~1,400 ms typical).
 pub const ORIGINAL_FRAME_MS: f64 = 1400.0;
 
-const SCENES: [(&str, ModelSpec); 2] = [("blob", ModelSpec::Blob), ("sphere", ModelSpec::Sphere)];
-
-pub(super) fn tasks(_quick: bool) -> u64 {
-    2 * SCENES.len() as u64
+pub(super) fn tasks(scenes: usize) -> u64 {
+    2 * scenes as u64
 }
 
 /// Medians of one configuration's frames: (wall ms, GPU ms).
@@ -32,11 +29,11 @@ struct FrameTimes {
 }
 
 impl Bench<'_> {
-    fn session(&self, model: &ModelSpec, draw: &DrawOptions) -> Result<FurSession> {
-        let mesh = model.load()?;
+    fn session(&self, scene: &BenchScene, draw: &DrawOptions) -> Result<FurSession> {
+        let mesh = scene.model.prepare()?.0;
         let options = SceneOptions {
             draw: draw.clone(),
-            ..SceneOptions::for_model(model)
+            ..scene.options.clone()
         };
         let (groom, settings) = options.resolve(&mesh)?;
         let radius = f64::from(mesh.bounds().1);
@@ -126,12 +123,13 @@ impl Bench<'_> {
                 ""
             }
         );
-        for (name, model) in &SCENES {
+        for scene in self.scenes.clone() {
+            let name = &scene.name;
             for (label, draw) in [
-                ("default", DrawOptions::default()),
+                ("default", scene.options.draw.clone()),
                 ("reference quality", DrawOptions::reference_quality()),
             ] {
-                let mut session = self.session(model, &draw)?;
+                let mut session = self.session(&scene, &draw)?;
                 let times = self.time_frames(&mut session)?;
                 session.settings.count_hairs = true;
                 let counts = session.render()?.1.counts;
@@ -159,8 +157,9 @@ impl Bench<'_> {
              | scene | simulation | mesh pass | fur pass | neither (clear, resolve, copy) |\n\
              | --- | --- | --- | --- | --- |"
         );
-        for (name, model) in &SCENES {
-            let mut session = self.session(model, &DrawOptions::default())?;
+        for scene in self.scenes.clone() {
+            let name = &scene.name;
+            let mut session = self.session(&scene, &scene.options.draw)?;
             let mut sim_ms = Vec::new();
             for frame in 0..warm + measured {
                 crate::interrupt::check()?;

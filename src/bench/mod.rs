@@ -34,6 +34,40 @@ pub struct BenchOptions {
     pub quick: bool,
     /// The sections to run, in order.
     pub sections: Vec<Section>,
+    /// A scene (`fur bench --scene`) measured by the frame and render-quality sections
+    /// instead of the blob and the original's sphere.
+    pub scene: Option<(String, crate::scene_file::Scene)>,
+}
+
+/// A scene the frame and render-quality sections measure.
+#[derive(Clone, Debug)]
+pub(crate) struct BenchScene {
+    pub name: String,
+    pub model: crate::scene::ModelSpec,
+    pub options: crate::session::SceneOptions,
+}
+
+impl BenchOptions {
+    /// The scenes the frame and render-quality sections measure.
+    pub(crate) fn scenes(&self) -> Vec<BenchScene> {
+        use crate::scene::ModelSpec;
+        use crate::session::SceneOptions;
+        match &self.scene {
+            Some((name, scene)) => vec![BenchScene {
+                name: name.clone(),
+                model: scene.model.clone(),
+                options: scene.options.clone(),
+            }],
+            None => [("blob", ModelSpec::Blob), ("sphere", ModelSpec::Sphere)]
+                .into_iter()
+                .map(|(name, model)| BenchScene {
+                    name: name.into(),
+                    options: SceneOptions::for_model(&model),
+                    model,
+                })
+                .collect(),
+        }
+    }
 }
 
 /// The parts of the benchmark, runnable alone (`fur bench --only`).
@@ -162,6 +196,7 @@ fn csv_field(text: &str) -> String {
 struct Bench<'a> {
     device: &'a Arc<Device>,
     quick: bool,
+    scenes: Vec<BenchScene>,
     rows: Vec<Row>,
     md: String,
     plots: Vec<(&'static str, Plot)>,
@@ -174,8 +209,8 @@ pub fn task_count(options: &BenchOptions) -> u64 {
         .sections
         .iter()
         .map(|s| match s {
-            Section::Frame => frame::tasks(options.quick),
-            Section::RenderQuality => render::tasks(options.quick),
+            Section::Frame => frame::tasks(options.scenes().len()),
+            Section::RenderQuality => render::tasks(options.quick, options.scenes().len()),
             Section::SimAccuracy => sim::accuracy_tasks(options.quick),
             Section::SimSteps => 1,
             Section::SimScaling => sim::scaling_tasks(options.quick),
@@ -194,6 +229,7 @@ pub fn run(
     let mut bench = Bench {
         device,
         quick: options.quick,
+        scenes: options.scenes(),
         rows: Vec::new(),
         md: String::new(),
         plots: Vec::new(),

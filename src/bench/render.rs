@@ -10,10 +10,7 @@ use super::quality::Shot;
 use super::Bench;
 use crate::error::Result;
 use crate::render::{FurStyle, Primitive, Shading};
-use crate::scene::ModelSpec;
-use crate::session::{DrawOptions, SceneOptions};
-
-const SCENES: [(&str, ModelSpec); 2] = [("sphere", ModelSpec::Sphere), ("blob", ModelSpec::Blob)];
+use crate::session::DrawOptions;
 
 /// A setting to measure: its name, its drawing and the density multiplier.
 struct Case {
@@ -119,8 +116,8 @@ fn cases(quick: bool) -> Vec<Case> {
     ]
 }
 
-pub(super) fn tasks(quick: bool) -> u64 {
-    SCENES.len() as u64 * (1 + cases(quick).len() as u64)
+pub(super) fn tasks(quick: bool, scenes: usize) -> u64 {
+    scenes as u64 * (1 + cases(quick).len() as u64)
 }
 
 impl Bench<'_> {
@@ -141,11 +138,12 @@ impl Bench<'_> {
             factor * factor * 4
         );
         let mut series = Vec::new();
-        for (k, (scene, model)) in SCENES.iter().enumerate() {
+        for (k, bench_scene) in self.scenes.clone().iter().enumerate() {
+            let scene = &bench_scene.name;
             let shot = Shot::new(
                 self.device,
-                model.load()?,
-                &SceneOptions::for_model(model),
+                bench_scene.model.prepare()?.0,
+                &bench_scene.options,
                 extent,
             )?;
             let reference = shot.reference(factor)?;

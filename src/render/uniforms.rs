@@ -209,6 +209,48 @@ impl Default for Lighting {
     }
 }
 
+impl Lighting {
+    pub fn validate(&self) -> Result<()> {
+        if !self.light_direction.is_finite() || self.light_direction.length() < 1e-6 {
+            return Err(Error::Parameter(format!(
+                "the light direction must be a finite, non-zero vector, got {}",
+                self.light_direction
+            )));
+        }
+        for (name, v, hi) in [
+            ("light intensity", self.intensity, 1e3),
+            ("Kd", self.kd, 1e3),
+            ("Ks", self.ks, 1e3),
+            ("ambient", self.ambient, 1e3),
+            ("root occlusion", self.root_occlusion, 1.0),
+        ] {
+            if !(v.is_finite() && (0.0..=hi).contains(&v)) {
+                return Err(Error::Parameter(format!(
+                    "{name} must be in [0, {hi}], got {v}"
+                )));
+            }
+        }
+        if !(self.shininess.is_finite() && (1.0..=1e4).contains(&self.shininess)) {
+            return Err(Error::Parameter(format!(
+                "the specular exponent must be in [1, 10000], got {}",
+                self.shininess
+            )));
+        }
+        for (name, c) in [
+            ("root colour", self.root_color),
+            ("tip colour", self.tip_color),
+            ("skin colour", self.skin_color),
+        ] {
+            if !c.is_finite() || c.min_element() < 0.0 || c.max_element() > 1e3 {
+                return Err(Error::Parameter(format!(
+                    "{name} must have components in [0, 1000], got {c}"
+                )));
+            }
+        }
+        Ok(())
+    }
+}
+
 /// Kajiya–Kay on the CPU, exactly as `shaders/shading.glsl` evaluates it: `t` the unit tangent, `l`
 /// the unit direction towards the light, `e` the unit direction from the eye to the
 /// point. Returns (diffuse, specular) before colour and intensity.

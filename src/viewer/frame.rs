@@ -355,6 +355,14 @@ impl Viewer {
                     .set_params(params, &self.session.textures)?;
             }
         }
+        if std::mem::take(&mut self.ui.save_requested) {
+            let path = self
+                .save_scene
+                .clone()
+                .unwrap_or_else(|| self.screenshot_dir.join("fur_scene.toml"));
+            self.current_scene().save(&path)?;
+            println!("scene saved to {}", path.display());
+        }
         if std::mem::take(&mut self.ui.reset_requested) {
             let (groom, _) = self.scene.resolve(&self.mesh)?;
             self.rebuild_session(&groom, self.session.settings.clone())?;

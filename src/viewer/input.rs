@@ -8,9 +8,65 @@ use winit::keyboard::{Key, NamedKey};
 
 use super::script::Action;
 use super::{ui, Controls, Viewer};
+use crate::render::FurStyle;
+use crate::scene_file::{MotionSpec, Scene};
+use crate::session::DrawOptions;
 use crate::sim::{MotionKind, SimParams};
 
 impl Viewer {
+    /// The scene on screen now, as a scene file would hold it: the groom, the camera,
+    /// lighting and drawing as the panel and the mouse left them, the simulation, the
+    /// motion and the window's size. (A panned camera target is not kept: scenes aim
+    /// at the model's centre.)
+    pub(super) fn current_scene(&self) -> Scene {
+        let settings = &self.session.settings;
+        let radius = self.mesh.bounds().1;
+        let style = &settings.style;
+        let camera = &settings.camera;
+        let mut options = self.scene.clone();
+        options.yaw_deg = camera.yaw_deg;
+        options.pitch_deg = camera.pitch_deg;
+        options.distance = camera.distance / radius;
+        options.fov_deg = camera.fov_y_deg;
+        options.lighting = settings.lighting.clone();
+        options.density_scale = style.density * radius * radius / FurStyle::default().density;
+        options.draw = DrawOptions {
+            samples: style.samples,
+            primitive: style.primitive,
+            ribbon_above_px: style.ribbon_above_px,
+            shading: style.shading,
+            vertex_lod_px: style.vertex_lod_px,
+            lod_distance: style.lod_distance / radius,
+            thickness_compensation: style.thickness_compensation,
+            hair_width: style.hair_width / radius,
+            min_pixel_width: style.min_pixel_width,
+            jitter: style.jitter / radius,
+            length_jitter: style.length_jitter,
+            cull: style.cull,
+        };
+        let motion = self.session.motion;
+        let extent = self.session.renderer.target.extent;
+        Scene {
+            model: self.model.clone(),
+            options,
+            sim: self.session.sim.params().clone(),
+            motion: MotionSpec {
+                kind: if self.controls.shake_on {
+                    MotionKind::Shake
+                } else {
+                    motion.kind
+                },
+                amplitude: match motion.kind {
+                    MotionKind::Shake => motion.amplitude / f64::from(radius),
+                    _ => motion.amplitude,
+                },
+                rate: motion.rate,
+            },
+            width: extent.width,
+            height: extent.height,
+        }
+    }
+
     /// Handles input; returns true when the viewer should close.
     pub(super) fn input(&mut self, event: &WindowEvent) -> bool {
         let response = self.egui_state.on_window_event(&self.window, event);

@@ -44,6 +44,9 @@ pub struct ViewerOptions {
     pub script: Script,
     /// Where the screenshot key (F12 or P) writes its PNGs.
     pub screenshot_dir: PathBuf,
+    /// Where the panel's state is saved as a scene file (at exit, and by the panel's
+    /// button); `fur_scene.toml` for the button when not given.
+    pub save_scene: Option<PathBuf>,
 }
 
 /// Opens the window and runs until it is closed (or `frames` have been shown).
@@ -66,7 +69,13 @@ pub fn run(options: ViewerOptions) -> Result<()> {
     let mut viewer = app.viewer.take();
     if let Some(v) = viewer.as_mut() {
         // Frames still in flight may carry a screenshot: finish them all.
-        if let Err(e) = v.finish_all() {
+        let finished = v.finish_all().and_then(|()| match &v.save_scene {
+            Some(path) => v.current_scene().save(path).map(|()| {
+                println!("scene saved to {}", path.display());
+            }),
+            None => Ok(()),
+        });
+        if let Err(e) = finished {
             if app.result.is_ok() {
                 app.result = Err(e);
             }
@@ -219,6 +228,7 @@ struct Viewer {
     surface: Surface,
     device: Arc<Device>,
     mesh: Mesh,
+    model: crate::scene::ModelSpec,
     scene: SceneOptions,
     controls: Controls,
     hud: Hud,
@@ -234,6 +244,7 @@ struct Viewer {
     vsync: bool,
     needs_resize: bool,
     screenshot_dir: PathBuf,
+    save_scene: Option<PathBuf>,
     screenshots_taken: u32,
     window: Arc<Window>,
 }
@@ -375,6 +386,7 @@ impl Viewer {
             surface,
             device,
             mesh,
+            model: options.model.clone(),
             scene: options.scene.clone(),
             controls,
             hud: Hud {
@@ -391,6 +403,7 @@ impl Viewer {
             vsync: options.vsync,
             needs_resize: false,
             screenshot_dir: options.screenshot_dir.clone(),
+            save_scene: options.save_scene.clone(),
             screenshots_taken: 0,
             window,
         })

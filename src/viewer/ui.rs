@@ -34,6 +34,8 @@ pub(crate) struct PanelState {
     scene: SceneOptions,
     sim: SimParams,
     pub reset_requested: bool,
+    /// The panel's "save scene" button was pressed.
+    pub save_requested: bool,
     pub pending_screenshot: Option<PathBuf>,
 }
 
@@ -43,6 +45,7 @@ impl PanelState {
             scene: scene.clone(),
             sim: session.sim.params().clone(),
             reset_requested: false,
+            save_requested: false,
             pending_screenshot: None,
         }
     }
@@ -78,6 +81,9 @@ impl PanelState {
                     ui.checkbox(controls.paused, "paused (space)");
                     if ui.button("step (n)").clicked() {
                         *controls.single_step = true;
+                    }
+                    if ui.button("save scene").clicked() {
+                        self.save_requested = true;
                     }
                     if ui.button("reset (r)").clicked() {
                         self.reset_requested = true;

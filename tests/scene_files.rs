@@ -1,0 +1,273 @@
+//! TOML scene files: the shipped scenes render validation-clean and the default one is
+//! exactly the built-in defaults; saving and loading round-trips; command-line options
+//! override the file; bad files name the file, line and key; the parser never panics.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+use fur::scene::ModelSpec;
+use fur::scene_file::{Scene, SceneFile};
+use proptest::prelude::*;
+use proptest::test_runner::{Config, RngAlgorithm, TestRng, TestRunner};
+
+fn scenes_dir() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/scenes")
+}
+
+fn scratch(name: &str) -> PathBuf {
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("scene_files");
+    std::fs::create_dir_all(&dir).unwrap();
+    dir.join(name)
+}
+
+fn fur(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_fur"))
+        .args(args)
+        .output()
+        .unwrap()
+}
+
+#[test]
+fn the_default_scene_file_is_the_built_in_default() {
+    let path = scenes_dir().join("default.toml");
+    assert_eq!(
+        Scene::load(Some(&path), None).unwrap(),
+        Scene::defaults(ModelSpec::Blob)
+    );
+    // And the original's file is the built-in sphere scene (its lengths rounded).
+    let original = Scene::load(Some(&scenes_dir().join("original.toml")), None).unwrap();
+    let sphere = Scene::defaults(ModelSpec::Sphere);
+    assert_eq!(original.model, ModelSpec::Sphere);
+    assert!((original.options.hair_length - sphere.options.hair_length).abs() < 1e-5);
+    assert!((original.options.distance - sphere.options.distance).abs() < 1e-3);
+    assert_eq!(original.options.segments, sphere.options.segments);
+    assert_eq!(original.options.density_scale, sphere.options.density_scale);
+}
+
+#[test]
+fn every_shipped_scene_renders_validation_clean() {
+    let mut names: Vec<PathBuf> = std::fs::read_dir(scenes_dir())
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|e| e == "toml"))
+        .collect();
+    names.sort();
+    assert!(names.len() >= 5, "{names:?}");
+    for scene in names {
+        let out = scratch(&format!(
+            "{}.png",
+            scene.file_stem().unwrap().to_string_lossy()
+        ));
+        let run = fur(&[
+            "render",
+            scene.to_str().unwrap(),
+            "--validate",
+            "--width",
+            "96",
+            "--height",
+            "54",
+            "--density-scale",
+            "0.1",
+            "--out",
+            out.to_str().unwrap(),
+        ]);
+        assert!(
+            run.status.success(),
+            "{}: {}",
+            scene.display(),
+            String::from_utf8_lossy(&run.stderr)
+        );
+        assert!(out.exists());
+    }
+}
+
+#[test]
+fn a_saved_scene_loads_back_unchanged() {
+    let mut scene = Scene::defaults(ModelSpec::Sphere);
+    scene.options.yaw_deg = -33.5;
+    scene.options.draw.samples = 1;
+    scene.options.lighting.tip_color = glam::Vec3::new(0.1, 0.2, 0.3);
+    scene.sim.friction = 0.7;
+    scene.motion.rate = 2.5;
+    scene.width = 321;
+    let path = scratch("saved.toml");
+    scene.save(&path).unwrap();
+    assert_eq!(Scene::load(Some(&path), None).unwrap(), scene);
+    // A model given by path is written as it was given and read back relative to the
+    // file's folder.
+    let obj = scratch("model.obj");
+    fur::scene::Mesh::blob().write_obj(&obj).unwrap();
+    std::fs::write(scratch("with_model.toml"), "model = \"model.obj\"\n").unwrap();
+    let loaded = Scene::load(Some(&scratch("with_model.toml")), None).unwrap();
+    assert_eq!(loaded.model, ModelSpec::File(obj));
+}
+
+#[test]
+fn command_line_options_override_the_file() {
+    let out = scratch("override.png");
+    let run = fur(&[
+        "render",
+        scenes_dir().join("velvet.toml").to_str().unwrap(),
+        "--segments",
+        "1",
+        "--width",
+        "64",
+        "--height",
+        "36",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    let stdout = String::from_utf8_lossy(&run.stdout);
+    assert!(
+        run.status.success(),
+        "{}",
+        String::from_utf8_lossy(&run.stderr)
+    );
+    // One segment per hair: the flag won over the file's 4.
+    let numbers: Vec<u64> = stdout
+        .split(|c: char| !c.is_ascii_digit())
+        .filter_map(|w| w.parse().ok())
+        .collect();
+    let hairs = stdout.split(" hairs drawn in ").next().unwrap();
+    let hairs: u64 = hairs.rsplit(' ').next().unwrap().parse().unwrap();
+    let segments: u64 = stdout
+        .split(" hairs drawn in ")
+        .nth(1)
+        .unwrap()
+        .split(' ')
+        .next()
+        .unwrap()
+        .parse()
+        .unwrap();
+    assert_eq!(hairs, segments, "{stdout} {numbers:?}");
+}
+
+fn fails(text: &str, needles: &[&str]) {
+    let path = scratch("bad.toml");
+    std::fs::write(&path, text).unwrap();
+    let out = scratch("bad.png");
+    let run = fur(&[
+        "render",
+        path.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    let stderr = String::from_utf8_lossy(&run.stderr);
+    assert_eq!(run.status.code(), Some(1), "{text}: {stderr}");
+    assert!(!stderr.contains("panicked"), "{stderr}");
+    for needle in needles {
+        assert!(
+            stderr.contains(needle),
+            "{text}: `{needle}` missing from: {stderr}"
+        );
+    }
+    assert!(!out.exists(), "{text}: an image was written");
+}
+
+#[test]
+fn bad_scene_files_name_the_file_line_and_key() {
+    fails(
+        "[groom]\nhair_lenght = 0.3\n",
+        &["bad.toml:2:1", "hair_lenght"],
+    );
+    fails(
+        "[groom]\nsegments = \"many\"\n",
+        &["bad.toml:2", "segments"],
+    );
+    fails("[groom\nsegments = 4\n", &["bad.toml:1"]);
+    fails(
+        "[camera]\nyaw = 10\n\n[groom]\nsegments = 0\n",
+        &["bad.toml:5", "groom.segments", "1..=63"],
+    );
+    fails(
+        "[simulation]\ndamping = 3.0\n",
+        &["bad.toml:2", "simulation.damping"],
+    );
+    fails(
+        "[collision]\nfriction = -1.0\n",
+        &["bad.toml:2", "collision.friction"],
+    );
+    fails(
+        "[render]\nprimitive = \"cones\"\n",
+        &["bad.toml:2", "render.primitive", "cones"],
+    );
+    fails(
+        "[light]\ntip_color = [1.0, 2.0]\n",
+        &["bad.toml:2", "tip_color"],
+    );
+    fails("[motion]\nkind = \"dance\"\n", &["motion.kind", "dance"]);
+    fails("[teapot]\nsize = 1\n", &["bad.toml:1", "teapot"]);
+    fails(
+        "model = \"missing.obj\"\n",
+        &["missing.obj", "no such file"],
+    );
+    // A missing scene file.
+    let run = fur(&["render", "/nonexistent/scene.toml"]);
+    let stderr = String::from_utf8_lossy(&run.stderr);
+    assert_eq!(run.status.code(), Some(1));
+    assert!(
+        stderr.contains("/nonexistent/scene.toml") && stderr.contains("cannot read"),
+        "{stderr}"
+    );
+}
+
+#[test]
+fn scene_text_never_panics_the_parser() {
+    let keys = prop_oneof![
+        Just("model"),
+        Just("[groom]"),
+        Just("[camera]"),
+        Just("[render]"),
+        Just("[simulation]"),
+        Just("[collision]"),
+        Just("[light]"),
+        Just("[motion]"),
+        Just("segments"),
+        Just("hair_length"),
+        Just("yaw"),
+        Just("samples"),
+        Just("gravity"),
+        Just("tip_color"),
+        Just("kind"),
+        Just("width"),
+    ];
+    let values = prop_oneof![
+        Just("0".to_string()),
+        Just("-1".to_string()),
+        Just("1e40".to_string()),
+        Just("nan".to_string()),
+        Just("inf".to_string()),
+        Just("\"blob\"".to_string()),
+        Just("[1.0, 2.0, 3.0]".to_string()),
+        Just("[1, \"x\"]".to_string()),
+        Just("true".to_string()),
+        (-100.0f64..100.0).prop_map(|v| v.to_string()),
+        "[ -~]{0,8}",
+    ];
+    let line = (keys, values).prop_map(|(k, v)| {
+        if k.starts_with('[') {
+            k.to_string()
+        } else {
+            format!("{k} = {v}")
+        }
+    });
+    let config = Config {
+        cases: 3000,
+        failure_persistence: None,
+        ..Config::default()
+    };
+    let mut runner =
+        TestRunner::new_with_rng(config, TestRng::from_seed(RngAlgorithm::ChaCha, &[9; 32]));
+    let path = scratch("fuzz.toml");
+    runner
+        .run(&prop::collection::vec(line, 0..12), |lines| {
+            let text = lines.join("\n");
+            std::fs::write(&path, &text).unwrap();
+            if let Ok((file, text)) = SceneFile::load(&path) {
+                let mut scene = Scene::defaults(ModelSpec::Blob);
+                let _ = file.apply(&mut scene, &path, &text);
+            }
+            Ok(())
+        })
+        .unwrap();
+}

@@ -43,17 +43,7 @@ fn cube(h: f32) -> Mesh {
     mesh
 }
 
-/// Exact signed distances from `points` to `mesh` (ray-cast sign, closed meshes).
-fn exact(mesh: &Mesh, points: &[Vec3]) -> Vec<f32> {
-    let vertices: Vec<[f32; 3]> = mesh.positions.iter().map(|p| p.to_array()).collect();
-    let queries: Vec<[f32; 3]> = points.iter().map(|p| p.to_array()).collect();
-    mesh_to_sdf::generate_sdf(
-        &vertices,
-        mesh_to_sdf::Topology::TriangleList(Some(&mesh.indices)),
-        &queries,
-        mesh_to_sdf::AccelerationMethod::Bvh(mesh_to_sdf::SignMethod::Raycast),
-    )
-}
+use fur::sim::sdf::exact_distances as exact;
 
 /// Deterministic points spread over the field's grid.
 fn sample_points(sdf: &Sdf, count: usize) -> Vec<Vec3> {

@@ -214,7 +214,12 @@ fn the_viewer_saves_a_scene_that_reproduces_its_view() {
     assert_eq!(loaded.options.segments, original.options.segments);
     // The same light (the viewer keeps its direction normalised).
     let (a, b) = (&loaded.options.lighting, &original.options.lighting);
-    assert!(a.light_direction.normalize().distance(b.light_direction.normalize()) < 1e-5);
+    assert!(
+        a.light_direction
+            .normalize()
+            .distance(b.light_direction.normalize())
+            < 1e-5
+    );
     assert_eq!(
         fur::render::Lighting {
             light_direction: b.light_direction,

@@ -25,18 +25,6 @@ pub(super) fn tasks(quick: bool) -> u64 {
     2 + resolutions(quick).len() as u64
 }
 
-/// Exact signed distances from `points` to `mesh` (ray-cast sign).
-fn exact_distances(mesh: &Mesh, points: &[Vec3]) -> Vec<f32> {
-    let vertices: Vec<[f32; 3]> = mesh.positions.iter().map(|p| p.to_array()).collect();
-    let queries: Vec<[f32; 3]> = points.iter().map(|p| p.to_array()).collect();
-    mesh_to_sdf::generate_sdf(
-        &vertices,
-        mesh_to_sdf::Topology::TriangleList(Some(&mesh.indices)),
-        &queries,
-        mesh_to_sdf::AccelerationMethod::Bvh(mesh_to_sdf::SignMethod::Raycast),
-    )
-}
-
 impl Bench<'_> {
     /// Hair combed down over the blob, shaken under strong gravity for `frames` frames
     /// on the GPU, colliding with `body` (or not): (mean, max) depth of strand vertices
@@ -81,7 +69,7 @@ impl Bench<'_> {
                 .filter(|(i, _)| i % v != 0)
                 .map(|(_, p)| to_model.transform_point3(*p))
                 .collect();
-            for d in exact_distances(&mesh, &model) {
+            for d in crate::sim::sdf::exact_distances(&mesh, &model) {
                 let depth = f64::from((-d).max(0.0));
                 sum += depth;
                 count += 1;

@@ -286,6 +286,19 @@ impl Sdf {
     }
 }
 
+/// Exact signed distances from `points` to a closed `mesh` (ray-cast sign), point by
+/// point: the measure collision is judged by.
+pub fn exact_distances(mesh: &Mesh, points: &[Vec3]) -> Vec<f32> {
+    let vertices: Vec<[f32; 3]> = mesh.positions.iter().map(|p| p.to_array()).collect();
+    let queries: Vec<[f32; 3]> = points.iter().map(|p| p.to_array()).collect();
+    mesh_to_sdf::generate_sdf(
+        &vertices,
+        Topology::TriangleList(Some(&mesh.indices)),
+        &queries,
+        mesh_to_sdf::AccelerationMethod::Bvh(SignMethod::Raycast),
+    )
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

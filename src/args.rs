@@ -25,7 +25,8 @@ pub struct SceneArgs {
     /// Camera elevation, degrees [default: 15].
     #[arg(long, allow_negative_numbers = true)]
     pub pitch: Option<f32>,
-    /// Camera distance in bounding radii of the model [default: 2.6; sphere: 2.17].
+    /// Camera distance in bounding radii of the model [default: framing the whole model;
+    /// sphere: 2.17].
     #[arg(long)]
     pub distance: Option<f32>,
     #[command(flatten)]
@@ -47,9 +48,13 @@ pub struct GroomArgs {
     /// Multiplies the interpolated-hair density [default: 1; sphere: 0.33].
     #[arg(long)]
     pub density_scale: Option<f32>,
-    /// Comb strength, 0 = hairs stand along the normals [default: 0.9; sphere: 0].
+    /// Comb strength, 0 = hairs stand along the normals [default: 2; sphere: 0].
     #[arg(long)]
     pub comb: Option<f32>,
+    /// Hairs are at most this many times the model's local half-thickness long, so
+    /// thin parts are not buried; 0 = off [default: 0.6; sphere: 0].
+    #[arg(long)]
+    pub thickness_limit: Option<f32>,
     /// Curl radius as a fraction of the segment length [default: 0].
     #[arg(long)]
     pub curl: Option<f32>,
@@ -95,12 +100,15 @@ impl SceneArgs {
         let g = &self.groom;
         set(&mut o.yaw_deg, self.yaw);
         set(&mut o.pitch_deg, self.pitch);
-        set(&mut o.distance, self.distance);
+        if self.distance.is_some() {
+            o.distance = self.distance;
+        }
         set(&mut o.hair_length, g.hair_length);
         set(&mut o.segments, g.segments);
         set(&mut o.density_scale, g.density_scale);
         set(&mut o.comb, g.comb);
         set(&mut o.curl, g.curl);
+        set(&mut o.thickness_limit, g.thickness_limit);
         let (d, a) = (&mut o.draw, &self.draw);
         set(&mut d.samples, a.samples);
         set(&mut d.primitive, a.primitive);

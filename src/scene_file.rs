@@ -87,7 +87,7 @@ impl Scene {
             camera: Some(CameraSection {
                 yaw: Some(o.yaw_deg),
                 pitch: Some(o.pitch_deg),
-                distance: Some(o.distance),
+                distance: o.distance,
                 fov: Some(o.fov_deg),
             }),
             groom: Some(GroomSection {
@@ -96,6 +96,7 @@ impl Scene {
                 density_scale: Some(o.density_scale),
                 comb: Some(o.comb),
                 curl: Some(o.curl),
+                thickness_limit: Some(o.thickness_limit),
             }),
             render: Some(RenderSection {
                 samples: Some(d.samples),
@@ -213,6 +214,8 @@ pub struct GroomSection {
     pub density_scale: Option<f32>,
     pub comb: Option<f32>,
     pub curl: Option<f32>,
+    /// Hairs at most this many times the local half-thickness long (0 = off).
+    pub thickness_limit: Option<f32>,
 }
 
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
@@ -397,7 +400,9 @@ impl SceneFile {
         if let Some(s) = &self.camera {
             set(&mut o.yaw_deg, s.yaw);
             set(&mut o.pitch_deg, s.pitch);
-            set(&mut o.distance, s.distance);
+            if s.distance.is_some() {
+                o.distance = s.distance;
+            }
             set(&mut o.fov_deg, s.fov);
         }
         if let Some(s) = &self.groom {
@@ -406,6 +411,7 @@ impl SceneFile {
             set(&mut o.density_scale, s.density_scale);
             set(&mut o.comb, s.comb);
             set(&mut o.curl, s.curl);
+            set(&mut o.thickness_limit, s.thickness_limit);
         }
         if let Some(s) = &self.render {
             let d = &mut o.draw;
@@ -517,7 +523,7 @@ fn checks(scene: &Scene) -> Vec<(&'static str, &'static str, std::result::Result
         ("image", "height", image(scene.height)),
         ("camera", "yaw", within(o.yaw_deg, -1e6, 1e6)),
         ("camera", "pitch", within(o.pitch_deg, -1e6, 1e6)),
-        ("camera", "distance", positive(o.distance)),
+        ("camera", "distance", positive(o.distance.unwrap_or(1.0))),
         ("camera", "fov", within(o.fov_deg, 1.0, 170.0)),
         ("groom", "hair_length", positive(o.hair_length)),
         (
@@ -532,6 +538,11 @@ fn checks(scene: &Scene) -> Vec<(&'static str, &'static str, std::result::Result
         ("groom", "density_scale", positive(o.density_scale)),
         ("groom", "comb", within(o.comb, 0.0, 1e3)),
         ("groom", "curl", within(o.curl, 0.0, 1e3)),
+        (
+            "groom",
+            "thickness_limit",
+            within(o.thickness_limit, 0.0, 1e3),
+        ),
         (
             "render",
             "samples",

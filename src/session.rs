@@ -23,12 +23,15 @@ pub struct SceneOptions {
     pub segments: u32,
     pub comb: f32,
     pub curl: f32,
+    /// Hairs at most this many times the local half-thickness long (0 = off).
+    pub thickness_limit: f32,
     /// Multiplies the default interpolated-hair density.
     pub density_scale: f32,
     pub yaw_deg: f32,
     pub pitch_deg: f32,
-    /// Camera distance in bounding radii.
-    pub distance: f32,
+    /// Camera distance in bounding radii; `None` frames the whole model, hair included,
+    /// in the vertical field of view.
+    pub distance: Option<f32>,
     /// Vertical field of view, degrees.
     pub fov_deg: f32,
     pub draw: DrawOptions,
@@ -95,12 +98,13 @@ impl Default for SceneOptions {
         Self {
             hair_length: 0.2,
             segments: 16,
-            comb: 0.9,
+            comb: 2.0,
             curl: 0.0,
+            thickness_limit: 0.6,
             density_scale: 1.0,
             yaw_deg: 25.0,
             pitch_deg: 15.0,
-            distance: 2.6,
+            distance: None,
             fov_deg: 40.0,
             draw: DrawOptions::default(),
             lighting: crate::render::Lighting::default(),
@@ -124,12 +128,27 @@ impl SceneOptions {
             segments: 11,
             comb: 0.0,
             curl: 0.0,
+            thickness_limit: 0.0,
             density_scale: 0.33,
             yaw_deg: 90.0,
             pitch_deg: 15.0,
-            distance: 7.5 / SPHERE_BOUNDS,
+            distance: Some(7.5 / SPHERE_BOUNDS),
             ..Self::default()
         }
+    }
+
+    /// The camera distance that frames `mesh` with its hair: its farthest vertex from the
+    /// box centre plus the hair length fills 90 % of the vertical field of view, from
+    /// any direction.
+    pub fn framing_distance(&self, mesh: &Mesh) -> f32 {
+        let (centre, radius) = mesh.bounds();
+        let reach = mesh
+            .positions
+            .iter()
+            .map(|p| p.distance(centre))
+            .fold(0.0f32, f32::max)
+            + self.hair_length * radius;
+        reach / ((0.5 * self.fov_deg).to_radians().sin() * 0.9)
     }
 
     /// The defaults for a model: the original scene for the built-in sphere, the
@@ -145,7 +164,7 @@ impl SceneOptions {
     pub fn resolve(&self, mesh: &Mesh) -> Result<(GroomParams, FrameSettings)> {
         for (name, v) in [
             ("hair length", self.hair_length),
-            ("camera distance", self.distance),
+            ("camera distance", self.distance.unwrap_or(1.0)),
             ("density scale", self.density_scale),
         ] {
             if !(v.is_finite() && v > 0.0) {
@@ -166,6 +185,7 @@ impl SceneOptions {
             segments: self.segments,
             segment_length: self.hair_length * radius / self.segments.max(1) as f32,
             comb_strength: self.comb,
+            thickness_limit: self.thickness_limit,
             curl: self.curl,
             ..Default::default()
         };
@@ -174,7 +194,10 @@ impl SceneOptions {
                 target: center,
                 yaw_deg: self.yaw_deg,
                 pitch_deg: self.pitch_deg,
-                distance: self.distance * radius,
+                distance: match self.distance {
+                    Some(d) => d * radius,
+                    None => self.framing_distance(mesh),
+                },
                 fov_y_deg: self.fov_deg,
             },
             lighting: self.lighting.clone(),

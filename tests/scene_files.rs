@@ -39,7 +39,7 @@ fn the_default_scene_file_is_the_built_in_default() {
     let sphere = Scene::defaults(ModelSpec::Sphere);
     assert_eq!(original.model, ModelSpec::Sphere);
     assert!((original.options.hair_length - sphere.options.hair_length).abs() < 1e-5);
-    assert!((original.options.distance - sphere.options.distance).abs() < 1e-3);
+    assert!((original.options.distance.unwrap() - sphere.options.distance.unwrap()).abs() < 1e-3);
     assert_eq!(original.options.segments, sphere.options.segments);
     assert_eq!(original.options.density_scale, sphere.options.density_scale);
 }

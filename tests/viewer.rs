@@ -229,7 +229,9 @@ fn the_viewer_saves_a_scene_that_reproduces_its_view() {
     );
     assert!((loaded.options.yaw_deg - (original.options.yaw_deg + 30.0)).abs() < 1e-4);
     assert!((loaded.options.pitch_deg - (original.options.pitch_deg - 10.0)).abs() < 1e-4);
-    assert!((loaded.options.distance - 0.5 * original.options.distance).abs() < 1e-4);
+    assert!(
+        (loaded.options.distance.unwrap() - 0.5 * original.options.distance.unwrap()).abs() < 1e-4
+    );
     assert!((loaded.options.density_scale - original.options.density_scale).abs() < 1e-3);
     assert_eq!(loaded.sim.wind, glam::Vec3::ZERO);
     assert_eq!((loaded.width, loaded.height), (160, 120));

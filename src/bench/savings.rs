@@ -90,7 +90,10 @@ impl Bench<'_> {
             self.device,
             Mesh::blob(),
             &SceneOptions {
-                distance: 4.0 * SceneOptions::default().distance,
+                distance: Some(
+                    4.0 * SceneOptions::default().framing_distance(&Mesh::blob())
+                        / Mesh::blob().bounds().1,
+                ),
                 ..SceneOptions::default()
             },
             self.frame_extent(),

@@ -21,6 +21,10 @@ pub struct GroomParams {
     pub curl: f32,
     /// Curl turns per strand.
     pub curl_turns: f32,
+    /// Each master hair is at most this many times the model's local half-thickness
+    /// long (measured inwards from its root), so thin parts (ears, legs, tails) are not
+    /// buried; 0 = every hair `segments × segment_length`.
+    pub thickness_limit: f32,
 }
 
 impl Default for GroomParams {
@@ -32,6 +36,7 @@ impl Default for GroomParams {
             comb_strength: 0.9,
             curl: 0.0,
             curl_turns: 1.5,
+            thickness_limit: 0.0,
         }
     }
 }
@@ -54,6 +59,7 @@ impl GroomParams {
             ("comb strength", self.comb_strength),
             ("curl", self.curl),
             ("curl turns", self.curl_turns),
+            ("thickness limit", self.thickness_limit),
         ] {
             if !v.is_finite() || v < 0.0 {
                 return Err(Error::Parameter(format!(
@@ -104,11 +110,31 @@ impl Strands {
         groom.validate()?;
         let segments = groom.segments as usize;
         let mut positions = Vec::with_capacity(mesh.vertex_count() * (segments + 1));
+        let primary = groom.comb_direction.try_normalize().unwrap_or(Vec3::NEG_Y);
+        // A second comb direction across the first takes over where the surface faces
+        // along the first (whose projection vanishes there and would swirl into a whorl).
+        // It is the direction across the first closest to the model's back (-z).
+        let secondary = (Vec3::NEG_Z - Vec3::NEG_Z.dot(primary) * primary)
+            .try_normalize()
+            .unwrap_or_else(|| primary.any_orthonormal_vector());
+        let comb_length = groom.comb_direction.length();
+        let thickness = if groom.thickness_limit > 0.0 {
+            Some(mesh.half_thickness()?)
+        } else {
+            None
+        };
         for (i, (&root, &normal)) in mesh.positions.iter().zip(&mesh.normals).enumerate() {
             let n = normal.try_normalize().unwrap_or(Vec3::Y);
-            let comb = groom.comb_direction - groom.comb_direction.dot(n) * n;
+            let along_first = primary - primary.dot(n) * n;
+            let blend = 1.0 - along_first.length();
+            let comb = (along_first + blend * (secondary - secondary.dot(n) * n)) * comb_length;
             let (b1, b2) = n.any_orthonormal_pair();
             let phase = hash_unit(i as u32) * std::f32::consts::TAU;
+            let full = groom.segment_length * segments as f32;
+            let segment_length = match &thickness {
+                Some(h) => (groom.thickness_limit * h[i]).min(full) / segments as f32,
+                None => groom.segment_length,
+            };
             let mut p = root;
             positions.push(p);
             for k in 0..segments {
@@ -118,7 +144,7 @@ impl Strands {
                 let dir = (n + groom.comb_strength * along * comb + curl)
                     .try_normalize()
                     .unwrap_or(n);
-                p += dir * groom.segment_length;
+                p += dir * segment_length;
                 positions.push(p);
             }
         }

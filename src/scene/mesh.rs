@@ -165,6 +165,35 @@ impl Mesh {
         std::fs::write(path, text).map_err(|e| Error::io("write the model to", path, e))
     }
 
+    /// Per vertex, the model's half-thickness there: the deepest point inside the body
+    /// along the inward normal (from a distance field of the mesh), so a thin ear or leg
+    /// reads small and a round body large. A vertex whose inward ray finds no inside (an
+    /// open or inside-out patch) gets the bounding radius.
+    pub fn half_thickness(&self) -> Result<Vec<f32>> {
+        let (_, radius) = self.bounds();
+        let (sdf, _) = crate::sim::Sdf::build(self, 40, 0.05 * radius)?;
+        const STEPS: usize = 24;
+        Ok(self
+            .positions
+            .iter()
+            .zip(&self.normals)
+            .map(|(p, n)| {
+                let deepest = (1..=STEPS)
+                    .filter_map(|k| {
+                        let q = *p - *n * (radius * k as f32 / STEPS as f32);
+                        sdf.sample(crate::sim::V3::<f32>::from_vec3(q))
+                            .map(|(d, _)| -d)
+                    })
+                    .fold(0.0f32, f32::max);
+                if deepest > 0.0 {
+                    deepest
+                } else {
+                    radius
+                }
+            })
+            .collect())
+    }
+
     /// Bounding radii a model is drawn at as it is; outside, [`Mesh::normalize_scale`]
     /// rescales it.
     pub const SCALE_RANGE: (f32, f32) = (1e-3, 1e4);

@@ -26,7 +26,7 @@ impl Viewer {
         let mut options = self.scene.clone();
         options.yaw_deg = camera.yaw_deg;
         options.pitch_deg = camera.pitch_deg;
-        options.distance = camera.distance / radius;
+        options.distance = Some(camera.distance / radius);
         options.fov_deg = camera.fov_y_deg;
         options.lighting = settings.lighting.clone();
         options.density_scale = style.density * radius * radius / FurStyle::default().density;

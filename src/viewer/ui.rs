@@ -103,7 +103,8 @@ impl PanelState {
                     let mut changed = false;
                     changed |= ui.add(egui::Slider::new(&mut s.segments, 1..=63).text("segments")).changed();
                     changed |= ui.add(egui::Slider::new(&mut s.hair_length, 0.02..=1.0).text("hair length (× radius)")).changed();
-                    changed |= ui.add(egui::Slider::new(&mut s.comb, 0.0..=3.0).text("comb")).changed();
+                    changed |= ui.add(egui::Slider::new(&mut s.comb, 0.0..=4.0).text("comb")).changed();
+                    changed |= ui.add(egui::Slider::new(&mut s.thickness_limit, 0.0..=2.0).text("length ≤ × half-thickness (0 = off)")).changed();
                     changed |= ui.add(egui::Slider::new(&mut s.curl, 0.0..=2.0).text("curl")).changed();
                     if changed {
                         changes.groom = Some(s.clone());

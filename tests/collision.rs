@@ -165,18 +165,7 @@ fn deepest(mesh: &Mesh, collision: bool, frames: usize) -> f32 {
     };
     let strands = Strands::grow(mesh, &groom).unwrap();
     let hair = strands.hair_length();
-    let params = SimParams {
-        gravity: Vec3::new(0.0, -40.0, 0.0),
-        global_stiffness: 0.0,
-        local_stiffness: 0.3,
-        collision,
-        ..SimParams::default()
-    };
-    let motion = Motion {
-        kind: MotionKind::Shake,
-        amplitude: 0.2 * f64::from(radius),
-        rate: 2.0,
-    };
+    let (params, motion) = fur::sim::sdf::pressing_case(f64::from(radius), collision);
     let (sdf, _) = Sdf::build(
         mesh,
         params.sdf_cells(2.0 * radius + 2.0 * hair, hair),

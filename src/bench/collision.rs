@@ -10,7 +10,7 @@ use super::sim::{blob_body, blob_strands};
 use super::Bench;
 use crate::error::Result;
 use crate::scene::{GroomParams, Mesh, Strands};
-use crate::sim::{GpuSim, Motion, MotionKind, Sdf, SimParams};
+use crate::sim::{GpuSim, Sdf, SimParams};
 use crate::strand_textures::StrandTextures;
 
 fn resolutions(quick: bool) -> &'static [u32] {
@@ -38,18 +38,7 @@ impl Bench<'_> {
     ) -> Result<(f64, f64)> {
         let mesh = Mesh::blob();
         let radius = f64::from(mesh.bounds().1);
-        let params = SimParams {
-            gravity: Vec3::new(0.0, -40.0, 0.0),
-            global_stiffness: 0.0,
-            local_stiffness: 0.3,
-            collision,
-            ..SimParams::default()
-        };
-        let motion = Motion {
-            kind: MotionKind::Shake,
-            amplitude: 0.2 * radius,
-            rate: 2.0,
-        };
+        let (params, motion) = crate::sim::sdf::pressing_case(radius, collision);
         let mut textures = StrandTextures::new(self.device, strands, motion.head(0.0).as_mat4())?;
         let mut gpu = GpuSim::with_body(self.device, &textures, params, 1, Some(body))?;
         let v = strands.vertices_per_strand as usize;

@@ -156,16 +156,9 @@ fn an_open_or_inconsistent_mesh_is_named_in_a_warning() {
 fn deepest(mesh: &Mesh, collision: bool, frames: usize) -> f32 {
     let device = common::device();
     let (_, radius) = mesh.bounds();
-    let groom = GroomParams {
-        segments: 12,
-        segment_length: 0.3 * radius / 12.0,
-        comb_direction: Vec3::NEG_Y,
-        comb_strength: 3.0,
-        ..Default::default()
-    };
+    let (groom, params, motion) = fur::sim::sdf::pressing_case(radius, collision);
     let strands = Strands::grow(mesh, &groom).unwrap();
     let hair = strands.hair_length();
-    let (params, motion) = fur::sim::sdf::pressing_case(f64::from(radius), collision);
     let (sdf, _) = Sdf::build(
         mesh,
         params.sdf_cells(2.0 * radius + 2.0 * hair, hair),

@@ -9,7 +9,7 @@ use glam::Vec3;
 use super::sim::{blob_body, blob_strands};
 use super::Bench;
 use crate::error::Result;
-use crate::scene::{GroomParams, Mesh, Strands};
+use crate::scene::{Mesh, Strands};
 use crate::sim::{GpuSim, Sdf, SimParams};
 use crate::strand_textures::StrandTextures;
 
@@ -37,8 +37,7 @@ impl Bench<'_> {
         collision: bool,
     ) -> Result<(f64, f64)> {
         let mesh = Mesh::blob();
-        let radius = f64::from(mesh.bounds().1);
-        let (params, motion) = crate::sim::sdf::pressing_case(radius, collision);
+        let (_, params, motion) = crate::sim::sdf::pressing_case(mesh.bounds().1, collision);
         let mut textures = StrandTextures::new(self.device, strands, motion.head(0.0).as_mat4())?;
         let mut gpu = GpuSim::with_body(self.device, &textures, params, 1, Some(body))?;
         let v = strands.vertices_per_strand as usize;
@@ -73,14 +72,7 @@ impl Bench<'_> {
         let frames = if self.quick { 20 } else { 200 };
         let blob = Mesh::blob();
         let (_, radius) = blob.bounds();
-        // The penetration scene: hair a quarter of the radius long, combed down hard.
-        let groom = GroomParams {
-            segments: 12,
-            segment_length: 0.3 * radius / 12.0,
-            comb_direction: Vec3::NEG_Y,
-            comb_strength: 3.0,
-            ..Default::default()
-        };
+        let (groom, _, _) = crate::sim::sdf::pressing_case(radius, true);
         let pressed = Strands::grow(&blob, &groom)?;
         let hair = pressed.hair_length();
         let default_cells = SimParams::default().sdf_cells(
@@ -97,7 +89,7 @@ impl Bench<'_> {
             self.md,
             "## Collision\n\nThe blob's distance field at each resolution (cells along the longest \
              axis of the box padded by the hair length): build time on the CPU and size on the \
-             device; then hair a quarter of the radius long, combed down hard, shaken under 4× \
+             device; then hair 0.3 × the radius long, combed down hard, shaken under 4× \
              gravity for {frames} frames on the GPU: the depth of strand vertices inside the body \
              over the second half, from exact distances, as fractions of the hair length \
              (default margin {}: vertices are kept that far outside; default resolution here \

@@ -299,10 +299,21 @@ pub fn exact_distances(mesh: &Mesh, points: &[Vec3]) -> Vec<f32> {
     )
 }
 
-/// The hardest case collision is judged on, shared by the benchmark and the tests:
-/// strong gravity (4×), no global shape and soft local shape, so hair falls onto the
-/// body, while the head shakes by a fifth of the model's `radius` at 2 Hz.
-pub fn pressing_case(radius: f64, collision: bool) -> (super::SimParams, super::Motion) {
+/// The hardest case collision is judged on, shared by the benchmark and the tests: hair
+/// 0.3 × the model's bounding `radius` long combed down hard, under strong gravity (4×)
+/// with no global shape and soft local shape, so it falls onto the body, while the head
+/// shakes by a fifth of the radius at 2 Hz.
+pub fn pressing_case(
+    radius: f32,
+    collision: bool,
+) -> (crate::scene::GroomParams, super::SimParams, super::Motion) {
+    let groom = crate::scene::GroomParams {
+        segments: 12,
+        segment_length: 0.3 * radius / 12.0,
+        comb_direction: Vec3::NEG_Y,
+        comb_strength: 3.0,
+        ..Default::default()
+    };
     let params = super::SimParams {
         gravity: Vec3::new(0.0, -40.0, 0.0),
         global_stiffness: 0.0,
@@ -312,10 +323,10 @@ pub fn pressing_case(radius: f64, collision: bool) -> (super::SimParams, super::
     };
     let motion = super::Motion {
         kind: super::MotionKind::Shake,
-        amplitude: 0.2 * radius,
+        amplitude: 0.2 * f64::from(radius),
         rate: 2.0,
     };
-    (params, motion)
+    (groom, params, motion)
 }
 
 #[cfg(test)]

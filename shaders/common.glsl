@@ -17,7 +17,7 @@ layout(set = 0, binding = 0, std140) uniform Frame {
     vec4 lod;            // hairs per unit area, full-density distance, max level, cull margin
     vec4 hair;           // width, minimum width in pixels, jitter radius, length jitter
     vec4 viewport;       // width, height, 1/width, 1/height
-    vec4 draw;           // ribbon threshold (px), vertex-LOD segment (px, 0 = off), hair length, unused
+    vec4 draw;           // ribbon threshold (px), vertex-LOD tolerance (px, 0 = off), unused, unused
     uvec4 strands;       // vertices per strand, strands per row, fixed level (0 = adaptive), flags
 } frame;
 

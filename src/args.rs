@@ -63,16 +63,16 @@ pub struct GroomArgs {
 /// How the fur is drawn: speed against image quality (`fur bench` measures each).
 #[derive(Args, Clone)]
 pub struct DrawArgs {
-    /// Samples per pixel: 1 (coverage from the hair's width, blended) or an MSAA count
-    /// the device supports (lavapipe: 4) [default: 1].
+    /// Samples per pixel: 1 (no MSAA; lines then blend their coverage) or an MSAA count
+    /// the device supports (lavapipe: 1 and 4) [default: 4].
     #[arg(long)]
     pub samples: Option<u32>,
     /// What each hair is drawn as: `lines` (coverage in alpha), `ribbons` (true width),
     /// or `auto`: ribbons for hairs at least --ribbon-above pixels wide at the root,
-    /// lines for the rest [default: auto].
+    /// lines for the rest [default: ribbons].
     #[arg(long)]
     pub primitive: Option<Primitive>,
-    /// Root width in pixels from which `auto` draws ribbons [default: 1.5].
+    /// Root width in pixels from which `auto` draws ribbons [default: 1].
     #[arg(long)]
     pub ribbon_above: Option<f32>,
     /// Where Kajiya–Kay lighting runs: `vertex` (per strand vertex, geometry stage) or
@@ -130,7 +130,8 @@ impl SceneArgs {
     }
 }
 
-fn set<T>(field: &mut T, value: Option<T>) {
+/// Overwrites `field` with `value` when there is one.
+pub fn set<T>(field: &mut T, value: Option<T>) {
     if let Some(v) = value {
         *field = v;
     }

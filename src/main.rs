@@ -13,7 +13,7 @@ use ash::vk;
 use clap::{Args, Parser, Subcommand};
 use fur::scene::ModelSpec;
 use fur::session::FurSession;
-use fur::sim::{Motion, MotionKind};
+use fur::sim::MotionKind;
 
 /// Real-time fur rendering and simulation on Vulkan: master hairs grown from a mesh,
 /// simulated in compute shaders (Han & Harada 2012), interpolated by tessellation,
@@ -237,8 +237,8 @@ fn view(args: ViewArgs) -> anyhow::Result<()> {
         script.check_within(frames)?;
     }
     let mut scene = args::scene(args.scene_file.as_deref(), &args.scene, &args.sim)?;
-    set(&mut scene.width, args.width);
-    set(&mut scene.height, args.height);
+    args::set(&mut scene.width, args.width);
+    args::set(&mut scene.height, args.height);
     scene.sim.validate()?;
     if let Some(path) = &args.save_scene {
         fur::error::check_output_file(path)?;
@@ -248,6 +248,7 @@ fn view(args: ViewArgs) -> anyhow::Result<()> {
         model: scene.model.clone(),
         scene: scene.options.clone(),
         sim: scene.sim.clone(),
+        motion: scene.motion,
         vsync: !args.no_vsync,
         frames: args.frames,
         validate: args.validate,
@@ -275,12 +276,6 @@ fn export_model(out: &Path, model: &ModelSpec) -> anyhow::Result<()> {
     Ok(())
 }
 
-fn set<T>(field: &mut T, value: Option<T>) {
-    if let Some(v) = value {
-        *field = v;
-    }
-}
-
 /// What a frame without any hair means.
 const NO_FUR: &str = "no hair was drawn: every furred triangle is off-screen, facing away \
     (culled) or too small for the density; move the camera (--yaw, --pitch, --distance) or \
@@ -295,11 +290,11 @@ fn render(args: &RenderArgs) -> anyhow::Result<()> {
     }
     args.scene.check()?;
     let mut scene = args::scene(args.scene_file.as_deref(), &args.scene, &args.sim)?;
-    set(&mut scene.width, args.width);
-    set(&mut scene.height, args.height);
-    set(&mut scene.motion.kind, args.motion);
-    set(&mut scene.motion.amplitude, args.amplitude);
-    set(&mut scene.motion.rate, args.rate);
+    args::set(&mut scene.width, args.width);
+    args::set(&mut scene.height, args.height);
+    args::set(&mut scene.motion.kind, args.motion);
+    args::set(&mut scene.motion.amplitude, args.amplitude);
+    args::set(&mut scene.motion.rate, args.rate);
     let simulate = args.frames > 1 || args.out_dir.is_some();
     // Every output path is checked before any work starts.
     let frames_dir = args
@@ -318,18 +313,10 @@ fn render(args: &RenderArgs) -> anyhow::Result<()> {
     let (_, radius) = mesh.bounds();
     let (groom, mut settings) = scene.options.resolve(&mesh)?;
     settings.count_hairs = !simulate;
-    let motion = Motion {
-        kind: if simulate {
-            scene.motion.kind
-        } else {
-            MotionKind::Still
-        },
-        amplitude: match scene.motion.kind {
-            MotionKind::Shake => scene.motion.amplitude * f64::from(radius),
-            _ => scene.motion.amplitude,
-        },
-        rate: scene.motion.rate,
-    };
+    let mut motion = scene.motion.motion(radius);
+    if !simulate {
+        motion.kind = MotionKind::Still;
+    }
     let extent = vk::Extent2D {
         width: scene.width,
         height: scene.height,

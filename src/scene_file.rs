@@ -15,7 +15,7 @@ use crate::error::{Error, Result};
 use crate::render::{Primitive, Shading};
 use crate::scene::ModelSpec;
 use crate::session::SceneOptions;
-use crate::sim::{MotionKind, SimParams};
+use crate::sim::{Motion, MotionKind, SimParams};
 
 /// Everything a run draws.
 #[derive(Clone, Debug, PartialEq)]
@@ -38,23 +38,50 @@ pub struct MotionSpec {
     pub rate: f64,
 }
 
+impl MotionSpec {
+    /// The head motion on a model of bounding radius `radius`.
+    pub fn motion(&self, radius: f32) -> Motion {
+        Motion {
+            kind: self.kind,
+            amplitude: match self.kind {
+                MotionKind::Shake => self.amplitude * f64::from(radius),
+                _ => self.amplitude,
+            },
+            rate: self.rate,
+        }
+    }
+}
+
+impl Default for MotionSpec {
+    /// A shake by a quarter of the bounding radius, once a second.
+    fn default() -> Self {
+        Self {
+            kind: MotionKind::Shake,
+            amplitude: 0.25,
+            rate: 1.0,
+        }
+    }
+}
+
 impl Scene {
     /// The defaults for `model` (the original demo's scene for the built-in sphere).
     pub fn defaults(model: ModelSpec) -> Self {
         Self {
             options: SceneOptions::for_model(&model),
             model,
-            sim: SimParams {
-                wind: Vec3::new(6.0, 0.0, 2.0),
-                ..SimParams::default()
-            },
-            motion: MotionSpec {
-                kind: MotionKind::Shake,
-                amplitude: 0.25,
-                rate: 1.0,
-            },
+            sim: Self::default_sim(),
+            motion: MotionSpec::default(),
             width: 1280,
             height: 720,
+        }
+    }
+
+    /// The simulation a scene runs unless told otherwise: the solver's defaults in a
+    /// steady wind.
+    pub fn default_sim() -> SimParams {
+        SimParams {
+            wind: Vec3::new(6.0, 0.0, 2.0),
+            ..SimParams::default()
         }
     }
 
@@ -144,7 +171,7 @@ impl Scene {
                 sdf_resolution: Some(s.sdf_resolution),
             }),
             motion: Some(MotionSection {
-                kind: Some(motion_name(self.motion.kind).into()),
+                kind: Some(self.motion.kind.name().into()),
                 amplitude: Some(self.motion.amplitude),
                 rate: Some(self.motion.rate),
             }),
@@ -160,15 +187,6 @@ impl Scene {
             path.display()
         );
         std::fs::write(path, text).map_err(|e| Error::io("write the scene file", path, e))
-    }
-}
-
-fn motion_name(kind: MotionKind) -> &'static str {
-    match kind {
-        MotionKind::Still => "still",
-        MotionKind::Shake => "shake",
-        MotionKind::Spin => "spin",
-        MotionKind::Nod => "nod",
     }
 }
 

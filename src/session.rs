@@ -80,15 +80,15 @@ impl Default for DrawOptions {
 }
 
 impl DrawOptions {
-    /// Today's reference-quality drawing: 4× MSAA ribbons lit per fragment, every
-    /// strand vertex drawn.
-    pub fn reference_quality() -> Self {
+    /// This drawing at reference quality: 4× MSAA ribbons lit per fragment, every
+    /// strand vertex drawn (widths, jitter and culling kept).
+    pub fn reference_quality(&self) -> Self {
         Self {
             samples: 4,
             primitive: Primitive::Ribbons,
             shading: Shading::Fragment,
             vertex_lod_px: 0.0,
-            ..Self::default()
+            ..self.clone()
         }
     }
 }

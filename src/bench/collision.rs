@@ -75,16 +75,7 @@ impl Bench<'_> {
         let (groom, _, _) = crate::sim::sdf::pressing_case(radius, true);
         let pressed = Strands::grow(&blob, &groom)?;
         let hair = pressed.hair_length();
-        let default_cells = SimParams::default().sdf_cells(
-            {
-                let (min, max) = blob.positions.iter().fold(
-                    (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN)),
-                    |(lo, hi), p| (lo.min(*p), hi.max(*p)),
-                );
-                (max - min).max_element() + 2.0 * hair
-            },
-            hair,
-        );
+        let default_cells = Sdf::cells_for_hair(&blob, &SimParams::default(), hair);
         let _ = writeln!(
             self.md,
             "## Collision\n\nThe blob's distance field at each resolution (cells along the longest \
@@ -172,10 +163,7 @@ impl Bench<'_> {
         // The cost in the default scene.
         let strands = blob_strands()?;
         let body = blob_body(&strands, &SimParams::default())?;
-        let params = SimParams {
-            wind: Vec3::new(6.0, 0.0, 2.0),
-            ..SimParams::default()
-        };
+        let params = crate::scene_file::Scene::default_sim();
         let (_, with) = self.sim_ms_with_steps(&strands, &params, None, Some(&body))?;
         let (_, without) = self.sim_ms_with_steps(
             &strands,

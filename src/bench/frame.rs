@@ -6,13 +6,10 @@
 use std::fmt::Write as _;
 use std::time::Instant;
 
-use glam::Vec3;
-
 use super::metrics::median;
 use super::{Bench, BenchScene};
 use crate::error::Result;
 use crate::session::{DrawOptions, FurSession, SceneOptions};
-use crate::sim::{Motion, MotionKind, SimParams};
 
 /// The original OpenGL demo's frame on its own scene, measured on this project's
 /// 2-core machine kind with Mesa's llvmpipe (1,345–1,641 ms; ~1,400 ms typical).
@@ -29,28 +26,21 @@ struct FrameTimes {
 }
 
 impl Bench<'_> {
+    /// A session of `scene` (its simulation and motion included) drawn with `draw`.
     fn session(&self, scene: &BenchScene, draw: &DrawOptions) -> Result<FurSession> {
+        let scene = &scene.scene;
         let mesh = scene.model.prepare()?.0;
         let options = SceneOptions {
             draw: draw.clone(),
             ..scene.options.clone()
         };
         let (groom, settings) = options.resolve(&mesh)?;
-        let radius = f64::from(mesh.bounds().1);
-        let motion = Motion {
-            kind: MotionKind::Shake,
-            amplitude: 0.25 * radius,
-            rate: 1.0,
-        };
-        let sim = SimParams {
-            wind: Vec3::new(6.0, 0.0, 2.0),
-            ..SimParams::default()
-        };
+        let motion = scene.motion.motion(mesh.bounds().1);
         FurSession::new(
             self.device,
             mesh,
             &groom,
-            sim,
+            scene.sim.clone(),
             motion,
             settings,
             self.frame_extent(),
@@ -126,8 +116,11 @@ impl Bench<'_> {
         for scene in self.scenes.clone() {
             let name = &scene.name;
             for (label, draw) in [
-                ("default", scene.options.draw.clone()),
-                ("reference quality", DrawOptions::reference_quality()),
+                ("default", scene.scene.options.draw.clone()),
+                (
+                    "reference quality",
+                    scene.scene.options.draw.reference_quality(),
+                ),
             ] {
                 let mut session = self.session(&scene, &draw)?;
                 let times = self.time_frames(&mut session)?;
@@ -159,7 +152,7 @@ impl Bench<'_> {
         );
         for scene in self.scenes.clone() {
             let name = &scene.name;
-            let mut session = self.session(&scene, &scene.options.draw)?;
+            let mut session = self.session(&scene, &scene.scene.options.draw)?;
             let mut sim_ms = Vec::new();
             for frame in 0..warm + measured {
                 crate::interrupt::check()?;

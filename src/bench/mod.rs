@@ -1,6 +1,6 @@
 //! `fur bench`: what a frame costs on this device, what image quality and simulation
 //! accuracy each setting buys, how cost scales, and what skipping unneeded work saves.
-//! Writes `results.csv` (every measurement), `results.md` (tables) and PNG charts.
+//! Writes `results.csv` (every measurement), `results.md` (tables) and SVG charts.
 //!
 //! Times are medians over repeated frames after warm-up frames (which pay lazy shader
 //! compilation). Frame times are wall-clock, submission to fence, beside GPU timestamps
@@ -25,6 +25,7 @@ use ash::vk;
 
 use crate::error::{Error, Result};
 use crate::gpu::Device;
+use crate::scene_file::Scene;
 use plot::Plot;
 
 /// How much to measure.
@@ -36,34 +37,30 @@ pub struct BenchOptions {
     pub sections: Vec<Section>,
     /// A scene (`fur bench --scene`) measured by the frame and render-quality sections
     /// instead of the blob and the original's sphere.
-    pub scene: Option<(String, crate::scene_file::Scene)>,
+    pub scene: Option<(String, Scene)>,
 }
 
 /// A scene the frame and render-quality sections measure.
 #[derive(Clone, Debug)]
 pub(crate) struct BenchScene {
     pub name: String,
-    pub model: crate::scene::ModelSpec,
-    pub options: crate::session::SceneOptions,
+    pub scene: Scene,
 }
 
 impl BenchOptions {
     /// The scenes the frame and render-quality sections measure.
     pub(crate) fn scenes(&self) -> Vec<BenchScene> {
         use crate::scene::ModelSpec;
-        use crate::session::SceneOptions;
         match &self.scene {
             Some((name, scene)) => vec![BenchScene {
                 name: name.clone(),
-                model: scene.model.clone(),
-                options: scene.options.clone(),
+                scene: scene.clone(),
             }],
             None => [("blob", ModelSpec::Blob), ("sphere", ModelSpec::Sphere)]
                 .into_iter()
                 .map(|(name, model)| BenchScene {
                     name: name.into(),
-                    options: SceneOptions::for_model(&model),
-                    model,
+                    scene: Scene::defaults(model),
                 })
                 .collect(),
         }
@@ -300,5 +297,41 @@ impl Bench<'_> {
         } else {
             (3, 15)
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::ModelSpec;
+
+    #[test]
+    fn a_scene_file_is_measured_with_its_own_simulation_motion_and_drawing() {
+        let mut scene = Scene::defaults(ModelSpec::Blob);
+        scene.sim.substeps = 3;
+        scene.motion.rate = 2.5;
+        scene.options.draw.hair_width *= 2.0;
+        let options = BenchOptions {
+            quick: true,
+            sections: vec![Section::Frame],
+            scene: Some(("mine".into(), scene.clone())),
+        };
+        let scenes = options.scenes();
+        assert_eq!(scenes.len(), 1);
+        assert_eq!(scenes[0].name, "mine");
+        assert_eq!(scenes[0].scene, scene);
+        // Reference quality changes how hair is drawn, not the hair.
+        let reference = scene.options.draw.reference_quality();
+        assert_eq!(reference.hair_width, scene.options.draw.hair_width);
+        assert_eq!(reference.samples, 4);
+        // Without a scene: the blob and the original's sphere with their defaults.
+        let built_in = BenchOptions {
+            scene: None,
+            ..options
+        }
+        .scenes();
+        let names: Vec<&str> = built_in.iter().map(|s| s.name.as_str()).collect();
+        assert_eq!(names, ["blob", "sphere"]);
+        assert_eq!(built_in[1].scene, Scene::defaults(ModelSpec::Sphere));
     }
 }

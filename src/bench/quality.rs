@@ -19,8 +19,9 @@ use crate::error::Result;
 use crate::gpu::Device;
 use crate::render::{FrameSettings, FurStyle, HairCounts, Renderer, RgbaImage};
 use crate::scene::{Mesh, Strands};
-use crate::session::{DrawOptions, SceneOptions};
-use crate::sim::{GpuSim, Motion, MotionKind, SimParams};
+use crate::scene_file::Scene;
+use crate::session::DrawOptions;
+use crate::sim::GpuSim;
 use crate::strand_textures::StrandTextures;
 
 /// Simulated frames before the shot.
@@ -47,26 +48,15 @@ pub struct Drawn {
 }
 
 impl Shot {
-    pub fn new(
-        device: &Arc<Device>,
-        mesh: Mesh,
-        options: &SceneOptions,
-        extent: vk::Extent2D,
-    ) -> Result<Self> {
-        let (groom, mut settings) = options.resolve(&mesh)?;
+    /// The frame of `scene` after its simulation and motion have run for a moment.
+    pub fn new(device: &Arc<Device>, scene: &Scene, extent: vk::Extent2D) -> Result<Self> {
+        let mesh = scene.model.prepare()?.0;
+        let (groom, mut settings) = scene.options.resolve(&mesh)?;
         let strands = Strands::grow(&mesh, &groom)?;
         let mut textures = StrandTextures::new(device, &strands, settings.head)?;
         let radius = mesh.bounds().1;
-        let motion = Motion {
-            kind: MotionKind::Shake,
-            amplitude: 0.25 * f64::from(radius),
-            rate: 1.0,
-        };
-        let params = SimParams {
-            wind: glam::Vec3::new(6.0, 0.0, 2.0),
-            ..SimParams::default()
-        };
-        let mut sim = GpuSim::new(device, &textures, params)?;
+        let motion = scene.motion.motion(radius);
+        let mut sim = GpuSim::new(device, &textures, scene.sim.clone())?;
         sim.run_frames(&mut textures, SETTLE_FRAMES, |t| motion.head(t))?;
         settings.head = motion.head(sim.time).as_mat4();
         Ok(Self {
@@ -149,7 +139,7 @@ impl Shot {
         let style = self.style(&DrawOptions {
             lod_distance: self.settings.style.lod_distance / self.radius,
             thickness_compensation: self.settings.style.thickness_compensation,
-            ..DrawOptions::reference_quality()
+            ..DrawOptions::default().reference_quality()
         });
         let extent = vk::Extent2D {
             width: self.extent.width * factor,

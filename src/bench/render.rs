@@ -35,7 +35,7 @@ fn cases(quick: bool) -> Vec<Case> {
     let lod = default.vertex_lod_px;
     if quick {
         return vec![
-            case("reference quality", DrawOptions::reference_quality()),
+            case("reference quality", default.reference_quality()),
             case("default", default.clone()),
             case("1x lines", with(1, Primitive::Lines, lod)),
         ];
@@ -43,7 +43,7 @@ fn cases(quick: bool) -> Vec<Case> {
     vec![
         case(
             "reference quality: 4x ribbons, fragment lighting, all vertices",
-            DrawOptions::reference_quality(),
+            default.reference_quality(),
         ),
         case(
             "4x ribbons, vertex lighting, all vertices",
@@ -140,12 +140,7 @@ impl Bench<'_> {
         let mut series = Vec::new();
         for (k, bench_scene) in self.scenes.clone().iter().enumerate() {
             let scene = &bench_scene.name;
-            let shot = Shot::new(
-                self.device,
-                bench_scene.model.prepare()?.0,
-                &bench_scene.options,
-                extent,
-            )?;
+            let shot = Shot::new(self.device, &bench_scene.scene, extent)?;
             let reference = shot.reference(factor)?;
             (self.progress)(&format!("{scene} reference"));
             let mut points = Vec::new();

@@ -3,15 +3,13 @@
 
 use std::fmt::Write as _;
 
-use glam::Vec3;
-
 use super::quality::Shot;
 use super::sim::{blob_body, blob_strands};
 use super::Bench;
 use crate::error::Result;
 use crate::render::FurStyle;
-use crate::scene::Mesh;
-use crate::session::SceneOptions;
+use crate::scene::{Mesh, ModelSpec};
+use crate::scene_file::Scene;
 use crate::sim::SimParams;
 
 pub(super) const TASKS: u64 = 5;
@@ -25,15 +23,13 @@ impl Bench<'_> {
              | saving | with the work | without | ratio |\n| --- | --- | --- | --- |"
         );
         let strands = blob_strands()?;
-        let full = SimParams {
-            wind: Vec3::new(6.0, 0.0, 2.0),
-            ..SimParams::default()
-        };
+        let blob = Scene::defaults(ModelSpec::Blob);
+        let full = blob.sim.clone();
         let sim_cases = [
             (
                 "wind off: wind step compiled out",
                 SimParams {
-                    wind: Vec3::ZERO,
+                    wind: glam::Vec3::ZERO,
                     ..full.clone()
                 },
             ),
@@ -61,12 +57,7 @@ impl Bench<'_> {
         }
 
         let frames = self.frames();
-        let shot = Shot::new(
-            self.device,
-            Mesh::blob(),
-            &SceneOptions::default(),
-            self.frame_extent(),
-        )?;
+        let shot = Shot::new(self.device, &blob, self.frame_extent())?;
         let style = shot.settings.style.clone();
         let culled = shot.draw(&style, frames)?;
         let all = shot.draw(
@@ -86,18 +77,11 @@ impl Bench<'_> {
         self.saving("culling: hairs drawn", hairs(&all), hairs(&culled), "hairs");
         (self.progress)("culling");
 
-        let mut far = Shot::new(
-            self.device,
-            Mesh::blob(),
-            &SceneOptions {
-                distance: Some(
-                    4.0 * SceneOptions::default().framing_distance(&Mesh::blob())
-                        / Mesh::blob().bounds().1,
-                ),
-                ..SceneOptions::default()
-            },
-            self.frame_extent(),
-        )?;
+        let mesh = Mesh::blob();
+        let framing = blob.options.framing_distance(&mesh) / mesh.bounds().1;
+        let mut far_scene = blob.clone();
+        far_scene.options.distance = Some(4.0 * framing);
+        let mut far = Shot::new(self.device, &far_scene, self.frame_extent())?;
         let lod = far.draw(&far.settings.style.clone(), frames)?;
         far.settings.style.lod_distance = 1e9;
         let dense = far.draw(&far.settings.style.clone(), frames)?;

@@ -4,13 +4,14 @@
 use std::fmt::Write as _;
 use std::time::Instant;
 
-use glam::{DVec3, Vec3};
+use glam::DVec3;
 
 use super::metrics::{max_stretch, median, pareto_front, position_error};
 use super::plot::{Plot, Series, PALETTE};
 use super::Bench;
 use crate::error::Result;
 use crate::scene::{GroomParams, Mesh, Strands};
+use crate::scene_file::Scene;
 use crate::session::SceneOptions;
 use crate::sim::{CpuSim, GpuSim, Motion, MotionKind, Sdf, SimParams, SimStep};
 use crate::strand_textures::StrandTextures;
@@ -72,10 +73,7 @@ impl Bench<'_> {
             amplitude: 0.25,
             rate: 1.0,
         };
-        let base = SimParams {
-            wind: Vec3::new(6.0, 0.0, 2.0),
-            ..SimParams::default()
-        };
+        let base = Scene::default_sim();
         let reference = {
             let params = SimParams {
                 substeps: 8 * DEFAULT_SUBSTEPS,
@@ -265,10 +263,7 @@ impl Bench<'_> {
     pub(super) fn simulation_steps(&mut self) -> Result<()> {
         let strands = blob_strands()?;
         let body = blob_body(&strands, &SimParams::default())?;
-        let params = SimParams {
-            wind: Vec3::new(6.0, 0.0, 2.0),
-            ..SimParams::default()
-        };
+        let params = Scene::default_sim();
         let _ = writeln!(
             self.md,
             "## Simulation: cost of each step\n\nThe default blob ({} strands of {} vertices), default \
@@ -305,10 +300,7 @@ impl Bench<'_> {
         } else {
             &[1_000, 10_000, 50_000, 100_000]
         };
-        let params = SimParams {
-            wind: Vec3::new(6.0, 0.0, 2.0),
-            ..SimParams::default()
-        };
+        let params = Scene::default_sim();
         let groom = GroomParams::default();
         let mut points = Vec::new();
         let _ = writeln!(

@@ -15,39 +15,27 @@ pub(super) fn write_render_set(
     ownership: &Buffer,
     counters: &Buffer,
 ) {
-    let ubo = [vk::DescriptorBufferInfo::default()
-        .buffer(uniforms.raw())
-        .range(vk::WHOLE_SIZE)];
+    let buffer = |b: &Buffer| {
+        [vk::DescriptorBufferInfo::default()
+            .buffer(b.raw())
+            .range(vk::WHOLE_SIZE)]
+    };
+    let (ubo, owners, counts) = (buffer(uniforms), buffer(ownership), buffer(counters));
     let image = [vk::DescriptorImageInfo::default()
         .image_view(positions.view())
         .image_layout(vk::ImageLayout::GENERAL)];
-    let owners = [vk::DescriptorBufferInfo::default()
-        .buffer(ownership.raw())
-        .range(vk::WHOLE_SIZE)];
-    let counts = [vk::DescriptorBufferInfo::default()
-        .buffer(counters.raw())
-        .range(vk::WHOLE_SIZE)];
+    let types = bindings();
+    let write = |binding: u32| {
+        vk::WriteDescriptorSet::default()
+            .dst_set(set)
+            .dst_binding(binding)
+            .descriptor_type(types[binding as usize].0)
+    };
     let writes = [
-        vk::WriteDescriptorSet::default()
-            .dst_set(set)
-            .dst_binding(0)
-            .descriptor_type(vk::DescriptorType::UNIFORM_BUFFER)
-            .buffer_info(&ubo),
-        vk::WriteDescriptorSet::default()
-            .dst_set(set)
-            .dst_binding(1)
-            .descriptor_type(vk::DescriptorType::STORAGE_IMAGE)
-            .image_info(&image),
-        vk::WriteDescriptorSet::default()
-            .dst_set(set)
-            .dst_binding(2)
-            .descriptor_type(vk::DescriptorType::STORAGE_BUFFER)
-            .buffer_info(&owners),
-        vk::WriteDescriptorSet::default()
-            .dst_set(set)
-            .dst_binding(3)
-            .descriptor_type(vk::DescriptorType::STORAGE_BUFFER)
-            .buffer_info(&counts),
+        write(0).buffer_info(&ubo),
+        write(1).image_info(&image),
+        write(2).buffer_info(&owners),
+        write(3).buffer_info(&counts),
     ];
     unsafe { device.raw.update_descriptor_sets(&writes, &[]) };
 }

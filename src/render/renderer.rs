@@ -187,7 +187,6 @@ impl Renderer {
             shape: StrandShape {
                 vertices_per_strand,
                 strands_per_row: strands.layout.strands_per_row,
-                hair_length: strands.hair_length,
             },
             bounds: mesh.bounds(),
             mesh_pass,
@@ -229,10 +228,7 @@ impl Renderer {
         let eye = settings.camera.eye();
         let near = (eye.distance(centre) - self.bounds.1).max(1e-6);
         let far = eye.distance(centre) + self.bounds.1;
-        let pixel = settings
-            .camera
-            .pixel_at_unit_distance(self.target.extent.height)
-            * settings.supersample.max(1) as f32;
+        let pixel = settings.pixel_at_unit_distance(self.target.extent.height);
         let width_px = |d: f32| {
             let lod = (style.lod_distance / d).powi(2).min(1.0);
             let thickness = if style.thickness_compensation {

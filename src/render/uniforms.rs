@@ -269,8 +269,6 @@ pub fn kajiya_kay(t: Vec3, l: Vec3, e: Vec3, kd: f32, ks: f32, p: f32) -> (f32, 
 pub struct StrandShape {
     pub vertices_per_strand: u32,
     pub strands_per_row: u32,
-    /// Length of the longest master hair, scene units.
-    pub hair_length: f32,
 }
 
 /// The `Frame` uniform block of `shaders/common.glsl` (std140).
@@ -315,6 +313,14 @@ pub struct FrameSettings {
     pub supersample: u32,
 }
 
+impl FrameSettings {
+    /// World size at distance 1 of a pixel of the image a target `height` pixels tall
+    /// stands for (a supersampled target's pixels are `supersample` times smaller).
+    pub fn pixel_at_unit_distance(&self, height: u32) -> f32 {
+        self.camera.pixel_at_unit_distance(height) * self.supersample.max(1) as f32
+    }
+}
+
 impl Default for FrameSettings {
     fn default() -> Self {
         Self {
@@ -339,8 +345,7 @@ impl FrameUniforms {
     ) -> Self {
         let (w, h) = (width as f32, height as f32);
         let view_proj = settings.camera.view_projection(w / h);
-        let pixel_at_unit_distance =
-            settings.camera.pixel_at_unit_distance(height) * settings.supersample.max(1) as f32;
+        let pixel_at_unit_distance = settings.pixel_at_unit_distance(height);
         let s = &settings.style;
         let l = &settings.lighting;
         let mut flags = 0;
@@ -370,7 +375,7 @@ impl FrameUniforms {
             lod: Vec4::new(s.density, s.lod_distance, max_level, s.cull_margin),
             hair: Vec4::new(s.hair_width, s.min_pixel_width, s.jitter, s.length_jitter),
             viewport: Vec4::new(w, h, 1.0 / w, 1.0 / h),
-            draw: Vec4::new(ribbon_above, s.vertex_lod_px, strands.hair_length, 0.0),
+            draw: Vec4::new(ribbon_above, s.vertex_lod_px, 0.0, 0.0),
             strands: UVec4::new(
                 strands.vertices_per_strand,
                 strands.strands_per_row,

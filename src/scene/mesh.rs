@@ -198,19 +198,19 @@ impl Mesh {
     /// rescales it.
     pub const SCALE_RANGE: (f32, f32) = (1e-3, 1e4);
 
-    /// Scales a model whose bounding radius is outside [`Mesh::SCALE_RANGE`] about its
-    /// centre to a radius of 1 (fur, camera and collision follow the model's size, but
+    /// Scales a model whose bounding radius is outside [`Mesh::SCALE_RANGE`] (about the
+    /// origin) to a radius of 1 (fur, camera and collision follow the model's size, but
     /// the depth range and the simulation's forces need a sane one). Returns the factor
     /// applied, if any.
     pub fn normalize_scale(&mut self) -> Option<f32> {
-        let (centre, radius) = self.bounds();
+        let (_, radius) = self.bounds();
         let (lo, hi) = Self::SCALE_RANGE;
         if (lo..=hi).contains(&radius) {
             return None;
         }
         let factor = 1.0 / radius;
         for p in &mut self.positions {
-            *p = (*p - centre) * factor + centre * factor;
+            *p *= factor;
         }
         Some(factor)
     }
@@ -287,12 +287,17 @@ impl Mesh {
             .collect()
     }
 
-    /// Bounding-sphere centre and radius (of the box around the vertices).
-    pub fn bounds(&self) -> (Vec3, f32) {
-        let (min, max) = self.positions.iter().fold(
+    /// The axis-aligned bounding box: (min corner, max corner).
+    pub fn aabb(&self) -> (Vec3, Vec3) {
+        self.positions.iter().fold(
             (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN)),
             |(lo, hi), p| (lo.min(*p), hi.max(*p)),
-        );
+        )
+    }
+
+    /// Bounding-sphere centre and radius (of the box around the vertices).
+    pub fn bounds(&self) -> (Vec3, f32) {
+        let (min, max) = self.aabb();
         // In f64: the squared diagonal of a model 1e20 units across overflows f32.
         let diagonal = (max.as_dvec3() - min.as_dvec3()).length();
         ((min * 0.5 + max * 0.5), (diagonal * 0.5) as f32)

@@ -47,8 +47,8 @@ pub struct GpuSim {
     /// Steps to compile in even when the parameters do not need them (the benchmark
     /// measures steps alone this way); `None`: exactly the needed ones.
     forced_steps: Option<u32>,
-    /// The body's distance field (one `f32` per grid point; a placeholder without a
-    /// body) and its grid.
+    /// The body's distance field (per grid point its value and gradient, a `vec4`; a
+    /// placeholder without a body) and its grid.
     _body: Buffer,
     grid: Option<BodyGrid>,
     /// The longest master hair, which the collision margin is a fraction of.

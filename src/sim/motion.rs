@@ -19,6 +19,17 @@ pub enum MotionKind {
     Nod,
 }
 
+impl MotionKind {
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Still => "still",
+            Self::Shake => "shake",
+            Self::Spin => "spin",
+            Self::Nod => "nod",
+        }
+    }
+}
+
 impl FromStr for MotionKind {
     type Err = String;
     fn from_str(s: &str) -> Result<Self, String> {

@@ -124,10 +124,7 @@ impl Sdf {
                 "the distance field's padding must be finite and ≥ 0, got {padding}"
             )));
         }
-        let (min, max) = mesh.positions.iter().fold(
-            (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN)),
-            |(lo, hi), p| (lo.min(*p), hi.max(*p)),
-        );
+        let (min, max) = mesh.aabb();
         let (min, max) = (min - Vec3::splat(padding), max + Vec3::splat(padding));
         let cell = (max - min).max_element() / resolution as f32;
         if !(cell.is_finite() && cell > 0.0) {
@@ -204,12 +201,16 @@ impl Sdf {
         params: &super::params::SimParams,
         hair_length: f32,
     ) -> Result<(Self, SdfReport)> {
-        let (min, max) = mesh.positions.iter().fold(
-            (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN)),
-            |(lo, hi), p| (lo.min(*p), hi.max(*p)),
-        );
+        let cells = Self::cells_for_hair(mesh, params, hair_length);
+        Self::build(mesh, cells, hair_length)
+    }
+
+    /// The resolution [`Sdf::for_hair`] builds at: `params`' cells along the longest
+    /// axis of `mesh`'s box padded by the hair length.
+    pub fn cells_for_hair(mesh: &Mesh, params: &super::params::SimParams, hair_length: f32) -> u32 {
+        let (min, max) = mesh.aabb();
         let extent = (max - min).max_element() + 2.0 * hair_length;
-        Self::build(mesh, params.sdf_cells(extent, hair_length), hair_length)
+        params.sdf_cells(extent, hair_length)
     }
 
     /// Bytes the field takes on the device.

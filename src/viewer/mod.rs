@@ -35,6 +35,9 @@ pub struct ViewerOptions {
     pub model: crate::scene::ModelSpec,
     pub scene: SceneOptions,
     pub sim: SimParams,
+    /// The shake the motion toggle switches on (the viewer starts still and shakes
+    /// only: another kind of motion in the scene gives the default shake).
+    pub motion: crate::scene_file::MotionSpec,
     pub vsync: bool,
     /// Exit after this many frames (for tests and benchmarks).
     pub frames: Option<u64>,
@@ -95,16 +98,10 @@ pub fn run(options: ViewerOptions) -> Result<()> {
         }
     }
     // Destroying the viewer can report problems too: check after it is gone.
-    let instance = viewer.as_ref().map(|v| v.device.instance().clone());
-    let device_alive = viewer.as_ref().map(|v| Arc::downgrade(&v.device));
+    let device = viewer.as_ref().map(|v| v.device.clone());
     drop(viewer);
     app.result?;
-    if device_alive.is_some_and(|d| d.upgrade().is_some()) {
-        return Err(Error::Leak(
-            "an object still holds the Vulkan device after the viewer closed".into(),
-        ));
-    }
-    instance.map_or(Ok(()), |i| i.check_validation())
+    device.map_or(Ok(()), crate::gpu::shut_down)
 }
 
 struct App {
@@ -276,11 +273,13 @@ impl Viewer {
             height: size.height.max(1),
         };
         let swapchain = Swapchain::new(&device, &surface, extent, options.vsync, None)?;
-        let radius = f64::from(mesh.bounds().1);
+        let shake = match options.motion.kind {
+            MotionKind::Shake => options.motion,
+            _ => crate::scene_file::MotionSpec::default(),
+        };
         let motion = Motion {
             kind: MotionKind::Still,
-            amplitude: 0.25 * radius,
-            rate: 1.0,
+            ..shake.motion(mesh.bounds().1)
         };
         let session = FurSession::new(
             &device,

@@ -5,9 +5,24 @@
 
 #include "strands.glsl"
 
+// Variants the renderer may leave undefined.
+#ifndef TEXTURED
+#define TEXTURED 0
+#endif
+#ifndef SHADOWS
+#define SHADOWS 0
+#endif
+#ifndef SHADOW_CASTER
+#define SHADOW_CASTER 0
+#endif
+#ifndef COVERAGE_SAMPLES
+#define COVERAGE_SAMPLES 0
+#endif
+
 layout(set = 0, binding = 0, std140) uniform Frame {
     mat4 view_proj;
     mat4 model;          // head transform H
+    mat4 light_view_proj; // world to the shadow map's clip space (orthographic)
     vec4 eye;            // xyz camera position, w = world size of a pixel at distance 1
     vec4 light;          // xyz unit vector towards the light, w = intensity
     vec4 root_color;     // rgb, w = root occlusion (darkening at the root, 0..1)
@@ -17,13 +32,18 @@ layout(set = 0, binding = 0, std140) uniform Frame {
     vec4 lod;            // hairs per unit area, full-density distance, max level, cull margin
     vec4 hair;           // width, minimum width in pixels, jitter radius, length jitter
     vec4 viewport;       // width, height, 1/width, 1/height
-    vec4 draw;           // ribbon threshold (px), vertex-LOD tolerance (px, 0 = off), unused, unused
+    vec4 draw;           // ribbon threshold (px), vertex-LOD tolerance (px, 0 = off), texels in the texture, unused
+    vec4 highlight;      // cos, sin of the primary lobe's shift; cos, sin of the secondary's
+    vec4 secondary;      // secondary lobe: exponent, strength, unused, unused
+    vec4 shadow;         // opacity per hair layer, layers per unit of map depth, depth bias, unused
     uvec4 strands;       // vertices per strand, strands per row, fixed level (0 = adaptive), flags
 } frame;
 
 const uint FLAG_CULL = 1u;
 const uint FLAG_THICKNESS_COMPENSATION = 2u;
 const uint FLAG_COUNT = 4u;
+const uint FLAG_SECONDARY_HIGHLIGHT = 8u;
+const uint FLAG_THIN_HAIR_AA = 16u;
 
 layout(set = 0, binding = 1, rgba32f) uniform readonly image2D strand_positions;
 

@@ -6,22 +6,28 @@
 // - LINES = 1: a line strip. The hair's coverage of its pixels, width / pixel size,
 //   travels as alpha: blended at one sample per pixel, alpha to coverage under MSAA.
 //   For hairs under a pixel wide.
-// - LINES = 0: a camera-facing ribbon of the hair's true width, opaque.
+// - LINES = 0: a camera-facing ribbon of the hair's width.
 // A hair is drawn by one form only: ribbons take the hairs at least `frame.draw.x`
 // pixels wide at the root, lines the rest.
 //
-// Widths taper from root to tip and are never under `frame.hair.y` pixels. With
-// thickness compensation, hairs thinned out by the density LOD are widened by the
-// same factor, so coverage is kept.
+// Widths taper from root to tip and are never drawn under `frame.hair.y` pixels. With
+// thin-hair anti-aliasing (FLAG_THIN_HAIR_AA) a hair drawn wider than it is covers its
+// pixels only by its true width: alpha = true width / drawn width, so a sub-pixel hair
+// neither vanishes between samples nor darkens more than its width; without it such a
+// hair is drawn opaque at the minimum width. With thickness compensation, hairs thinned
+// out by the density LOD are widened by the same factor, so coverage is kept.
 //
 // Vertex LOD (frame.draw.y > 0, a tolerance in pixels): a strand vertex is left out
 // when the segment that skips it passes within the tolerance of where the vertex would
 // have been drawn, its width included. Straight hairs become a single segment, curled
 // ones keep their curls; the root and the tip are always drawn where they are.
 //
-// With VERTEX_SHADING = 1 the Kajiya–Kay terms are evaluated here, per emitted vertex;
-// otherwise per fragment. STRAND_VERTICES, LINES, VERTEX_SHADING and COUNT_HAIRS are
-// defined by the renderer.
+// With VERTEX_SHADING = 1 the lighting terms (shadow included) are evaluated here, per
+// emitted vertex; otherwise per fragment. TEXTURED: the texture at the hair's root UV
+// (blended from its triangle's corners by the evaluation stage) is its base colour.
+// SHADOW_CASTER: the light's view of the fur for the shadow map, positions only.
+// STRAND_VERTICES, LINES, VERTEX_SHADING, TEXTURED, SHADOWS, SHADOW_CASTER and
+// COUNT_HAIRS are defined by the renderer.
 #include "shading.glsl"
 
 layout(points) in;
@@ -35,11 +41,24 @@ layout(location = 0) in uvec3 e_hair[];
 layout(location = 1) in vec3 e_bary[];
 layout(location = 2) in uint e_keep[];
 
+#if TEXTURED
+layout(location = 3) in vec3 e_uv_lod[];         // root UV, texture level of detail
+#endif
+
+#if !SHADOW_CASTER
 #if VERTEX_SHADING
-layout(location = 0) out vec4 g_lit_along_coverage;
+layout(location = 0) out vec4 g_lit_along;        // ambient + diffuse, specular, tinted, along
 #else
 layout(location = 0) out vec4 g_tangent_along;    // world tangent, position along the hair
-layout(location = 1) out vec4 g_world_coverage;   // world position, coverage
+layout(location = 1) out vec3 g_world;            // world position
+#endif
+layout(location = 2) out float g_coverage;
+#if TEXTURED
+layout(location = 3) out vec3 g_texel;            // the texture at the root (linear)
+#endif
+#if COVERAGE_SAMPLES > 1
+layout(location = 4) flat out uint g_seed;        // the hair's, for its coverage dither
+#endif
 #endif
 
 #if COUNT_HAIRS
@@ -50,9 +69,14 @@ layout(set = 0, binding = 3, std430) buffer Counters {
 #endif
 
 const uint V = uint(STRAND_VERTICES);
+#if TEXTURED && !SHADOW_CASTER
+vec3 texel;                    // the texture at the hair's root
+#endif
+uint hair_seed;
 
 vec3 P[STRAND_VERTICES];       // the hair's vertices, world space
-float W[STRAND_VERTICES];      // its width at each, world units
+float W[STRAND_VERTICES];      // its width at each as drawn, world units
+float C[STRAND_VERTICES];      // its coverage of the width drawn (alpha)
 float S[STRAND_VERTICES];      // the world size of a pixel at each
 
 vec3 blended(uvec3 h, vec3 b, uint k) {
@@ -77,36 +101,32 @@ bool skippable(uint a, uint c, float tolerance) {
 }
 
 void emit_vertex(uint k, vec3 t) {
+#if !SHADOW_CASTER
 #if VERTEX_SHADING
-    vec4 a = vec4(kajiya_kay(t, P[k]), along(k), 1.0);
+    g_lit_along = vec4(kajiya_kay(t, P[k], light_through_fur(P[k])), along(k));
 #else
-    vec4 a = vec4(t, along(k));
-    vec4 b = vec4(P[k], 1.0);
+    g_tangent_along = vec4(t, along(k));
+    g_world = P[k];
+#endif
+    g_coverage = C[k];
+#if TEXTURED
+    g_texel = texel;
+#endif
+#if COVERAGE_SAMPLES > 1
+    g_seed = hair_seed;
+#endif
 #endif
 #if LINES
-    float coverage = min(W[k] / S[k], 1.0);
-#if VERTEX_SHADING
-    g_lit_along_coverage = vec4(a.xyz, coverage);
-#else
-    g_tangent_along = a;
-    g_world_coverage = vec4(b.xyz, coverage);
-#endif
     gl_Position = frame.view_proj * vec4(P[k], 1.0);
     EmitVertex();
 #else
     vec3 side = cross(t, frame.eye.xyz - P[k]);
     float side_len = length(side);
     side = side_len > 1e-12 ? side * (0.5 * W[k] / side_len) : vec3(0.5 * W[k], 0.0, 0.0);
-    for (int s = -1; s <= 1; s += 2) {
-#if VERTEX_SHADING
-        g_lit_along_coverage = a;
-#else
-        g_tangent_along = a;
-        g_world_coverage = b;
-#endif
-        gl_Position = frame.view_proj * vec4(P[k] + float(s) * side, 1.0);
-        EmitVertex();
-    }
+    gl_Position = frame.view_proj * vec4(P[k] - side, 1.0);
+    EmitVertex();
+    gl_Position = frame.view_proj * vec4(P[k] + side, 1.0);
+    EmitVertex();
 #endif
 }
 
@@ -135,15 +155,27 @@ void main() {
 #endif
     uint seed = hash_u32(uint(gl_PrimitiveIDIn) * 0x9e3779b9u
                          ^ hash_u32(floatBitsToUint(b.x) ^ hash_u32(floatBitsToUint(b.y))));
+    hair_seed = seed;
     vec3 jitter = (vec3(hash_unit(seed), hash_unit(seed + 1u), hash_unit(seed + 2u)) * 2.0 - 1.0)
                 * frame.hair.z;
     float length_scale = 1.0 - frame.hair.w * hash_unit(seed + 3u);
 
+#if TEXTURED && !SHADOW_CASTER
+    texel = textureLod(albedo, e_uv_lod[0].xy, e_uv_lod[0].z).rgb;
+#endif
+    bool thin_hair_aa = (frame.strands.w & FLAG_THIN_HAIR_AA) != 0u;
     for (uint k = 0u; k < V; ++k) {
         vec3 p = k == 0u ? root : root + (blended(h, b, k) - root) * length_scale;
         P[k] = p + jitter * along(k);
         S[k] = pixel * distance(P[k], frame.eye.xyz);
-        W[k] = max(thickness * (1.0 - 0.8 * along(k)), frame.hair.y * S[k]);
+        float true_width = thickness * (1.0 - 0.8 * along(k));
+        W[k] = max(true_width, frame.hair.y * S[k]);
+#if LINES
+        // A line is a pixel wide: it covers the pixel by the hair's width.
+        C[k] = min((thin_hair_aa ? true_width : W[k]) / S[k], 1.0);
+#else
+        C[k] = thin_hair_aa ? true_width / W[k] : 1.0;
+#endif
     }
 
     float tolerance = frame.draw.y;

@@ -1,12 +1,26 @@
 #version 450
-// Mesh (skin) pass: Lambert plus ambient, so gaps in the fur read as dark skin.
-#include "common.glsl"
+// Mesh (skin) pass: Lambert plus ambient, so gaps in the fur read as dark skin. With a
+// texture the skin takes its colour, darkened as the skin colour is to the tip colour;
+// with shadows the fur over the skin shades it.
+#include "shading.glsl"
 
 layout(location = 0) in vec3 v_normal;
+#if SHADOWS
+layout(location = 1) in vec3 v_world;
+#else
+const vec3 v_world = vec3(0.0);
+#endif
+#if TEXTURED
+layout(location = 2) in vec2 v_uv;
+#endif
 layout(location = 0) out vec4 out_color;
 
 void main() {
     vec3 n = normalize(v_normal);
-    float lambert = max(dot(n, frame.light.xyz), 0.0) * frame.light.w;
-    out_color = vec4(frame.skin_color.rgb * (frame.shading.w + frame.shading.x * lambert), 1.0);
+    float lambert = max(dot(n, frame.light.xyz), 0.0) * frame.light.w * light_through_fur(v_world);
+    vec3 skin = frame.skin_color.rgb;
+#if TEXTURED
+    skin = texture(albedo, v_uv).rgb * min(skin / max(frame.tip_color.rgb, vec3(1e-4)), vec3(1.0));
+#endif
+    out_color = vec4(skin * (frame.shading.w + frame.shading.x * lambert), 1.0);
 }

@@ -1,18 +1,56 @@
-// Kajiya–Kay lighting with a root-to-tip colour ramp. The lighting terms are evaluated
-// per strand vertex in the geometry stage or per fragment; the colour ramp always per
-// fragment, so that it stays exact however few vertices a hair is drawn with.
+// Kajiya–Kay lighting with Scheuermann's two shifted highlights, self-shadowing and a
+// root-to-tip colour ramp. The lighting terms are evaluated per strand vertex in the
+// geometry stage or per fragment; the colour ramp always per fragment, so that it stays
+// exact however few vertices a hair is drawn with.
 //   diffuse  = Kd · sin(t, l)
-//   specular = Ks · ((t·l)(t·e) + sin(t, l) sin(t, e))^p
+//   lobe(β)  = cos(θl + β − θe)^p = ((t·l) cos β − sin(t,l) sin β)(t·e)
+//              + (sin(t,l) cos β + (t·l) sin β) sin(t,e), clamped at 0, to the p
+//   specular = Ks · lobe(β1, p)            (white; β1 = 0 without the secondary lobe)
+//   tinted   = Ks2 · lobe(β2, p2)          (times the hair colour; secondary on only)
 // t: unit hair tangent, l: unit vector towards the light, e: unit vector from the eye
-// towards the point (with e pointing this way the formula peaks on the mirror cone).
-// The CPU copy of this model is `render::kajiya_kay`.
+// towards the point (with e pointing this way a lobe peaks on the mirror cone; a
+// positive shift moves it toward the tip). The CPU copy of this model is
+// `render::kajiya_kay`.
 #ifndef SHADING_GLSL
 #define SHADING_GLSL
 
 #include "common.glsl"
 
-// x: ambient + diffuse · intensity, y: specular · intensity.
-vec2 kajiya_kay(vec3 t, vec3 world) {
+#if TEXTURED
+// The model's colour texture (sRGB, with mips), for the fur's roots and the skin.
+layout(set = 0, binding = 4) uniform sampler2D albedo;
+#endif
+
+#if SHADOWS
+// The fur's depth seen from the light (orthographic, 0 near .. 1 far).
+layout(set = 0, binding = 5) uniform sampler2D shadow_map;
+
+// The fraction of the light that reaches world point p through the hair in front of
+// it: (1 − α)^(Δz / spacing), bilinearly filtered over the map's four nearest texels.
+float light_through_fur(vec3 p) {
+    vec4 c = frame.light_view_proj * vec4(p, 1.0);
+    vec2 uv = c.xy * 0.5 + 0.5;
+    vec4 front = textureGather(shadow_map, uv, 0);
+    vec4 layers = max(vec4(c.z) - front - frame.shadow.z, 0.0) * frame.shadow.y;
+    vec4 light = pow(vec4(1.0 - frame.shadow.x), min(layers, vec4(64.0)));
+    vec2 f = fract(uv * vec2(textureSize(shadow_map, 0)) - 0.5);
+    return mix(mix(light.w, light.z, f.x), mix(light.x, light.y, f.x), f.y);
+}
+#else
+float light_through_fur(vec3 p) {
+    return 1.0;
+}
+#endif
+
+float lobe(float tl, float sin_tl, float te, float sin_te, vec2 cos_sin, float p) {
+    float c = tl * cos_sin.x - sin_tl * cos_sin.y;
+    float s = sin_tl * cos_sin.x + tl * cos_sin.y;
+    return pow(max(c * te + s * sin_te, 0.0), p);
+}
+
+// x: ambient + diffuse, y: white specular, z: tinted specular; the direct terms scaled
+// by the light's intensity and `light`, the fraction of it that reaches the point.
+vec3 kajiya_kay(vec3 t, vec3 world, float light) {
     vec3 e = normalize(world - frame.eye.xyz);
     vec3 l = frame.light.xyz;
     float tl = dot(t, l);
@@ -20,16 +58,33 @@ vec2 kajiya_kay(vec3 t, vec3 world) {
     float sin_tl = sqrt(max(1.0 - tl * tl, 0.0));
     float sin_te = sqrt(max(1.0 - te * te, 0.0));
     float diffuse = frame.shading.x * sin_tl;
-    float specular = frame.shading.y * pow(max(tl * te + sin_tl * sin_te, 0.0), frame.shading.z);
-    return vec2(frame.shading.w + diffuse * frame.light.w, specular * frame.light.w);
+    float specular = frame.shading.y * lobe(tl, sin_tl, te, sin_te, frame.highlight.xy, frame.shading.z);
+    float tinted = 0.0;
+    if ((frame.strands.w & FLAG_SECONDARY_HIGHLIGHT) != 0u) {
+        tinted = frame.secondary.y * lobe(tl, sin_tl, te, sin_te, frame.highlight.zw, frame.secondary.x);
+    }
+    float direct = frame.light.w * light;
+    return vec3(frame.shading.w + diffuse * direct, specular * direct, tinted * direct);
 }
 
-// The colour of a hair `along` (0 at the root, 1 at the tip) of the way with lighting
-// terms `lit`: base colour and root occlusion ramp from root to tip.
-vec3 hair_color(vec2 lit, float along) {
+// The hair's base colour `along` (0 at the root, 1 at the tip) of the way. With a
+// texture, `texel` (the texture at the root) is the tip's colour and the ramp darkens
+// and tints it toward the root as it takes the tip colour to the root colour (by at
+// most the ratio of the two, never brighter).
+vec3 hair_base(float along, vec3 texel) {
     vec3 base = mix(frame.root_color.rgb, frame.tip_color.rgb, along);
+#if TEXTURED
+    base = texel * min(base / max(frame.tip_color.rgb, vec3(1e-4)), vec3(1.0));
+#endif
+    return base;
+}
+
+// The colour of a hair with lighting terms `lit`: base colour and root occlusion ramp
+// from root to tip; the secondary highlight takes the base colour.
+vec3 hair_color(vec3 lit, float along, vec3 texel) {
+    vec3 base = hair_base(along, texel);
     float occlusion = mix(1.0 - frame.root_color.w, 1.0, along);
-    return occlusion * (base * lit.x + vec3(lit.y));
+    return occlusion * (base * (lit.x + lit.z) + vec3(lit.y));
 }
 
 #endif

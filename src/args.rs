@@ -4,6 +4,7 @@
 use clap::Args;
 use fur::render::{Primitive, Shading};
 use fur::scene::ModelSpec;
+use fur::scene::TextureSpec;
 use fur::scene_file::Scene;
 use fur::session::SceneOptions;
 use fur::sim::SimParams;
@@ -33,6 +34,52 @@ pub struct SceneArgs {
     pub groom: GroomArgs,
     #[command(flatten)]
     pub draw: DrawArgs,
+    #[command(flatten)]
+    pub looks: LooksArgs,
+}
+
+/// Looks: texture colour, highlights, self-shadowing (`fur bench --only looks` costs
+/// each).
+#[derive(Args, Clone)]
+pub struct LooksArgs {
+    /// Colour the fur and skin from a texture through the model's UVs: a PNG, JPEG or
+    /// TGA file, or `tabby` (built in, made for lat-long UVs) [default: the OBJ
+    /// material's map_Kd, if any].
+    #[arg(long)]
+    pub texture: Option<TextureSpec>,
+    /// A second, wider highlight tinted by the hair colour, shifted toward the root
+    /// (the primary shifts toward the tip): on or off [default: on].
+    #[arg(long, value_parser = clap::builder::BoolishValueParser::new())]
+    pub secondary_highlight: Option<bool>,
+    /// Shift of the primary highlight in degrees, positive toward the tip [default: 5].
+    #[arg(long, allow_negative_numbers = true)]
+    pub primary_shift: Option<f32>,
+    /// Shift of the secondary highlight in degrees [default: -10].
+    #[arg(long, allow_negative_numbers = true)]
+    pub secondary_shift: Option<f32>,
+    /// Specular exponent of the secondary highlight [default: 10].
+    #[arg(long)]
+    pub secondary_shininess: Option<f32>,
+    /// Strength of the secondary highlight [default: 0.6].
+    #[arg(long)]
+    pub secondary_strength: Option<f32>,
+    /// Hair shadowing hair and skin, from a light-space depth map of the fur: on or off
+    /// [default: off].
+    #[arg(long, value_parser = clap::builder::BoolishValueParser::new())]
+    pub shadows: Option<bool>,
+    /// Side of the shadow map in texels, 16..=8192 [default: 512].
+    #[arg(long)]
+    pub shadow_resolution: Option<u32>,
+    /// Light one layer of hair stops, 0..1 [default: 0.35].
+    #[arg(long)]
+    pub shadow_opacity: Option<f32>,
+    /// Depth of one hair layer in bounding radii; 0 = the hair spacing [default: 0].
+    #[arg(long)]
+    pub shadow_spacing: Option<f32>,
+    /// Hairs thinner than the minimum width cover their pixels by their true width
+    /// (alpha to coverage, or blending at 1 sample): on or off [default: on].
+    #[arg(long, value_parser = clap::builder::BoolishValueParser::new())]
+    pub thin_hair_aa: Option<bool>,
 }
 
 /// Groom and density.
@@ -117,6 +164,21 @@ impl SceneArgs {
         set(&mut d.vertex_lod_px, a.vertex_lod);
         set(&mut d.lod_distance, a.lod_distance);
         set(&mut d.thickness_compensation, a.thickness_compensation);
+        let k = &self.looks;
+        set(&mut d.thin_hair_aa, k.thin_hair_aa);
+        if k.texture.is_some() {
+            o.texture = k.texture.clone();
+        }
+        let l = &mut o.lighting;
+        set(&mut l.highlights.secondary, k.secondary_highlight);
+        set(&mut l.highlights.primary_shift_deg, k.primary_shift);
+        set(&mut l.highlights.secondary_shift_deg, k.secondary_shift);
+        set(&mut l.highlights.secondary_shininess, k.secondary_shininess);
+        set(&mut l.highlights.secondary_strength, k.secondary_strength);
+        set(&mut l.shadows.enabled, k.shadows);
+        set(&mut l.shadows.resolution, k.shadow_resolution);
+        set(&mut l.shadows.opacity, k.shadow_opacity);
+        set(&mut l.shadows.spacing, k.shadow_spacing);
     }
 
     /// Angles must be finite (distances and sizes are checked where they are used).

@@ -42,6 +42,10 @@ pub enum Error {
     #[error("cannot read model {path}: {message}")]
     Model { path: PathBuf, message: String },
 
+    /// A texture image that cannot be read, decoded or used.
+    #[error("cannot read texture {path}: {message}")]
+    Texture { path: PathBuf, message: String },
+
     #[error("{0}")]
     Window(String),
 

@@ -306,7 +306,7 @@ fn render(args: &RenderArgs) -> anyhow::Result<()> {
     } else {
         fur::error::check_output_file(&args.out)?;
     }
-    let (mesh, warnings) = scene.model.prepare()?;
+    let (mesh, warnings) = scene.model.prepare(scene.options.texture.as_ref())?;
     for warning in warnings {
         eprintln!("warning: {warning}");
     }

@@ -10,7 +10,7 @@ use crate::error::Error;
 use crate::error::Result;
 use crate::gpu::Device;
 use crate::render::{FrameReport, FrameSettings, Primitive, Renderer, RgbaImage, Shading};
-use crate::scene::{Camera, GroomParams, Mesh, Strands};
+use crate::scene::{Camera, GroomParams, Mesh, Strands, TextureSpec};
 use crate::sim::{GpuSim, Motion, Sdf, SdfReport, SimParams};
 use crate::strand_textures::StrandTextures;
 
@@ -35,7 +35,10 @@ pub struct SceneOptions {
     /// Vertical field of view, degrees.
     pub fov_deg: f32,
     pub draw: DrawOptions,
+    /// Lighting; the shadows' spacing is in bounding radii here (0 = the hair spacing).
     pub lighting: crate::render::Lighting,
+    /// The colour texture, over the model's own (its OBJ material's map_Kd).
+    pub texture: Option<TextureSpec>,
 }
 
 /// How the fur is drawn: the levers that trade speed for image quality (measured by
@@ -57,6 +60,7 @@ pub struct DrawOptions {
     pub jitter: f32,
     pub length_jitter: f32,
     pub cull: bool,
+    pub thin_hair_aa: bool,
 }
 
 impl Default for DrawOptions {
@@ -75,6 +79,7 @@ impl Default for DrawOptions {
             jitter: style.jitter,
             length_jitter: style.length_jitter,
             cull: style.cull,
+            thin_hair_aa: style.thin_hair_aa,
         }
     }
 }
@@ -108,6 +113,7 @@ impl Default for SceneOptions {
             fov_deg: 40.0,
             draw: DrawOptions::default(),
             lighting: crate::render::Lighting::default(),
+            texture: None,
         }
     }
 }
@@ -219,6 +225,8 @@ impl SceneOptions {
         style.shading = draw.shading;
         style.vertex_lod_px = draw.vertex_lod_px;
         style.thickness_compensation = draw.thickness_compensation;
+        style.thin_hair_aa = draw.thin_hair_aa;
+        settings.lighting.shadows.spacing *= radius;
         style.validate()?;
         groom.validate()?;
         Ok((groom, settings))
@@ -345,9 +353,21 @@ impl FurSession {
             frames_in_flight,
             body.as_ref().map(|(sdf, _)| &**sdf),
         )?;
-        let renderer = Renderer::new(
+        let texture = match &mesh.texture {
+            Some(_) if mesh.uvs.is_empty() => {
+                return Err(Error::Parameter(
+                    "the model has no texture coordinates (`vt` on every face), so it cannot \
+                     take a texture"
+                        .into(),
+                ))
+            }
+            Some(spec) => Some(spec.load()?),
+            None => None,
+        };
+        let renderer = Renderer::textured(
             device,
             &mesh,
+            texture.as_ref(),
             &textures,
             extent,
             frames_in_flight,

@@ -38,6 +38,8 @@ fn cube(h: f32) -> Mesh {
         normals: Vec::new(),
         positions,
         indices,
+        uvs: Vec::new(),
+        texture: None,
     };
     mesh.normals = mesh.face_weighted_normals();
     mesh

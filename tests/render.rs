@@ -289,17 +289,7 @@ fn kajiya_kay_brightness_follows_the_cpu_formula() {
         assert!(lumas.len() > 200, "too little fur visible at {angle}°");
         measured.push(lumas.iter().sum::<f32>() / lumas.len() as f32);
         let eye_to_hair = (Vec3::new(0.0, 0.2, 0.0) - camera.eye()).normalize();
-        predicted.push(
-            kajiya_kay(
-                Vec3::Y,
-                light,
-                eye_to_hair,
-                lighting.kd,
-                lighting.ks,
-                lighting.shininess,
-            )
-            .0,
-        );
+        predicted.push(kajiya_kay(Vec3::Y, light, eye_to_hair, &lighting).diffuse);
     }
     for i in 1..measured.len() {
         assert!(

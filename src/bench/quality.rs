@@ -50,7 +50,7 @@ pub struct Drawn {
 impl Shot {
     /// The frame of `scene` after its simulation and motion have run for a moment.
     pub fn new(device: &Arc<Device>, scene: &Scene, extent: vk::Extent2D) -> Result<Self> {
-        let mesh = scene.model.prepare()?.0;
+        let mesh = scene.model.prepare(scene.options.texture.as_ref())?.0;
         let (groom, mut settings) = scene.options.resolve(&mesh)?;
         let strands = Strands::grow(&mesh, &groom)?;
         let mut textures = StrandTextures::new(device, &strands, settings.head)?;

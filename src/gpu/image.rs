@@ -30,6 +30,16 @@ pub struct Image {
 
 impl Image {
     pub fn new(device: &Arc<Device>, name: &str, desc: ImageDesc) -> Result<Self> {
+        Self::with_mips(device, name, desc, 1)
+    }
+
+    /// An image with `mip_levels` levels (its view and barriers cover them all).
+    pub fn with_mips(
+        device: &Arc<Device>,
+        name: &str,
+        desc: ImageDesc,
+        mip_levels: u32,
+    ) -> Result<Self> {
         let info = vk::ImageCreateInfo::default()
             .image_type(vk::ImageType::TYPE_2D)
             .format(desc.format)
@@ -38,7 +48,7 @@ impl Image {
                 height: desc.extent.height,
                 depth: 1,
             })
-            .mip_levels(1)
+            .mip_levels(mip_levels)
             .array_layers(1)
             .samples(desc.samples)
             .tiling(vk::ImageTiling::OPTIMAL)
@@ -165,11 +175,12 @@ pub fn whole_image_copy(
         })
 }
 
+/// Every mip level and the single layer of an image.
 pub fn subresource_range(aspect: vk::ImageAspectFlags) -> vk::ImageSubresourceRange {
     vk::ImageSubresourceRange {
         aspect_mask: aspect,
         base_mip_level: 0,
-        level_count: 1,
+        level_count: vk::REMAINING_MIP_LEVELS,
         base_array_layer: 0,
         layer_count: 1,
     }

@@ -6,6 +6,7 @@ mod image;
 mod instance;
 mod pipeline;
 mod query;
+mod sampler;
 pub mod shader;
 mod swapchain;
 
@@ -20,6 +21,7 @@ pub use image::{
 pub use instance::{Instance, InstanceDesc, ValidationLog};
 pub use pipeline::{DescriptorPool, DescriptorSetLayout, Pipeline, PipelineLayout, Specialization};
 pub use query::{FurStatistics, QueryPool, FUR_STATISTICS};
+pub use sampler::Sampler;
 pub use shader::ShaderModule;
 pub use swapchain::{Surface, Swapchain};
 

@@ -1,19 +1,27 @@
 //! The render passes' descriptor set: its bindings (`shaders/common.glsl`,
-//! `shaders/fur.geom`) and how one set is pointed at its resources.
+//! `shaders/shading.glsl`, `shaders/fur.geom`, `shaders/fur.tese`) and how one set is
+//! pointed at its resources.
 
 use ash::vk;
 
+use super::texture::{GpuTexture, ShadowMap};
 use crate::gpu::{Buffer, Device};
 
-/// Points one render descriptor set at its uniforms, position image, ownership masks
-/// and hair counters.
+/// The model's texture and its UVs per triangle corner.
+pub(super) struct TextureBinding<'a> {
+    pub texture: &'a GpuTexture,
+    pub corner_uvs: &'a Buffer,
+}
+
+/// Points one render descriptor set at its uniforms, position image, ownership masks,
+/// hair counters and the model's texture.
 pub(super) fn write_render_set(
     device: &Device,
     set: vk::DescriptorSet,
     uniforms: &Buffer,
     positions: &crate::gpu::Image,
-    ownership: &Buffer,
-    counters: &Buffer,
+    (ownership, counters): (&Buffer, &Buffer),
+    texture: &TextureBinding<'_>,
 ) {
     let buffer = |b: &Buffer| {
         [vk::DescriptorBufferInfo::default()
@@ -24,28 +32,48 @@ pub(super) fn write_render_set(
     let image = [vk::DescriptorImageInfo::default()
         .image_view(positions.view())
         .image_layout(vk::ImageLayout::GENERAL)];
-    let types = bindings();
-    let write = |binding: u32| {
-        vk::WriteDescriptorSet::default()
-            .dst_set(set)
-            .dst_binding(binding)
-            .descriptor_type(types[binding as usize].0)
-    };
+    let albedo = [vk::DescriptorImageInfo::default()
+        .sampler(texture.texture.sampler.raw())
+        .image_view(texture.texture.image.view())
+        .image_layout(vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL)];
+    let uvs = buffer(texture.corner_uvs);
+    let write = |binding: u32| write(set, binding);
     let writes = [
         write(0).buffer_info(&ubo),
         write(1).image_info(&image),
         write(2).buffer_info(&owners),
         write(3).buffer_info(&counts),
+        write(4).image_info(&albedo),
+        write(6).buffer_info(&uvs),
     ];
     unsafe { device.raw.update_descriptor_sets(&writes, &[]) };
 }
 
-/// Bindings of descriptor set 0 (see `shaders/common.glsl` and `shaders/fur.geom`).
-pub(super) fn bindings() -> [(vk::DescriptorType, vk::ShaderStageFlags); 4] {
+/// Points binding 5 of `set` at a shadow map.
+pub(super) fn write_shadow_map(device: &Device, set: vk::DescriptorSet, map: &ShadowMap) {
+    let info = [vk::DescriptorImageInfo::default()
+        .sampler(map.sampler.raw())
+        .image_view(map.image.view())
+        .image_layout(vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL)];
+    let writes = [write(set, 5).image_info(&info)];
+    unsafe { device.raw.update_descriptor_sets(&writes, &[]) };
+}
+
+fn write(set: vk::DescriptorSet, binding: u32) -> vk::WriteDescriptorSet<'static> {
+    vk::WriteDescriptorSet::default()
+        .dst_set(set)
+        .dst_binding(binding)
+        .descriptor_type(bindings()[binding as usize].0)
+}
+
+/// Bindings of descriptor set 0. The texture (4, 6) and the shadow map (5) are read
+/// only by the pipelines of a textured model or a frame with shadows.
+pub(super) fn bindings() -> [(vk::DescriptorType, vk::ShaderStageFlags); 7] {
     let hair_stages = vk::ShaderStageFlags::VERTEX
         | vk::ShaderStageFlags::TESSELLATION_CONTROL
         | vk::ShaderStageFlags::TESSELLATION_EVALUATION
         | vk::ShaderStageFlags::GEOMETRY;
+    let shaded = vk::ShaderStageFlags::GEOMETRY | vk::ShaderStageFlags::FRAGMENT;
     [
         (
             vk::DescriptorType::UNIFORM_BUFFER,
@@ -56,6 +84,12 @@ pub(super) fn bindings() -> [(vk::DescriptorType, vk::ShaderStageFlags); 4] {
         (
             vk::DescriptorType::STORAGE_BUFFER,
             vk::ShaderStageFlags::GEOMETRY,
+        ),
+        (vk::DescriptorType::COMBINED_IMAGE_SAMPLER, shaded),
+        (vk::DescriptorType::COMBINED_IMAGE_SAMPLER, shaded),
+        (
+            vk::DescriptorType::STORAGE_BUFFER,
+            vk::ShaderStageFlags::TESSELLATION_EVALUATION,
         ),
     ]
 }

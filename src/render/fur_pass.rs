@@ -21,12 +21,31 @@ use crate::gpu::{Device, Pipeline, PipelineLayout, ShaderModule};
 pub struct Variant {
     pub lines: bool,
     pub shading: Shading,
+    /// Ribbons carry their coverage in alpha (thin-hair anti-aliasing); lines always do.
+    pub coverage: bool,
+    /// Reads the shadow map.
+    pub shadows: bool,
+    /// The light's view into the shadow map: depth only, lines.
+    pub caster: bool,
+}
+
+impl Variant {
+    /// The form that draws the fur into the shadow map.
+    pub const CASTER: Variant = Variant {
+        lines: true,
+        shading: Shading::Fragment,
+        coverage: false,
+        shadows: false,
+        caster: true,
+    };
 }
 
 pub struct FurPass {
     device: Arc<Device>,
     vertices_per_strand: u32,
     samples: u32,
+    /// Whether hairs take their colour from the model's texture.
+    textured: bool,
     /// Whether the geometry stage may count what it draws (the device supports stores
     /// and atomics in vertex-pipeline stages).
     counts: bool,
@@ -35,20 +54,27 @@ pub struct FurPass {
 
 impl FurPass {
     /// A pass for strands of `vertices_per_strand` vertices (the geometry shader's
-    /// output size is fixed at compile time) into a target of `samples` per pixel.
-    pub fn new(device: &Arc<Device>, vertices_per_strand: u32, samples: u32) -> Self {
+    /// output size is fixed at compile time) into a target of `samples` per pixel,
+    /// coloured by the model's texture when `textured`.
+    pub fn new(
+        device: &Arc<Device>,
+        vertices_per_strand: u32,
+        samples: u32,
+        textured: bool,
+    ) -> Self {
         Self {
             device: device.clone(),
             vertices_per_strand,
             samples,
+            textured,
             counts: device.info.vertex_pipeline_stores,
             pipelines: Vec::new(),
         }
     }
 
     /// The forms `style` draws with hairs `root_px` pixels wide at the root (the range
-    /// over the model): opaque ribbons first, then the blended lines over them.
-    pub fn variants(style: &FurStyle, root_px: (f32, f32)) -> Vec<Variant> {
+    /// over the model): ribbons first, then the blended lines over them.
+    pub fn variants(style: &FurStyle, shadows: bool, root_px: (f32, f32)) -> Vec<Variant> {
         let (lines, ribbons) = match style.primitive {
             Primitive::Lines => (true, false),
             Primitive::Ribbons => (false, true),
@@ -63,6 +89,9 @@ impl FurPass {
             .map(|(_, lines)| Variant {
                 lines,
                 shading: style.shading,
+                coverage: style.thin_hair_aa,
+                shadows,
+                caster: false,
             })
             .collect()
     }
@@ -80,51 +109,82 @@ impl FurPass {
 
     fn build(&self, layout: &PipelineLayout, variant: Variant) -> Result<Pipeline> {
         let flag = |on: bool| u32::from(on).to_string();
-        let vertex_shading = flag(variant.shading == Shading::Vertex);
-        let geometry_defines = [
+        let textured = flag(self.textured && !variant.caster);
+        // Coverage under MSAA as a dithered sample mask (see fur.frag); alpha, blended,
+        // at one sample per pixel; none for opaque ribbons.
+        let covers = (variant.lines || variant.coverage) && !variant.caster;
+        let coverage_samples = if covers && self.samples > 1 {
+            self.samples
+        } else {
+            0
+        };
+        let common = [
+            ("VERTEX_SHADING", flag(variant.shading == Shading::Vertex)),
+            ("TEXTURED", textured.clone()),
+            ("SHADOWS", flag(variant.shadows)),
+            ("COVERAGE_SAMPLES", coverage_samples.to_string()),
+        ];
+        let mut geometry_defines = vec![
             ("STRAND_VERTICES", self.vertices_per_strand.to_string()),
             ("LINES", flag(variant.lines)),
-            ("VERTEX_SHADING", vertex_shading.clone()),
-            ("COUNT_HAIRS", flag(self.counts)),
+            ("SHADOW_CASTER", flag(variant.caster)),
+            ("COUNT_HAIRS", flag(self.counts && !variant.caster)),
         ];
+        geometry_defines.extend(common.iter().cloned());
         let device = &self.device;
         let vert = ShaderModule::new(device, "fur.vert", &[])?;
         let tesc = ShaderModule::new(device, "fur.tesc", &[])?;
-        let tese = ShaderModule::new(device, "fur.tese", &[])?;
+        let tese = ShaderModule::new(device, "fur.tese", &[("TEXTURED", textured)])?;
         let geom = ShaderModule::new(device, "fur.geom", &geometry_defines)?;
-        let frag = ShaderModule::new(device, "fur.frag", &[("VERTEX_SHADING", vertex_shading)])?;
-        // Lines carry coverage in alpha: blended at one sample per pixel, turned into
-        // sample coverage under MSAA. Ribbons are opaque. Both write depth: a blended
-        // line hides the hairs drawn after it behind it, a measured trade (without depth
-        // writes, hairs behind drawn later cover the ones in front, far worse).
-        let blend = match (variant.lines, self.samples) {
-            (false, _) => Blend::Opaque,
-            (true, 1) => Blend::Alpha,
-            (true, _) => Blend::AlphaToCoverage,
+        let frag = ShaderModule::new(device, "fur.frag", &common)?;
+        // All forms write depth: a blended hair hides the hairs drawn after it behind
+        // it, a measured trade (without depth writes, hairs behind drawn later cover
+        // the ones in front, far worse).
+        let blend = if covers && self.samples == 1 {
+            Blend::Alpha
+        } else {
+            Blend::Opaque
         };
-        let name = format!(
-            "fur pass ({}, {} shading)",
-            if variant.lines { "lines" } else { "ribbons" },
-            variant.shading.name()
-        );
+        let name = if variant.caster {
+            "fur shadow pass".to_string()
+        } else {
+            format!(
+                "fur pass ({}, {} shading{}{})",
+                if variant.lines { "lines" } else { "ribbons" },
+                variant.shading.name(),
+                if variant.coverage { ", coverage" } else { "" },
+                if variant.shadows { ", shadows" } else { "" },
+            )
+        };
+        let mut stages = vec![
+            (vk::ShaderStageFlags::VERTEX, &vert),
+            (vk::ShaderStageFlags::TESSELLATION_CONTROL, &tesc),
+            (vk::ShaderStageFlags::TESSELLATION_EVALUATION, &tese),
+            (vk::ShaderStageFlags::GEOMETRY, &geom),
+        ];
+        if !variant.caster {
+            stages.push((vk::ShaderStageFlags::FRAGMENT, &frag));
+        }
         graphics_pipeline(
             device,
             layout,
             &GraphicsDesc {
                 name: &name,
-                stages: &[
-                    (vk::ShaderStageFlags::VERTEX, &vert),
-                    (vk::ShaderStageFlags::TESSELLATION_CONTROL, &tesc),
-                    (vk::ShaderStageFlags::TESSELLATION_EVALUATION, &tese),
-                    (vk::ShaderStageFlags::GEOMETRY, &geom),
-                    (vk::ShaderStageFlags::FRAGMENT, &frag),
-                ],
+                stages: &stages,
                 topology: vk::PrimitiveTopology::PATCH_LIST,
                 vertex_bindings: &[],
                 vertex_attributes: &[],
                 patch_control_points: Some(3),
-                samples: sample_flag(self.samples),
-                blend,
+                samples: if variant.caster {
+                    vk::SampleCountFlags::TYPE_1
+                } else {
+                    sample_flag(self.samples)
+                },
+                blend: if variant.caster {
+                    Blend::DepthOnly
+                } else {
+                    blend
+                },
                 depth_write: true,
             },
         )

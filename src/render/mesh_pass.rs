@@ -1,9 +1,11 @@
-//! The mesh (skin) pass: the model's triangles, Lambert-shaded.
+//! The mesh (skin) pass: the model's triangles, Lambert-shaded, textured when the model
+//! has a texture (then drawn corner by corner, so UV seams stay exact), shadowed by
+//! the fur when the frame draws shadows.
 
 use std::sync::Arc;
 
 use ash::vk;
-use glam::Vec3;
+use glam::{Vec2, Vec3};
 
 use super::pipeline::{graphics_pipeline, Blend, GraphicsDesc};
 use super::target::sample_flag;
@@ -11,33 +13,44 @@ use crate::error::Result;
 use crate::gpu::{Buffer, Device, Pipeline, PipelineLayout, ShaderModule};
 use crate::scene::Mesh;
 
-/// Interleaved position + normal.
+/// Interleaved position, normal and texture coordinates.
 #[repr(C)]
 #[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
 struct MeshVertex {
     position: Vec3,
     normal: Vec3,
+    uv: Vec2,
 }
 
 pub struct MeshPass {
-    pipeline: Pipeline,
+    /// Without and with shadows, built on first use.
+    pipelines: [Option<Pipeline>; 2],
     vertices: Buffer,
+    samples: u32,
+    /// Textured: one vertex per triangle corner, drawn unindexed.
+    textured: bool,
 }
 
 impl MeshPass {
-    /// The pass for `mesh` into a target of `samples` per pixel.
-    pub fn new(
-        device: &Arc<Device>,
-        layout: &PipelineLayout,
-        mesh: &Mesh,
-        samples: u32,
-    ) -> Result<Self> {
-        let data: Vec<MeshVertex> = mesh
-            .positions
-            .iter()
-            .zip(&mesh.normals)
-            .map(|(&position, &normal)| MeshVertex { position, normal })
-            .collect();
+    /// The pass for `mesh` into a target of `samples` per pixel; `textured` draws the
+    /// model's texture through its corner UVs.
+    pub fn new(device: &Arc<Device>, mesh: &Mesh, samples: u32, textured: bool) -> Result<Self> {
+        let vertex = |i: u32, uv: Vec2| MeshVertex {
+            position: mesh.positions[i as usize],
+            normal: mesh.normals[i as usize],
+            uv,
+        };
+        let data: Vec<MeshVertex> = if textured {
+            mesh.indices
+                .iter()
+                .zip(&mesh.uvs)
+                .map(|(&i, &uv)| vertex(i, uv))
+                .collect()
+        } else {
+            (0..mesh.vertex_count() as u32)
+                .map(|i| vertex(i, Vec2::ZERO))
+                .collect()
+        };
         let vertices = Buffer::with_data(
             device,
             "mesh.vertices",
@@ -45,26 +58,72 @@ impl MeshPass {
             &data,
         )?;
         Ok(Self {
-            pipeline: Self::pipeline(device, layout, samples)?,
+            pipelines: [None, None],
             vertices,
+            samples,
+            textured,
         })
     }
 
-    /// Rebuilds the pipeline for a target of `samples` per pixel.
-    pub fn set_samples(
+    /// Pipelines are rebuilt for a target of `samples` per pixel.
+    pub fn set_samples(&mut self, samples: u32) {
+        self.pipelines = [None, None];
+        self.samples = samples;
+    }
+
+    /// Builds the pipeline for frames with or without `shadows` if it does not exist.
+    pub fn prepare(
         &mut self,
         device: &Arc<Device>,
         layout: &PipelineLayout,
-        samples: u32,
+        shadows: bool,
     ) -> Result<()> {
-        self.pipeline = Self::pipeline(device, layout, samples)?;
+        let slot = &mut self.pipelines[usize::from(shadows)];
+        if slot.is_none() {
+            *slot = Some(Self::pipeline(
+                device,
+                layout,
+                self.samples,
+                self.textured,
+                shadows,
+            )?);
+        }
         Ok(())
     }
 
-    fn pipeline(device: &Arc<Device>, layout: &PipelineLayout, samples: u32) -> Result<Pipeline> {
-        let vert = ShaderModule::new(device, "mesh.vert", &[])?;
-        let frag = ShaderModule::new(device, "mesh.frag", &[])?;
+    fn pipeline(
+        device: &Arc<Device>,
+        layout: &PipelineLayout,
+        samples: u32,
+        textured: bool,
+        shadows: bool,
+    ) -> Result<Pipeline> {
+        let flag = |on: bool| u32::from(on).to_string();
+        let defines = [("TEXTURED", flag(textured)), ("SHADOWS", flag(shadows))];
+        let vert = ShaderModule::new(device, "mesh.vert", &defines)?;
+        let frag = ShaderModule::new(device, "mesh.frag", &defines)?;
         let stride = std::mem::size_of::<MeshVertex>() as u32;
+        let attributes = [
+            vk::VertexInputAttributeDescription {
+                location: 0,
+                binding: 0,
+                format: vk::Format::R32G32B32_SFLOAT,
+                offset: 0,
+            },
+            vk::VertexInputAttributeDescription {
+                location: 1,
+                binding: 0,
+                format: vk::Format::R32G32B32_SFLOAT,
+                offset: 12,
+            },
+            vk::VertexInputAttributeDescription {
+                location: 2,
+                binding: 0,
+                format: vk::Format::R32G32_SFLOAT,
+                offset: 24,
+            },
+        ];
+
         graphics_pipeline(
             device,
             layout,
@@ -80,20 +139,7 @@ impl MeshPass {
                     stride,
                     input_rate: vk::VertexInputRate::VERTEX,
                 }],
-                vertex_attributes: &[
-                    vk::VertexInputAttributeDescription {
-                        location: 0,
-                        binding: 0,
-                        format: vk::Format::R32G32B32_SFLOAT,
-                        offset: 0,
-                    },
-                    vk::VertexInputAttributeDescription {
-                        location: 1,
-                        binding: 0,
-                        format: vk::Format::R32G32B32_SFLOAT,
-                        offset: 12,
-                    },
-                ],
+                vertex_attributes: &attributes[..if textured { 3 } else { 2 }],
                 patch_control_points: None,
                 samples: sample_flag(samples),
                 blend: Blend::Opaque,
@@ -113,13 +159,21 @@ impl MeshPass {
         };
     }
 
-    /// Records the draw; the caller has bound the descriptor set, index and vertex buffers.
-    pub fn draw(&self, device: &Device, cmd: vk::CommandBuffer, index_count: u32) {
+    /// Records the draw (prepared before for `shadows`); the caller has bound the
+    /// descriptor set, index and vertex buffers.
+    pub fn draw(&self, device: &Device, cmd: vk::CommandBuffer, index_count: u32, shadows: bool) {
+        let Some(pipeline) = &self.pipelines[usize::from(shadows)] else {
+            return;
+        };
         unsafe {
             device
                 .raw
-                .cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, self.pipeline.raw());
-            device.raw.cmd_draw_indexed(cmd, index_count, 1, 0, 0, 0);
+                .cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, pipeline.raw());
+            if self.textured {
+                device.raw.cmd_draw(cmd, index_count, 1, 0, 0);
+            } else {
+                device.raw.cmd_draw_indexed(cmd, index_count, 1, 0, 0, 0);
+            }
         }
     }
 }

@@ -3,15 +3,18 @@
 mod bindings;
 mod fur_pass;
 mod image;
+mod lighting;
 mod mesh_pass;
 mod pipeline;
 mod renderer;
+mod shadow_pass;
 mod target;
+mod texture;
 mod uniforms;
 
 pub use image::RgbaImage;
+pub use lighting::{kajiya_kay, Highlights, Lighting, Shade, Shadows};
 pub use renderer::{FrameReport, HairCounts, Renderer};
+pub use shadow_pass::CASTER_DENSITY;
 pub use target::{check_samples, RenderTarget};
-pub use uniforms::{
-    kajiya_kay, FrameSettings, FrameUniforms, FurStyle, Lighting, Primitive, Shading, StrandShape,
-};
+pub use uniforms::{FrameSettings, FrameUniforms, FurStyle, Primitive, Shading, StrandShape};

@@ -30,8 +30,8 @@ pub enum Blend {
     Opaque,
     /// `src · α + dst · (1 − α)`; the target's alpha stays 1.
     Alpha,
-    /// Alpha becomes the fraction of samples covered (MSAA), no blending.
-    AlphaToCoverage,
+    /// No colour attachment: depth only (the shadow map).
+    DepthOnly,
 }
 
 pub fn graphics_pipeline(
@@ -64,9 +64,8 @@ pub fn graphics_pipeline(
         .cull_mode(vk::CullModeFlags::NONE)
         .front_face(vk::FrontFace::COUNTER_CLOCKWISE)
         .line_width(1.0);
-    let multisample = vk::PipelineMultisampleStateCreateInfo::default()
-        .rasterization_samples(desc.samples)
-        .alpha_to_coverage_enable(desc.blend == Blend::AlphaToCoverage);
+    let multisample =
+        vk::PipelineMultisampleStateCreateInfo::default().rasterization_samples(desc.samples);
     let depth = vk::PipelineDepthStencilStateCreateInfo::default()
         .depth_test_enable(true)
         .depth_write_enable(desc.depth_write)
@@ -83,13 +82,18 @@ pub fn graphics_pipeline(
             .dst_alpha_blend_factor(vk::BlendFactor::ONE)
             .alpha_blend_op(vk::BlendOp::ADD);
     }
+    let depth_only = desc.blend == Blend::DepthOnly;
     let blend_attachments = [attachment];
-    let blend = vk::PipelineColorBlendStateCreateInfo::default().attachments(&blend_attachments);
+    let blend = vk::PipelineColorBlendStateCreateInfo::default().attachments(if depth_only {
+        &[]
+    } else {
+        &blend_attachments
+    });
     let dynamic_states = [vk::DynamicState::VIEWPORT, vk::DynamicState::SCISSOR];
     let dynamic = vk::PipelineDynamicStateCreateInfo::default().dynamic_states(&dynamic_states);
     let color_formats = [COLOR_FORMAT];
     let mut rendering = vk::PipelineRenderingCreateInfo::default()
-        .color_attachment_formats(&color_formats)
+        .color_attachment_formats(if depth_only { &[] } else { &color_formats })
         .depth_attachment_format(DEPTH_FORMAT);
     let mut info = vk::GraphicsPipelineCreateInfo::default()
         .stages(&stages)

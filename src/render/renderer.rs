@@ -10,18 +10,21 @@ use std::sync::Arc;
 
 use ash::vk;
 
-use super::bindings::{bindings, write_render_set};
+use super::bindings::{bindings, write_render_set, write_shadow_map, TextureBinding};
 use super::fur_pass::{FurPass, Variant};
 use super::image::RgbaImage;
 use super::mesh_pass::MeshPass;
+use super::shadow_pass::{self, LightView};
 use super::target::{check_samples, RenderTarget};
+use super::texture::{GpuTexture, ShadowMap};
 use super::uniforms::{FrameSettings, FrameUniforms, StrandShape};
+use crate::error::Error;
 use crate::error::Result;
 use crate::gpu::{
     memory_barrier, Buffer, DescriptorPool, DescriptorSetLayout, Device, FurStatistics,
     PipelineLayout, QueryPool,
 };
-use crate::scene::Mesh;
+use crate::scene::{Mesh, Texture};
 use crate::strand_textures::StrandTextures;
 
 /// Timestamp slots: the frame's start (before its simulation), the passes' start, after
@@ -61,11 +64,17 @@ pub struct Renderer {
     /// Per frame in flight: what the host writes or reads back while other frames run.
     slots: Vec<RenderSlot>,
     _ownership: Buffer,
+    /// The model's texture and its UVs per triangle corner (a white texel and no UVs
+    /// for a model drawn without).
+    texture: (GpuTexture, Buffer),
+    textured: bool,
     indices: Buffer,
     index_count: u32,
     shape: StrandShape,
     /// The model's bounding sphere in model space (centre, radius).
     bounds: (glam::Vec3, f32),
+    /// The longest master hair at rest (the light's view holds the fur with it).
+    hair_length: f32,
     mesh_pass: MeshPass,
     fur_pass: FurPass,
     pub target: RenderTarget,
@@ -82,6 +91,15 @@ struct RenderSlot {
     counters: Buffer,
     /// The fur pipelines this slot's frame draws, chosen by `update`.
     variants: Vec<Variant>,
+    /// The light's view of the fur: its uniforms and sets (one per position image).
+    light_uniforms: Buffer,
+    light_sets: [vk::DescriptorSet; 2],
+    /// The shadow map: a 16 × 16 placeholder until a frame draws shadows.
+    shadow: ShadowMap,
+    /// Whether a frame of this slot has drawn shadows.
+    shadow_drawn: bool,
+    /// Whether this slot's frame draws shadows.
+    shadows: bool,
 }
 
 impl Renderer {
@@ -95,12 +113,58 @@ impl Renderer {
         frames_in_flight: usize,
         samples: u32,
     ) -> Result<Self> {
+        Self::textured(
+            device,
+            mesh,
+            None,
+            strands,
+            extent,
+            frames_in_flight,
+            samples,
+        )
+    }
+
+    /// [`Renderer::new`] for a model coloured by `texture` through its corner UVs.
+    pub fn textured(
+        device: &Arc<Device>,
+        mesh: &Mesh,
+        texture: Option<&Texture>,
+        strands: &StrandTextures,
+        extent: vk::Extent2D,
+        frames_in_flight: usize,
+        samples: u32,
+    ) -> Result<Self> {
+        if texture.is_some() && mesh.uvs.len() != mesh.indices.len() {
+            return Err(Error::Parameter(
+                "the model has no texture coordinates (`vt` on every face): a texture needs them"
+                    .into(),
+            ));
+        }
+        let textured = texture.is_some();
+        // Every binding is written, also those a frame's pipelines do not read (Mesa
+        // 22.3's lavapipe reads every descriptor of a bound set): without a texture a
+        // white texel and no UVs stand in.
+        let white = Texture::from_rgba(1, 1, vec![255; 4])?;
+        let corner_uvs: &[glam::Vec2] = if textured {
+            &mesh.uvs
+        } else {
+            &[glam::Vec2::ZERO]
+        };
+        let texture = (
+            GpuTexture::upload(device, texture.unwrap_or(&white))?,
+            Buffer::with_data(
+                device,
+                "mesh.corner_uvs",
+                vk::BufferUsageFlags::STORAGE_BUFFER,
+                corner_uvs,
+            )?,
+        );
         let target = RenderTarget::new(device, extent, samples)?;
         let bindings = bindings();
         let set_layout = DescriptorSetLayout::new(device, "render.set_layout", &bindings)?;
         let pipeline_layout =
             PipelineLayout::new(device, "render.pipeline_layout", &[&set_layout], &[])?;
-        let set_count = 2 * frames_in_flight.max(1);
+        let set_count = 4 * frames_in_flight.max(1);
         let pool = DescriptorPool::new(
             device,
             "render.descriptor_pool",
@@ -135,16 +199,31 @@ impl Renderer {
                 vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::TRANSFER_DST,
                 gpu_allocator::MemoryLocation::GpuToCpu,
             )?;
-            let sets = pool.allocate(&set_layout, 2)?;
+            let light_uniforms = Buffer::new(
+                device,
+                &format!("render.light_uniforms[{slot}]"),
+                std::mem::size_of::<FrameUniforms>() as u64,
+                vk::BufferUsageFlags::UNIFORM_BUFFER,
+                gpu_allocator::MemoryLocation::CpuToGpu,
+            )?;
+            let binding = TextureBinding {
+                texture: &texture.0,
+                corner_uvs: &texture.1,
+            };
+            // A placeholder until a frame draws shadows at its own resolution.
+            let shadow = ShadowMap::new(device, &format!("shadow_map[{slot}]"), 16)?;
+            let sets = pool.allocate(&set_layout, 4)?;
             for (i, set) in sets.iter().enumerate() {
+                let ubo = if i < 2 { &uniforms } else { &light_uniforms };
                 write_render_set(
                     device,
                     *set,
-                    &uniforms,
-                    &strands.positions[i],
-                    &ownership,
-                    &counters,
+                    ubo,
+                    &strands.positions[i % 2],
+                    (&ownership, &counters),
+                    &binding,
                 );
+                write_shadow_map(device, *set, &shadow);
             }
             let timestamps = if device.info.timestamps {
                 Some(QueryPool::timestamps(
@@ -170,11 +249,16 @@ impl Renderer {
                 statistics,
                 counters,
                 variants: Vec::new(),
+                light_uniforms,
+                light_sets: [sets[2], sets[3]],
+                shadow,
+                shadow_drawn: false,
+                shadows: false,
             });
         }
         let vertices_per_strand = strands.layout.vertices_per_strand;
-        let mesh_pass = MeshPass::new(device, &pipeline_layout, mesh, samples)?;
-        let fur_pass = FurPass::new(device, vertices_per_strand, samples);
+        let mesh_pass = MeshPass::new(device, mesh, samples, textured)?;
+        let fur_pass = FurPass::new(device, vertices_per_strand, samples, textured);
         Ok(Self {
             device: device.clone(),
             _set_layout: set_layout,
@@ -182,6 +266,8 @@ impl Renderer {
             _pool: pool,
             slots,
             _ownership: ownership,
+            texture,
+            textured,
             indices,
             index_count: mesh.indices.len() as u32,
             shape: StrandShape {
@@ -189,6 +275,7 @@ impl Renderer {
                 strands_per_row: strands.layout.strands_per_row,
             },
             bounds: mesh.bounds(),
+            hair_length: strands.hair_length,
             mesh_pass,
             fur_pass,
             target,
@@ -203,6 +290,11 @@ impl Renderer {
         Ok(())
     }
 
+    /// How many frame slots have drawn shadows.
+    pub fn shadow_maps(&self) -> usize {
+        self.slots.iter().filter(|s| s.shadow_drawn).count()
+    }
+
     /// The sample counts per pixel this device can render.
     pub fn supported_samples(&self) -> Vec<u32> {
         super::target::supported_samples(&self.device)
@@ -213,9 +305,13 @@ impl Renderer {
     fn set_samples(&mut self, samples: u32) -> Result<()> {
         check_samples(&self.device, samples)?;
         let target = RenderTarget::new(&self.device, self.target.extent, samples)?;
-        self.mesh_pass
-            .set_samples(&self.device, &self.pipeline_layout, samples)?;
-        self.fur_pass = FurPass::new(&self.device, self.shape.vertices_per_strand, samples);
+        self.mesh_pass.set_samples(samples);
+        self.fur_pass = FurPass::new(
+            &self.device,
+            self.shape.vertices_per_strand,
+            samples,
+            self.textured,
+        );
         self.target = target;
         Ok(())
     }
@@ -256,19 +352,49 @@ impl Renderer {
         if settings.style.samples != self.target.samples {
             self.set_samples(settings.style.samples)?;
         }
-        let variants = FurPass::variants(&settings.style, self.root_pixel_range(settings));
+        // The fur casts shadows even when it is not drawn (the skin shows them).
+        let shadows = settings.lighting.shadows.enabled;
+        let mut variants =
+            FurPass::variants(&settings.style, shadows, self.root_pixel_range(settings));
+        if shadows {
+            variants.push(Variant::CASTER);
+        }
         self.fur_pass.prepare(&self.pipeline_layout, &variants)?;
+        variants.retain(|v| !v.caster);
+        self.mesh_pass
+            .prepare(&self.device, &self.pipeline_layout, shadows)?;
         let max_level = self.device.info.limits.max_tessellation_generation_level as f32;
         let extent = self.target.extent;
-        let uniforms = FrameUniforms::new(
+        let mut uniforms = FrameUniforms::new(
             settings,
             (extent.width, extent.height),
             &self.shape,
             max_level,
         );
+        uniforms.draw.z = self.texture.0.texels;
         let frame = &mut self.slots[slot];
+        if shadows {
+            let resolution = settings.lighting.shadows.resolution;
+            if frame.shadow.resolution != resolution {
+                let map = ShadowMap::new(&self.device, &format!("shadow_map[{slot}]"), resolution)?;
+                for set in frame.sets.iter().chain(&frame.light_sets) {
+                    write_shadow_map(&self.device, *set, &map);
+                }
+                frame.shadow = map;
+            }
+            frame.shadow_drawn = true;
+            let head = settings.head;
+            let centre = head.transform_point3(self.bounds.0);
+            let scale = head.transform_vector3(glam::Vec3::X).length().max(1e-12);
+            let radius = (self.bounds.1 + 1.25 * self.hair_length) * scale;
+            let light = LightView::new(settings, centre, radius, resolution);
+            light.apply(&mut uniforms);
+            let caster = light.caster_uniforms(&uniforms);
+            frame.light_uniforms.write(0, bytemuck::bytes_of(&caster));
+        }
         frame.uniforms.write(0, bytemuck::bytes_of(&uniforms));
         frame.variants = variants;
+        frame.shadows = shadows;
         Ok(())
     }
 
@@ -332,6 +458,22 @@ impl Renderer {
                 vk::AccessFlags2::SHADER_STORAGE_READ,
             ),
         );
+        if frame.shadows {
+            let map = &frame.shadow;
+            unsafe {
+                raw.cmd_bind_descriptor_sets(
+                    cmd,
+                    vk::PipelineBindPoint::GRAPHICS,
+                    self.pipeline_layout.raw(),
+                    0,
+                    &[frame.light_sets[current]],
+                    &[],
+                );
+                raw.cmd_bind_index_buffer(cmd, self.indices.raw(), 0, vk::IndexType::UINT32);
+            }
+            self.mesh_pass.bind_vertices(d, cmd);
+            shadow_pass::record(d, cmd, map, &self.fur_pass, self.index_count);
+        }
         self.target.begin(d, cmd);
         self.timestamp(cmd, slot, TS_START);
         let extent = self.target.extent;
@@ -394,7 +536,7 @@ impl Renderer {
         self.mesh_pass.bind_vertices(d, cmd);
         if settings.draw_mesh {
             d.begin_label(cmd, "mesh pass");
-            self.mesh_pass.draw(d, cmd, self.index_count);
+            self.mesh_pass.draw(d, cmd, self.index_count, frame.shadows);
             d.end_label(cmd);
         }
         self.timestamp(cmd, slot, TS_MESH);

@@ -3,6 +3,7 @@
 
 use glam::{Mat4, UVec4, Vec3, Vec4};
 
+use super::lighting::Lighting;
 use crate::error::{Error, Result};
 use crate::scene::Camera;
 
@@ -107,6 +108,12 @@ pub struct FurStyle {
     pub vertex_lod_px: f32,
     /// Widen hairs thinned out by the density LOD by the same factor (coverage kept).
     pub thickness_compensation: bool,
+    /// Thin-hair anti-aliasing: a hair drawn wider than it is (at least
+    /// [`FurStyle::min_pixel_width`]) covers its pixels only by its true width (alpha:
+    /// blended at one sample per pixel, alpha to coverage under MSAA), so sub-pixel
+    /// hairs neither vanish between samples nor darken the image more than they should.
+    /// Off: they are drawn opaque at the minimum width.
+    pub thin_hair_aa: bool,
     /// Samples per pixel of the render target (1 = no MSAA); the device decides which
     /// counts exist.
     pub samples: u32,
@@ -129,6 +136,7 @@ impl Default for FurStyle {
             shading: Shading::Vertex,
             vertex_lod_px: 0.05,
             thickness_compensation: true,
+            thin_hair_aa: true,
             samples: 4,
         }
     }
@@ -172,98 +180,6 @@ impl FurStyle {
     }
 }
 
-/// Light and material.
-#[derive(Clone, Debug, PartialEq)]
-pub struct Lighting {
-    /// Direction towards the light (normalised when used).
-    pub light_direction: Vec3,
-    pub intensity: f32,
-    /// Kajiya–Kay diffuse coefficient K_d.
-    pub kd: f32,
-    /// Kajiya–Kay specular coefficient K_s.
-    pub ks: f32,
-    /// Specular exponent p.
-    pub shininess: f32,
-    pub ambient: f32,
-    pub root_color: Vec3,
-    pub tip_color: Vec3,
-    pub skin_color: Vec3,
-    /// How much darker hair is at the root than at the tip, 0..1 (cheap self-shadowing).
-    pub root_occlusion: f32,
-}
-
-impl Default for Lighting {
-    fn default() -> Self {
-        Self {
-            light_direction: Vec3::new(0.5, 0.8, 0.6),
-            intensity: 1.0,
-            kd: 0.8,
-            ks: 0.35,
-            shininess: 40.0,
-            ambient: 0.12,
-            root_color: Vec3::new(0.16, 0.08, 0.035),
-            tip_color: Vec3::new(0.85, 0.6, 0.35),
-            skin_color: Vec3::new(0.12, 0.07, 0.05),
-            root_occlusion: 0.6,
-        }
-    }
-}
-
-impl Lighting {
-    pub fn validate(&self) -> Result<()> {
-        if !self.light_direction.is_finite() || self.light_direction.length() < 1e-6 {
-            return Err(Error::Parameter(format!(
-                "the light direction must be a finite, non-zero vector, got {}",
-                self.light_direction
-            )));
-        }
-        for (name, v, hi) in [
-            ("light intensity", self.intensity, 1e3),
-            ("Kd", self.kd, 1e3),
-            ("Ks", self.ks, 1e3),
-            ("ambient", self.ambient, 1e3),
-            ("root occlusion", self.root_occlusion, 1.0),
-        ] {
-            if !(v.is_finite() && (0.0..=hi).contains(&v)) {
-                return Err(Error::Parameter(format!(
-                    "{name} must be in [0, {hi}], got {v}"
-                )));
-            }
-        }
-        if !(self.shininess.is_finite() && (1.0..=1e4).contains(&self.shininess)) {
-            return Err(Error::Parameter(format!(
-                "the specular exponent must be in [1, 10000], got {}",
-                self.shininess
-            )));
-        }
-        for (name, c) in [
-            ("root colour", self.root_color),
-            ("tip colour", self.tip_color),
-            ("skin colour", self.skin_color),
-        ] {
-            if !c.is_finite() || c.min_element() < 0.0 || c.max_element() > 1e3 {
-                return Err(Error::Parameter(format!(
-                    "{name} must have components in [0, 1000], got {c}"
-                )));
-            }
-        }
-        Ok(())
-    }
-}
-
-/// Kajiya–Kay on the CPU, exactly as `shaders/shading.glsl` evaluates it: `t` the unit tangent, `l`
-/// the unit direction towards the light, `e` the unit direction from the eye to the
-/// point. Returns (diffuse, specular) before colour and intensity.
-pub fn kajiya_kay(t: Vec3, l: Vec3, e: Vec3, kd: f32, ks: f32, p: f32) -> (f32, f32) {
-    let (tl, te) = (t.dot(l), t.dot(e));
-    let sin_tl = (1.0 - tl * tl).max(0.0).sqrt();
-    let sin_te = (1.0 - te * te).max(0.0).sqrt();
-    (
-        kd * sin_tl,
-        ks * (tl * te + sin_tl * sin_te).max(0.0).powf(p),
-    )
-}
-
 /// What the fur pass needs to know of the master strands.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct StrandShape {
@@ -277,6 +193,7 @@ pub struct StrandShape {
 pub struct FrameUniforms {
     pub view_proj: Mat4,
     pub model: Mat4,
+    pub light_view_proj: Mat4,
     pub eye: Vec4,
     pub light: Vec4,
     pub root_color: Vec4,
@@ -287,12 +204,17 @@ pub struct FrameUniforms {
     pub hair: Vec4,
     pub viewport: Vec4,
     pub draw: Vec4,
+    pub highlight: Vec4,
+    pub secondary: Vec4,
+    pub shadow: Vec4,
     pub strands: UVec4,
 }
 
 pub const FLAG_CULL: u32 = 1;
 pub const FLAG_THICKNESS_COMPENSATION: u32 = 2;
 pub const FLAG_COUNT: u32 = 4;
+pub const FLAG_SECONDARY_HIGHLIGHT: u32 = 8;
+pub const FLAG_THIN_HAIR_AA: u32 = 16;
 
 /// Everything one frame is drawn with.
 #[derive(Clone, Debug, PartialEq)]
@@ -358,6 +280,24 @@ impl FrameUniforms {
         if settings.count_hairs {
             flags |= FLAG_COUNT;
         }
+        let highlights = &l.highlights;
+        if highlights.secondary {
+            flags |= FLAG_SECONDARY_HIGHLIGHT;
+        }
+        if s.thin_hair_aa {
+            flags |= FLAG_THIN_HAIR_AA;
+        }
+        let (primary_sin, primary_cos) = if highlights.secondary {
+            highlights.primary_shift_deg.to_radians().sin_cos()
+        } else {
+            (0.0, 1.0)
+        };
+        let (secondary_sin, secondary_cos) = highlights.secondary_shift_deg.to_radians().sin_cos();
+        let shadow_spacing = if l.shadows.spacing > 0.0 {
+            l.shadows.spacing
+        } else {
+            1.0 / s.density.sqrt()
+        };
         let ribbon_above = match s.primitive {
             Primitive::Auto => s.ribbon_above_px,
             Primitive::Lines => f32::MAX,
@@ -366,6 +306,8 @@ impl FrameUniforms {
         Self {
             view_proj,
             model: settings.head,
+            // Set by the renderer when the frame draws shadows.
+            light_view_proj: Mat4::IDENTITY,
             eye: settings.camera.eye().extend(pixel_at_unit_distance),
             light: l.light_direction.normalize_or(Vec3::Y).extend(l.intensity),
             root_color: l.root_color.extend(l.root_occlusion),
@@ -376,6 +318,14 @@ impl FrameUniforms {
             hair: Vec4::new(s.hair_width, s.min_pixel_width, s.jitter, s.length_jitter),
             viewport: Vec4::new(w, h, 1.0 / w, 1.0 / h),
             draw: Vec4::new(ribbon_above, s.vertex_lod_px, 0.0, 0.0),
+            highlight: Vec4::new(primary_cos, primary_sin, secondary_cos, secondary_sin),
+            secondary: Vec4::new(
+                highlights.secondary_shininess,
+                highlights.secondary_strength,
+                0.0,
+                0.0,
+            ),
+            shadow: Vec4::new(l.shadows.opacity, 1.0 / shadow_spacing, 0.0, 0.0),
             strands: UVec4::new(
                 strands.vertices_per_strand,
                 strands.strands_per_row,

@@ -1,12 +1,13 @@
-//! Triangle meshes: OBJ loading, generated models and the per-triangle ownership masks
-//! that let every interpolated hair be drawn exactly once.
+//! Triangle meshes: their data, bounds and normals, and the per-triangle ownership masks
+//! that let every interpolated hair be drawn exactly once (OBJ files: `obj.rs`;
+//! generated models: `shapes.rs`).
 
 use std::collections::HashMap;
-use std::path::Path;
 
-use glam::Vec3;
+use glam::{Vec2, Vec3};
 
-use crate::error::{Error, Result};
+use super::TextureSpec;
+use crate::error::Result;
 
 /// An indexed triangle mesh with one smooth normal per vertex. One master hair grows
 /// from every vertex.
@@ -16,6 +17,17 @@ pub struct Mesh {
     pub normals: Vec<Vec3>,
     /// Three indices per triangle, counter-clockwise seen from outside.
     pub indices: Vec<u32>,
+    /// Texture coordinates, one per triangle corner (`uvs[k]` belongs to `indices[k]`,
+    /// so seams are exact), or empty when the model has none. Image convention: (0, 0)
+    /// is the top-left corner of the image's first row, v grows downwards (as Vulkan
+    /// samples); OBJ's `vt` (v up) is flipped on reading and writing. Values outside
+    /// [0, 1] repeat.
+    pub uvs: Vec<Vec2>,
+    /// The model's colour texture: for an OBJ file, the diffuse texture (`map_Kd`) of
+    /// the first material its faces use, as a [`TextureSpec::File`] resolved against
+    /// the OBJ file's folder; `None` when it names none. Not checked to exist:
+    /// [`TextureSpec::load`] reports that.
+    pub texture: Option<TextureSpec>,
 }
 
 impl Mesh {
@@ -25,144 +37,6 @@ impl Mesh {
 
     pub fn triangle_count(&self) -> usize {
         self.indices.len() / 3
-    }
-
-    /// Loads an OBJ file (all its objects, triangulated). Normals come from the file
-    /// when every face has them, otherwise from area-weighted face normals. A UTF-8
-    /// byte-order mark and bytes that are not UTF-8 (in comments and names, as some
-    /// exporters write them) are accepted.
-    pub fn load_obj(path: &Path) -> Result<Self> {
-        let error = |message: String| Error::Model {
-            path: path.to_path_buf(),
-            message,
-        };
-        if path.is_dir() {
-            return Err(error("it is a folder, not an OBJ file".into()));
-        }
-        if !path.exists() {
-            return Err(error("no such file".into()));
-        }
-        let bytes = std::fs::read(path).map_err(|e| error(e.to_string()))?;
-        Self::parse_obj(&bytes).map_err(error)
-    }
-
-    /// Parses OBJ text (see [`Mesh::load_obj`]); the error says what is wrong.
-    pub fn parse_obj(bytes: &[u8]) -> std::result::Result<Self, String> {
-        let bytes = bytes.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(bytes);
-        let text = String::from_utf8_lossy(bytes);
-        let options = tobj::LoadOptions {
-            triangulate: true,
-            single_index: false,
-            ignore_points: true,
-            ignore_lines: true,
-        };
-        let (models, _materials) =
-            tobj::load_obj_buf(&mut std::io::Cursor::new(text.as_bytes()), &options, |_| {
-                Ok(Default::default())
-            })
-            .map_err(|e| format!("not a valid OBJ file ({e})"))?;
-        let mut positions = Vec::new();
-        let mut file_normals: Vec<Vec3> = Vec::new();
-        let mut normal_indices: Vec<u32> = Vec::new();
-        let mut indices = Vec::new();
-        let mut all_faces_have_normals = true;
-        for model in &models {
-            let m = &model.mesh;
-            if m.positions.len() % 3 != 0 {
-                return Err(format!(
-                    "object `{}` has a truncated position list",
-                    model.name
-                ));
-            }
-            let base = positions.len() as u32;
-            let normal_base = file_normals.len() as u32;
-            positions.extend(
-                m.positions
-                    .chunks_exact(3)
-                    .map(|p| Vec3::new(p[0], p[1], p[2])),
-            );
-            file_normals.extend(
-                m.normals
-                    .chunks_exact(3)
-                    .map(|n| Vec3::new(n[0], n[1], n[2])),
-            );
-            for &i in &m.indices {
-                if (base + i) as usize >= positions.len() {
-                    return Err(format!(
-                        "object `{}` references vertex {} of {}",
-                        model.name,
-                        i + 1,
-                        m.positions.len() / 3
-                    ));
-                }
-                indices.push(base + i);
-            }
-            if m.normal_indices.len() == m.indices.len() && !m.normals.is_empty() {
-                for &i in &m.normal_indices {
-                    if i as usize >= m.normals.len() / 3 {
-                        return Err(format!(
-                            "object `{}` references normal {} of {}",
-                            model.name,
-                            i + 1,
-                            m.normals.len() / 3
-                        ));
-                    }
-                    normal_indices.push(normal_base + i);
-                }
-            } else if !m.indices.is_empty() {
-                all_faces_have_normals = false;
-            }
-        }
-        if indices.is_empty() {
-            return Err("the file has no faces: fur grows from triangles".into());
-        }
-        if let Some(p) = positions.iter().find(|p| !p.is_finite()) {
-            return Err(format!("a vertex position is not finite: {p}"));
-        }
-        let normals = if all_faces_have_normals {
-            let mut normals = vec![Vec3::ZERO; positions.len()];
-            for (&vi, &ni) in indices.iter().zip(&normal_indices) {
-                normals[vi as usize] += file_normals[ni as usize];
-            }
-            normals
-        } else {
-            Vec::new()
-        };
-        let mut mesh = Self {
-            positions,
-            normals,
-            indices,
-        };
-        mesh.drop_degenerate_triangles();
-        if mesh.indices.is_empty() {
-            return Err("every face is degenerate (zero area)".into());
-        }
-        mesh.compact();
-        // A normal that cannot be normalised (zero, infinite or NaN: from broken `vn`
-        // lines or ones that cancel out) discards the file's normals.
-        if mesh.normals.is_empty() || mesh.normals.iter().any(|n| n.try_normalize().is_none()) {
-            mesh.normals = mesh.face_weighted_normals();
-        } else {
-            mesh.normals.iter_mut().for_each(|n| *n = n.normalize());
-        }
-        Ok(mesh)
-    }
-
-    /// Writes the mesh as OBJ with positions, normals and faces.
-    pub fn write_obj(&self, path: &Path) -> Result<()> {
-        use std::fmt::Write as _;
-        let mut text = String::from("# fur: generated model\n");
-        for p in &self.positions {
-            let _ = writeln!(text, "v {:.6} {:.6} {:.6}", p.x, p.y, p.z);
-        }
-        for n in &self.normals {
-            let _ = writeln!(text, "vn {:.6} {:.6} {:.6}", n.x, n.y, n.z);
-        }
-        for t in self.indices.chunks_exact(3) {
-            let (a, b, c) = (t[0] + 1, t[1] + 1, t[2] + 1);
-            let _ = writeln!(text, "f {a}//{a} {b}//{b} {c}//{c}");
-        }
-        std::fs::write(path, text).map_err(|e| Error::io("write the model to", path, e))
     }
 
     /// Per vertex, the model's half-thickness there: the deepest point inside the body
@@ -230,45 +104,6 @@ impl Mesh {
         }
         self.normals.iter_mut().for_each(|n| *n = -*n);
         true
-    }
-
-    /// Removes triangles with repeated indices or zero area.
-    fn drop_degenerate_triangles(&mut self) {
-        let positions = &self.positions;
-        let kept: Vec<u32> = self
-            .indices
-            .chunks_exact(3)
-            .filter(|t| {
-                let [a, b, c] = [t[0], t[1], t[2]].map(|i| positions[i as usize]);
-                t[0] != t[1]
-                    && t[1] != t[2]
-                    && t[0] != t[2]
-                    && (b - a).cross(c - a).length_squared() > 0.0
-            })
-            .flatten()
-            .copied()
-            .collect();
-        self.indices = kept;
-    }
-
-    /// Drops vertices no triangle uses: they would grow hairs nobody draws.
-    fn compact(&mut self) {
-        let mut remap = vec![u32::MAX; self.positions.len()];
-        let mut positions = Vec::new();
-        let mut normals = Vec::new();
-        for i in self.indices.iter_mut() {
-            let old = *i as usize;
-            if remap[old] == u32::MAX {
-                remap[old] = positions.len() as u32;
-                positions.push(self.positions[old]);
-                if let Some(n) = self.normals.get(old) {
-                    normals.push(*n);
-                }
-            }
-            *i = remap[old];
-        }
-        self.positions = positions;
-        self.normals = normals;
     }
 
     /// Area-weighted vertex normals from the triangles.

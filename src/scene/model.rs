@@ -2,7 +2,7 @@
 
 use std::path::PathBuf;
 
-use super::Mesh;
+use super::{Mesh, TextureSpec};
 use crate::error::Result;
 
 /// A model named on the command line: `blob`, `sphere`, or a path to an OBJ file
@@ -30,9 +30,13 @@ impl ModelSpec {
     }
 
     /// Loads the model ready to grow fur on: scaled into [`Mesh::SCALE_RANGE`] and
-    /// turned right side out when needed, with a warning naming the model for each.
-    pub fn prepare(&self) -> Result<(Mesh, Vec<String>)> {
+    /// turned right side out when needed, with a warning naming the model for each;
+    /// `texture`, if given, replaces the model's own (its material's).
+    pub fn prepare(&self, texture: Option<&TextureSpec>) -> Result<(Mesh, Vec<String>)> {
         let mut mesh = self.load()?;
+        if let Some(t) = texture {
+            mesh.texture = Some(t.clone());
+        }
         let mut warnings = Vec::new();
         let (_, radius) = mesh.bounds();
         if let Some(factor) = mesh.normalize_scale() {

@@ -339,6 +339,12 @@ impl Viewer {
             self.rebuild_session(&groom, settings)?;
             self.scene = scene;
         }
+        if let Some(on) = changes.texture {
+            self.mesh.texture = if on { self.scene_texture.clone() } else { None };
+            let (groom, _) = self.scene.resolve(&self.mesh)?;
+            let settings = self.session.settings.clone();
+            self.rebuild_session(&groom, settings)?;
+        }
         if let Some(params) = changes.sim {
             self.device.wait_idle()?;
             if params.collision && self.session.body.is_none() {

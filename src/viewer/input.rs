@@ -29,6 +29,8 @@ impl Viewer {
         options.distance = Some(camera.distance / radius);
         options.fov_deg = camera.fov_y_deg;
         options.lighting = settings.lighting.clone();
+        options.lighting.shadows.spacing /= radius;
+        options.texture = self.session.mesh.texture.clone();
         options.density_scale = style.density * radius * radius / FurStyle::default().density;
         options.draw = DrawOptions {
             samples: style.samples,
@@ -43,6 +45,7 @@ impl Viewer {
             jitter: style.jitter / radius,
             length_jitter: style.length_jitter,
             cull: style.cull,
+            thin_hair_aa: style.thin_hair_aa,
         };
         let motion = self.session.motion;
         let extent = self.session.renderer.target.extent;

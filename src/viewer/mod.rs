@@ -208,6 +208,8 @@ pub(crate) struct Hud {
     pub segments: u64,
     pub points: u64,
     pub masters: usize,
+    /// The scene has a texture the panel can turn on.
+    pub texture_available: bool,
 }
 
 // Fields drop in declaration order: UI first, then frame objects, swapchain, scene,
@@ -225,6 +227,8 @@ struct Viewer {
     surface: Surface,
     device: Arc<Device>,
     mesh: Mesh,
+    /// The scene's texture (the panel turns it off and on).
+    scene_texture: Option<crate::scene::TextureSpec>,
     model: crate::scene::ModelSpec,
     scene: SceneOptions,
     controls: Controls,
@@ -260,7 +264,7 @@ impl Viewer {
                 .map_err(|e| Error::Window(format!("cannot create a window: {e}")))?,
         );
         let (device, surface) = crate::gpu::windowed(options.validate, &*window)?;
-        let (mesh, warnings) = options.model.prepare()?;
+        let (mesh, warnings) = options.model.prepare(options.scene.texture.as_ref())?;
         for warning in warnings {
             eprintln!("warning: {warning}");
         }
@@ -372,6 +376,8 @@ impl Viewer {
             ..Default::default()
         };
         let masters = session.strands.count();
+        let scene_texture = mesh.texture.clone();
+        let texture_available = scene_texture.is_some();
         Ok(Self {
             egui_renderer,
             egui_state,
@@ -384,12 +390,14 @@ impl Viewer {
             session,
             surface,
             device,
+            scene_texture,
             mesh,
             model: options.model.clone(),
             scene: options.scene.clone(),
             controls,
             hud: Hud {
                 masters,
+                texture_available,
                 ..Default::default()
             },
             script: options.script.clone(),

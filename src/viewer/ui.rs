@@ -27,6 +27,8 @@ pub(crate) struct Changes {
     pub groom: Option<SceneOptions>,
     /// New simulation parameters.
     pub sim: Option<SimParams>,
+    /// Texture colour turned on or off: the renderer is rebuilt.
+    pub texture: Option<bool>,
 }
 
 /// Panel state kept between frames (edited values not yet applied).
@@ -150,6 +152,38 @@ impl PanelState {
                     color(ui, "root colour", &mut l.root_color);
                     color(ui, "tip colour", &mut l.tip_color);
                     color(ui, "skin colour", &mut l.skin_color);
+                });
+
+                egui::CollapsingHeader::new("looks").show(ui, |ui| {
+                    let has_texture = session.mesh.texture.is_some();
+                    let mut textured = has_texture;
+                    ui.add_enabled_ui(hud.texture_available, |ui| {
+                        if ui.checkbox(&mut textured, "texture colour (rebuilds)").changed() {
+                            changes.texture = Some(textured);
+                        }
+                    });
+                    let l = &mut session.settings.lighting;
+                    let h = &mut l.highlights;
+                    ui.checkbox(&mut h.secondary, "secondary highlight");
+                    ui.add_enabled_ui(h.secondary, |ui| {
+                        ui.add(egui::Slider::new(&mut h.primary_shift_deg, -20.0..=20.0).text("primary shift (°, + tipward)"));
+                        ui.add(egui::Slider::new(&mut h.secondary_shift_deg, -20.0..=20.0).text("secondary shift (°)"));
+                        ui.add(egui::Slider::new(&mut h.secondary_shininess, 1.0..=200.0).text("secondary exponent").logarithmic(true));
+                        ui.add(egui::Slider::new(&mut h.secondary_strength, 0.0..=2.0).text("secondary strength"));
+                    });
+                    let s = &mut l.shadows;
+                    ui.checkbox(&mut s.enabled, "self-shadowing");
+                    ui.add_enabled_ui(s.enabled, |ui| {
+                        egui::ComboBox::from_label("shadow map")
+                            .selected_text(format!("{0}×{0}", s.resolution))
+                            .show_ui(ui, |ui| {
+                                for r in [256, 512, 1024, 2048] {
+                                    ui.selectable_value(&mut s.resolution, r, format!("{r}×{r}"));
+                                }
+                            });
+                        ui.add(egui::Slider::new(&mut s.opacity, 0.0..=1.0).text("opacity per hair layer"));
+                    });
+                    ui.checkbox(&mut session.settings.style.thin_hair_aa, "thin-hair anti-aliasing");
                 });
 
                 egui::CollapsingHeader::new("fur drawing").show(ui, |ui| {

@@ -9,11 +9,16 @@
 use std::path::{Path, PathBuf};
 
 use glam::Vec3;
-use serde::{Deserialize, Serialize};
+
+mod checks;
+mod sections;
+
+use checks::checks;
+pub use sections::*;
 
 use crate::error::{Error, Result};
 use crate::render::{Primitive, Shading};
-use crate::scene::ModelSpec;
+use crate::scene::{ModelSpec, TextureSpec};
 use crate::session::SceneOptions;
 use crate::sim::{Motion, MotionKind, SimParams};
 
@@ -107,6 +112,7 @@ impl Scene {
         let s = &self.sim;
         SceneFile {
             model: Some(self.model.name()),
+            texture: o.texture.as_ref().map(TextureSpec::name),
             image: Some(ImageSection {
                 width: Some(self.width),
                 height: Some(self.height),
@@ -138,6 +144,7 @@ impl Scene {
                 jitter: Some(d.jitter),
                 length_jitter: Some(d.length_jitter),
                 cull: Some(d.cull),
+                thin_hair_aa: Some(d.thin_hair_aa),
             }),
             light: Some(LightSection {
                 direction: Some(l.light_direction.to_array()),
@@ -150,6 +157,17 @@ impl Scene {
                 tip_color: Some(l.tip_color.to_array()),
                 skin_color: Some(l.skin_color.to_array()),
                 root_occlusion: Some(l.root_occlusion),
+                secondary_highlight: Some(l.highlights.secondary),
+                primary_shift: Some(l.highlights.primary_shift_deg),
+                secondary_shift: Some(l.highlights.secondary_shift_deg),
+                secondary_shininess: Some(l.highlights.secondary_shininess),
+                secondary_strength: Some(l.highlights.secondary_strength),
+            }),
+            shadows: Some(ShadowsSection {
+                enabled: Some(l.shadows.enabled),
+                resolution: Some(l.shadows.resolution),
+                opacity: Some(l.shadows.opacity),
+                spacing: Some(l.shadows.spacing),
             }),
             simulation: Some(SimulationSection {
                 dt: Some(s.dt),
@@ -188,122 +206,6 @@ impl Scene {
         );
         std::fs::write(path, text).map_err(|e| Error::io("write the scene file", path, e))
     }
-}
-
-/// A scene file: any part of a [`Scene`].
-#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct SceneFile {
-    /// `blob`, `sphere`, or an OBJ path relative to the scene file.
-    pub model: Option<String>,
-    pub image: Option<ImageSection>,
-    pub camera: Option<CameraSection>,
-    pub groom: Option<GroomSection>,
-    pub render: Option<RenderSection>,
-    pub light: Option<LightSection>,
-    pub simulation: Option<SimulationSection>,
-    pub collision: Option<CollisionSection>,
-    pub motion: Option<MotionSection>,
-}
-
-#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct ImageSection {
-    pub width: Option<u32>,
-    pub height: Option<u32>,
-}
-
-/// Angles in degrees, the distance in bounding radii.
-#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct CameraSection {
-    pub yaw: Option<f32>,
-    pub pitch: Option<f32>,
-    pub distance: Option<f32>,
-    pub fov: Option<f32>,
-}
-
-/// The hair length in bounding radii.
-#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct GroomSection {
-    pub hair_length: Option<f32>,
-    pub segments: Option<u32>,
-    pub density_scale: Option<f32>,
-    pub comb: Option<f32>,
-    pub curl: Option<f32>,
-    /// Hairs at most this many times the local half-thickness long (0 = off).
-    pub thickness_limit: Option<f32>,
-}
-
-#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct RenderSection {
-    pub samples: Option<u32>,
-    pub primitive: Option<String>,
-    pub ribbon_above: Option<f32>,
-    pub shading: Option<String>,
-    pub vertex_lod: Option<f32>,
-    pub lod_distance: Option<f32>,
-    pub thickness_compensation: Option<bool>,
-    /// In bounding radii, like `jitter`.
-    pub hair_width: Option<f32>,
-    pub min_pixel_width: Option<f32>,
-    pub jitter: Option<f32>,
-    pub length_jitter: Option<f32>,
-    pub cull: Option<bool>,
-}
-
-/// Colours are linear RGB triples; the direction points towards the light.
-#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct LightSection {
-    pub direction: Option<[f32; 3]>,
-    pub intensity: Option<f32>,
-    pub kd: Option<f32>,
-    pub ks: Option<f32>,
-    pub shininess: Option<f32>,
-    pub ambient: Option<f32>,
-    pub root_color: Option<[f32; 3]>,
-    pub tip_color: Option<[f32; 3]>,
-    pub skin_color: Option<[f32; 3]>,
-    pub root_occlusion: Option<f32>,
-}
-
-/// Units as [`SimParams`]: seconds, m/s², degrees.
-#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct SimulationSection {
-    pub dt: Option<f32>,
-    pub substeps: Option<u32>,
-    pub gravity: Option<[f32; 3]>,
-    pub damping: Option<f32>,
-    pub global_stiffness: Option<f32>,
-    pub global_range: Option<f32>,
-    pub local_stiffness: Option<f32>,
-    pub local_iterations: Option<u32>,
-    pub length_iterations: Option<u32>,
-    pub wind: Option<[f32; 3]>,
-    pub wind_cone: Option<f32>,
-}
-
-/// The margin is a fraction of the hair length.
-#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct CollisionSection {
-    pub enabled: Option<bool>,
-    pub margin: Option<f32>,
-    pub friction: Option<f32>,
-    pub sdf_resolution: Option<u32>,
-}
-
-/// `kind`: still, shake, spin or nod.
-#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct MotionSection {
-    pub kind: Option<String>,
-    pub amplitude: Option<f64>,
-    pub rate: Option<f64>,
 }
 
 /// 1-based line and column of byte `offset` in `text`.
@@ -396,6 +298,17 @@ impl SceneFile {
         })
     }
 
+    /// A texture the file names, a path resolved against the file's folder.
+    fn texture_spec(name: &str, path: &Path) -> TextureSpec {
+        match name.parse::<TextureSpec>() {
+            Ok(TextureSpec::File(p)) if p.is_relative() => {
+                TextureSpec::File(path.parent().unwrap_or(Path::new(".")).join(p))
+            }
+            Ok(spec) => spec,
+            Err(_) => TextureSpec::File(PathBuf::from(name)),
+        }
+    }
+
     /// Applies every key the file sets onto `scene`, then checks the result; an
     /// out-of-range value is an error naming the file, line and key (`text` is the
     /// file's contents, `path` its name).
@@ -453,6 +366,10 @@ impl SceneFile {
             set(&mut d.jitter, s.jitter);
             set(&mut d.length_jitter, s.length_jitter);
             set(&mut d.cull, s.cull);
+            set(&mut d.thin_hair_aa, s.thin_hair_aa);
+        }
+        if let Some(t) = &self.texture {
+            o.texture = Some(Self::texture_spec(t, path));
         }
         if let Some(s) = &self.light {
             let l = &mut o.lighting;
@@ -466,6 +383,19 @@ impl SceneFile {
             set(&mut l.tip_color, s.tip_color.map(Vec3::from_array));
             set(&mut l.skin_color, s.skin_color.map(Vec3::from_array));
             set(&mut l.root_occlusion, s.root_occlusion);
+            let h = &mut l.highlights;
+            set(&mut h.secondary, s.secondary_highlight);
+            set(&mut h.primary_shift_deg, s.primary_shift);
+            set(&mut h.secondary_shift_deg, s.secondary_shift);
+            set(&mut h.secondary_shininess, s.secondary_shininess);
+            set(&mut h.secondary_strength, s.secondary_strength);
+        }
+        if let Some(s) = &self.shadows {
+            let d = &mut o.lighting.shadows;
+            set(&mut d.enabled, s.enabled);
+            set(&mut d.resolution, s.resolution);
+            set(&mut d.opacity, s.opacity);
+            set(&mut d.spacing, s.spacing);
         }
         let p = &mut scene.sim;
         if let Some(s) = &self.simulation {
@@ -510,157 +440,4 @@ fn set<T>(field: &mut T, value: Option<T>) {
     if let Some(v) = value {
         *field = v;
     }
-}
-
-/// Every range a scene's values must lie in, by section and key.
-fn checks(scene: &Scene) -> Vec<(&'static str, &'static str, std::result::Result<(), String>)> {
-    let o = &scene.options;
-    let positive = |v: f32| {
-        if v.is_finite() && v > 0.0 {
-            Ok(())
-        } else {
-            Err(format!("must be a positive number, got {v}"))
-        }
-    };
-    let within = |v: f32, lo: f32, hi: f32| {
-        if v.is_finite() && (lo..=hi).contains(&v) {
-            Ok(())
-        } else {
-            Err(format!("must be in [{lo}, {hi}], got {v}"))
-        }
-    };
-    let image = |v: u32| {
-        if (1..=16384).contains(&v) {
-            Ok(())
-        } else {
-            Err(format!("must be 1..=16384 pixels, got {v}"))
-        }
-    };
-    let mut out = vec![
-        ("image", "width", image(scene.width)),
-        ("image", "height", image(scene.height)),
-        ("camera", "yaw", within(o.yaw_deg, -1e6, 1e6)),
-        ("camera", "pitch", within(o.pitch_deg, -1e6, 1e6)),
-        ("camera", "distance", positive(o.distance.unwrap_or(1.0))),
-        ("camera", "fov", within(o.fov_deg, 1.0, 170.0)),
-        ("groom", "hair_length", positive(o.hair_length)),
-        (
-            "groom",
-            "segments",
-            if (1..=63).contains(&o.segments) {
-                Ok(())
-            } else {
-                Err(format!("must be 1..=63, got {}", o.segments))
-            },
-        ),
-        ("groom", "density_scale", positive(o.density_scale)),
-        ("groom", "comb", within(o.comb, 0.0, 1e3)),
-        ("groom", "curl", within(o.curl, 0.0, 1e3)),
-        (
-            "groom",
-            "thickness_limit",
-            within(o.thickness_limit, 0.0, 1e3),
-        ),
-        (
-            "render",
-            "samples",
-            if matches!(o.draw.samples, 1 | 2 | 4 | 8 | 16) {
-                Ok(())
-            } else {
-                Err(format!("must be 1, 2, 4, 8 or 16, got {}", o.draw.samples))
-            },
-        ),
-        (
-            "render",
-            "ribbon_above",
-            within(o.draw.ribbon_above_px, 0.0, 1e6),
-        ),
-        (
-            "render",
-            "vertex_lod",
-            within(o.draw.vertex_lod_px, 0.0, 1e6),
-        ),
-        ("render", "lod_distance", positive(o.draw.lod_distance)),
-        ("render", "hair_width", positive(o.draw.hair_width)),
-        (
-            "render",
-            "min_pixel_width",
-            within(o.draw.min_pixel_width, 0.0, 64.0),
-        ),
-        ("render", "jitter", within(o.draw.jitter, 0.0, 1e3)),
-        (
-            "render",
-            "length_jitter",
-            within(o.draw.length_jitter, 0.0, 1.0),
-        ),
-    ];
-    let light = o.lighting.validate().map_err(|e| e.to_string());
-    out.push(("light", light_key(&light), light));
-    let sim = scene.sim.validate().map_err(|e| e.to_string());
-    out.push((sim_section(&sim), sim_key(&sim), sim));
-    let motion = if scene.motion.amplitude.is_finite() && scene.motion.rate.is_finite() {
-        if scene.motion.rate >= 0.0 {
-            Ok(())
-        } else {
-            Err(format!("must be ≥ 0, got {}", scene.motion.rate))
-        }
-    } else {
-        Err("amplitude and rate must be finite".to_string())
-    };
-    out.push(("motion", "rate", motion));
-    out
-}
-
-/// The key a lighting error is about, from its message.
-fn light_key(error: &std::result::Result<(), String>) -> &'static str {
-    let Err(message) = error else { return "" };
-    [
-        ("direction", "direction"),
-        ("intensity", "intensity"),
-        ("Kd", "kd"),
-        ("Ks", "ks"),
-        ("ambient", "ambient"),
-        ("root occlusion", "root_occlusion"),
-        ("exponent", "shininess"),
-        ("root colour", "root_color"),
-        ("tip colour", "tip_color"),
-        ("skin colour", "skin_color"),
-    ]
-    .iter()
-    .find(|(needle, _)| message.contains(needle))
-    .map_or("", |(_, key)| key)
-}
-
-const SIM_KEYS: [(&str, &str, &str); 15] = [
-    ("dt", "simulation", "dt"),
-    ("substeps", "simulation", "substeps"),
-    ("gravity", "simulation", "gravity"),
-    ("damping", "simulation", "damping"),
-    ("global stiffness", "simulation", "global_stiffness"),
-    ("global range", "simulation", "global_range"),
-    ("local stiffness", "simulation", "local_stiffness"),
-    ("local iterations", "simulation", "local_iterations"),
-    ("length iterations", "simulation", "length_iterations"),
-    ("wind cone", "simulation", "wind_cone"),
-    ("wind", "simulation", "wind"),
-    ("collision margin", "collision", "margin"),
-    ("friction", "collision", "friction"),
-    ("resolution", "collision", "sdf_resolution"),
-    ("collision", "collision", "enabled"),
-];
-
-fn sim_entry(error: &std::result::Result<(), String>) -> Option<(&'static str, &'static str)> {
-    let Err(message) = error else { return None };
-    SIM_KEYS
-        .iter()
-        .find(|(needle, _, _)| message.contains(needle))
-        .map(|(_, section, key)| (*section, *key))
-}
-
-fn sim_section(error: &std::result::Result<(), String>) -> &'static str {
-    sim_entry(error).map_or("simulation", |e| e.0)
-}
-
-fn sim_key(error: &std::result::Result<(), String>) -> &'static str {
-    sim_entry(error).map_or("", |e| e.1)
 }

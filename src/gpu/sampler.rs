@@ -1,0 +1,35 @@
+//! Samplers.
+
+use std::sync::Arc;
+
+use ash::vk;
+
+use super::Device;
+use crate::error::{Result, VkContext};
+
+/// A `VkSampler`.
+pub struct Sampler {
+    device: Arc<Device>,
+    raw: vk::Sampler,
+}
+
+impl Sampler {
+    pub fn new(device: &Arc<Device>, name: &str, info: &vk::SamplerCreateInfo) -> Result<Self> {
+        let raw = unsafe { device.raw.create_sampler(info, None) }.vk("vkCreateSampler")?;
+        device.set_name(raw, name);
+        Ok(Self {
+            device: device.clone(),
+            raw,
+        })
+    }
+
+    pub fn raw(&self) -> vk::Sampler {
+        self.raw
+    }
+}
+
+impl Drop for Sampler {
+    fn drop(&mut self) {
+        unsafe { self.device.raw.destroy_sampler(self.raw, None) };
+    }
+}

@@ -383,6 +383,23 @@ fn impossible_flags_fail_cleanly() {
             "ribbon",
         ),
         (&["bench", "--only", "warp_drive"], "warp_drive"),
+        (
+            &["render", "--shadow-resolution", "4"],
+            "shadow map resolution",
+        ),
+        (&["render", "--shadow-opacity", "2"], "shadow opacity"),
+        (&["render", "--shadow-spacing=-1"], "shadow spacing"),
+        (&["render", "--primary-shift", "90"], "primary highlight"),
+        (
+            &["render", "--secondary-shininess", "0"],
+            "secondary highlight",
+        ),
+        (
+            &["render", "--secondary-strength", "nan"],
+            "secondary highlight",
+        ),
+        (&["render", "--texture", ""], "tabby"),
+        (&["render", "--shadows", "maybe"], "--shadows"),
     ];
     for (args, needle) in cases {
         fails(&run(args), needle, &args.join(" "));
@@ -466,4 +483,42 @@ fn viewer_scripts_are_checked_before_a_window_opens() {
     for (args, needle) in cases {
         fails(&run(args), needle, &args.join(" "));
     }
+}
+
+#[test]
+fn bad_textures_fail_cleanly_and_a_missing_material_warns() {
+    let dir = scratch();
+    let missing = dir.join("no_such_texture.png");
+    let text = file("notes.png", b"this is not an image\n");
+    let cases: Vec<(Vec<String>, &str)> = vec![
+        (
+            vec!["--texture".into(), missing.display().to_string()],
+            "no_such_texture.png",
+        ),
+        (vec!["--texture".into(), text.clone()], "notes.png"),
+        (
+            vec!["--texture".into(), dir.display().to_string()],
+            "folder",
+        ),
+    ];
+    for (extra, needle) in &cases {
+        let extra: Vec<&str> = extra.iter().map(String::as_str).collect();
+        fails(&render_model("sphere", &extra), needle, &extra.join(" "));
+    }
+    // A model without texture coordinates cannot take one.
+    let plain = file("plain_octahedron.obj", octahedron(1.0, true).as_bytes());
+    fails(
+        &render_model(&plain, &["--texture", "tabby"]),
+        "texture coordinates",
+        "a texture on a model without UVs",
+    );
+    // A material library that is not there: a warning, and the model renders.
+    let mut obj = String::from("mtllib gone.mtl\nusemtl fur\n");
+    obj += &octahedron(1.0, true);
+    let model = file("octahedron_without_mtl.obj", obj.as_bytes());
+    succeeds(
+        &render_model(&model, &[]),
+        Some("gone.mtl"),
+        "a missing .mtl",
+    );
 }

@@ -414,3 +414,131 @@ fn shadows_off_cost_nothing_and_their_settings_change_nothing() {
     assert!(shadowed.data != plain.data);
     common::assert_clean(&device);
 }
+
+#[test]
+fn the_texture_colours_the_fur_at_its_roots_and_the_skin() {
+    let device = common::device();
+    // Red for u < 0.5, blue for the rest; and the same swapped.
+    let halves = |swap: bool| {
+        let rgba = (0..32 * 64)
+            .flat_map(|i| {
+                let red = ((i % 64) < 32) != swap;
+                if red {
+                    [255, 0, 0, 255]
+                } else {
+                    [0, 0, 255, 255]
+                }
+            })
+            .collect();
+        fur::scene::Texture::from_rgba(64, 32, rgba).unwrap()
+    };
+    let sphere = Mesh::uv_sphere(1.0, 24, 48);
+    assert_eq!(sphere.uvs.len(), sphere.indices.len());
+    let groom = GroomParams {
+        segments: 4,
+        segment_length: 0.05,
+        comb_strength: 0.0,
+        ..Default::default()
+    };
+    let flat = |draw_fur: bool| FrameSettings {
+        camera: Camera {
+            target: Vec3::ZERO,
+            yaw_deg: 30.0,
+            pitch_deg: 20.0,
+            distance: 4.0,
+            fov_y_deg: 40.0,
+        },
+        lighting: Lighting {
+            kd: 0.0,
+            ks: 0.0,
+            ambient: 1.0,
+            root_occlusion: 0.0,
+            root_color: Vec3::ONE,
+            tip_color: Vec3::ONE,
+            skin_color: Vec3::ONE,
+            highlights: Highlights {
+                secondary: false,
+                ..Default::default()
+            },
+            ..Default::default()
+        },
+        draw_fur,
+        draw_mesh: !draw_fur,
+        ..Default::default()
+    };
+    let strands = fur::scene::Strands::grow(&sphere, &groom).unwrap();
+    let textures =
+        fur::strand_textures::StrandTextures::new(&device, &strands, glam::Mat4::IDENTITY).unwrap();
+    let extent = ash::vk::Extent2D {
+        width: 96,
+        height: 96,
+    };
+    let render = |texture: &fur::scene::Texture, draw_fur: bool| {
+        let mut renderer = fur::render::Renderer::textured(
+            &device,
+            &sphere,
+            Some(texture),
+            &textures,
+            extent,
+            1,
+            4,
+        )
+        .unwrap();
+        renderer.render(&textures, &flat(draw_fur)).unwrap().0
+    };
+    for (what, draw_fur) in [("fur", true), ("skin", false)] {
+        let (image, swapped) = (
+            render(&halves(false), draw_fur),
+            render(&halves(true), draw_fur),
+        );
+        common::keep(&image, &format!("texture_{what}"));
+        // Every covered pixel is clearly red or blue, and the other one with the
+        // texture's halves swapped: its colour comes from the texture through the UVs.
+        let covered = common::covered(&image);
+        let (mut pure, mut flipped, mut n) = (0, 0, 0);
+        for y in 0..image.height {
+            for x in 0..image.width {
+                if !covered[(y * image.width + x) as usize] {
+                    continue;
+                }
+                let (p, q) = (image.pixel(x, y), swapped.pixel(x, y));
+                let tilt = |p: [u8; 4]| linear(p[0]) - linear(p[2]);
+                let sum = linear(p[0]) + linear(p[2]);
+                n += 1;
+                if tilt(p).abs() > 0.6 * sum {
+                    pure += 1;
+                }
+                if tilt(p) * tilt(q) < 0.0 {
+                    flipped += 1;
+                }
+            }
+        }
+        assert!(n > 1000, "{what}: too little visible");
+        assert!(
+            pure as f32 > 0.8 * n as f32 && flipped as f32 > 0.9 * n as f32,
+            "{what}: of {n} pixels {pure} are clearly red or blue and {flipped} swap colour \
+             with the texture"
+        );
+    }
+    // Without texture coordinates a texture is refused, by name.
+    let grid = Mesh {
+        uvs: Vec::new(),
+        ..Mesh::grid(2, 2, 1.0)
+    };
+    let strands = fur::scene::Strands::grow(&grid, &groom).unwrap();
+    let textures =
+        fur::strand_textures::StrandTextures::new(&device, &strands, glam::Mat4::IDENTITY).unwrap();
+    let error = fur::render::Renderer::textured(
+        &device,
+        &grid,
+        Some(&halves(false)),
+        &textures,
+        extent,
+        1,
+        4,
+    )
+    .err()
+    .expect("a texture on a model without UVs is refused");
+    assert!(error.to_string().contains("texture coordinates"), "{error}");
+    common::assert_clean(&device);
+}

@@ -10,6 +10,7 @@
 
 mod collision;
 mod frame;
+mod looks;
 pub mod metrics;
 pub mod plot;
 pub mod quality;
@@ -77,10 +78,11 @@ pub enum Section {
     SimScaling,
     Collision,
     Savings,
+    Looks,
 }
 
 impl Section {
-    pub const ALL: [Section; 7] = [
+    pub const ALL: [Section; 8] = [
         Self::Frame,
         Self::RenderQuality,
         Self::SimAccuracy,
@@ -88,6 +90,7 @@ impl Section {
         Self::SimScaling,
         Self::Collision,
         Self::Savings,
+        Self::Looks,
     ];
 
     pub fn name(self) -> &'static str {
@@ -99,6 +102,7 @@ impl Section {
             Self::SimScaling => "sim_scaling",
             Self::Collision => "collision",
             Self::Savings => "savings",
+            Self::Looks => "looks",
         }
     }
 
@@ -111,6 +115,7 @@ impl Section {
             Self::SimScaling => "simulation cost per strand from 1K to 100K strands",
             Self::Collision => "distance-field build cost and size, collision cost, penetration against resolution",
             Self::Savings => "what skipping work the scene does not need saves",
+            Self::Looks => "cost and image effect of texture colour, secondary highlight, shadows and thin-hair AA",
         }
     }
 
@@ -213,6 +218,7 @@ pub fn task_count(options: &BenchOptions) -> u64 {
             Section::SimScaling => sim::scaling_tasks(options.quick),
             Section::Collision => collision::tasks(options.quick),
             Section::Savings => savings::TASKS,
+            Section::Looks => looks::tasks(options.quick),
         })
         .sum()
 }
@@ -247,6 +253,7 @@ pub fn run(
             Section::SimScaling => bench.simulation_scaling()?,
             Section::Collision => bench.collision()?,
             Section::Savings => bench.savings()?,
+            Section::Looks => bench.looks()?,
         }
     }
     Ok(Report {

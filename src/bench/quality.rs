@@ -17,8 +17,8 @@ use ash::vk;
 use super::metrics::median;
 use crate::error::Result;
 use crate::gpu::Device;
-use crate::render::{FrameSettings, FurStyle, HairCounts, Renderer, RgbaImage};
-use crate::scene::{Mesh, Strands};
+use crate::render::{FrameSettings, FurStyle, HairCounts, Lighting, Renderer, RgbaImage};
+use crate::scene::{Mesh, Strands, Texture};
 use crate::scene_file::Scene;
 use crate::session::DrawOptions;
 use crate::sim::GpuSim;
@@ -36,6 +36,16 @@ pub struct Shot {
     /// The scene's size: style settings given in bounding radii scale with it.
     pub radius: f32,
     textures: StrandTextures,
+    /// The scene's colour texture, if it has one.
+    texture: Option<Texture>,
+}
+
+/// How a [`Shot`] is drawn: the fur's style, the lighting, with or without the texture.
+#[derive(Clone)]
+pub struct Look {
+    pub style: FurStyle,
+    pub lighting: Lighting,
+    pub textured: bool,
 }
 
 /// One drawing of a [`Shot`].
@@ -59,6 +69,7 @@ impl Shot {
         let mut sim = GpuSim::new(device, &textures, scene.sim.clone())?;
         sim.run_frames(&mut textures, SETTLE_FRAMES, |t| motion.head(t))?;
         settings.head = motion.head(sim.time).as_mat4();
+        let texture = mesh.texture.as_ref().map(|t| t.load()).transpose()?;
         Ok(Self {
             device: device.clone(),
             radius,
@@ -66,7 +77,17 @@ impl Shot {
             settings,
             extent,
             textures,
+            texture,
         })
+    }
+
+    /// The scene's own look with `style`.
+    pub fn look(&self, style: &FurStyle) -> Look {
+        Look {
+            style: style.clone(),
+            lighting: self.settings.lighting.clone(),
+            textured: self.texture.is_some(),
+        }
     }
 
     /// The frame's style with the drawing choices of `draw` (distances in radii).
@@ -84,28 +105,36 @@ impl Shot {
     }
 
     /// Draws the frame with `style` `warm + measured` times; times the measured ones.
-    pub fn draw(&self, style: &FurStyle, (warm, measured): (usize, usize)) -> Result<Drawn> {
-        self.draw_at(style, self.extent, 1, (warm, measured.max(1)), true)
+    pub fn draw(&self, style: &FurStyle, frames: (usize, usize)) -> Result<Drawn> {
+        self.draw_look(&self.look(style), frames)
+    }
+
+    /// Draws the frame with `look` `warm + measured` times; times the measured ones.
+    pub fn draw_look(&self, look: &Look, (warm, measured): (usize, usize)) -> Result<Drawn> {
+        self.draw_at(look, self.extent, 1, (warm, measured.max(1)), true)
     }
 
     fn draw_at(
         &self,
-        style: &FurStyle,
+        look: &Look,
         extent: vk::Extent2D,
         supersample: u32,
         (warm, measured): (usize, usize),
         count: bool,
     ) -> Result<Drawn> {
-        let mut renderer = Renderer::new(
+        let texture = self.texture.as_ref().filter(|_| look.textured);
+        let mut renderer = Renderer::textured(
             &self.device,
             &self.mesh,
+            texture,
             &self.textures,
             extent,
             1,
-            style.samples,
+            look.style.samples,
         )?;
         let mut settings = FrameSettings {
-            style: style.clone(),
+            style: look.style.clone(),
+            lighting: look.lighting.clone(),
             supersample,
             ..self.settings.clone()
         };
@@ -136,16 +165,29 @@ impl Shot {
 
     /// The supersampled reference of this frame (see the module documentation).
     pub fn reference(&self, factor: u32) -> Result<RgbaImage> {
-        let style = self.style(&DrawOptions {
-            lod_distance: self.settings.style.lod_distance / self.radius,
-            thickness_compensation: self.settings.style.thickness_compensation,
-            ..DrawOptions::default().reference_quality()
-        });
+        self.reference_of(&self.look(&self.settings.style), factor)
+    }
+
+    /// The supersampled reference of the frame with `look`'s lighting and texture;
+    /// hairs cover their sub-pixels by their true width (thin-hair AA).
+    pub fn reference_of(&self, look: &Look, factor: u32) -> Result<RgbaImage> {
+        let style = FurStyle {
+            thin_hair_aa: true,
+            ..self.style(&DrawOptions {
+                lod_distance: self.settings.style.lod_distance / self.radius,
+                thickness_compensation: self.settings.style.thickness_compensation,
+                ..DrawOptions::default().reference_quality()
+            })
+        };
         let extent = vk::Extent2D {
             width: self.extent.width * factor,
             height: self.extent.height * factor,
         };
-        let big = self.draw_at(&style, extent, factor, (0, 1), false)?;
+        let look = Look {
+            style,
+            ..look.clone()
+        };
+        let big = self.draw_at(&look, extent, factor, (0, 1), false)?;
         big.image.downsample(factor)
     }
 }

@@ -12,7 +12,7 @@ use ash::vk;
 
 use super::pipeline::{graphics_pipeline, Blend, GraphicsDesc};
 use super::target::sample_flag;
-use super::uniforms::{FurStyle, Primitive, Shading};
+use super::uniforms::{FrameSettings, FurStyle, Primitive, Shading};
 use crate::error::Result;
 use crate::gpu::{Device, Pipeline, PipelineLayout, ShaderModule};
 
@@ -94,6 +94,39 @@ impl FurPass {
                 caster: false,
             })
             .collect()
+    }
+
+    /// The smallest and largest width, in pixels, of a hair's root anywhere on the
+    /// model (bounding sphere `centre`, `radius`) in a target `height` pixels tall.
+    pub fn root_pixel_range(
+        settings: &FrameSettings,
+        (centre, radius): (glam::Vec3, f32),
+        height: u32,
+    ) -> (f32, f32) {
+        let style = &settings.style;
+        let centre = settings.head.transform_point3(centre);
+        let eye = settings.camera.eye();
+        let near = (eye.distance(centre) - radius).max(1e-6);
+        let far = eye.distance(centre) + radius;
+        let pixel = settings.pixel_at_unit_distance(height);
+        let width_px = |d: f32| {
+            let lod = (style.lod_distance / d).powi(2).min(1.0);
+            let thickness = if style.thickness_compensation {
+                style.hair_width / lod
+            } else {
+                style.hair_width
+            };
+            (thickness / (pixel * d)).max(style.min_pixel_width)
+        };
+        // Without compensation the width falls with distance; with it, it falls up to
+        // the full-density distance and grows beyond.
+        let mut samples = vec![width_px(near), width_px(far)];
+        if (near..=far).contains(&style.lod_distance) {
+            samples.push(width_px(style.lod_distance));
+        }
+        let lo = samples.iter().copied().fold(f32::MAX, f32::min);
+        let hi = samples.iter().copied().fold(0.0, f32::max);
+        (lo, hi)
     }
 
     /// Builds the pipelines of `variants` that do not exist yet.

@@ -8,6 +8,7 @@ mod mesh_pass;
 mod pipeline;
 mod renderer;
 mod shadow_pass;
+mod slot;
 mod target;
 mod texture;
 mod uniforms;

@@ -10,11 +10,12 @@ use std::sync::Arc;
 
 use ash::vk;
 
-use super::bindings::{bindings, write_render_set, write_shadow_map, TextureBinding};
+use super::bindings::{bindings, write_shadow_map, TextureBinding};
 use super::fur_pass::{FurPass, Variant};
 use super::image::RgbaImage;
 use super::mesh_pass::MeshPass;
 use super::shadow_pass::{self, LightView};
+use super::slot::{RenderSlot, TIMESTAMPS, TS_FRAME, TS_FUR, TS_MESH, TS_START};
 use super::target::{check_samples, RenderTarget};
 use super::texture::{GpuTexture, ShadowMap};
 use super::uniforms::{FrameSettings, FrameUniforms, StrandShape};
@@ -22,18 +23,10 @@ use crate::error::Error;
 use crate::error::Result;
 use crate::gpu::{
     memory_barrier, Buffer, DescriptorPool, DescriptorSetLayout, Device, FurStatistics,
-    PipelineLayout, QueryPool,
+    PipelineLayout,
 };
 use crate::scene::{Mesh, Texture};
 use crate::strand_textures::StrandTextures;
-
-/// Timestamp slots: the frame's start (before its simulation), the passes' start, after
-/// the mesh pass, after the fur pass.
-const TS_FRAME: u32 = 0;
-const TS_START: u32 = 1;
-const TS_MESH: u32 = 2;
-const TS_FUR: u32 = 3;
-const TIMESTAMPS: u32 = 4;
 
 /// What the fur pass drew (counted by its geometry stage).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -78,28 +71,6 @@ pub struct Renderer {
     mesh_pass: MeshPass,
     fur_pass: FurPass,
     pub target: RenderTarget,
-}
-
-/// The resources of one frame in flight.
-struct RenderSlot {
-    uniforms: Buffer,
-    /// One set per possible current position image.
-    sets: [vk::DescriptorSet; 2],
-    timestamps: Option<QueryPool>,
-    statistics: Option<QueryPool>,
-    /// Hairs and segments drawn (two u32), reset at the start of every frame.
-    counters: Buffer,
-    /// The fur pipelines this slot's frame draws, chosen by `update`.
-    variants: Vec<Variant>,
-    /// The light's view of the fur: its uniforms and sets (one per position image).
-    light_uniforms: Buffer,
-    light_sets: [vk::DescriptorSet; 2],
-    /// The shadow map: a 16 × 16 placeholder until a frame draws shadows.
-    shadow: ShadowMap,
-    /// Whether a frame of this slot has drawn shadows.
-    shadow_drawn: bool,
-    /// Whether this slot's frame draws shadows.
-    shadows: bool,
 }
 
 impl Renderer {
@@ -183,79 +154,22 @@ impl Renderer {
             vk::BufferUsageFlags::INDEX_BUFFER,
             &mesh.indices,
         )?;
-        let mut slots = Vec::new();
-        for slot in 0..frames_in_flight.max(1) {
-            let uniforms = Buffer::new(
-                device,
-                &format!("render.uniforms[{slot}]"),
-                std::mem::size_of::<FrameUniforms>() as u64,
-                vk::BufferUsageFlags::UNIFORM_BUFFER,
-                gpu_allocator::MemoryLocation::CpuToGpu,
-            )?;
-            let counters = Buffer::new(
-                device,
-                &format!("render.counters[{slot}]"),
-                8,
-                vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::TRANSFER_DST,
-                gpu_allocator::MemoryLocation::GpuToCpu,
-            )?;
-            let light_uniforms = Buffer::new(
-                device,
-                &format!("render.light_uniforms[{slot}]"),
-                std::mem::size_of::<FrameUniforms>() as u64,
-                vk::BufferUsageFlags::UNIFORM_BUFFER,
-                gpu_allocator::MemoryLocation::CpuToGpu,
-            )?;
-            let binding = TextureBinding {
-                texture: &texture.0,
-                corner_uvs: &texture.1,
-            };
-            // A placeholder until a frame draws shadows at its own resolution.
-            let shadow = ShadowMap::new(device, &format!("shadow_map[{slot}]"), 16)?;
-            let sets = pool.allocate(&set_layout, 4)?;
-            for (i, set) in sets.iter().enumerate() {
-                let ubo = if i < 2 { &uniforms } else { &light_uniforms };
-                write_render_set(
+        let binding = TextureBinding {
+            texture: &texture.0,
+            corner_uvs: &texture.1,
+        };
+        let slots = (0..frames_in_flight.max(1))
+            .map(|slot| {
+                RenderSlot::new(
                     device,
-                    *set,
-                    ubo,
-                    &strands.positions[i % 2],
-                    (&ownership, &counters),
+                    slot,
+                    (&pool, &set_layout),
+                    strands,
+                    &ownership,
                     &binding,
-                );
-                write_shadow_map(device, *set, &shadow);
-            }
-            let timestamps = if device.info.timestamps {
-                Some(QueryPool::timestamps(
-                    device,
-                    &format!("render.timestamps[{slot}]"),
-                    TIMESTAMPS,
-                )?)
-            } else {
-                None
-            };
-            let statistics = if device.info.pipeline_statistics {
-                Some(QueryPool::fur_statistics(
-                    device,
-                    &format!("render.fur_statistics[{slot}]"),
-                )?)
-            } else {
-                None
-            };
-            slots.push(RenderSlot {
-                uniforms,
-                sets: [sets[0], sets[1]],
-                timestamps,
-                statistics,
-                counters,
-                variants: Vec::new(),
-                light_uniforms,
-                light_sets: [sets[2], sets[3]],
-                shadow,
-                shadow_drawn: false,
-                shadows: false,
-            });
-        }
+                )
+            })
+            .collect::<Result<Vec<_>>>()?;
         let vertices_per_strand = strands.layout.vertices_per_strand;
         let mesh_pass = MeshPass::new(device, mesh, samples, textured)?;
         let fur_pass = FurPass::new(device, vertices_per_strand, samples, textured);
@@ -316,35 +230,6 @@ impl Renderer {
         Ok(())
     }
 
-    /// The smallest and largest width, in pixels, of a hair's root anywhere on the
-    /// model: roots lie within the model's bounding sphere.
-    fn root_pixel_range(&self, settings: &FrameSettings) -> (f32, f32) {
-        let style = &settings.style;
-        let centre = settings.head.transform_point3(self.bounds.0);
-        let eye = settings.camera.eye();
-        let near = (eye.distance(centre) - self.bounds.1).max(1e-6);
-        let far = eye.distance(centre) + self.bounds.1;
-        let pixel = settings.pixel_at_unit_distance(self.target.extent.height);
-        let width_px = |d: f32| {
-            let lod = (style.lod_distance / d).powi(2).min(1.0);
-            let thickness = if style.thickness_compensation {
-                style.hair_width / lod
-            } else {
-                style.hair_width
-            };
-            (thickness / (pixel * d)).max(style.min_pixel_width)
-        };
-        // Without compensation the width falls with distance; with it, it falls up to
-        // the full-density distance and grows beyond.
-        let mut samples = vec![width_px(near), width_px(far)];
-        if (near..=far).contains(&style.lod_distance) {
-            samples.push(width_px(style.lod_distance));
-        }
-        let lo = samples.iter().copied().fold(f32::MAX, f32::min);
-        let hi = samples.iter().copied().fold(0.0, f32::max);
-        (lo, hi)
-    }
-
     /// Prepares frame slot `slot` for `settings`: builds the pipelines it needs and
     /// writes its uniforms. Call before recording the frame, once the slot's previous
     /// frame has finished; a change of sample count needs the device idle.
@@ -354,8 +239,11 @@ impl Renderer {
         }
         // The fur casts shadows even when it is not drawn (the skin shows them).
         let shadows = settings.lighting.shadows.enabled;
-        let mut variants =
-            FurPass::variants(&settings.style, shadows, self.root_pixel_range(settings));
+        let mut variants = FurPass::variants(
+            &settings.style,
+            shadows,
+            FurPass::root_pixel_range(settings, self.bounds, self.target.extent.height),
+        );
         if shadows {
             variants.push(Variant::CASTER);
         }

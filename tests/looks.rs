@@ -162,6 +162,25 @@ fn the_secondary_highlight_follows_the_cpu_model_and_takes_the_hair_colour() {
     common::assert_clean(&device);
 }
 
+/// White hair and skin at ambient 1 and nothing else: the image shows coverage and
+/// colour only.
+fn unlit_white() -> Lighting {
+    Lighting {
+        kd: 0.0,
+        ks: 0.0,
+        ambient: 1.0,
+        root_occlusion: 0.0,
+        root_color: Vec3::ONE,
+        tip_color: Vec3::ONE,
+        skin_color: Vec3::ONE,
+        highlights: Highlights {
+            secondary: false,
+            ..Default::default()
+        },
+        ..Default::default()
+    }
+}
+
 /// Sparse hairs combed flat on a plane, seen from above, white on the dark background.
 fn flat_hairs(hair_px: f32, style: FurStyle, yaw_deg: f32) -> (Mesh, GroomParams, FrameSettings) {
     let groom = GroomParams {
@@ -180,19 +199,7 @@ fn flat_hairs(hair_px: f32, style: FurStyle, yaw_deg: f32) -> (Mesh, GroomParams
     };
     let mut settings = FrameSettings {
         camera,
-        lighting: Lighting {
-            kd: 0.0,
-            ks: 0.0,
-            ambient: 1.0,
-            root_occlusion: 0.0,
-            root_color: Vec3::ONE,
-            tip_color: Vec3::ONE,
-            highlights: Highlights {
-                secondary: false,
-                ..Default::default()
-            },
-            ..Default::default()
-        },
+        lighting: unlit_white(),
         draw_mesh: false,
         style: FurStyle {
             density: 400.0,
@@ -448,20 +455,7 @@ fn the_texture_colours_the_fur_at_its_roots_and_the_skin() {
             distance: 4.0,
             fov_y_deg: 40.0,
         },
-        lighting: Lighting {
-            kd: 0.0,
-            ks: 0.0,
-            ambient: 1.0,
-            root_occlusion: 0.0,
-            root_color: Vec3::ONE,
-            tip_color: Vec3::ONE,
-            skin_color: Vec3::ONE,
-            highlights: Highlights {
-                secondary: false,
-                ..Default::default()
-            },
-            ..Default::default()
-        },
+        lighting: unlit_white(),
         draw_fur,
         draw_mesh: !draw_fur,
         ..Default::default()

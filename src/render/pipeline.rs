@@ -121,3 +121,29 @@ pub fn graphics_pipeline(
     })?[0];
     Ok(Pipeline::from_raw(device, desc.name, raw))
 }
+
+/// Begins dynamic rendering with a viewport and scissor covering `extent`.
+pub fn begin_rendering(
+    device: &Device,
+    cmd: vk::CommandBuffer,
+    rendering: &vk::RenderingInfo<'_>,
+    extent: vk::Extent2D,
+) {
+    let raw = &device.raw;
+    unsafe {
+        raw.cmd_begin_rendering(cmd, rendering);
+        raw.cmd_set_viewport(
+            cmd,
+            0,
+            &[vk::Viewport {
+                x: 0.0,
+                y: 0.0,
+                width: extent.width as f32,
+                height: extent.height as f32,
+                min_depth: 0.0,
+                max_depth: 1.0,
+            }],
+        );
+        raw.cmd_set_scissor(cmd, 0, &[extent.into()]);
+    }
+}

@@ -14,6 +14,7 @@ use super::bindings::{bindings, write_shadow_map, TextureBinding};
 use super::fur_pass::{FurPass, Variant};
 use super::image::RgbaImage;
 use super::mesh_pass::MeshPass;
+use super::pipeline::begin_rendering;
 use super::shadow_pass::{self, LightView};
 use super::slot::{RenderSlot, TIMESTAMPS, TS_FRAME, TS_FUR, TS_MESH, TS_START};
 use super::target::{check_samples, RenderTarget};
@@ -396,21 +397,8 @@ impl Renderer {
             .layer_count(1)
             .color_attachments(&color)
             .depth_attachment(&depth);
+        begin_rendering(d, cmd, &rendering, extent);
         unsafe {
-            raw.cmd_begin_rendering(cmd, &rendering);
-            raw.cmd_set_viewport(
-                cmd,
-                0,
-                &[vk::Viewport {
-                    x: 0.0,
-                    y: 0.0,
-                    width: extent.width as f32,
-                    height: extent.height as f32,
-                    min_depth: 0.0,
-                    max_depth: 1.0,
-                }],
-            );
-            raw.cmd_set_scissor(cmd, 0, &[extent.into()]);
             raw.cmd_bind_descriptor_sets(
                 cmd,
                 vk::PipelineBindPoint::GRAPHICS,

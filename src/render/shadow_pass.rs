@@ -11,6 +11,7 @@ use ash::vk;
 use glam::{Mat4, Vec3};
 
 use super::fur_pass::{FurPass, Variant};
+use super::pipeline::begin_rendering;
 use super::texture::ShadowMap;
 use super::uniforms::{FrameSettings, FrameUniforms, FLAG_COUNT};
 use crate::gpu::{image_barriers, Device};
@@ -122,22 +123,7 @@ pub fn record(
         .depth_attachment(&depth);
     let raw = &device.raw;
     device.begin_label(cmd, "shadow pass");
-    unsafe {
-        raw.cmd_begin_rendering(cmd, &rendering);
-        raw.cmd_set_viewport(
-            cmd,
-            0,
-            &[vk::Viewport {
-                x: 0.0,
-                y: 0.0,
-                width: extent.width as f32,
-                height: extent.height as f32,
-                min_depth: 0.0,
-                max_depth: 1.0,
-            }],
-        );
-        raw.cmd_set_scissor(cmd, 0, &[extent.into()]);
-    }
+    begin_rendering(device, cmd, &rendering, extent);
     fur_pass.draw(device, cmd, index_count, &[Variant::CASTER]);
     unsafe { raw.cmd_end_rendering(cmd) };
     device.end_label(cmd);

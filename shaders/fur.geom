@@ -4,7 +4,7 @@
 //
 // Compiled in two forms (the renderer defines LINES):
 // - LINES = 1: a line strip. The hair's coverage of its pixels, width / pixel size,
-//   travels as alpha: blended at one sample per pixel, alpha to coverage under MSAA.
+//   travels as alpha: blended at one sample per pixel, a sample mask under MSAA.
 //   For hairs under a pixel wide.
 // - LINES = 0: a camera-facing ribbon of the hair's width.
 // A hair is drawn by one form only: ribbons take the hairs at least `frame.draw.x`

@@ -77,7 +77,7 @@ pub struct LooksArgs {
     #[arg(long)]
     pub shadow_spacing: Option<f32>,
     /// Hairs thinner than the minimum width cover their pixels by their true width
-    /// (alpha to coverage, or blending at 1 sample): on or off [default: on].
+    /// (a dithered sample mask under MSAA, blending at 1 sample): on or off [default: on].
     #[arg(long, value_parser = clap::builder::BoolishValueParser::new())]
     pub thin_hair_aa: Option<bool>,
 }

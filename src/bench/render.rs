@@ -73,7 +73,7 @@ fn cases(quick: bool) -> Vec<Case> {
             with(4, Primitive::Ribbons, 0.25),
         ),
         case(
-            "4x lines (alpha to coverage)",
+            "4x lines (coverage as samples)",
             with(4, Primitive::Lines, lod),
         ),
         case("1x ribbons", with(1, Primitive::Ribbons, lod)),

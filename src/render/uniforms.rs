@@ -110,7 +110,7 @@ pub struct FurStyle {
     pub thickness_compensation: bool,
     /// Thin-hair anti-aliasing: a hair drawn wider than it is (at least
     /// [`FurStyle::min_pixel_width`]) covers its pixels only by its true width (alpha:
-    /// blended at one sample per pixel, alpha to coverage under MSAA), so sub-pixel
+    /// blended at one sample per pixel, a dithered sample mask under MSAA), so sub-pixel
     /// hairs neither vanish between samples nor darken the image more than they should.
     /// Off: they are drawn opaque at the minimum width.
     pub thin_hair_aa: bool,

@@ -282,14 +282,9 @@ fn smoothstep(e0: f32, e1: f32, x: f32) -> f32 {
 
 /// A hash of a lattice point and a seed, in [0, 1).
 fn hash(x: u32, y: u32, seed: u32) -> f32 {
-    let mut h =
-        x.wrapping_mul(0x8da6_b343) ^ y.wrapping_mul(0xd816_3841) ^ seed.wrapping_mul(0xcb1a_b31f);
-    h ^= h >> 16;
-    h = h.wrapping_mul(0x7feb_352d);
-    h ^= h >> 15;
-    h = h.wrapping_mul(0x846c_a68b);
-    h ^= h >> 16;
-    (h >> 8) as f32 / (1u32 << 24) as f32
+    super::hash_unit(
+        x.wrapping_mul(0x8da6_b343) ^ y.wrapping_mul(0xd816_3841) ^ seed.wrapping_mul(0xcb1a_b31f),
+    )
 }
 
 /// Smooth value noise in [0, 1] at (u, v) on a lattice of `cells_u` cells across u

@@ -18,7 +18,7 @@ pub struct SceneArgs {
     /// Model: `blob` (built in, the default), `sphere` (the original demo's scene: a UV
     /// sphere of radius 2, 40 × 80 bands, hairs of 12 vertices) or the path of an OBJ
     /// file.
-    #[arg(long)]
+    #[arg(long, allow_hyphen_values = true)]
     pub model: Option<ModelSpec>,
     /// Camera orbit angle around the vertical axis, degrees [default: 25; sphere: 90].
     #[arg(long, allow_negative_numbers = true)]
@@ -28,7 +28,7 @@ pub struct SceneArgs {
     pub pitch: Option<f32>,
     /// Camera distance in bounding radii of the model [default: framing the whole model;
     /// sphere: 2.17].
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub distance: Option<f32>,
     #[command(flatten)]
     pub groom: GroomArgs,
@@ -45,7 +45,7 @@ pub struct LooksArgs {
     /// Colour the fur and skin from a texture through the model's UVs: a PNG, JPEG or
     /// TGA file, or `tabby` (built in, made for lat-long UVs) [default: the OBJ
     /// material's map_Kd, if any].
-    #[arg(long)]
+    #[arg(long, allow_hyphen_values = true)]
     pub texture: Option<TextureSpec>,
     /// A second, wider highlight tinted by the hair colour, shifted toward the root
     /// (the primary shifts toward the tip): on or off [default: on].
@@ -58,23 +58,23 @@ pub struct LooksArgs {
     #[arg(long, allow_negative_numbers = true)]
     pub secondary_shift: Option<f32>,
     /// Specular exponent of the secondary highlight [default: 10].
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub secondary_shininess: Option<f32>,
     /// Strength of the secondary highlight [default: 0.6].
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub secondary_strength: Option<f32>,
     /// Hair shadowing hair and skin, from a light-space depth map of the fur: on or off
     /// [default: off].
     #[arg(long, value_parser = clap::builder::BoolishValueParser::new())]
     pub shadows: Option<bool>,
     /// Side of the shadow map in texels, 16..=8192 [default: 512].
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub shadow_resolution: Option<u32>,
     /// Light one layer of hair stops, 0..1 [default: 0.35].
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub shadow_opacity: Option<f32>,
     /// Depth of one hair layer in bounding radii; 0 = the hair spacing [default: 0].
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub shadow_spacing: Option<f32>,
     /// Hairs thinner than the minimum width cover their pixels by their true width
     /// (a dithered sample mask under MSAA, blending at 1 sample): on or off [default: on].
@@ -87,23 +87,23 @@ pub struct LooksArgs {
 pub struct GroomArgs {
     /// Hair length as a fraction of the model's bounding radius [default: 0.2; sphere:
     /// 0.159, i.e. 0.55 units].
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub hair_length: Option<f32>,
     /// Segments per master hair, 1..=63 [default: 16; sphere: 11].
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub segments: Option<u32>,
     /// Multiplies the interpolated-hair density [default: 1; sphere: 0.33].
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub density_scale: Option<f32>,
     /// Comb strength, 0 = hairs stand along the normals [default: 2; sphere: 0].
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub comb: Option<f32>,
     /// Hairs are at most this many times the model's local half-thickness long, so
     /// thin parts are not buried; 0 = off [default: 0.6; sphere: 0].
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub thickness_limit: Option<f32>,
     /// Curl radius as a fraction of the segment length [default: 0].
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub curl: Option<f32>,
 }
 
@@ -112,7 +112,7 @@ pub struct GroomArgs {
 pub struct DrawArgs {
     /// Samples per pixel: 1 (no MSAA; lines then blend their coverage) or an MSAA count
     /// the device supports (lavapipe: 1 and 4) [default: 4].
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub samples: Option<u32>,
     /// What each hair is drawn as: `lines` (coverage in alpha), `ribbons` (true width),
     /// or `auto`: ribbons for hairs at least --ribbon-above pixels wide at the root,
@@ -120,7 +120,7 @@ pub struct DrawArgs {
     #[arg(long)]
     pub primitive: Option<Primitive>,
     /// Root width in pixels from which `auto` draws ribbons [default: 1].
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub ribbon_above: Option<f32>,
     /// Where Kajiya–Kay lighting runs: `vertex` (per strand vertex, geometry stage) or
     /// `fragment` [default: vertex].
@@ -129,11 +129,11 @@ pub struct DrawArgs {
     /// Vertex LOD tolerance in pixels: a strand vertex is skipped when the segment drawn
     /// instead passes within this distance of it, width included; 0 draws every vertex
     /// [default: 0.05].
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub vertex_lod: Option<f32>,
     /// Full-density distance in bounding radii: farther away the density falls with
     /// the square of the distance [default: 6].
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub lod_distance: Option<f32>,
     /// Widen hairs the density LOD thins out, so coverage is kept: on or off
     /// [default: on].
@@ -203,28 +203,28 @@ pub fn set<T>(field: &mut T, value: Option<T>) {
 #[derive(Args, Clone)]
 pub struct SimArgs {
     /// Substeps per frame (1..=64) [1].
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub substeps: Option<u32>,
     /// Gravity in m/s², pointing down [9.82].
     #[arg(long, allow_negative_numbers = true)]
     pub gravity: Option<f32>,
     /// Fraction of velocity lost per 1/60 s (0..1) [0.08].
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub damping: Option<f32>,
     /// Global shape stiffness S_G (0..1) [0.2].
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub global_stiffness: Option<f32>,
     /// Fraction of each strand the global constraint covers (0..1) [1].
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub global_range: Option<f32>,
     /// Local shape stiffness S_L (0..1) [0.9].
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub local_stiffness: Option<f32>,
     /// Local shape passes per substep (0..=64) [2].
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub local_iterations: Option<u32>,
     /// Edge-length passes per substep (0..=64) [2].
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub length_iterations: Option<u32>,
     /// Wind vector "x,y,z" in m/s², 0,0,0 = no wind [6,0,2].
     #[arg(long, value_parser = parse_vec3)]
@@ -235,14 +235,14 @@ pub struct SimArgs {
     pub collision: Option<bool>,
     /// How far outside the surface hair is kept, as a fraction of the hair length (0..1)
     /// [0.02].
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub collision_margin: Option<f32>,
     /// Fraction of a colliding vertex's sliding velocity removed per substep (0..1) [0.1].
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub friction: Option<f32>,
     /// Distance-field cells along the model's longest axis (8..=128); 0 chooses from the
     /// hair length (cells about a third of it, 16..=128) [0].
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub sdf_resolution: Option<u32>,
 }
 

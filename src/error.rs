@@ -93,40 +93,6 @@ impl Error {
     }
 }
 
-/// Checks, before any work, that a file can be written at `path`: it is not a folder,
-/// its folder exists or can be made, and a file can be created there.
-pub fn check_output_file(path: &std::path::Path) -> Result<()> {
-    if path.is_dir() {
-        return Err(Error::Io {
-            operation: "write the output file",
-            path: path.to_path_buf(),
-            message: "it is a folder; give a file name".into(),
-        });
-    }
-    let dir = path
-        .parent()
-        .filter(|d| !d.as_os_str().is_empty())
-        .unwrap_or(std::path::Path::new("."));
-    check_output_dir(dir)
-}
-
-/// Checks, before any work, that files can be written into the folder `dir`, making it
-/// if needed.
-pub fn check_output_dir(dir: &std::path::Path) -> Result<()> {
-    if dir.is_file() {
-        return Err(Error::Io {
-            operation: "write into the folder",
-            path: dir.to_path_buf(),
-            message: "it is a file, not a folder".into(),
-        });
-    }
-    std::fs::create_dir_all(dir).map_err(|e| Error::io("create the folder", dir, e))?;
-    let probe = dir.join(format!(".fur-write-check-{}", std::process::id()));
-    std::fs::File::create(&probe).map_err(|e| Error::io("write into the folder", dir, e))?;
-    let _ = std::fs::remove_file(&probe);
-    Ok(())
-}
-
 /// `path:line:column`, or the path alone without a line.
 fn location(path: &std::path::Path, line: usize, column: usize) -> String {
     if line == 0 {

@@ -9,6 +9,7 @@
 
 pub mod bench;
 pub mod error;
+pub mod files;
 pub mod gpu;
 pub mod interrupt;
 pub mod render;

@@ -42,17 +42,17 @@ enum Command {
         #[arg(long)]
         quick: bool,
         /// Run only these sections (comma-separated); `fur bench --list` names them.
-        #[arg(long, value_delimiter = ',')]
+        #[arg(long, value_delimiter = ',', allow_hyphen_values = true)]
         only: Vec<String>,
         /// List the sections and exit.
         #[arg(long)]
         list: bool,
         /// Measure this scene file in the frame and render-quality sections instead of
         /// the blob and the original's sphere.
-        #[arg(long)]
+        #[arg(long, allow_hyphen_values = true)]
         scene: Option<PathBuf>,
         /// Output folder.
-        #[arg(long, default_value = "bench")]
+        #[arg(long, default_value = "bench", allow_hyphen_values = true)]
         out_dir: PathBuf,
         /// Enable the Khronos validation layer (slows everything down).
         #[arg(long)]
@@ -64,7 +64,7 @@ enum Command {
         #[arg(default_value = "assets/blob.obj")]
         out: PathBuf,
         /// Which built-in model: blob or sphere.
-        #[arg(long, default_value = "blob")]
+        #[arg(long, default_value = "blob", allow_hyphen_values = true)]
         model: ModelSpec,
     },
 }
@@ -76,14 +76,14 @@ struct ViewArgs {
     #[command(flatten)]
     scene: SceneArgs,
     /// Initial window width in pixels [1280].
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     width: Option<u32>,
     /// Initial window height in pixels [720].
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     height: Option<u32>,
     /// Write the panel's state as a scene file when the viewer closes (the panel's
     /// "save scene" button writes it at once).
-    #[arg(long)]
+    #[arg(long, allow_hyphen_values = true)]
     save_scene: Option<PathBuf>,
     #[command(flatten)]
     sim: SimArgs,
@@ -91,13 +91,13 @@ struct ViewArgs {
     #[arg(long)]
     no_vsync: bool,
     /// Close after this many frames.
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     frames: Option<u64>,
     /// Scripted input, e.g. "10:resize=320x240; 30:orbit=40,-10; 50:wind=on; 90:screenshot=shot.png".
-    #[arg(long, default_value = "")]
+    #[arg(long, default_value = "", allow_hyphen_values = true)]
     script: String,
     /// Folder for screenshots taken with F12 or P.
-    #[arg(long, default_value = ".")]
+    #[arg(long, default_value = ".", allow_hyphen_values = true)]
     screenshot_dir: PathBuf,
     /// Enable the Khronos validation layer; any validation message fails the run.
     #[arg(long)]
@@ -111,23 +111,23 @@ struct RenderArgs {
     #[command(flatten)]
     scene: SceneArgs,
     /// Output PNG of a single frame.
-    #[arg(long, default_value = "fur.png")]
+    #[arg(long, default_value = "fur.png", allow_hyphen_values = true)]
     out: PathBuf,
     /// Image width in pixels [1280].
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     width: Option<u32>,
     /// Image height in pixels [720].
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     height: Option<u32>,
 
     #[command(flatten)]
     sim: SimArgs,
 
     /// Simulate and render this many frames (1/60 s each) into --out-dir.
-    #[arg(long, default_value_t = 1)]
+    #[arg(long, default_value_t = 1, allow_negative_numbers = true)]
     frames: u32,
     /// Folder for the PNG sequence (frame_0000.png, …); implies simulation.
-    #[arg(long)]
+    #[arg(long, allow_hyphen_values = true)]
     out_dir: Option<PathBuf>,
     /// Scripted head motion when simulating: still, shake, spin or nod [shake].
     #[arg(long)]
@@ -191,7 +191,7 @@ fn bench(
         return Ok(());
     }
     let sections = fur::bench::Section::parse_list(only)?;
-    fur::error::check_output_dir(out_dir)?;
+    fur::files::check_output_dir(out_dir)?;
     let device = fur::gpu::headless(validate)?;
     let scene = match scene {
         Some(path) => {
@@ -241,9 +241,9 @@ fn view(args: ViewArgs) -> anyhow::Result<()> {
     args::set(&mut scene.height, args.height);
     scene.sim.validate()?;
     if let Some(path) = &args.save_scene {
-        fur::error::check_output_file(path)?;
+        fur::files::check_output_file(path)?;
     }
-    fur::error::check_output_dir(&args.screenshot_dir)?;
+    fur::files::check_output_dir(&args.screenshot_dir)?;
     let options = fur::viewer::ViewerOptions {
         model: scene.model.clone(),
         scene: scene.options.clone(),
@@ -270,7 +270,7 @@ fn export_model(out: &Path, model: &ModelSpec) -> anyhow::Result<()> {
             path.display()
         );
     }
-    fur::error::check_output_file(out)?;
+    fur::files::check_output_file(out)?;
     model.load()?.write_obj(out)?;
     println!("wrote {}", out.display());
     Ok(())
@@ -302,9 +302,9 @@ fn render(args: &RenderArgs) -> anyhow::Result<()> {
         .clone()
         .unwrap_or_else(|| PathBuf::from("frames"));
     if simulate {
-        fur::error::check_output_dir(&frames_dir)?;
+        fur::files::check_output_dir(&frames_dir)?;
     } else {
-        fur::error::check_output_file(&args.out)?;
+        fur::files::check_output_file(&args.out)?;
     }
     let (mesh, warnings) = scene.model.prepare(scene.options.texture.as_ref())?;
     for warning in warnings {
@@ -381,7 +381,8 @@ fn render(args: &RenderArgs) -> anyhow::Result<()> {
                 )
             })
             .unwrap_or_default();
-        println!(
+        // With the image on standard output (`--out -`), the summary goes to stderr.
+        let summary = format!(
             "wrote {} ({}×{}): {masters} master hairs{points}{hairs}; one cold frame {:.1} ms \
              (use --frames N for warm timings)",
             args.out.display(),
@@ -389,6 +390,11 @@ fn render(args: &RenderArgs) -> anyhow::Result<()> {
             scene.height,
             elapsed.as_secs_f64() * 1e3,
         );
+        if args.out.as_os_str() == fur::files::STDOUT {
+            eprintln!("{summary}");
+        } else {
+            println!("{summary}");
+        }
     }
     drop(session);
     fur::gpu::shut_down(device)?;

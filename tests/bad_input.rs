@@ -432,7 +432,7 @@ fn bad_output_paths_fail_before_any_work() {
                 "--out-dir".into(),
                 a_file.clone(),
             ],
-            "is a file",
+            "a regular file, not a folder",
         ),
         (
             vec!["export-model".into(), dir.to_str().unwrap().into()],
@@ -441,7 +441,7 @@ fn bad_output_paths_fail_before_any_work() {
         (vec!["export-model".into(), under_file], "folder"),
         (
             vec!["bench".into(), "--out-dir".into(), a_file],
-            "is a file",
+            "a regular file, not a folder",
         ),
     ];
     for (args, needle) in cases {

@@ -159,10 +159,6 @@ impl Report {
     /// Writes `results.csv`, `results.md` and the charts into `dir`.
     pub fn write(&self, dir: &Path) -> Result<()> {
         std::fs::create_dir_all(dir).map_err(|e| Error::io("create the folder", dir, e))?;
-        let io = |name: &str| {
-            let path = dir.join(name);
-            move |e: std::io::Error| Error::io("write", &path, e)
-        };
         let mut csv = String::from("section,case,metric,value,unit\n");
         for r in &self.rows {
             let _ = writeln!(
@@ -175,11 +171,11 @@ impl Report {
                 csv_field(r.unit)
             );
         }
-        std::fs::write(dir.join("results.csv"), csv).map_err(io("results.csv"))?;
-        std::fs::write(dir.join("results.md"), &self.markdown).map_err(io("results.md"))?;
+        let write = crate::files::write_output;
+        write(&dir.join("results.csv"), csv.as_bytes(), "write")?;
+        write(&dir.join("results.md"), self.markdown.as_bytes(), "write")?;
         for (name, plot) in &self.plots {
-            let path = dir.join(name);
-            std::fs::write(&path, plot.render()?).map_err(|e| Error::io("write", &path, e))?;
+            write(&dir.join(name), plot.render()?.as_bytes(), "write")?;
         }
         Ok(())
     }

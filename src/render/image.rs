@@ -30,39 +30,30 @@ impl RgbaImage {
         (0.2126 * f32::from(r) + 0.7152 * f32::from(g) + 0.0722 * f32::from(b)) / 255.0
     }
 
-    /// Writes a PNG: to a temporary name beside `path`, renamed into place once
-    /// complete, so an interrupted or failed write never leaves half an image.
+    /// Writes a PNG through [`crate::files::write_output`]: a regular file (or a new
+    /// one) through a temporary file renamed into place, so an interrupted or failed
+    /// write never leaves half an image; a device, a FIFO or `-` (standard output)
+    /// written directly, never replaced.
     pub fn write_png(&self, path: &Path) -> Result<()> {
-        let error = |message: String| Error::ImageWrite {
+        let bytes = self.encode_png().map_err(|message| Error::ImageWrite {
             path: path.to_path_buf(),
             message,
-        };
-        if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
-            std::fs::create_dir_all(dir).map_err(|e| error(e.to_string()))?;
-        }
-        let mut partial = path.as_os_str().to_owned();
-        partial.push(".partial");
-        let partial = std::path::PathBuf::from(partial);
-        let written = self.encode_png(&partial);
-        match written {
-            Ok(()) => std::fs::rename(&partial, path).map_err(|e| error(e.to_string())),
-            Err(e) => {
-                let _ = std::fs::remove_file(&partial);
-                Err(error(e))
-            }
-        }
+        })?;
+        crate::files::write_output(path, &bytes, "write the image")
     }
 
-    fn encode_png(&self, path: &Path) -> std::result::Result<(), String> {
+    /// The image as PNG bytes.
+    pub fn encode_png(&self) -> std::result::Result<Vec<u8>, String> {
         let error = |e: &dyn std::fmt::Display| e.to_string();
-        let file = std::fs::File::create(path).map_err(|e| error(&e))?;
-        let mut encoder = png::Encoder::new(std::io::BufWriter::new(file), self.width, self.height);
+        let mut bytes = Vec::new();
+        let mut encoder = png::Encoder::new(&mut bytes, self.width, self.height);
         encoder.set_color(png::ColorType::Rgba);
         encoder.set_depth(png::BitDepth::Eight);
         encoder.set_source_srgb(png::SrgbRenderingIntent::Perceptual);
         let mut writer = encoder.write_header().map_err(|e| error(&e))?;
         writer.write_image_data(&self.data).map_err(|e| error(&e))?;
-        writer.finish().map_err(|e| error(&e))
+        writer.finish().map_err(|e| error(&e))?;
+        Ok(bytes)
     }
 }
 

@@ -34,10 +34,21 @@ impl ModelSpec {
     /// `texture`, if given, replaces the model's own (its material's).
     pub fn prepare(&self, texture: Option<&TextureSpec>) -> Result<(Mesh, Vec<String>)> {
         let mut mesh = self.load()?;
+        let mut warnings = Vec::new();
         if let Some(t) = texture {
             mesh.texture = Some(t.clone());
+        } else if let Some(TextureSpec::File(path)) = &mesh.texture {
+            // Exporters leave dangling texture paths: the model's own texture is optional.
+            if let Err(problem) = crate::files::read_bounded_check(path) {
+                warnings.push(format!(
+                    "model {} names the texture {}, which cannot be read ({problem}); it is \
+                     drawn without a texture",
+                    self.name(),
+                    path.display()
+                ));
+                mesh.texture = None;
+            }
         }
-        let mut warnings = Vec::new();
         let (_, radius) = mesh.bounds();
         if let Some(factor) = mesh.normalize_scale() {
             warnings.push(format!(

@@ -32,13 +32,8 @@ impl Mesh {
             path: path.to_path_buf(),
             message,
         };
-        if path.is_dir() {
-            return Err(error("it is a folder, not an OBJ file".into()));
-        }
-        if !path.exists() {
-            return Err(error("no such file".into()));
-        }
-        let bytes = std::fs::read(path).map_err(|e| error(e.to_string()))?;
+        let bytes = crate::files::read_bounded(path, crate::files::MAX_MODEL_BYTES, "model")
+            .map_err(error)?;
         let origin = Origin {
             obj: path,
             folder: path.parent().unwrap_or(Path::new("")),
@@ -53,7 +48,17 @@ impl Mesh {
     }
 
     fn parse(bytes: &[u8], origin: Option<&Origin>) -> std::result::Result<Self, String> {
-        let text = utf8_text(bytes);
+        let text = faces_only(&utf8_text(bytes));
+        if !text
+            .lines()
+            .any(|l| l.split_whitespace().next() == Some("f"))
+        {
+            return Err(
+                "the file has no faces (`f` elements): fur grows from triangles, and \
+                 lines (`l`) and points (`p`) are not faces"
+                    .into(),
+            );
+        }
         let options = tobj::LoadOptions {
             triangulate: true,
             single_index: false,
@@ -66,12 +71,15 @@ impl Mesh {
                 return Ok(Default::default());
             };
             let file = origin.folder.join(name);
-            let result = std::fs::read(&file)
-                .map_err(|e| e.to_string())
-                .and_then(|bytes| {
-                    tobj::load_mtl_buf(&mut std::io::Cursor::new(utf8_text(&bytes).as_bytes()))
-                        .map_err(|e| format!("not a valid material library ({e})"))
-                });
+            let result = crate::files::read_bounded(
+                &file,
+                crate::files::MAX_MATERIAL_BYTES,
+                "material library",
+            )
+            .and_then(|bytes| {
+                tobj::load_mtl_buf(&mut std::io::Cursor::new(utf8_text(&bytes).as_bytes()))
+                    .map_err(|e| format!("not a valid material library ({e})"))
+            });
             result.map_err(|message| {
                 warnings.borrow_mut().push(format!(
                     "material library {} of model {} cannot be read ({message}); the model \
@@ -255,7 +263,7 @@ impl Mesh {
             }
             text.push('\n');
         }
-        std::fs::write(path, text).map_err(|e| Error::io("write the model to", path, e))
+        crate::files::write_output(path, text.as_bytes(), "write the model to")
     }
 
     /// Removes triangles with repeated indices or zero area (and their corner UVs).
@@ -308,6 +316,19 @@ impl Mesh {
 fn utf8_text(bytes: &[u8]) -> String {
     let bytes = bytes.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(bytes);
     String::from_utf8_lossy(bytes).into_owned()
+}
+
+/// The OBJ text without its line (`l`) and point (`p`) elements: tobj reads a
+/// three-vertex `l` as a triangle, but only `f` elements are faces. Blanked lines keep
+/// the line count.
+fn faces_only(text: &str) -> String {
+    text.lines()
+        .map(|line| match line.split_whitespace().next() {
+            Some("l" | "p") => "",
+            _ => line,
+        })
+        .collect::<Vec<_>>()
+        .join("\n")
 }
 
 /// Whether every face (`f` line with three or more corners) gives every corner a

@@ -41,23 +41,35 @@ impl Texture {
     pub const MAX_SIDE: u32 = 8192;
 
     /// Loads an sRGB image file (PNG, JPEG or TGA; 8 or 16 bits, grey or colour, with
-    /// or without alpha) and builds its mip chain. The size is read from the header
+    /// or without alpha) and builds its mip chain. Only a regular file of at most
+    /// [`crate::files::MAX_TEXTURE_BYTES`] is read; the size is read from the header
     /// first, so an image too large is refused before it is decoded. Errors name the
     /// file and say what is wrong with it.
     pub fn load(path: &Path) -> Result<Texture> {
+        let bytes = crate::files::read_bounded(path, crate::files::MAX_TEXTURE_BYTES, "texture")
+            .map_err(|message| Error::Texture {
+                path: path.to_path_buf(),
+                message,
+            })?;
+        Self::decode(&bytes, path)
+    }
+
+    /// Decodes an image held in memory (see [`Texture::load`]); `name` is the file (or
+    /// the model and image) named in errors.
+    pub fn decode(bytes: &[u8], name: &Path) -> Result<Texture> {
         let error = |message: String| Error::Texture {
-            path: path.to_path_buf(),
+            path: name.to_path_buf(),
             message,
         };
-        if path.is_dir() {
-            return Err(error("it is a folder, not an image file".into()));
-        }
-        if !path.exists() {
-            return Err(error("no such file".into()));
-        }
         let open = || {
-            let reader = image::ImageReader::open(path)
-                .and_then(|r| r.with_guessed_format())
+            // The content names the format; the file name's extension is the fallback
+            // (TGA has no signature).
+            let mut reader = image::ImageReader::new(std::io::Cursor::new(bytes));
+            if let Ok(format) = image::ImageFormat::from_path(name) {
+                reader.set_format(format);
+            }
+            let reader = reader
+                .with_guessed_format()
                 .map_err(|e| error(e.to_string()))?;
             match reader.format() {
                 Some(format) if format.reading_enabled() => Ok(reader),

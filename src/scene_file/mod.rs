@@ -204,7 +204,7 @@ impl Scene {
             "# fur scene: `fur render {}` draws it\n\n{text}",
             path.display()
         );
-        std::fs::write(path, text).map_err(|e| Error::io("write the scene file", path, e))
+        crate::files::write_output(path, text.as_bytes(), "write the scene file")
     }
 }
 
@@ -262,12 +262,14 @@ impl SceneFile {
     /// Reads and parses a scene file; syntax, type and unknown-key errors name the file,
     /// line, column and key.
     pub fn load(path: &Path) -> Result<(Self, String)> {
-        let text = std::fs::read_to_string(path).map_err(|e| Error::SceneFile {
-            path: path.to_path_buf(),
-            line: 0,
-            column: 0,
-            message: format!("cannot read it: {e}"),
-        })?;
+        let text =
+            crate::files::read_text_bounded(path, crate::files::MAX_SCENE_BYTES, "scene file")
+                .map_err(|e| Error::SceneFile {
+                    path: path.to_path_buf(),
+                    line: 0,
+                    column: 0,
+                    message: format!("cannot read it: {e}"),
+                })?;
         let file = toml::from_str(&text).map_err(|e: toml::de::Error| {
             let (line, column) = e.span().map_or((0, 0), |s| line_column(&text, s.start));
             let message = match key_at(&text, line) {

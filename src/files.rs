@@ -1,0 +1,332 @@
+//! Files in and out: inputs are read only from regular files and only up to a stated
+//! size; outputs replace a regular file through a temporary file and a rename (never
+//! half-written), and are written straight through anything else (a device, a FIFO,
+//! standard output as `-`, a symbolic link's target), which is never replaced.
+
+use std::fs::{File, Metadata};
+use std::io::{Read as _, Write as _};
+use std::os::unix::fs::FileTypeExt as _;
+use std::path::{Path, PathBuf};
+
+use crate::error::{Error, Result};
+
+/// The largest model (OBJ, glTF, .glb) or glTF buffer read, in bytes.
+pub const MAX_MODEL_BYTES: u64 = 2 << 30;
+/// The largest texture image file read, in bytes.
+pub const MAX_TEXTURE_BYTES: u64 = 512 << 20;
+/// The largest OBJ material library read, in bytes.
+pub const MAX_MATERIAL_BYTES: u64 = 64 << 20;
+/// The largest scene file read, in bytes.
+pub const MAX_SCENE_BYTES: u64 = 1 << 20;
+
+/// The output name that means standard output.
+pub const STDOUT: &str = "-";
+
+/// What kind of file system object `metadata` describes, for messages.
+pub fn kind_name(metadata: &Metadata) -> &'static str {
+    let t = metadata.file_type();
+    if t.is_dir() {
+        "a folder"
+    } else if t.is_fifo() {
+        "a FIFO (named pipe)"
+    } else if t.is_char_device() {
+        "a character device"
+    } else if t.is_block_device() {
+        "a block device"
+    } else if t.is_socket() {
+        "a socket"
+    } else if t.is_symlink() {
+        "a symbolic link"
+    } else {
+        "a regular file"
+    }
+}
+
+/// A byte count for people: `2 GiB`, `3.5 MiB`, `120 bytes`.
+pub fn size_text(bytes: u64) -> String {
+    const GIB: f64 = (1u64 << 30) as f64;
+    const MIB: f64 = (1u64 << 20) as f64;
+    let b = bytes as f64;
+    if b >= GIB {
+        format!("{} GiB", trim_number(b / GIB))
+    } else if b >= MIB {
+        format!("{} MiB", trim_number(b / MIB))
+    } else {
+        format!("{bytes} bytes")
+    }
+}
+
+fn trim_number(x: f64) -> String {
+    let text = format!("{x:.1}");
+    text.strip_suffix(".0").map_or(text.clone(), str::to_string)
+}
+
+/// Reads the whole of `path`, which must be a regular file (a symbolic link to one is
+/// followed) of at most `limit` bytes; `what` names the input in messages ("model",
+/// "texture"). The size is checked before reading, and the read stops past `limit`
+/// even if the file grows meanwhile. The error says what is wrong, without the path
+/// (callers put it in their own error).
+pub fn read_bounded(path: &Path, limit: u64, what: &str) -> std::result::Result<Vec<u8>, String> {
+    let metadata = std::fs::metadata(path).map_err(|e| match e.kind() {
+        std::io::ErrorKind::NotFound => "no such file".to_string(),
+        _ => e.to_string(),
+    })?;
+    if !metadata.is_file() {
+        return Err(format!(
+            "it is {}, not a regular file; a {what} is read only from a regular file",
+            kind_name(&metadata)
+        ));
+    }
+    if metadata.len() > limit {
+        return Err(format!(
+            "it is {}, over the {} limit for a {what}",
+            size_text(metadata.len()),
+            size_text(limit)
+        ));
+    }
+    let file = File::open(path).map_err(|e| e.to_string())?;
+    // The open file is checked again: the path may have been swapped meanwhile.
+    let opened = file.metadata().map_err(|e| e.to_string())?;
+    if !opened.is_file() {
+        return Err(format!(
+            "it is {}, not a regular file; a {what} is read only from a regular file",
+            kind_name(&opened)
+        ));
+    }
+    let mut bytes = Vec::with_capacity(opened.len().min(limit) as usize);
+    file.take(limit + 1)
+        .read_to_end(&mut bytes)
+        .map_err(|e| e.to_string())?;
+    if bytes.len() as u64 > limit {
+        return Err(format!(
+            "it grew past the {} limit for a {what} while being read",
+            size_text(limit)
+        ));
+    }
+    Ok(bytes)
+}
+
+/// Checks that `path` is a regular file (a symbolic link to one is followed) without
+/// reading it; the error says what it is instead.
+pub fn read_bounded_check(path: &Path) -> std::result::Result<(), String> {
+    match std::fs::metadata(path) {
+        Ok(m) if m.is_file() => Ok(()),
+        Ok(m) => Err(format!("it is {}, not a regular file", kind_name(&m))),
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => Err("no such file".into()),
+        Err(e) => Err(e.to_string()),
+    }
+}
+
+/// Reads `path` as UTF-8 text with [`read_bounded`].
+pub fn read_text_bounded(
+    path: &Path,
+    limit: u64,
+    what: &str,
+) -> std::result::Result<String, String> {
+    let bytes = read_bounded(path, limit, what)?;
+    String::from_utf8(bytes).map_err(|e| format!("it is not UTF-8 text ({e})"))
+}
+
+/// How an output path is written.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum OutputKind {
+    /// Standard output (`-`).
+    Stdout,
+    /// A new file or a regular file: written to a temporary file in `final_path`'s folder
+    /// and renamed over `final_path` (a symbolic link's target, so the link stays).
+    Replace { final_path: PathBuf },
+    /// Anything else (a device, a FIFO, a link to one, or a link that points nowhere yet):
+    /// opened and written in place, never replaced.
+    Through,
+}
+
+/// Decides how `path` is written; refuses a folder.
+pub fn output_kind(path: &Path) -> std::result::Result<OutputKind, String> {
+    if path.as_os_str() == STDOUT {
+        return Ok(OutputKind::Stdout);
+    }
+    let link = match std::fs::symlink_metadata(path) {
+        Ok(m) => m,
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
+            return Ok(OutputKind::Replace {
+                final_path: path.to_path_buf(),
+            })
+        }
+        Err(e) => return Err(e.to_string()),
+    };
+    let (metadata, final_path) = if link.file_type().is_symlink() {
+        match std::fs::canonicalize(path) {
+            Ok(target) => match std::fs::metadata(&target) {
+                Ok(m) => (m, target),
+                Err(_) => return Ok(OutputKind::Through),
+            },
+            // A link to nothing (yet): writing through it creates its target.
+            Err(_) => return Ok(OutputKind::Through),
+        }
+    } else {
+        (link, path.to_path_buf())
+    };
+    if metadata.is_dir() {
+        Err("it is a folder; give a file name".into())
+    } else if metadata.is_file() {
+        Ok(OutputKind::Replace { final_path })
+    } else {
+        Ok(OutputKind::Through)
+    }
+}
+
+/// Writes `bytes` to `path` as [`output_kind`] says: a regular file (or a new one)
+/// through a temporary file renamed into place, so an interrupted or failed write never
+/// leaves half a file and a replaced file keeps its permissions; a device, FIFO or `-`
+/// written directly, every write error reported (`/dev/full`: "No space left on
+/// device"). `what` names the output in errors ("image", "scene file").
+pub fn write_output(path: &Path, bytes: &[u8], what: &'static str) -> Result<()> {
+    let error = |message: String| Error::Io {
+        operation: what,
+        path: path.to_path_buf(),
+        message,
+    };
+    match output_kind(path).map_err(error)? {
+        OutputKind::Stdout => {
+            let mut out = std::io::stdout().lock();
+            out.write_all(bytes)
+                .and_then(|()| out.flush())
+                .map_err(|e| error(e.to_string()))
+        }
+        OutputKind::Through => {
+            let mut file = std::fs::OpenOptions::new()
+                .write(true)
+                .create(true)
+                .truncate(false)
+                .open(path)
+                .map_err(|e| error(e.to_string()))?;
+            file.write_all(bytes)
+                .and_then(|()| file.flush())
+                .map_err(|e| error(e.to_string()))
+        }
+        OutputKind::Replace { final_path } => {
+            replace(&final_path, bytes).map_err(|e| error(e.to_string()))
+        }
+    }
+}
+
+/// Writes `bytes` to a temporary file beside `path` and renames it over `path`.
+fn replace(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
+    let dir = path
+        .parent()
+        .filter(|d| !d.as_os_str().is_empty())
+        .unwrap_or(Path::new("."));
+    std::fs::create_dir_all(dir)?;
+    let name = path
+        .file_name()
+        .map_or("output".into(), |n| n.to_string_lossy());
+    let partial = dir.join(format!(".{name}.{}.partial", std::process::id()));
+    let written = (|| {
+        let mut file = File::create(&partial)?;
+        file.write_all(bytes)?;
+        file.flush()?;
+        if let Ok(old) = std::fs::metadata(path) {
+            let _ = file.set_permissions(old.permissions());
+        }
+        drop(file);
+        std::fs::rename(&partial, path)
+    })();
+    if written.is_err() {
+        let _ = std::fs::remove_file(&partial);
+    }
+    written
+}
+
+/// Checks, before any work, that an output can be written at `path`: standard output,
+/// a device or a FIFO as it is; otherwise not a folder, in a folder that exists or can
+/// be made and where a file can be created.
+pub fn check_output_file(path: &Path) -> Result<()> {
+    let error = |message: String| Error::Io {
+        operation: "write the output file",
+        path: path.to_path_buf(),
+        message,
+    };
+    match output_kind(path).map_err(error)? {
+        OutputKind::Stdout | OutputKind::Through => Ok(()),
+        OutputKind::Replace { final_path } => {
+            let dir = final_path
+                .parent()
+                .filter(|d| !d.as_os_str().is_empty())
+                .unwrap_or(Path::new("."));
+            check_output_dir(dir)
+        }
+    }
+}
+
+/// Checks, before any work, that files can be written into the folder `dir`, making it
+/// if needed.
+pub fn check_output_dir(dir: &Path) -> Result<()> {
+    if let Ok(m) = std::fs::metadata(dir) {
+        if !m.is_dir() {
+            return Err(Error::Io {
+                operation: "write into the folder",
+                path: dir.to_path_buf(),
+                message: format!("it is {}, not a folder", kind_name(&m)),
+            });
+        }
+    }
+    std::fs::create_dir_all(dir).map_err(|e| Error::io("create the folder", dir, e))?;
+    let probe = dir.join(format!(".fur-write-check-{}", std::process::id()));
+    File::create(&probe).map_err(|e| Error::io("write into the folder", dir, e))?;
+    let _ = std::fs::remove_file(&probe);
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn temp_dir(name: &str) -> PathBuf {
+        let dir = std::env::temp_dir().join(format!("fur-files-{name}-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        std::fs::create_dir_all(&dir).unwrap();
+        dir
+    }
+
+    #[test]
+    fn regular_files_are_replaced_and_links_kept() {
+        let dir = temp_dir("links");
+        let target = dir.join("target.txt");
+        std::fs::write(&target, b"old").unwrap();
+        let link = dir.join("link.txt");
+        std::os::unix::fs::symlink(&target, &link).unwrap();
+        write_output(&link, b"new", "test output").unwrap();
+        assert!(std::fs::symlink_metadata(&link)
+            .unwrap()
+            .file_type()
+            .is_symlink());
+        assert_eq!(std::fs::read(&target).unwrap(), b"new");
+        let leftovers: Vec<_> = std::fs::read_dir(&dir)
+            .unwrap()
+            .filter_map(|e| e.ok())
+            .filter(|e| e.file_name().to_string_lossy().contains("partial"))
+            .collect();
+        assert!(leftovers.is_empty(), "temporary files left: {leftovers:?}");
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+
+    #[test]
+    fn reads_refuse_folders_and_oversized_files() {
+        let dir = temp_dir("reads");
+        let err = read_bounded(&dir, 10, "model").unwrap_err();
+        assert!(err.contains("a folder"), "{err}");
+        let file = dir.join("big.obj");
+        std::fs::write(&file, vec![b'x'; 11]).unwrap();
+        let err = read_bounded(&file, 10, "model").unwrap_err();
+        assert!(err.contains("over the 10 bytes limit for a model"), "{err}");
+        assert_eq!(read_bounded(&file, 11, "model").unwrap().len(), 11);
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+
+    #[test]
+    fn sizes_read_as_people_write_them() {
+        assert_eq!(size_text(2 << 30), "2 GiB");
+        assert_eq!(size_text(3 << 19), "1.5 MiB");
+        assert_eq!(size_text(12), "12 bytes");
+    }
+}

@@ -11,17 +11,27 @@
 // margin) and triangles whose master hairs are all outside one clip plane get level 0
 // and cost nothing further. Edge levels depend only on the edge, so both triangles
 // sharing it generate the same points there (the owner draws them, see fur.tese).
+// A skinned body's lengths and areas are its rest pose's (BODY_SKINNED), so a bending
+// joint never adds or drops hairs.
 #include "common.glsl"
 
 layout(vertices = 3) out;
+
+#if BODY_SKINNED
+// Per triangle of the rest pose: edge lengths opposite corners 0, 1, 2 and the area. A
+// skinned body's triangles stretch as its joints bend; its hair count must not follow.
+layout(set = 0, binding = 8, std430) readonly buffer RestTriangles {
+    vec4 rest_triangles[];
+};
+#endif
 
 layout(location = 0) in uint v_hair[];
 layout(location = 0) out uint c_hair[];
 layout(location = 1) patch out uint p_mask;
 
-float edge_level(vec3 a, vec3 b) {
+float edge_level(vec3 a, vec3 b, float len) {
     float spacing_inv = sqrt(frame.lod.x * lod_factor((a + b) * 0.5));
-    return clamp(ceil(distance(a, b) * spacing_inv), 1.0, frame.lod.z);
+    return clamp(ceil(len * spacing_inv), 1.0, frame.lod.z);
 }
 
 // True when every master-hair vertex of the patch lies outside one clip plane.
@@ -86,10 +96,17 @@ void main() {
         gl_TessLevelInner[0] = 0.0;
         return;
     }
-    gl_TessLevelOuter[0] = edge_level(r1, r2);
-    gl_TessLevelOuter[1] = edge_level(r2, r0);
-    gl_TessLevelOuter[2] = edge_level(r0, r1);
+#if BODY_SKINNED
+    vec4 rest = rest_triangles[gl_PrimitiveID];
+    vec3 lengths = rest.xyz;
+    float area = rest.w;
+#else
+    vec3 lengths = vec3(distance(r1, r2), distance(r2, r0), distance(r0, r1));
     float area = 0.5 * length(cross(r1 - r0, r2 - r0));
+#endif
+    gl_TessLevelOuter[0] = edge_level(r1, r2, lengths.x);
+    gl_TessLevelOuter[1] = edge_level(r2, r0, lengths.y);
+    gl_TessLevelOuter[2] = edge_level(r0, r1, lengths.z);
     float hairs = area * frame.lod.x * lod_factor((r0 + r1 + r2) / 3.0);
     gl_TessLevelInner[0] = clamp(ceil(sqrt(hairs * 4.0 / 3.0)), 1.0, frame.lod.z);
 }

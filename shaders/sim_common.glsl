@@ -48,9 +48,16 @@ layout(set = 0, binding = 7, std430) readonly buffer Sdf {
     vec4 sdf[];
 };
 
+// A skinned body's root pose of every strand for each substep of this dispatch
+// (shaders/skin.comp): R's columns, with the skinned root in their w.
+layout(set = 0, binding = 8, std430) readonly buffer RootPoses {
+    vec4 root_poses[];
+};
+
 layout(push_constant) uniform Push {
     uint step;          // index into steps[] of the first substep
     uint count;         // substeps in this dispatch
+    uint place;         // 1: put every strand at its posed rest shape, at rest
 } push;
 
 const float MIN_LENGTH = 1e-20;

@@ -17,16 +17,50 @@ const uint STEP_LOCAL = 4u;
 const uint STEP_LENGTH = 8u;
 const uint STEP_WIND = 16u;
 const uint STEP_COLLISION = 32u;
+// The body is skinned: each strand's rest shape follows its own root pose (from the
+// skinning pass) before the head transform, instead of the head transform alone.
+const uint BODY_SKINNED = 64u;
 // Projections onto the collision margin per vertex and substep, at most (src/sim/cpu.rs).
 const uint PROJECTIONS = 3u;
 
 vec3 x[V];   // current positions, world space
 vec3 p[V];   // positions one substep ago
 
+// Substep k's root pose of this strand: x ↦ R (x − r) + q (shaders/skin.comp).
+mat3 pose_rotation;
+vec3 pose_root;
+vec3 rest_root;
+
+void load_pose(uint strand, uint k) {
+    if ((STEPS & BODY_SKINNED) != 0u) {
+        uint o = 3u * (k * sim.counts.x + strand);
+        vec4 c0 = root_poses[o], c1 = root_poses[o + 1u], c2 = root_poses[o + 2u];
+        pose_rotation = mat3(c0.xyz, c1.xyz, c2.xyz);
+        pose_root = vec3(c0.w, c1.w, c2.w);
+    }
+}
+
+// Rest point `rest` of this strand carried by the body to world space: H x for a rigid
+// body, H (R (x − r) + q) for a skinned one (src/sim/cpu.rs: `Carrier::point`).
+vec3 body_point(Step st, vec3 rest) {
+    if ((STEPS & BODY_SKINNED) != 0u) {
+        return (st.head * vec4(pose_rotation * (rest - rest_root) + pose_root, 1.0)).xyz;
+    }
+    return (st.head * vec4(rest, 1.0)).xyz;
+}
+
+// The rotation part of body_point.
+mat3 body_rotation(Step st) {
+    if ((STEPS & BODY_SKINNED) != 0u) {
+        return mat3(st.head) * pose_rotation;
+    }
+    return mat3(st.head);
+}
+
 // Step 1, integrate: Verlet with gravity and damping, x' = x + r (x − x_prev) + g h².
 // The root follows the head transform and is never simulated.
 void integrate(uint strand, Step st) {
-    vec3 root = (st.head * vec4(imageLoad(rest_positions, strand_texel(strand, 0u, V, sim.counts.y)).xyz, 1.0)).xyz;
+    vec3 root = body_point(st, rest_root);
     p[0] = x[0];
     x[0] = root;
     for (uint i = 1u; i < V; ++i) {
@@ -40,13 +74,13 @@ void integrate(uint strand, Step st) {
 void global_shape(uint strand, Step st) {
     uint cutoff = min(sim.counts.z, V - 1u);
     for (uint i = 1u; i <= cutoff; ++i) {
-        vec3 target = (st.head * vec4(imageLoad(rest_positions, strand_texel(strand, i, V, sim.counts.y)).xyz, 1.0)).xyz;
+        vec3 target = body_point(st, imageLoad(rest_positions, strand_texel(strand, i, V, sim.counts.y)).xyz);
         x[i] = x[i] + (target - x[i]) * sim.stiffness.x;
     }
 }
 
 // Step 3, local shape (Han & Harada §4.2), iterated. Walking root to tip with the frame F
-// (starting from H · F₀), segment i's correction S_L F (vᵢ − Fᵀ(xᵢ₊₁ − xᵢ)) is split
+// (starting from H · F₀, or H R · F₀ on a skinned body), segment i's correction S_L F (vᵢ − Fᵀ(xᵢ₊₁ − xᵢ)) is split
 // evenly between its ends (all of it to x₁, the root being pinned), then F turns onto
 // the corrected segment. F (v − Fᵀd) equals xᵢ + F v − xᵢ₊₁ for an orthonormal F and is
 // exactly zero at rest (simulate_rest.comp computed v with the same arithmetic).
@@ -54,7 +88,7 @@ void local_shape(uint strand, Step st) {
     float s_l = sim.stiffness.y;
     mat3 root = mat3(root_frames[3u * strand].xyz, root_frames[3u * strand + 1u].xyz,
                      root_frames[3u * strand + 2u].xyz);
-    mat3 head = mat3(st.head);
+    mat3 head = body_rotation(st);
     for (uint it = 0u; it < sim.counts.w; ++it) {
         mat3 frame = head * root;
         for (uint i = 0u; i + 1u < V; ++i) {
@@ -180,6 +214,19 @@ void main() {
     if (strand >= sim.counts.x) {
         return;
     }
+    rest_root = imageLoad(rest_positions, strand_texel(strand, 0u, V, sim.counts.y)).xyz;
+    if (push.place != 0u) {
+        // Placement: the strand at its rest shape carried by the body, not moving.
+        Step st = steps[push.step];
+        load_pose(strand, 0u);
+        for (uint i = 0u; i < V; ++i) {
+            ivec2 t = strand_texel(strand, i, V, sim.counts.y);
+            vec3 posed = body_point(st, imageLoad(rest_positions, t).xyz);
+            imageStore(previous_positions, t, vec4(posed, 1.0));
+            imageStore(current_positions, t, vec4(posed, 1.0));
+        }
+        return;
+    }
     for (uint i = 0u; i < V; ++i) {
         ivec2 t = strand_texel(strand, i, V, sim.counts.y);
         x[i] = imageLoad(current_positions, t).xyz;
@@ -187,6 +234,7 @@ void main() {
     }
     for (uint s = 0u; s < push.count; ++s) {
         Step st = steps[push.step + s];
+        load_pose(strand, s);
         integrate(strand, st);
         if ((STEPS & STEP_GLOBAL) != 0u) {
             global_shape(strand, st);

@@ -295,3 +295,66 @@ pub fn scene(
     sim.apply(&mut scene.sim);
     Ok(scene)
 }
+
+/// Which clip a skinned or animated model plays (`fur render`).
+#[derive(Args, Clone, Default)]
+pub struct AnimationArgs {
+    /// The clip to play, by name, any case (`walk` finds `Walk`); `none` holds the rest
+    /// pose [default: the model's first clip].
+    #[arg(long, allow_hyphen_values = true)]
+    pub animation: Option<String>,
+    /// Clip seconds per simulated second [1].
+    #[arg(long, allow_negative_numbers = true)]
+    pub animation_speed: Option<f32>,
+    /// Clip time at the first frame, seconds [0].
+    #[arg(long, allow_negative_numbers = true)]
+    pub animation_start: Option<f32>,
+    /// Hold the clip's last pose instead of looping.
+    #[arg(long)]
+    pub no_loop: bool,
+    /// Keep the clip's root motion (the body walks away) instead of walking on the spot.
+    #[arg(long)]
+    pub root_motion: bool,
+}
+
+impl AnimationArgs {
+    /// The playback for a model's rig: the named clip (an unknown name is an error that
+    /// lists the clips), the first clip by default. A model without a rig takes no
+    /// `--animation`.
+    pub fn playback(
+        &self,
+        rig: Option<fur::scene::Rig>,
+        model: &str,
+    ) -> anyhow::Result<Option<(fur::scene::Rig, fur::skinning::Playback)>> {
+        let Some(rig) = rig else {
+            if let Some(name) = self.animation.as_deref().filter(|n| *n != "none") {
+                anyhow::bail!("--animation {name}: model {model} has no skin or animation");
+            }
+            return Ok(None);
+        };
+        let clip = match self.animation.as_deref() {
+            Some("none") => None,
+            Some(name) => Some(
+                rig.clip_index(name)
+                    .map_err(|e| anyhow::anyhow!("--animation {name}: {e}"))?,
+            ),
+            None => (!rig.clips.is_empty()).then_some(0),
+        };
+        let speed = self.animation_speed.unwrap_or(1.0);
+        let start = self.animation_start.unwrap_or(0.0);
+        if !(speed.is_finite() && (0.0..=100.0).contains(&speed)) {
+            anyhow::bail!("--animation-speed must be in [0, 100], got {speed}");
+        }
+        if !(start.is_finite() && start >= 0.0) {
+            anyhow::bail!("--animation-start must be a time ≥ 0 seconds, got {start}");
+        }
+        let playback = fur::skinning::Playback {
+            clip,
+            speed,
+            start,
+            looping: !self.no_loop,
+            in_place: !self.root_motion,
+        };
+        Ok(Some((rig, playback)))
+    }
+}

@@ -16,6 +16,7 @@ pub mod render;
 pub mod scene;
 pub mod scene_file;
 pub mod session;
+pub mod skinning;
 pub mod sim;
 pub mod strand_textures;
 pub mod viewer;

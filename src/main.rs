@@ -138,6 +138,8 @@ struct RenderArgs {
     /// Motion rate: Hz for shake and nod, turns per second for spin [1].
     #[arg(long, allow_negative_numbers = true)]
     rate: Option<f64>,
+    #[command(flatten)]
+    animation: args::AnimationArgs,
 
     /// Enable the Khronos validation layer; any validation message fails the run.
     #[arg(long)]
@@ -306,12 +308,36 @@ fn render(args: &RenderArgs) -> anyhow::Result<()> {
     } else {
         fur::files::check_output_file(&args.out)?;
     }
-    let (mesh, warnings) = scene.model.prepare(scene.options.texture.as_ref())?;
+    let (mesh, rig, warnings) = scene.model.prepare_body(scene.options.texture.as_ref())?;
     for warning in warnings {
         eprintln!("warning: {warning}");
     }
+    let rig = args.animation.playback(rig, &scene.model.name())?;
+    if rig.is_some() && args.motion.is_none() {
+        // A character moves by its clip; the head stays put unless asked.
+        scene.motion.kind = MotionKind::Still;
+    }
     let (_, radius) = mesh.bounds();
     let (groom, mut settings) = scene.options.resolve(&mesh)?;
+    if let Some((rig, playback)) = &rig {
+        if scene.options.distance.is_none() {
+            // The camera frames every pose of the clip, not only the rest pose.
+            let frames = if simulate { args.frames } else { 1 };
+            scene
+                .options
+                .frame_poses(&mut settings, &mesh, rig, playback, frames);
+        }
+        if let Some(clip) = playback.clip {
+            eprintln!(
+                "animation: {} ({:.2} s) at {}×, from {} s{}",
+                rig.clips[clip].name,
+                rig.clips[clip].duration(),
+                playback.speed,
+                playback.start,
+                if playback.in_place { ", in place" } else { "" }
+            );
+        }
+    }
     settings.count_hairs = !simulate;
     let mut motion = scene.motion.motion(radius);
     if !simulate {
@@ -330,9 +356,9 @@ fn render(args: &RenderArgs) -> anyhow::Result<()> {
             groom.vertices_per_strand()
         );
     }
-    let mut session = FurSession::new(
+    let mut session = FurSession::with_rig(
         &device,
-        mesh,
+        (mesh, rig),
         &groom,
         scene.sim.clone(),
         motion,
@@ -353,6 +379,9 @@ fn render(args: &RenderArgs) -> anyhow::Result<()> {
         .as_ref()
         .and_then(|(_, report)| report.warning(&scene.model.name()))
     {
+        eprintln!("warning: {warning}");
+    }
+    for warning in &session.warnings {
         eprintln!("warning: {warning}");
     }
     let masters = session.strands.count();

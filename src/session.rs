@@ -10,8 +10,9 @@ use crate::error::Error;
 use crate::error::Result;
 use crate::gpu::Device;
 use crate::render::{FrameReport, FrameSettings, Primitive, Renderer, RgbaImage, Shading};
-use crate::scene::{Camera, GroomParams, Mesh, Strands, TextureSpec};
+use crate::scene::{Camera, GroomParams, Mesh, Rig, Strands, TextureSpec};
 use crate::sim::{GpuSim, Motion, Sdf, SdfReport, SimParams};
+use crate::skinning::{Playback, SkinnedBody};
 use crate::strand_textures::StrandTextures;
 
 /// A scene described relative to the model's size, so one set of defaults suits any
@@ -155,6 +156,41 @@ impl SceneOptions {
             .fold(0.0f32, f32::max)
             + self.hair_length * radius;
         reach / ((0.5 * self.fov_deg).to_radians().sin() * 0.9)
+    }
+
+    /// Moves the camera of `settings` (made by [`SceneOptions::resolve`] for `mesh`) so
+    /// it frames every pose the first `frames` frames of `playback` take: the bounds of
+    /// the skinned body over them, plus the hair.
+    pub fn frame_poses(
+        &self,
+        settings: &mut FrameSettings,
+        mesh: &Mesh,
+        rig: &Rig,
+        playback: &Playback,
+        frames: u32,
+    ) {
+        let dt = 1.0 / 60.0;
+        let samples = frames.clamp(1, 32);
+        let mut positions = Vec::new();
+        for k in 0..samples {
+            let t = f64::from(frames.max(1) - 1) * dt * f64::from(k) / f64::from(samples);
+            let matrices = playback.joint_matrices(rig, t);
+            positions.extend(rig.skin(&matrices, &[]).0);
+        }
+        let envelope = Mesh {
+            positions,
+            ..mesh.clone()
+        };
+        let (centre, _) = envelope.bounds();
+        let (_, rest_radius) = mesh.bounds();
+        settings.camera.target = centre;
+        let reach = envelope
+            .positions
+            .iter()
+            .map(|p| p.distance(centre))
+            .fold(0.0f32, f32::max)
+            + self.hair_length * rest_radius;
+        settings.camera.distance = reach / ((0.5 * self.fov_deg).to_radians().sin() * 0.9);
     }
 
     /// The defaults for a model: the original scene for the built-in sphere, the
@@ -318,6 +354,8 @@ pub struct FurSession {
     /// Where the user has put the model (the viewer moves it; identity otherwise).
     pub user: DMat4,
     pub settings: FrameSettings,
+    /// What building the scene warned about (e.g. collision switched off).
+    pub warnings: Vec<String>,
 }
 
 impl FurSession {
@@ -333,10 +371,57 @@ impl FurSession {
         extent: vk::Extent2D,
         frames_in_flight: usize,
     ) -> Result<Self> {
+        Self::with_rig(
+            device,
+            (mesh, None),
+            groom,
+            sim_params,
+            motion,
+            settings,
+            extent,
+            frames_in_flight,
+        )
+    }
+
+    /// [`FurSession::new`] for a body that may be skinned: with a rig (vertex-aligned
+    /// with the mesh) and the clip it plays, the body is skinned on the device every
+    /// frame, each master hair follows its own root pose, and the default comb follows
+    /// the bones.
+    #[allow(clippy::too_many_arguments)]
+    pub fn with_rig(
+        device: &Arc<Device>,
+        (mesh, rig): (Mesh, Option<(Rig, Playback)>),
+        groom: &GroomParams,
+        mut sim_params: SimParams,
+        motion: Motion,
+        settings: FrameSettings,
+        extent: vk::Extent2D,
+        frames_in_flight: usize,
+    ) -> Result<Self> {
         settings.style.validate()?;
         motion.validate()?;
         sim_params.validate()?;
         check_work(&mesh, groom, &settings, extent)?;
+        let mut warnings = Vec::new();
+        let mut groom = groom.clone();
+        let skinned = match rig {
+            Some((rig, playback)) => {
+                rig.validate(mesh.vertex_count())
+                    .map_err(|m| Error::Parameter(format!("the model's skin: {m}")))?;
+                if sim_params.collision {
+                    warnings.push(
+                        "collision with a skinned body is not available yet: it is off for \
+                         this model"
+                            .to_string(),
+                    );
+                    sim_params.collision = false;
+                }
+                groom.comb_field = Some(crate::skinning::fur_flow(&rig));
+                Some((Arc::new(SkinnedBody::new(&mesh, rig)), playback))
+            }
+            None => None,
+        };
+        let groom = &groom;
         let strands = Strands::grow(&mesh, groom)?;
         let head = motion.head(0.0).as_mat4();
         let textures = StrandTextures::new(device, &strands, head)?;
@@ -346,12 +431,13 @@ impl FurSession {
         } else {
             None
         };
-        let sim = GpuSim::with_body(
+        let sim = GpuSim::build(
             device,
             &textures,
             sim_params,
             frames_in_flight,
             body.as_ref().map(|(sdf, _)| &**sdf),
+            skinned,
         )?;
         let texture = match &mesh.texture {
             Some(_) if mesh.uvs.is_empty() => {
@@ -364,14 +450,13 @@ impl FurSession {
             Some(spec) => Some(spec.load()?),
             None => None,
         };
-        let renderer = Renderer::textured(
+        let renderer = Renderer::for_body(
             device,
             &mesh,
             texture.as_ref(),
             &textures,
-            extent,
-            frames_in_flight,
-            settings.style.samples,
+            (extent, frames_in_flight, settings.style.samples),
+            sim.skinned.as_ref().map(|s| s.skin.posed.raw()),
         )?;
         Ok(Self {
             device: device.clone(),
@@ -384,6 +469,7 @@ impl FurSession {
             motion,
             user: DMat4::IDENTITY,
             settings,
+            warnings,
         })
     }
 

@@ -25,6 +25,7 @@ pub const SOURCES: &[(&str, &str)] = &[
     ("fur.geom", include_str!("../../shaders/fur.geom")),
     ("fur.frag", include_str!("../../shaders/fur.frag")),
     ("simulate.comp", include_str!("../../shaders/simulate.comp")),
+    ("skin.comp", include_str!("../../shaders/skin.comp")),
     (
         "simulate_rest.comp",
         include_str!("../../shaders/simulate_rest.comp"),

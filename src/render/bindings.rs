@@ -13,8 +13,17 @@ pub(super) struct TextureBinding<'a> {
     pub corner_uvs: &'a Buffer,
 }
 
+/// The body as the passes read it: the posed vertices of a skinned body (written by the
+/// skinning pass; a placeholder for a rigid one), each triangle's rest-pose edge lengths
+/// and area (the density's source), and the triangle list.
+pub(super) struct BodyBinding<'a> {
+    pub posed: vk::Buffer,
+    pub rest_triangles: &'a Buffer,
+    pub indices: &'a Buffer,
+}
+
 /// Points one render descriptor set at its uniforms, position image, ownership masks,
-/// hair counters and the model's texture.
+/// hair counters, the model's texture and the body.
 pub(super) fn write_render_set(
     device: &Device,
     set: vk::DescriptorSet,
@@ -22,6 +31,7 @@ pub(super) fn write_render_set(
     positions: &crate::gpu::Image,
     (ownership, counters): (&Buffer, &Buffer),
     texture: &TextureBinding<'_>,
+    body: &BodyBinding<'_>,
 ) {
     let buffer = |b: &Buffer| {
         [vk::DescriptorBufferInfo::default()
@@ -37,6 +47,10 @@ pub(super) fn write_render_set(
         .image_view(texture.texture.image.view())
         .image_layout(vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL)];
     let uvs = buffer(texture.corner_uvs);
+    let posed = [vk::DescriptorBufferInfo::default()
+        .buffer(body.posed)
+        .range(vk::WHOLE_SIZE)];
+    let (rest_triangles, indices) = (buffer(body.rest_triangles), buffer(body.indices));
     let write = |binding: u32| write(set, binding);
     let writes = [
         write(0).buffer_info(&ubo),
@@ -45,6 +59,9 @@ pub(super) fn write_render_set(
         write(3).buffer_info(&counts),
         write(4).image_info(&albedo),
         write(6).buffer_info(&uvs),
+        write(7).buffer_info(&posed),
+        write(8).buffer_info(&rest_triangles),
+        write(9).buffer_info(&indices),
     ];
     unsafe { device.raw.update_descriptor_sets(&writes, &[]) };
 }
@@ -67,8 +84,9 @@ fn write(set: vk::DescriptorSet, binding: u32) -> vk::WriteDescriptorSet<'static
 }
 
 /// Bindings of descriptor set 0. The texture (4, 6) and the shadow map (5) are read
-/// only by the pipelines of a textured model or a frame with shadows.
-pub(super) fn bindings() -> [(vk::DescriptorType, vk::ShaderStageFlags); 7] {
+/// only by the pipelines of a textured model or a frame with shadows, the body (7–9)
+/// only by those of a skinned one.
+pub(super) fn bindings() -> [(vk::DescriptorType, vk::ShaderStageFlags); 10] {
     let hair_stages = vk::ShaderStageFlags::VERTEX
         | vk::ShaderStageFlags::TESSELLATION_CONTROL
         | vk::ShaderStageFlags::TESSELLATION_EVALUATION
@@ -90,6 +108,18 @@ pub(super) fn bindings() -> [(vk::DescriptorType, vk::ShaderStageFlags); 7] {
         (
             vk::DescriptorType::STORAGE_BUFFER,
             vk::ShaderStageFlags::TESSELLATION_EVALUATION,
+        ),
+        (
+            vk::DescriptorType::STORAGE_BUFFER,
+            vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::TESSELLATION_CONTROL,
+        ),
+        (
+            vk::DescriptorType::STORAGE_BUFFER,
+            vk::ShaderStageFlags::TESSELLATION_CONTROL,
+        ),
+        (
+            vk::DescriptorType::STORAGE_BUFFER,
+            vk::ShaderStageFlags::VERTEX,
         ),
     ]
 }

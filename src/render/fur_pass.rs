@@ -46,6 +46,8 @@ pub struct FurPass {
     samples: u32,
     /// Whether hairs take their colour from the model's texture.
     textured: bool,
+    /// Whether the body is skinned (density from the rest pose, binding 8).
+    skinned: bool,
     /// Whether the geometry stage may count what it draws (the device supports stores
     /// and atomics in vertex-pipeline stages).
     counts: bool,
@@ -60,13 +62,14 @@ impl FurPass {
         device: &Arc<Device>,
         vertices_per_strand: u32,
         samples: u32,
-        textured: bool,
+        (textured, skinned): (bool, bool),
     ) -> Self {
         Self {
             device: device.clone(),
             vertices_per_strand,
             samples,
             textured,
+            skinned,
             counts: device.info.vertex_pipeline_stores,
             pipelines: Vec::new(),
         }
@@ -166,7 +169,7 @@ impl FurPass {
         geometry_defines.extend(common.iter().cloned());
         let device = &self.device;
         let vert = ShaderModule::new(device, "fur.vert", &[])?;
-        let tesc = ShaderModule::new(device, "fur.tesc", &[])?;
+        let tesc = ShaderModule::new(device, "fur.tesc", &[("BODY_SKINNED", flag(self.skinned))])?;
         let tese = ShaderModule::new(device, "fur.tese", &[("TEXTURED", textured)])?;
         let geom = ShaderModule::new(device, "fur.geom", &geometry_defines)?;
         let frag = ShaderModule::new(device, "fur.frag", &common)?;

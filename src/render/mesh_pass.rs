@@ -29,12 +29,20 @@ pub struct MeshPass {
     samples: u32,
     /// Textured: one vertex per triangle corner, drawn unindexed.
     textured: bool,
+    /// Skinned: positions and normals come from the skinning pass (binding 7).
+    skinned: bool,
 }
 
 impl MeshPass {
     /// The pass for `mesh` into a target of `samples` per pixel; `textured` draws the
-    /// model's texture through its corner UVs.
-    pub fn new(device: &Arc<Device>, mesh: &Mesh, samples: u32, textured: bool) -> Result<Self> {
+    /// model's texture through its corner UVs, `skinned` the posed body of the skinning
+    /// pass instead of the mesh's rest pose.
+    pub fn new(
+        device: &Arc<Device>,
+        mesh: &Mesh,
+        samples: u32,
+        (textured, skinned): (bool, bool),
+    ) -> Result<Self> {
         let vertex = |i: u32, uv: Vec2| MeshVertex {
             position: mesh.positions[i as usize],
             normal: mesh.normals[i as usize],
@@ -62,6 +70,7 @@ impl MeshPass {
             vertices,
             samples,
             textured,
+            skinned,
         })
     }
 
@@ -84,7 +93,7 @@ impl MeshPass {
                 device,
                 layout,
                 self.samples,
-                self.textured,
+                (self.textured, self.skinned),
                 shadows,
             )?);
         }
@@ -95,11 +104,15 @@ impl MeshPass {
         device: &Arc<Device>,
         layout: &PipelineLayout,
         samples: u32,
-        textured: bool,
+        (textured, skinned): (bool, bool),
         shadows: bool,
     ) -> Result<Pipeline> {
         let flag = |on: bool| u32::from(on).to_string();
-        let defines = [("TEXTURED", flag(textured)), ("SHADOWS", flag(shadows))];
+        let defines = [
+            ("TEXTURED", flag(textured)),
+            ("SHADOWS", flag(shadows)),
+            ("BODY_SKINNED", flag(skinned)),
+        ];
         let vert = ShaderModule::new(device, "mesh.vert", &defines)?;
         let frag = ShaderModule::new(device, "mesh.frag", &defines)?;
         let stride = std::mem::size_of::<MeshVertex>() as u32;
@@ -139,7 +152,14 @@ impl MeshPass {
                     stride,
                     input_rate: vk::VertexInputRate::VERTEX,
                 }],
-                vertex_attributes: &attributes[..if textured { 3 } else { 2 }],
+                // A skinned body reads its posed vertices from a buffer: only the UVs
+                // come from the vertex buffer.
+                vertex_attributes: match (skinned, textured) {
+                    (false, true) => &attributes[..],
+                    (false, false) => &attributes[..2],
+                    (true, true) => &attributes[2..],
+                    (true, false) => &[],
+                },
                 patch_control_points: None,
                 samples: sample_flag(samples),
                 blend: Blend::Opaque,

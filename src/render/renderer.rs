@@ -10,7 +10,7 @@ use std::sync::Arc;
 
 use ash::vk;
 
-use super::bindings::{bindings, write_shadow_map, TextureBinding};
+use super::bindings::{bindings, write_shadow_map, BodyBinding, TextureBinding};
 use super::fur_pass::{FurPass, Variant};
 use super::image::RgbaImage;
 use super::mesh_pass::MeshPass;
@@ -58,6 +58,11 @@ pub struct Renderer {
     /// Per frame in flight: what the host writes or reads back while other frames run.
     slots: Vec<RenderSlot>,
     _ownership: Buffer,
+    /// Per triangle, its rest edge lengths and area; stands in for the posed vertices
+    /// of a rigid body too.
+    _rest_triangles: Buffer,
+    /// Whether the body is skinned (its posed vertices come from the skinning pass).
+    skinned: bool,
     /// The model's texture and its UVs per triangle corner (a white texel and no UVs
     /// for a model drawn without).
     texture: (GpuTexture, Buffer),
@@ -106,6 +111,27 @@ impl Renderer {
         frames_in_flight: usize,
         samples: u32,
     ) -> Result<Self> {
+        Self::for_body(
+            device,
+            mesh,
+            texture,
+            strands,
+            (extent, frames_in_flight, samples),
+            None,
+        )
+    }
+
+    /// [`Renderer::textured`] for a skinned body whose posed vertices (position and
+    /// normal, two `vec4` each) the skinning pass writes into `posed`; `None` for a
+    /// rigid body. The fur's density comes from the rest pose either way.
+    pub fn for_body(
+        device: &Arc<Device>,
+        mesh: &Mesh,
+        texture: Option<&Texture>,
+        strands: &StrandTextures,
+        (extent, frames_in_flight, samples): (vk::Extent2D, usize, u32),
+        posed: Option<vk::Buffer>,
+    ) -> Result<Self> {
         if texture.is_some() && mesh.uvs.len() != mesh.indices.len() {
             return Err(Error::Parameter(
                 "the model has no texture coordinates (`vt` on every face): a texture needs them"
@@ -152,12 +178,23 @@ impl Renderer {
         let indices = Buffer::with_data(
             device,
             "mesh.indices",
-            vk::BufferUsageFlags::INDEX_BUFFER,
+            vk::BufferUsageFlags::INDEX_BUFFER | vk::BufferUsageFlags::STORAGE_BUFFER,
             &mesh.indices,
+        )?;
+        let rest_triangles = Buffer::with_data(
+            device,
+            "mesh.rest_triangles",
+            vk::BufferUsageFlags::STORAGE_BUFFER,
+            &rest_triangles(mesh),
         )?;
         let binding = TextureBinding {
             texture: &texture.0,
             corner_uvs: &texture.1,
+        };
+        let body = BodyBinding {
+            posed: posed.unwrap_or(rest_triangles.raw()),
+            rest_triangles: &rest_triangles,
+            indices: &indices,
         };
         let slots = (0..frames_in_flight.max(1))
             .map(|slot| {
@@ -167,13 +204,14 @@ impl Renderer {
                     (&pool, &set_layout),
                     strands,
                     &ownership,
-                    &binding,
+                    (&binding, &body),
                 )
             })
             .collect::<Result<Vec<_>>>()?;
         let vertices_per_strand = strands.layout.vertices_per_strand;
-        let mesh_pass = MeshPass::new(device, mesh, samples, textured)?;
-        let fur_pass = FurPass::new(device, vertices_per_strand, samples, textured);
+        let skinned = posed.is_some();
+        let mesh_pass = MeshPass::new(device, mesh, samples, (textured, skinned))?;
+        let fur_pass = FurPass::new(device, vertices_per_strand, samples, (textured, skinned));
         Ok(Self {
             device: device.clone(),
             _set_layout: set_layout,
@@ -181,6 +219,8 @@ impl Renderer {
             _pool: pool,
             slots,
             _ownership: ownership,
+            _rest_triangles: rest_triangles,
+            skinned,
             texture,
             textured,
             indices,
@@ -225,7 +265,7 @@ impl Renderer {
             &self.device,
             self.shape.vertices_per_strand,
             samples,
-            self.textured,
+            (self.textured, self.skinned),
         );
         self.target = target;
         Ok(())
@@ -489,4 +529,18 @@ impl Renderer {
         })?;
         Ok((self.target.pixels(), self.report(0, settings)?))
     }
+}
+
+/// Per triangle of `mesh` (its rest pose): the lengths of the edges opposite corners
+/// 0, 1, 2 (the tessellation's outer levels 0, 1, 2) and the area, as `fur.tesc` reads
+/// them for a skinned body, whose live triangles stretch as its joints bend.
+fn rest_triangles(mesh: &Mesh) -> Vec<glam::Vec4> {
+    mesh.indices
+        .chunks_exact(3)
+        .map(|t| {
+            let [a, b, c] = [t[0], t[1], t[2]].map(|i| mesh.positions[i as usize]);
+            let area = 0.5 * (b - a).cross(c - a).length();
+            glam::Vec4::new(b.distance(c), c.distance(a), a.distance(b), area)
+        })
+        .collect()
 }

@@ -5,7 +5,7 @@ use std::sync::Arc;
 
 use ash::vk;
 
-use super::bindings::{write_render_set, write_shadow_map, TextureBinding};
+use super::bindings::{write_render_set, write_shadow_map, BodyBinding, TextureBinding};
 use super::fur_pass::Variant;
 use super::texture::ShadowMap;
 use super::uniforms::FrameUniforms;
@@ -52,7 +52,7 @@ impl RenderSlot {
         (pool, set_layout): (&DescriptorPool, &DescriptorSetLayout),
         strands: &StrandTextures,
         ownership: &Buffer,
-        binding: &TextureBinding<'_>,
+        (binding, body): (&TextureBinding<'_>, &BodyBinding<'_>),
     ) -> Result<Self> {
         let uniforms = Buffer::new(
             device,
@@ -87,6 +87,7 @@ impl RenderSlot {
                 &strands.positions[i % 2],
                 (ownership, &counters),
                 binding,
+                body,
             );
             write_shadow_map(device, *set, &shadow);
         }

@@ -15,6 +15,9 @@ pub struct GroomParams {
     pub segment_length: f32,
     /// Direction the fur is combed towards (projected onto each vertex's tangent plane).
     pub comb_direction: Vec3,
+    /// Per vertex, a direction that replaces `comb_direction` there (a skinned body's
+    /// fur flow along its bones); its length is ignored.
+    pub comb_field: Option<Vec<Vec3>>,
     /// How far the tip leans towards the comb direction; 0 = straight along the normal.
     pub comb_strength: f32,
     /// Curl radius as a fraction of the segment length; 0 = no curl.
@@ -33,6 +36,7 @@ impl Default for GroomParams {
             segments: 16,
             segment_length: 0.016,
             comb_direction: Vec3::new(0.0, -1.0, -0.3),
+            comb_field: None,
             comb_strength: 0.9,
             curl: 0.0,
             curl_turns: 1.5,
@@ -123,8 +127,24 @@ impl Strands {
         } else {
             None
         };
+        if let Some(field) = &groom.comb_field {
+            if field.len() != mesh.vertex_count() {
+                return Err(Error::Parameter(format!(
+                    "the comb field has {} directions for {} vertices",
+                    field.len(),
+                    mesh.vertex_count()
+                )));
+            }
+        }
         for (i, (&root, &normal)) in mesh.positions.iter().zip(&mesh.normals).enumerate() {
             let n = normal.try_normalize().unwrap_or(Vec3::Y);
+            let (primary, secondary) = match &groom.comb_field {
+                Some(field) => {
+                    let primary = field[i].try_normalize().unwrap_or(primary);
+                    (primary, primary.any_orthonormal_vector())
+                }
+                None => (primary, secondary),
+            };
             let along_first = primary - primary.dot(n) * n;
             let blend = 1.0 - along_first.length();
             let comb = (along_first + blend * (secondary - secondary.dot(n) * n)) * comb_length;

@@ -1,17 +1,26 @@
 //! What is drawn: the mesh, its master hairs and the camera.
 
 mod camera;
+mod critter;
+mod gltf;
 mod groom;
+mod implicit;
 mod mesh;
 mod model;
 mod obj;
+mod rig;
+mod rig_check;
+mod rig_pose;
 mod shapes;
 mod texture;
 mod texture_spec;
 
 pub use camera::Camera;
+pub use critter::critter;
+pub use gltf::{load_gltf, write_glb, GltfBody};
 pub use groom::{hash_unit, GroomParams, Strands};
 pub use mesh::Mesh;
 pub use model::ModelSpec;
+pub use rig::{Channel, Clip, Interpolation, Joint, Node, Property, Rig, Transform};
 pub use texture::Texture;
 pub use texture_spec::TextureSpec;

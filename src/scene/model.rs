@@ -1,12 +1,13 @@
-//! Which model to grow fur on: a built-in one or an OBJ file.
+//! Which model to grow fur on: a built-in one, an OBJ file or a glTF file (`.gltf`,
+//! `.glb`), skinned and animated or not.
 
 use std::path::PathBuf;
 
-use super::{Mesh, TextureSpec};
+use super::{Mesh, Rig, TextureSpec};
 use crate::error::Result;
 
-/// A model named on the command line: `blob`, `sphere`, or a path to an OBJ file
-/// (write `./sphere` for a file of that name).
+/// A model named on the command line: `blob`, `sphere`, `critter`, or the path of an
+/// OBJ or glTF file (write `./sphere` for a file of that name).
 #[derive(Clone, Debug, PartialEq, Default)]
 pub enum ModelSpec {
     /// The default model, see [`Mesh::blob`].
@@ -15,17 +16,35 @@ pub enum ModelSpec {
     /// The original fur demo's scene model: a UV sphere of radius 2 with 40 latitude
     /// and 80 longitude bands, poles on ±z ([`Mesh::uv_sphere`]).
     Sphere,
+    /// The built-in animated creature ([`super::critter`]): skinned, with a walk and an
+    /// idle clip.
+    Critter,
     File(PathBuf),
 }
 
 impl ModelSpec {
-    pub const BUILT_IN: [&'static str; 2] = ["blob", "sphere"];
+    pub const BUILT_IN: [&'static str; 3] = ["blob", "sphere", "critter"];
 
+    /// The model's mesh in its rest pose (a skinned model's rig is left out).
     pub fn load(&self) -> Result<Mesh> {
+        Ok(self.load_body()?.0)
+    }
+
+    /// The model's mesh in its rest pose, its rig when it is skinned or animated, and
+    /// what loading it warned about.
+    pub fn load_body(&self) -> Result<(Mesh, Option<Rig>, Vec<String>)> {
         match self {
-            Self::Blob => Ok(Mesh::blob()),
-            Self::Sphere => Ok(Mesh::uv_sphere(2.0, 40, 80)),
-            Self::File(path) => Mesh::load_obj(path),
+            Self::Blob => Ok((Mesh::blob(), None, Vec::new())),
+            Self::Sphere => Ok((Mesh::uv_sphere(2.0, 40, 80), None, Vec::new())),
+            Self::Critter => {
+                let (mesh, rig) = super::critter();
+                Ok((mesh, Some(rig), Vec::new()))
+            }
+            Self::File(path) if is_gltf(path) => {
+                let body = super::load_gltf(path)?;
+                Ok((body.mesh, body.rig, body.warnings))
+            }
+            Self::File(path) => Ok((Mesh::load_obj(path)?, None, Vec::new())),
         }
     }
 
@@ -33,8 +52,17 @@ impl ModelSpec {
     /// turned right side out when needed, with a warning naming the model for each;
     /// `texture`, if given, replaces the model's own (its material's).
     pub fn prepare(&self, texture: Option<&TextureSpec>) -> Result<(Mesh, Vec<String>)> {
-        let mut mesh = self.load()?;
-        let mut warnings = Vec::new();
+        let (mesh, _, warnings) = self.prepare_body(texture)?;
+        Ok((mesh, warnings))
+    }
+
+    /// [`ModelSpec::prepare`] keeping the rig of a skinned or animated model (rescaled
+    /// and turned with the mesh).
+    pub fn prepare_body(
+        &self,
+        texture: Option<&TextureSpec>,
+    ) -> Result<(Mesh, Option<Rig>, Vec<String>)> {
+        let (mut mesh, mut rig, mut warnings) = self.load_body()?;
         if let Some(t) = texture {
             mesh.texture = Some(t.clone());
         } else if let Some(TextureSpec::File(path)) = &mesh.texture {
@@ -51,6 +79,9 @@ impl ModelSpec {
         }
         let (_, radius) = mesh.bounds();
         if let Some(factor) = mesh.normalize_scale() {
+            if let Some(rig) = &mut rig {
+                rig.scale *= factor;
+            }
             warnings.push(format!(
                 "model {} has a bounding radius of {radius:e} units; it is drawn scaled by \
                  {factor:e} to a radius of 1",
@@ -58,19 +89,23 @@ impl ModelSpec {
             ));
         }
         if mesh.orient_outwards() {
+            if let Some(rig) = &mut rig {
+                rig.bind_normals.iter_mut().for_each(|n| *n = -*n);
+            }
             warnings.push(format!(
                 "model {}: most normals point into the model (inside out); they were flipped so \
                  the fur grows outwards",
                 self.name()
             ));
         }
-        Ok((mesh, warnings))
+        Ok((mesh, rig, warnings))
     }
 
     pub fn name(&self) -> String {
         match self {
             Self::Blob => "blob".into(),
             Self::Sphere => "sphere".into(),
+            Self::Critter => "critter".into(),
             Self::File(path) => path.display().to_string(),
         }
     }
@@ -83,8 +118,20 @@ impl std::str::FromStr for ModelSpec {
         Ok(match s {
             "blob" => Self::Blob,
             "sphere" => Self::Sphere,
-            "" => return Err("expected blob, sphere or the path of an OBJ file".into()),
+            "critter" => Self::Critter,
+            "" => {
+                return Err(
+                    "expected blob, sphere, critter or the path of an OBJ or glTF file".into(),
+                )
+            }
             path => Self::File(PathBuf::from(path)),
         })
     }
+}
+
+/// Whether `path` names a glTF file (`.gltf` or `.glb`, any case).
+fn is_gltf(path: &std::path::Path) -> bool {
+    path.extension()
+        .and_then(|e| e.to_str())
+        .is_some_and(|e| e.eq_ignore_ascii_case("gltf") || e.eq_ignore_ascii_case("glb"))
 }

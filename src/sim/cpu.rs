@@ -5,11 +5,12 @@ use std::sync::Arc;
 
 use glam::DMat4;
 
-use super::math::{min_length, Head, Real, V3};
+use super::math::{min_length, Head, Real, M3, V3};
 use super::params::{SimParams, StepConstants};
 use super::rest::RestPose;
 use super::sdf::Sdf;
 use crate::scene::Strands;
+use crate::skinning::RootPose;
 
 /// The CPU reference simulator for one set of master hairs.
 #[derive(Clone, Debug)]
@@ -71,8 +72,44 @@ impl<T: Real> CpuSim<T> {
         }
     }
 
+    /// Advances one frame on a skinned body: `poses_at(t)` gives every strand's root
+    /// pose at time `t` (see [`crate::skinning::cpu::pose`]).
+    pub fn step_frame_posed(
+        &mut self,
+        head_at: impl Fn(f64) -> DMat4,
+        poses_at: impl Fn(f64) -> Vec<RootPose>,
+    ) {
+        let h = self.params.substep_dt();
+        for _ in 0..self.params.substeps {
+            self.time += h;
+            let constants = StepConstants::new(&self.params, self.time, head_at(self.time));
+            self.substep_posed(&constants, Some(&poses_at(self.time)));
+        }
+    }
+
+    /// Puts every strand at its rest shape carried by `head` and `poses` (one per
+    /// strand; `None` for a rigid body), not moving.
+    pub fn place(&mut self, head: DMat4, poses: Option<&[RootPose]>) {
+        let v = self.rest.vertices_per_strand;
+        let head = Head::<T>::new(head.as_mat4());
+        for s in 0..self.rest.count() {
+            let carrier = Carrier::new(&head, poses.map(|p| &p[s]), self.rest.positions[s * v]);
+            for i in s * v..(s + 1) * v {
+                let x = carrier.point(self.rest.positions[i]);
+                self.current[i] = x;
+                self.previous[i] = x;
+            }
+        }
+    }
+
     /// One substep with the given constants: integrate, global, local, length, wind.
     pub fn substep(&mut self, c: &StepConstants) {
+        self.substep_posed(c, None);
+    }
+
+    /// One substep on a body whose strands each follow their own root pose (`poses`, one
+    /// per strand; `None`: the head transform alone, a rigid body).
+    pub fn substep_posed(&mut self, c: &StepConstants, poses: Option<&[RootPose]>) {
         let v = self.rest.vertices_per_strand;
         let head = Head::<T>::new(c.head);
         let retention = T::from_f32(c.velocity_retention);
@@ -96,8 +133,9 @@ impl<T: Real> CpuSim<T> {
             let rest = &self.rest.positions[range.clone()];
             let prev = &mut self.previous[range.clone()];
             let curr = &mut self.current[range];
+            let carrier = Carrier::new(&head, poses.map(|p| &p[s]), rest[0]);
             // Integrate (Verlet); the new positions go into `prev`, then the two swap.
-            prev[0] = head.point(rest[0]);
+            prev[0] = carrier.point(rest[0]);
             for i in 1..v {
                 prev[i] = curr[i] + (curr[i] - prev[i]).scale(retention) + gravity;
             }
@@ -105,11 +143,11 @@ impl<T: Real> CpuSim<T> {
             let x = curr;
             // Global shape constraint.
             for i in 1..=cutoff.min(v - 1) {
-                x[i] = x[i] + (head.point(rest[i]) - x[i]).scale(s_g);
+                x[i] = x[i] + (carrier.point(rest[i]) - x[i]).scale(s_g);
             }
             // Local shape constraint.
             for _ in 0..self.params.local_iterations {
-                self.rest.local_walk(s, &head, s_l, x);
+                self.rest.local_walk(s, &carrier.frame, s_l, x);
             }
             // Edge-length constraint.
             let lengths = &self.rest.lengths[s * v..(s + 1) * v];
@@ -136,6 +174,53 @@ impl<T: Real> CpuSim<T> {
                     collider.push_out(&head, &mut x[i], &mut prev[i]);
                 }
             }
+        }
+    }
+}
+
+/// What carries one strand's rest shape into world space: the head transform, after
+/// the strand's root pose on a skinned body (`body_point` in `shaders/simulate.comp`).
+struct Carrier<T> {
+    head: Head<T>,
+    /// Root pose rotation, rest root, skinned root.
+    pose: Option<(M3<T>, V3<T>, V3<T>)>,
+    /// The rotation the local-shape walk starts from (head, then pose); its translation
+    /// is unused.
+    frame: Head<T>,
+}
+
+impl<T: Real> Carrier<T> {
+    fn new(head: &Head<T>, pose: Option<&RootPose>, rest_root: V3<T>) -> Self {
+        let pose = pose.map(|p| {
+            let col = |c: glam::Vec3| V3::from_vec3(c);
+            (
+                M3([
+                    col(p.rotation.x_axis),
+                    col(p.rotation.y_axis),
+                    col(p.rotation.z_axis),
+                ]),
+                rest_root,
+                col(p.root),
+            )
+        });
+        let rotation = match &pose {
+            Some((r, _, _)) => head.rotation.mul_mat(r),
+            None => head.rotation,
+        };
+        Self {
+            head: *head,
+            pose,
+            frame: Head {
+                rotation,
+                translation: head.translation,
+            },
+        }
+    }
+
+    fn point(&self, x: V3<T>) -> V3<T> {
+        match &self.pose {
+            Some((r, rest_root, root)) => self.head.point(r.mul_vec(x - *rest_root) + *root),
+            None => self.head.point(x),
         }
     }
 }

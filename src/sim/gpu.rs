@@ -22,6 +22,7 @@ use crate::gpu::{
     memory_barrier, Buffer, DescriptorPool, DescriptorSetLayout, Device, Pipeline, PipelineLayout,
     QueryPool, Specialization,
 };
+use crate::skinning::{GpuSkin, Playback, SkinnedBody};
 use crate::strand_textures::StrandTextures;
 
 /// Strands per workgroup (one invocation each).
@@ -30,6 +31,17 @@ const GROUP_SIZE: u32 = 64;
 pub const MAX_VERTICES: u32 = 64;
 /// Substeps whose constants fit in the step buffer: one submission's worth.
 const STEP_CAPACITY: usize = 1024;
+/// The kernel's `STEPS` bit for a skinned body (`BODY_SKINNED` in `simulate.comp`).
+const BODY_SKINNED: u32 = 64;
+
+/// A skinned body's part of the simulation: the skinning pass, the body, which clip
+/// plays, and the joint matrices of the substeps not yet recorded.
+pub struct Skinned {
+    pub skin: GpuSkin,
+    pub body: Arc<SkinnedBody>,
+    pub playback: Playback,
+    pending: Vec<glam::Mat4>,
+}
 
 /// GPU simulation state for one set of strand textures.
 pub struct GpuSim {
@@ -51,6 +63,10 @@ pub struct GpuSim {
     /// placeholder without a body) and its grid.
     _body: Buffer,
     grid: Option<BodyGrid>,
+    /// The skinned body, if the strands grow on one.
+    pub skinned: Option<Skinned>,
+    /// Stands in for the root poses of a rigid body.
+    _no_poses: Buffer,
     /// The longest master hair, which the collision margin is a fraction of.
     hair_length: f32,
     /// Per frame in flight: step constants, timestamps, descriptor sets.
@@ -93,6 +109,21 @@ impl GpuSim {
         frames_in_flight: usize,
         body: Option<&Sdf>,
     ) -> Result<Self> {
+        Self::build(device, textures, params, frames_in_flight, body, None)
+    }
+
+    /// A simulation as [`GpuSim::with_body`] whose strands grow on the skinned body
+    /// `skinned` (one strand per body vertex) playing `Playback`: each strand's shape
+    /// targets follow its own root pose. The strands are placed on the body's pose at
+    /// time 0.
+    pub fn build(
+        device: &Arc<Device>,
+        textures: &StrandTextures,
+        params: SimParams,
+        frames_in_flight: usize,
+        body: Option<&Sdf>,
+        skinned: Option<(Arc<SkinnedBody>, Playback)>,
+    ) -> Result<Self> {
         let frames_in_flight = frames_in_flight.max(1);
         params.validate()?;
         let vertices = textures.layout.vertices_per_strand;
@@ -105,7 +136,7 @@ impl GpuSim {
         let set_layout = DescriptorSetLayout::new(device, "sim.set_layout", &bindings)?;
         let push = [vk::PushConstantRange::default()
             .stage_flags(vk::ShaderStageFlags::COMPUTE)
-            .size(8)];
+            .size(12)];
         let layout = PipelineLayout::new(device, "sim.pipeline_layout", &[&set_layout], &push)?;
         let pool = DescriptorPool::new(
             device,
@@ -134,6 +165,38 @@ impl GpuSim {
                 &[0.0f32; 4],
             )?,
         };
+        let skinned = match skinned {
+            Some((body, playback)) => {
+                if body.vertex_count() != textures.layout.strand_count as usize {
+                    return Err(Error::Parameter(format!(
+                        "the skinned body has {} vertices but there are {} strands",
+                        body.vertex_count(),
+                        textures.layout.strand_count
+                    )));
+                }
+                let skin = GpuSkin::new(
+                    device,
+                    &body,
+                    params.substeps,
+                    STEP_CAPACITY,
+                    frames_in_flight,
+                )?;
+                Some(Skinned {
+                    skin,
+                    body,
+                    playback,
+                    pending: Vec::new(),
+                })
+            }
+            None => None,
+        };
+        let no_poses = Buffer::with_data(
+            device,
+            "sim.no_root_poses",
+            vk::BufferUsageFlags::STORAGE_BUFFER,
+            &[0.0f32; 12],
+        )?;
+        let root_poses = skinned.as_ref().map_or(&no_poses, |s| &s.skin.root_poses);
         let mut slots = Vec::new();
         for slot in 0..frames_in_flight {
             let steps = Buffer::new(
@@ -145,7 +208,15 @@ impl GpuSim {
             )?;
             let sets = pool.allocate(&set_layout, 2)?;
             for (k, set) in sets.iter().enumerate() {
-                write_sim_set(device, *set, k, &statics, &steps, textures, &body_buffer);
+                write_sim_set(
+                    device,
+                    *set,
+                    k,
+                    &statics,
+                    &steps,
+                    textures,
+                    (&body_buffer, root_poses),
+                );
             }
             let timestamps = if device.info.timestamps {
                 Some(QueryPool::timestamps(
@@ -181,11 +252,16 @@ impl GpuSim {
                 cell: sdf.cell,
                 dims: sdf.dims,
             }),
+            skinned,
+            _no_poses: no_poses,
             slots,
             time: 0.0,
         };
         sim.set_params(params, textures)?;
         sim.compute_rest_data()?;
+        if sim.skinned.is_some() {
+            sim.place(textures, DMat4::IDENTITY)?;
+        }
         Ok(sim)
     }
 
@@ -279,6 +355,15 @@ impl GpuSim {
         if self.grid.is_none() {
             mask &= !SimStep::Collision.bit();
         }
+        if let Some(skinned) = &self.skinned {
+            if params.substeps > skinned.skin.max_substeps {
+                return Err(Error::Parameter(format!(
+                    "this skinned body can take at most {} substeps per frame, got {}",
+                    skinned.skin.max_substeps, params.substeps
+                )));
+            }
+            mask |= BODY_SKINNED;
+        }
         if self.pipeline.as_ref().map(|(m, _)| *m) != Some(mask) {
             let spec = self.specialization(mask);
             let pipeline = Pipeline::compute(&self.device, "simulate.comp", &self.layout, &spec)?;
@@ -313,6 +398,10 @@ impl GpuSim {
         };
         let data: Vec<GpuStep> = constants.iter().map(GpuStep::from).collect();
         self.slots[slot].steps.write(0, bytemuck::cast_slice(&data));
+        if let Some(skinned) = &mut self.skinned {
+            let joints = std::mem::take(&mut skinned.pending);
+            skinned.skin.write_joints(slot, &joints)?;
+        }
         let frame = &self.slots[slot];
         let d = &*self.device;
         let raw = &d.raw;
@@ -341,13 +430,15 @@ impl GpuSim {
                 raw.cmd_write_timestamp2(cmd, vk::PipelineStageFlags2::COMPUTE_SHADER, q.raw(), 0)
             };
         }
-        unsafe {
-            raw.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, pipeline.raw());
-        }
         for (index, chunk) in constants.chunks(per_frame).enumerate() {
-            let push = [(index * per_frame) as u32, chunk.len() as u32];
+            let first = (index * per_frame) as u32;
+            if let Some(skinned) = &self.skinned {
+                skinned.skin.record(cmd, slot, first, chunk.len() as u32);
+            }
+            let push = [first, chunk.len() as u32, 0];
             d.begin_label(cmd, "simulate frame");
             unsafe {
+                raw.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, pipeline.raw());
                 raw.cmd_bind_descriptor_sets(
                     cmd,
                     vk::PipelineBindPoint::COMPUTE,
@@ -399,8 +490,58 @@ impl GpuSim {
                 self.time,
                 head_at(self.time),
             ));
+            if let Some(s) = &mut self.skinned {
+                let matrices = s.playback.joint_matrices(&s.body.rig, self.time);
+                s.pending.extend(matrices);
+            }
         }
         out
+    }
+
+    /// Puts every strand at its rest shape carried by the body's pose at the current
+    /// time and by `head`, not moving (a skinned body's first pose, or a jump in time);
+    /// waits for the device.
+    pub fn place(&mut self, textures: &StrandTextures, head: DMat4) -> Result<()> {
+        let Some((_, pipeline)) = &self.pipeline else {
+            return Ok(());
+        };
+        let constants = [StepConstants::new(&self.params, self.time, head)];
+        let data: Vec<GpuStep> = constants.iter().map(GpuStep::from).collect();
+        self.slots[0].steps.write(0, bytemuck::cast_slice(&data));
+        if let Some(s) = &mut self.skinned {
+            let matrices = s.playback.joint_matrices(&s.body.rig, self.time);
+            s.pending.clear();
+            s.skin.write_joints(0, &matrices)?;
+        }
+        let d = self.device.clone();
+        d.submit_once(|cmd| {
+            if let Some(skinned) = &self.skinned {
+                skinned.skin.record(cmd, 0, 0, 1);
+            }
+            let push = [0u32, 1, 1];
+            unsafe {
+                d.raw
+                    .cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, pipeline.raw());
+                d.raw.cmd_bind_descriptor_sets(
+                    cmd,
+                    vk::PipelineBindPoint::COMPUTE,
+                    self.layout.raw(),
+                    0,
+                    &[self.slots[0].sets[textures.current]],
+                    &[],
+                );
+                d.raw.cmd_push_constants(
+                    cmd,
+                    self.layout.raw(),
+                    vk::ShaderStageFlags::COMPUTE,
+                    0,
+                    bytemuck::cast_slice(&push),
+                );
+                d.raw.cmd_dispatch(cmd, self.group_count(), 1, 1);
+            }
+            after_dispatch(&d, cmd);
+            Ok(())
+        })
     }
 
     /// Simulates `frames` frames in slot 0 and waits for the GPU; returns the GPU

@@ -42,7 +42,7 @@ impl From<&StepConstants> for GpuStep {
     }
 }
 
-pub(super) fn bindings() -> [(vk::DescriptorType, vk::ShaderStageFlags); 8] {
+pub(super) fn bindings() -> [(vk::DescriptorType, vk::ShaderStageFlags); 9] {
     let c = vk::ShaderStageFlags::COMPUTE;
     [
         (vk::DescriptorType::UNIFORM_BUFFER, c),
@@ -52,6 +52,7 @@ pub(super) fn bindings() -> [(vk::DescriptorType, vk::ShaderStageFlags); 8] {
         (vk::DescriptorType::STORAGE_BUFFER, c),
         (vk::DescriptorType::STORAGE_IMAGE, c),
         (vk::DescriptorType::STORAGE_IMAGE, c),
+        (vk::DescriptorType::STORAGE_BUFFER, c),
         (vk::DescriptorType::STORAGE_BUFFER, c),
     ]
 }
@@ -79,7 +80,7 @@ pub(super) fn write_sim_set(
     statics: &Buffer,
     steps: &Buffer,
     textures: &StrandTextures,
-    body: &Buffer,
+    (body, root_poses): (&Buffer, &Buffer),
 ) {
     let bindings = bindings();
     let buffer = |b: &Buffer| {
@@ -92,11 +93,12 @@ pub(super) fn write_sim_set(
             .image_view(i.view())
             .image_layout(vk::ImageLayout::GENERAL)]
     };
-    let (b0, b1, b4, b7) = (
+    let (b0, b1, b4, b7, b8) = (
         buffer(statics),
         buffer(steps),
         buffer(&textures.root_frames),
         buffer(body),
+        buffer(root_poses),
     );
     let (i2, i3) = (image(&textures.rest), image(&textures.rest_local));
     let (i5, i6) = (
@@ -118,6 +120,7 @@ pub(super) fn write_sim_set(
         write(5).image_info(&i5),
         write(6).image_info(&i6),
         write(7).buffer_info(&b7),
+        write(8).buffer_info(&b8),
     ];
     unsafe { device.raw.update_descriptor_sets(&writes, &[]) };
 }

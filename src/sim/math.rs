@@ -164,6 +164,7 @@ pub fn min_length<T: Real>() -> T {
 }
 
 /// The head transform split into rotation and translation.
+#[derive(Clone, Copy, Debug)]
 pub struct Head<T> {
     pub rotation: M3<T>,
     pub translation: V3<T>,

@@ -1,0 +1,76 @@
+#version 450
+// The skinning pass: linear blend skinning of the body's vertices, and one rigid root
+// pose per master strand, for every substep of one simulated frame (src/skinning/cpu.rs
+// is the CPU twin, with the same arithmetic in the same order).
+//
+// Per vertex v and substep k, with the joints' skinning matrices J of that substep:
+//   M = w₀ J[j₀] + w₁ J[j₁] + w₂ J[j₂] + w₃ J[j₃]
+//   p = M (p_bind, 1),  n = normalize(mat3(M) n_bind),  t = normalize(mat3(M) t_bind)
+//   F = [t⊥, n × t⊥, n] with t⊥ = normalize(t − n (n·t)),  R = F F_restᵀ
+// The strand grown from v maps rest point x to R (x − r) + p (r: its rest root), so
+// its root lands on the skinned vertex exactly and its shape turns rigidly.
+// The last substep's positions and normals are the posed body the mesh pass draws.
+
+layout(local_size_x = 64) in;
+
+layout(set = 0, binding = 0, std430) readonly buffer BindVertices {
+    vec4 bind_vertices[];   // per vertex: position, normal, tangent
+};
+layout(set = 0, binding = 1, std430) readonly buffer Influences {
+    uvec4 influences[];
+};
+layout(set = 0, binding = 2, std430) readonly buffer Weights {
+    vec4 weights[];
+};
+layout(set = 0, binding = 3, std430) readonly buffer RestFrames {
+    vec4 rest_frames[];     // per vertex: rest tangent, rest normal
+};
+layout(set = 0, binding = 4, std430) readonly buffer Joints {
+    mat4 joints[];          // per substep of the submission, every joint
+};
+layout(set = 0, binding = 5, std430) writeonly buffer Posed {
+    vec4 posed[];           // per vertex: position, normal (the last substep)
+};
+layout(set = 0, binding = 6, std430) writeonly buffer RootPoses {
+    vec4 root_poses[];      // per substep of the dispatch and strand: R's columns, p in w
+};
+
+layout(push_constant) uniform Push {
+    uint first_step;    // the submission's substep of this dispatch's first substep
+    uint count;         // substeps in this dispatch
+    uint vertex_count;
+    uint joint_count;
+} push;
+
+void main() {
+    uint v = gl_GlobalInvocationID.x;
+    if (v >= push.vertex_count) {
+        return;
+    }
+    vec3 bind_p = bind_vertices[3u * v].xyz;
+    vec3 bind_n = bind_vertices[3u * v + 1u].xyz;
+    vec3 bind_t = bind_vertices[3u * v + 2u].xyz;
+    uvec4 j = influences[v];
+    vec4 w = weights[v];
+    vec3 rt = rest_frames[2u * v].xyz;
+    vec3 rn = rest_frames[2u * v + 1u].xyz;
+    mat3 rest = mat3(rt, cross(rn, rt), rn);
+    for (uint k = 0u; k < push.count; ++k) {
+        uint base = (push.first_step + k) * push.joint_count;
+        mat4 m = joints[base + j.x] * w.x + joints[base + j.y] * w.y + joints[base + j.z] * w.z
+               + joints[base + j.w] * w.w;
+        vec3 p = (m * vec4(bind_p, 1.0)).xyz;
+        vec3 n = normalize(mat3(m) * bind_n);
+        vec3 t = normalize(mat3(m) * bind_t);
+        vec3 tp = normalize(t - n * dot(n, t));
+        mat3 r = mat3(tp, cross(n, tp), n) * transpose(rest);
+        uint o = 3u * (k * push.vertex_count + v);
+        root_poses[o] = vec4(r[0], p.x);
+        root_poses[o + 1u] = vec4(r[1], p.y);
+        root_poses[o + 2u] = vec4(r[2], p.z);
+        if (k + 1u == push.count) {
+            posed[2u * v] = vec4(p, 1.0);
+            posed[2u * v + 1u] = vec4(n, 0.0);
+        }
+    }
+}

@@ -1,0 +1,275 @@
+//! The skinning pass on the device (`shaders/skin.comp`): every simulated frame it skins
+//! the body's vertices for each substep, writing each strand's root pose (read by the
+//! simulation) and, for the frame's last substep, the posed positions and normals the
+//! mesh and fur passes draw.
+
+use std::sync::Arc;
+
+use ash::vk;
+use glam::{Mat4, UVec4, Vec4};
+use gpu_allocator::MemoryLocation;
+
+use super::SkinnedBody;
+use crate::error::{Error, Result};
+use crate::gpu::{
+    memory_barrier, Buffer, DescriptorPool, DescriptorSetLayout, Device, Pipeline, PipelineLayout,
+    Specialization,
+};
+
+/// Vertices per workgroup (`local_size_x` in `skin.comp`).
+const GROUP_SIZE: u32 = 64;
+/// The most root-pose memory a body may take (substeps × strands × 48 bytes).
+const MAX_ROOT_POSE_BYTES: u64 = 256 << 20;
+
+/// The skinning pass's resources for one body.
+pub struct GpuSkin {
+    device: Arc<Device>,
+    vertex_count: u32,
+    joint_count: u32,
+    /// Substeps one dispatch can pose (the root-pose buffer's capacity).
+    pub max_substeps: u32,
+    /// Per vertex: position and normal of the last posed substep.
+    pub posed: Buffer,
+    /// Per substep of a dispatch and strand: 3 × vec4 (R's columns, the root in w).
+    pub root_poses: Buffer,
+    _statics: [Buffer; 4],
+    /// Per frame in flight: joint matrices of every substep of a submission.
+    joints: Vec<Buffer>,
+    joint_capacity: usize,
+    _set_layout: DescriptorSetLayout,
+    layout: PipelineLayout,
+    _pool: DescriptorPool,
+    sets: Vec<vk::DescriptorSet>,
+    pipeline: Pipeline,
+}
+
+fn bindings() -> [(vk::DescriptorType, vk::ShaderStageFlags); 7] {
+    [(
+        vk::DescriptorType::STORAGE_BUFFER,
+        vk::ShaderStageFlags::COMPUTE,
+    ); 7]
+}
+
+impl GpuSkin {
+    /// Uploads `body` and allocates room for `substeps` substeps per dispatch and
+    /// `step_capacity` substeps (of joint matrices) per submission, `frames_in_flight`
+    /// deep.
+    pub fn new(
+        device: &Arc<Device>,
+        body: &SkinnedBody,
+        substeps: u32,
+        step_capacity: usize,
+        frames_in_flight: usize,
+    ) -> Result<Self> {
+        let rig = &body.rig;
+        let n = body.vertex_count();
+        let vertex_count = u32::try_from(n).map_err(|_| {
+            Error::Parameter(format!("a skinned body of {n} vertices is too large"))
+        })?;
+        let joint_count = rig.joints.len().max(1) as u32;
+        let per_substep = 48 * u64::from(vertex_count);
+        let fits = (MAX_ROOT_POSE_BYTES / per_substep.max(1)).max(1) as u32;
+        let max_substeps = fits.min(64);
+        if substeps > max_substeps {
+            return Err(Error::Parameter(format!(
+                "a skinned body of {vertex_count} vertices can take at most {max_substeps} \
+                 substeps per frame, got {substeps}"
+            )));
+        }
+        let storage = vk::BufferUsageFlags::STORAGE_BUFFER;
+        let bind: Vec<Vec4> = (0..n)
+            .flat_map(|v| {
+                [
+                    rig.bind_positions[v].extend(1.0),
+                    rig.bind_normals[v].extend(0.0),
+                    body.bind_tangents[v].extend(0.0),
+                ]
+            })
+            .collect();
+        let influences: Vec<UVec4> = rig
+            .influences
+            .iter()
+            .map(|j| UVec4::from_array(j.map(u32::from)))
+            .collect();
+        let weights: Vec<Vec4> = rig.weights.iter().map(|w| Vec4::from_array(*w)).collect();
+        let frames: Vec<Vec4> = body
+            .rest_frames
+            .iter()
+            .flat_map(|(t, n)| [t.extend(0.0), n.extend(0.0)])
+            .collect();
+        let statics = [
+            Buffer::with_data(device, "skin.bind_vertices", storage, &bind)?,
+            Buffer::with_data(device, "skin.influences", storage, &influences)?,
+            Buffer::with_data(device, "skin.weights", storage, &weights)?,
+            Buffer::with_data(device, "skin.rest_frames", storage, &frames)?,
+        ];
+        let posed = Buffer::new(
+            device,
+            "skin.posed",
+            32 * u64::from(vertex_count),
+            storage,
+            MemoryLocation::GpuOnly,
+        )?;
+        let root_poses = Buffer::new(
+            device,
+            "skin.root_poses",
+            per_substep * u64::from(max_substeps),
+            storage,
+            MemoryLocation::GpuOnly,
+        )?;
+        let frames_in_flight = frames_in_flight.max(1);
+        let joints = (0..frames_in_flight)
+            .map(|slot| {
+                Buffer::new(
+                    device,
+                    &format!("skin.joints[{slot}]"),
+                    (step_capacity * joint_count as usize * 64) as u64,
+                    storage,
+                    MemoryLocation::CpuToGpu,
+                )
+            })
+            .collect::<Result<Vec<_>>>()?;
+        let bindings = bindings();
+        let set_layout = DescriptorSetLayout::new(device, "skin.set_layout", &bindings)?;
+        let push = [vk::PushConstantRange::default()
+            .stage_flags(vk::ShaderStageFlags::COMPUTE)
+            .size(16)];
+        let layout = PipelineLayout::new(device, "skin.pipeline_layout", &[&set_layout], &push)?;
+        let pool = DescriptorPool::new(
+            device,
+            "skin.descriptor_pool",
+            frames_in_flight as u32,
+            &bindings,
+        )?;
+        let sets = pool.allocate(&set_layout, frames_in_flight)?;
+        for (set, joint_buffer) in sets.iter().zip(&joints) {
+            let buffers = [
+                &statics[0],
+                &statics[1],
+                &statics[2],
+                &statics[3],
+                joint_buffer,
+                &posed,
+                &root_poses,
+            ];
+            let infos: Vec<[vk::DescriptorBufferInfo; 1]> = buffers
+                .iter()
+                .map(|b| {
+                    [vk::DescriptorBufferInfo::default()
+                        .buffer(b.raw())
+                        .range(vk::WHOLE_SIZE)]
+                })
+                .collect();
+            let writes: Vec<vk::WriteDescriptorSet> = infos
+                .iter()
+                .enumerate()
+                .map(|(binding, info)| {
+                    vk::WriteDescriptorSet::default()
+                        .dst_set(*set)
+                        .dst_binding(binding as u32)
+                        .descriptor_type(vk::DescriptorType::STORAGE_BUFFER)
+                        .buffer_info(info)
+                })
+                .collect();
+            unsafe { device.raw.update_descriptor_sets(&writes, &[]) };
+        }
+        let pipeline = Pipeline::compute(device, "skin.comp", &layout, &Specialization::new(&[]))?;
+        Ok(Self {
+            device: device.clone(),
+            vertex_count,
+            joint_count,
+            max_substeps,
+            posed,
+            root_poses,
+            _statics: statics,
+            joints,
+            joint_capacity: step_capacity,
+            _set_layout: set_layout,
+            layout,
+            _pool: pool,
+            sets,
+            pipeline,
+        })
+    }
+
+    /// Writes slot `slot`'s joint matrices: `matrices` holds every joint of each
+    /// substep of the coming submission, substep after substep. The slot's previous
+    /// submission must have finished.
+    pub fn write_joints(&mut self, slot: usize, matrices: &[Mat4]) -> Result<()> {
+        let substeps = matrices.len() / self.joint_count as usize;
+        if substeps > self.joint_capacity {
+            return Err(Error::Parameter(format!(
+                "at most {} skinned substeps per submission, got {substeps}",
+                self.joint_capacity
+            )));
+        }
+        self.joints[slot].write(0, bytemuck::cast_slice(matrices));
+        Ok(())
+    }
+
+    /// Records the skinning of substeps `first .. first + count` of the submission (the
+    /// root poses of each, the posed body of the last), followed by the barrier that
+    /// makes them visible to the simulation and the draws.
+    pub fn record(&self, cmd: vk::CommandBuffer, slot: usize, first: u32, count: u32) {
+        let d = &*self.device;
+        d.begin_label(cmd, "skinning");
+        // Earlier readers of the root poses and the posed body finish before we write.
+        memory_barrier(
+            d,
+            cmd,
+            (
+                vk::PipelineStageFlags2::ALL_COMMANDS,
+                vk::AccessFlags2::SHADER_STORAGE_READ,
+            ),
+            (
+                vk::PipelineStageFlags2::COMPUTE_SHADER,
+                vk::AccessFlags2::SHADER_STORAGE_WRITE,
+            ),
+        );
+        let push = [first, count, self.vertex_count, self.joint_count];
+        unsafe {
+            d.raw
+                .cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, self.pipeline.raw());
+            d.raw.cmd_bind_descriptor_sets(
+                cmd,
+                vk::PipelineBindPoint::COMPUTE,
+                self.layout.raw(),
+                0,
+                &[self.sets[slot]],
+                &[],
+            );
+            d.raw.cmd_push_constants(
+                cmd,
+                self.layout.raw(),
+                vk::ShaderStageFlags::COMPUTE,
+                0,
+                bytemuck::cast_slice(&push),
+            );
+            d.raw
+                .cmd_dispatch(cmd, self.vertex_count.div_ceil(GROUP_SIZE), 1, 1);
+        }
+        d.end_label(cmd);
+        memory_barrier(
+            d,
+            cmd,
+            (
+                vk::PipelineStageFlags2::COMPUTE_SHADER,
+                vk::AccessFlags2::SHADER_STORAGE_WRITE,
+            ),
+            (
+                vk::PipelineStageFlags2::COMPUTE_SHADER
+                    | vk::PipelineStageFlags2::VERTEX_SHADER
+                    | vk::PipelineStageFlags2::TESSELLATION_CONTROL_SHADER,
+                vk::AccessFlags2::SHADER_STORAGE_READ,
+            ),
+        );
+    }
+
+    /// Device memory the pass takes, in bytes.
+    pub fn memory_bytes(&self) -> u64 {
+        self._statics.iter().map(Buffer::size).sum::<u64>()
+            + self.posed.size()
+            + self.root_poses.size()
+            + self.joints.iter().map(Buffer::size).sum::<u64>()
+    }
+}

@@ -172,3 +172,159 @@ fn scripts_never_panic_the_parser() {
         })
         .unwrap();
 }
+
+/// A small valid `.glb`: a rigged quad (two joints, a clip of each interpolation, UVs).
+fn small_glb() -> Vec<u8> {
+    use fur::scene::{Channel, Clip, Interpolation, Joint, Node, Property, Rig, Transform};
+    use glam::{Mat4, Quat, Vec2, Vec3, Vec4};
+    let nodes = vec![
+        Node {
+            name: "root".into(),
+            parent: None,
+            rest: Transform::default(),
+        },
+        Node {
+            name: "tip".into(),
+            parent: Some(0),
+            rest: Transform {
+                translation: Vec3::Y,
+                rotation: Quat::from_rotation_z(0.3),
+                scale: Vec3::ONE,
+            },
+        },
+    ];
+    let tip = nodes[1].rest.matrix();
+    let rig = Rig {
+        nodes,
+        joints: vec![
+            Joint {
+                node: 0,
+                inverse_bind: Mat4::IDENTITY,
+            },
+            Joint {
+                node: 1,
+                inverse_bind: tip.inverse(),
+            },
+        ],
+        influences: vec![[0, 1, 0, 0]; 4],
+        weights: vec![
+            [1.0, 0.0, 0.0, 0.0],
+            [1.0, 0.0, 0.0, 0.0],
+            [0.5, 0.5, 0.0, 0.0],
+            [0.0, 1.0, 0.0, 0.0],
+        ],
+        bind_positions: vec![Vec3::ZERO, Vec3::X, Vec3::Y, Vec3::new(1.0, 1.0, 0.0)],
+        bind_normals: vec![Vec3::Z; 4],
+        clips: vec![Clip {
+            name: "c".into(),
+            channels: [Interpolation::Step, Interpolation::Linear, Interpolation::CubicSpline]
+                .into_iter()
+                .map(|interpolation| Channel {
+                    node: 1,
+                    property: Property::Rotation,
+                    interpolation,
+                    times: vec![0.0, 1.0],
+                    values: vec![
+                        Vec4::W;
+                        if interpolation == Interpolation::CubicSpline { 6 } else { 2 }
+                    ],
+                })
+                .collect(),
+        }],
+        scale: 1.0,
+    };
+    let indices = vec![0, 1, 2, 2, 1, 3];
+    let mesh = Mesh {
+        positions: rig.bind_positions.clone(),
+        normals: vec![Vec3::Z; 4],
+        uvs: indices
+            .iter()
+            .map(|&i| Vec2::new((i % 2) as f32, (i / 2) as f32))
+            .collect(),
+        indices,
+        texture: None,
+    };
+    fur::scene::write_glb(&mesh, Some(&rig)).unwrap()
+}
+
+/// One change to a file's bytes; positions are taken modulo its length.
+#[derive(Clone, Debug)]
+enum Mutation {
+    Flip(prop::sample::Index, u8),
+    Truncate(prop::sample::Index),
+    Insert(prop::sample::Index, Vec<u8>),
+    /// Replaces one ASCII digit (of the JSON: counts, offsets, indices) with another.
+    Digit(prop::sample::Index, u8),
+}
+
+fn mutation() -> impl Strategy<Value = Mutation> {
+    prop_oneof![
+        4 => (any::<prop::sample::Index>(), 1u8..=255).prop_map(|(i, x)| Mutation::Flip(i, x)),
+        1 => any::<prop::sample::Index>().prop_map(Mutation::Truncate),
+        1 => (any::<prop::sample::Index>(), prop::collection::vec(any::<u8>(), 1..9))
+            .prop_map(|(i, b)| Mutation::Insert(i, b)),
+        4 => (any::<prop::sample::Index>(), b'0'..=b'9').prop_map(|(i, d)| Mutation::Digit(i, d)),
+    ]
+}
+
+fn mutate(mut bytes: Vec<u8>, mutations: &[Mutation]) -> Vec<u8> {
+    for m in mutations {
+        if bytes.is_empty() {
+            break;
+        }
+        match m {
+            Mutation::Flip(i, x) => {
+                let i = i.index(bytes.len());
+                bytes[i] ^= x;
+            }
+            Mutation::Truncate(i) => bytes.truncate(i.index(bytes.len())),
+            Mutation::Insert(i, extra) => {
+                let i = i.index(bytes.len());
+                bytes.splice(i..i, extra.iter().copied());
+            }
+            Mutation::Digit(i, d) => {
+                let digits: Vec<usize> = (0..bytes.len())
+                    .filter(|&k| bytes[k].is_ascii_digit())
+                    .collect();
+                if !digits.is_empty() {
+                    bytes[digits[i.index(digits.len())]] = *d;
+                }
+            }
+        }
+    }
+    bytes
+}
+
+#[test]
+fn mutated_glb_files_never_panic_the_gltf_loader() {
+    let original = small_glb();
+    let dir = std::env::temp_dir().join(format!("fur-fuzz-gltf-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("mutated.glb");
+    std::fs::write(&path, &original).unwrap();
+    let body = fur::scene::load_gltf(&path).expect("the unmutated file loads");
+    assert!(body.rig.is_some());
+    let loaded = std::cell::Cell::new(0u32);
+    let result = runner(2000).run(
+        &prop::collection::vec(mutation(), 1..4),
+        |mutations| {
+            std::fs::write(&path, mutate(original.clone(), &mutations)).unwrap();
+            if let Ok(body) = fur::scene::load_gltf(&path) {
+                check_mesh(&body.mesh)?;
+                if let Some(rig) = &body.rig {
+                    prop_assert!(
+                        rig.validate(body.mesh.vertex_count()).is_ok(),
+                        "{:?}",
+                        rig.validate(body.mesh.vertex_count())
+                    );
+                }
+                loaded.set(loaded.get() + 1);
+            }
+            Ok(())
+        },
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+    result.unwrap();
+    // Some mutations (in key values, weights, positions) still load.
+    assert!(loaded.get() > 0, "no mutated file loaded");
+}

@@ -48,10 +48,16 @@ struct Doc {
 const FLOAT: u32 = 5126;
 const UBYTE: u32 = 5121;
 const USHORT: u32 = 5123;
-const UINT: u32 = 5125;
 
 impl Doc {
-    fn accessor(&mut self, bytes: &[u8], count: usize, component: u32, ty: &str, normalized: bool) -> usize {
+    fn accessor(
+        &mut self,
+        bytes: &[u8],
+        count: usize,
+        component: u32,
+        ty: &str,
+        normalized: bool,
+    ) -> usize {
         while self.bin.len() % 4 != 0 {
             self.bin.push(0);
         }
@@ -69,26 +75,17 @@ impl Doc {
     }
 
     fn floats(&mut self, data: &[f32], ty: &str) -> usize {
-        let dims = match ty {
-            "SCALAR" => 1,
-            "VEC2" => 2,
-            "VEC3" => 3,
-            "VEC4" => 4,
-            _ => 16,
-        };
         let bytes: Vec<u8> = data.iter().flat_map(|x| x.to_le_bytes()).collect();
-        self.accessor(&bytes, data.len() / dims, FLOAT, ty, false)
+        self.accessor(&bytes, data.len() / dims(ty), FLOAT, ty, false)
     }
 
     fn u8s(&mut self, data: &[u8], ty: &str, normalized: bool) -> usize {
-        let count = data.len() / if ty == "SCALAR" { 1 } else { 4 };
-        self.accessor(data, count, UBYTE, ty, normalized)
+        self.accessor(data, data.len() / dims(ty), UBYTE, ty, normalized)
     }
 
     fn u16s(&mut self, data: &[u16], ty: &str) -> usize {
         let bytes: Vec<u8> = data.iter().flat_map(|x| x.to_le_bytes()).collect();
-        let count = data.len() / if ty == "SCALAR" { 1 } else { 4 };
-        self.accessor(&bytes, count, USHORT, ty, false)
+        self.accessor(&bytes, data.len() / dims(ty), USHORT, ty, false)
     }
 
     /// The JSON text with `buffer` as buffer 0's object and `rest` (`,"nodes":...`).
@@ -101,7 +98,20 @@ impl Doc {
     }
 
     fn glb(&self, rest: &str) -> Vec<u8> {
-        glb(&self.json(&format!(r#"{{"byteLength":{}}}"#, self.bin.len()), rest), &self.bin)
+        glb(
+            &self.json(&format!(r#"{{"byteLength":{}}}"#, self.bin.len()), rest),
+            &self.bin,
+        )
+    }
+}
+
+fn dims(ty: &str) -> usize {
+    match ty {
+        "SCALAR" => 1,
+        "VEC2" => 2,
+        "VEC3" => 3,
+        "VEC4" => 4,
+        _ => 16,
     }
 }
 
@@ -159,7 +169,10 @@ fn one_triangle_on_one_bone_brings_its_rig_and_clip() {
     let uv = doc.u16s(&[0, 0, 65535, 0, 0, 65535], "VEC2");
     doc.accessors[uv] = doc.accessors[uv].replace("false", "true");
     let t = doc.floats(&[0.0, 1.0], "SCALAR");
-    let r = doc.floats(&[0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.5f32.sin(), 0.5f32.cos()], "VEC4");
+    let r = doc.floats(
+        &[0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.5f32.sin(), 0.5f32.cos()],
+        "VEC4",
+    );
     let path = dir.write(
         "bone.glb",
         doc.glb(&format!(
@@ -194,7 +207,11 @@ fn one_triangle_on_one_bone_brings_its_rig_and_clip() {
     );
     assert_eq!(rig.influences, [[0; 4]; 3]);
     assert_eq!(rig.weights[0], [1.0, 0.0, 0.0, 0.0]);
-    assert_eq!(rig.weights[1], [0.5, 0.5, 0.0, 0.0], "128/255 twice, renormalised");
+    assert_eq!(
+        rig.weights[1],
+        [0.5, 0.5, 0.0, 0.0],
+        "128/255 twice, renormalised"
+    );
     assert_eq!(rig.scale, 1.0);
     let triangle: Vec<Vec3> = TRIANGLE.chunks(3).map(Vec3::from_slice).collect();
     assert_eq!(rig.bind_positions, triangle);
@@ -202,7 +219,11 @@ fn one_triangle_on_one_bone_brings_its_rig_and_clip() {
     let expected: Vec<Vec3> = triangle.iter().map(|p| *p + Vec3::X).collect();
     assert_eq!(body.mesh.positions, expected);
     assert_eq!(body.mesh.indices, [0, 1, 2]);
-    assert!(body.mesh.normals.iter().all(|n| (*n - Vec3::Z).length() < 1e-6));
+    assert!(body
+        .mesh
+        .normals
+        .iter()
+        .all(|n| (*n - Vec3::Z).length() < 1e-6));
     assert_eq!(
         body.mesh.uvs,
         [Vec2::ZERO, Vec2::new(1.0, 0.0), Vec2::new(0.0, 1.0)]
@@ -251,7 +272,11 @@ fn unskinned_meshes_are_placed_by_their_nodes() {
     for (a, b) in mesh.positions[..3].iter().zip(&first) {
         assert!((*a - *b).length() < 1e-5, "{a} vs {b}");
     }
-    let second = [Vec3::new(3.0, 0.0, 0.0), Vec3::new(2.0, 0.0, 0.0), Vec3::new(3.0, 1.0, 0.0)];
+    let second = [
+        Vec3::new(3.0, 0.0, 0.0),
+        Vec3::new(2.0, 0.0, 0.0),
+        Vec3::new(3.0, 1.0, 0.0),
+    ];
     assert_eq!(&mesh.positions[3..], &second);
     // The mirrored node's triangle is turned back to counter-clockwise.
     assert_eq!(mesh.indices, [0, 1, 2, 3, 5, 4]);
@@ -323,7 +348,10 @@ fn embedded_buffers_and_images_need_no_other_file() {
             "textures":[{{"source":0}}],"images":[{image}]"#
         )
     };
-    let data_image = format!(r#"{{"uri":"data:image/png;base64,{}"}}"#, base64.encode(&png));
+    let data_image = format!(
+        r#"{{"uri":"data:image/png;base64,{}"}}"#,
+        base64.encode(&png)
+    );
     let json = doc.json(
         &format!(
             r#"{{"byteLength":{},"uri":"data:application/octet-stream;base64,{}"}}"#,
@@ -342,7 +370,12 @@ fn embedded_buffers_and_images_need_no_other_file() {
     assert_eq!(&bytes[..], &png[..]);
     // An image in a buffer view of a .glb.
     let view = doc.accessor(&png, 1, UBYTE, "SCALAR", false);
-    let path = dir.write("packed.glb", doc.glb(&rest(&format!(r#"{{"bufferView":{view},"mimeType":"image/png"}}"#))));
+    let path = dir.write(
+        "packed.glb",
+        doc.glb(&rest(&format!(
+            r#"{{"bufferView":{view},"mimeType":"image/png"}}"#
+        ))),
+    );
     let texture = load_gltf(&path).unwrap().mesh.texture.unwrap();
     assert_eq!(texture.name(), "packed.glb#image0");
     let image = texture.load().unwrap();
@@ -356,7 +389,10 @@ fn step_linear_and_cubic_channels_keep_their_keys() {
     let p = doc.floats(&TRIANGLE, "VEC3");
     let t = doc.floats(&[0.0, 0.5, 2.0], "SCALAR");
     let step = doc.floats(&[0.0, 0.0, 0.0, 1.0, 2.0, 3.0, -1.0, 0.5, 0.25], "VEC3");
-    let linear = doc.floats(&[0.0, 0.0, 0.0, 1.0, 0.0, 0.6, 0.0, 0.8, 0.6, 0.0, 0.0, 0.8], "VEC4");
+    let linear = doc.floats(
+        &[0.0, 0.0, 0.0, 1.0, 0.0, 0.6, 0.0, 0.8, 0.6, 0.0, 0.0, 0.8],
+        "VEC4",
+    );
     let t2 = doc.floats(&[0.0, 1.0], "SCALAR");
     let cubic_values: Vec<f32> = (0..18).map(|k| k as f32 * 0.5).collect();
     let cubic = doc.floats(&cubic_values, "VEC3");
@@ -388,16 +424,27 @@ fn step_linear_and_cubic_channels_keep_their_keys() {
     assert_eq!(rig.weights, [[1.0, 0.0, 0.0, 0.0]; 3]);
     let channels = &rig.clips[0].channels;
     assert_eq!(rig.clips[0].name, "all");
-    let v3 = |v: &[f32]| -> Vec<Vec4> { v.chunks(3).map(|c| Vec4::new(c[0], c[1], c[2], 0.0)).collect() };
+    let v3 = |v: &[f32]| -> Vec<Vec4> {
+        v.chunks(3)
+            .map(|c| Vec4::new(c[0], c[1], c[2], 0.0))
+            .collect()
+    };
     assert_eq!(channels[0].interpolation, Interpolation::Step);
     assert_eq!(channels[0].property, Property::Translation);
     assert_eq!(channels[0].times, [0.0, 0.5, 2.0]);
-    assert_eq!(channels[0].values, v3(&[0.0, 0.0, 0.0, 1.0, 2.0, 3.0, -1.0, 0.5, 0.25]));
+    assert_eq!(
+        channels[0].values,
+        v3(&[0.0, 0.0, 0.0, 1.0, 2.0, 3.0, -1.0, 0.5, 0.25])
+    );
     assert_eq!(channels[1].interpolation, Interpolation::Linear);
     assert_eq!(channels[1].values[1], Vec4::new(0.0, 0.6, 0.0, 0.8));
     assert_eq!(channels[2].interpolation, Interpolation::CubicSpline);
     assert_eq!(channels[2].property, Property::Scale);
-    assert_eq!(channels[2].values, v3(&cubic_values), "in-tangent, value, out-tangent per key");
+    assert_eq!(
+        channels[2].values,
+        v3(&cubic_values),
+        "in-tangent, value, out-tangent per key"
+    );
 }
 
 /// Linear blend skinning at rest, as the reader does it.
@@ -407,11 +454,19 @@ fn skin_at_rest(rig: &Rig) -> Vec<Vec3> {
         let above = node.parent.map_or(Mat4::IDENTITY, |p| global[p]);
         global.push(above * node.rest.matrix());
     }
-    let joints: Vec<Mat4> = rig.joints.iter().map(|j| global[j.node] * j.inverse_bind).collect();
+    let joints: Vec<Mat4> = rig
+        .joints
+        .iter()
+        .map(|j| global[j.node] * j.inverse_bind)
+        .collect();
     rig.bind_positions
         .iter()
         .zip(rig.influences.iter().zip(&rig.weights))
-        .map(|(p, (i, w))| (0..4).map(|k| w[k] * joints[i[k] as usize].transform_point3(*p)).sum())
+        .map(|(p, (i, w))| {
+            (0..4)
+                .map(|k| w[k] * joints[i[k] as usize].transform_point3(*p))
+                .sum()
+        })
         .collect()
 }
 
@@ -421,12 +476,34 @@ fn arm() -> (Mesh, Rig) {
     let node = |name: &str, parent, translation, rotation, scale| Node {
         name: name.into(),
         parent,
-        rest: Transform { translation, rotation, scale },
+        rest: Transform {
+            translation,
+            rotation,
+            scale,
+        },
     };
     let nodes = vec![
-        node("root", None, Vec3::new(0.1, 1.0, -0.3), Quat::from_rotation_y(0.3), Vec3::ONE),
-        node("upper", Some(0), Vec3::new(0.0, 0.5, 0.0), Quat::from_euler(glam::EulerRot::XYZ, 0.2, -0.7, 0.1), Vec3::ONE),
-        node("lower", Some(1), Vec3::new(0.0, 0.45, 0.01), Quat::IDENTITY, Vec3::new(1.0, 1.2, 0.9)),
+        node(
+            "root",
+            None,
+            Vec3::new(0.1, 1.0, -0.3),
+            Quat::from_rotation_y(0.3),
+            Vec3::ONE,
+        ),
+        node(
+            "upper",
+            Some(0),
+            Vec3::new(0.0, 0.5, 0.0),
+            Quat::from_euler(glam::EulerRot::XYZ, 0.2, -0.7, 0.1),
+            Vec3::ONE,
+        ),
+        node(
+            "lower",
+            Some(1),
+            Vec3::new(0.0, 0.45, 0.01),
+            Quat::IDENTITY,
+            Vec3::new(1.0, 1.2, 0.9),
+        ),
     ];
     let mut global: Vec<Mat4> = Vec::new();
     for n in &nodes {
@@ -434,13 +511,27 @@ fn arm() -> (Mesh, Rig) {
         global.push(above * n.rest.matrix());
     }
     let joints = vec![
-        Joint { node: 1, inverse_bind: global[1].inverse() },
-        Joint { node: 2, inverse_bind: global[2].inverse() },
+        Joint {
+            node: 1,
+            inverse_bind: global[1].inverse(),
+        },
+        Joint {
+            node: 2,
+            inverse_bind: global[2].inverse(),
+        },
     ];
     let bind_positions: Vec<Vec3> = (0..8)
-        .map(|k| global[0].transform_point3(Vec3::new(0.1 * (k % 2) as f32 - 0.05, 0.5 + 0.15 * (k / 2) as f32, 0.03)))
+        .map(|k| {
+            global[0].transform_point3(Vec3::new(
+                0.1 * (k % 2) as f32 - 0.05,
+                0.5 + 0.15 * (k / 2) as f32,
+                0.03,
+            ))
+        })
         .collect();
-    let bind_normals = (0..8).map(|k| Vec3::new(0.1 * k as f32, 0.2, 1.0).normalize()).collect();
+    let bind_normals = (0..8)
+        .map(|k| Vec3::new(0.1 * k as f32, 0.2, 1.0).normalize())
+        .collect();
     let weights = vec![
         [1.0, 0.0, 0.0, 0.0],
         [1.0, 0.0, 0.0, 0.0],
@@ -462,7 +553,11 @@ fn arm() -> (Mesh, Rig) {
                     property: Property::Translation,
                     interpolation: Interpolation::Step,
                     times: vec![0.0, 0.4, 1.1],
-                    values: vec![Vec4::new(0.1, 1.0, -0.3, 0.0), Vec4::new(0.2, 1.1, -0.3, 0.0), Vec4::new(0.0, 0.9, 0.7, 0.0)],
+                    values: vec![
+                        Vec4::new(0.1, 1.0, -0.3, 0.0),
+                        Vec4::new(0.2, 1.1, -0.3, 0.0),
+                        Vec4::new(0.0, 0.9, 0.7, 0.0),
+                    ],
                 },
                 Channel {
                     node: 1,
@@ -535,7 +630,10 @@ fn a_written_rig_reads_back_equal() {
     let bytes = write_glb(&mesh, Some(&rig)).unwrap();
     assert_eq!(&bytes[..4], b"glTF");
     assert_eq!(bytes.len() % 4, 0);
-    assert_eq!(u32::from_le_bytes(bytes[8..12].try_into().unwrap()) as usize, bytes.len());
+    assert_eq!(
+        u32::from_le_bytes(bytes[8..12].try_into().unwrap()) as usize,
+        bytes.len()
+    );
     let path = dir.write("arm.glb", &bytes);
     let body = load_gltf(&path).unwrap();
     assert!(body.warnings.is_empty(), "{:?}", body.warnings);
@@ -551,10 +649,16 @@ fn a_written_rig_reads_back_equal() {
 #[test]
 fn corners_that_disagree_on_uvs_split_their_vertex() {
     let dir = Scratch::new("uv-split");
-    let (mut mesh, mut rig) = arm();
+    let (mut mesh, rig) = arm();
     // Vertex 2 is used by three triangles; give its corner in the second one its own UV.
-    mesh.uvs[5 + 3 - 3 + 0] = mesh.uvs[5];
-    let corner = mesh.indices.iter().enumerate().filter(|(_, &v)| v == 2).nth(1).unwrap().0;
+    let corner = mesh
+        .indices
+        .iter()
+        .enumerate()
+        .filter(|(_, &v)| v == 2)
+        .nth(1)
+        .unwrap()
+        .0;
     mesh.uvs[corner] = Vec2::new(0.9, 0.9);
     let path = dir.write("split.glb", write_glb(&mesh, Some(&rig)).unwrap());
     let body = load_gltf(&path).unwrap();
@@ -565,7 +669,6 @@ fn corners_that_disagree_on_uvs_split_their_vertex() {
     assert_eq!(read.bind_positions[8], rig.bind_positions[2]);
     assert_eq!(read.weights[8], rig.weights[2]);
     // Without a rig: the mesh alone, positions as they are.
-    rig.clips.clear();
     let path = dir.write("plain.glb", write_glb(&mesh, None).unwrap());
     let body = load_gltf(&path).unwrap();
     assert!(body.rig.is_none());
@@ -605,20 +708,38 @@ fn unusable_parts_are_warnings_naming_them() {
     );
     let body = load_gltf(&path).unwrap();
     let warnings = body.warnings.join("\n");
-    for needle in ["KHR_lights_punctual", "camera", "morph targets", "JOINTS_1", "lines (LINES)"] {
-        assert!(warnings.contains(needle), "no warning about {needle}:\n{warnings}");
+    for needle in [
+        "KHR_lights_punctual",
+        "camera",
+        "morph targets",
+        "JOINTS_1",
+        "lines (LINES)",
+    ] {
+        assert!(
+            warnings.contains(needle),
+            "no warning about {needle}:\n{warnings}"
+        );
     }
     assert_eq!(body.mesh.vertex_count(), 3, "the line primitive is skipped");
-    // The skinned mesh node is a child of the bone here: it stays in the rig.
-    assert_eq!(body.rig.unwrap().nodes.len(), 2);
+    // The node that holds the skinned mesh (and a skipped line primitive) is no joint.
+    assert_eq!(body.rig.unwrap().nodes.len(), 1);
 }
 
 /// The error `load_gltf` gives for `path`, checked to name the file.
 fn refused(path: &Path) -> String {
     let start = Instant::now();
-    let error = load_gltf(path).expect_err("the file should be refused").to_string();
-    assert!(start.elapsed() < Duration::from_secs(2), "took {:?}: {error}", start.elapsed());
-    assert!(error.contains(&path.display().to_string()), "the file is not named: {error}");
+    let error = load_gltf(path)
+        .expect_err("the file should be refused")
+        .to_string();
+    assert!(
+        start.elapsed() < Duration::from_secs(2),
+        "took {:?}: {error}",
+        start.elapsed()
+    );
+    assert!(
+        error.contains(&path.display().to_string()),
+        "the file is not named: {error}"
+    );
     error
 }
 
@@ -632,22 +753,33 @@ fn broken_containers_and_buffers_are_refused() {
     let good = one_bone(&[0; 12], &[1.0, 0.0, 0.0, 0.0].repeat(3), &[0.0, 1.0], "");
     let total = good.len();
     let path = dir.write("cut.glb", &good[..120]);
-    assert_names(&refused(&path), &format!("truncated .glb: the header says {total} bytes, the file has 120"));
+    assert_names(
+        &refused(&path),
+        &format!("truncated .glb: the header says {total} bytes, the file has 120"),
+    );
     let path = dir.write("tiny.glb", b"glTF\x02\0\0\0\x05\0\0\0");
     assert_names(&refused(&path), "too few");
     let path = dir.write("short.glb", b"glTF\x02\0");
     assert_names(&refused(&path), "12-byte header");
     let path = dir.write("garbage.glb", [7u8; 64]);
     assert_names(&refused(&path), "not a glTF file");
-    let path = dir.write("old.gltf", r#"{"asset":{"version":"1.0"},"meshes":{"a":{}}}"#);
+    let path = dir.write(
+        "old.gltf",
+        r#"{"asset":{"version":"1.0"},"meshes":{"a":{}}}"#,
+    );
     assert_names(&refused(&path), "glTF 1.0");
 
     let mut doc = Doc::default();
     let p = doc.floats(&TRIANGLE, "VEC3");
-    let rest = format!(r#","nodes":[{{"mesh":0}}],"meshes":[{{"primitives":[{{"attributes":{{"POSITION":{p}}}}}]}}]"#);
+    let rest = format!(
+        r#","nodes":[{{"mesh":0}}],"meshes":[{{"primitives":[{{"attributes":{{"POSITION":{p}}}}}]}}]"#
+    );
     let with_uri = |uri: &str| doc.json(&format!(r#"{{"byteLength":36,"uri":"{uri}"}}"#), &rest);
     let path = dir.write("scene.gltf", with_uri("scene.bin"));
-    assert_names(&refused(&path), "buffer 0 (scene.bin) cannot be read: no such file");
+    assert_names(
+        &refused(&path),
+        "buffer 0 (scene.bin) cannot be read: no such file",
+    );
     let path = dir.write("web.gltf", with_uri("https://example.com/scene.bin"));
     assert_names(&refused(&path), "http(s) URLs are not fetched");
     let path = dir.write("absolute.gltf", with_uri("/etc/passwd"));
@@ -657,12 +789,18 @@ fn broken_containers_and_buffers_are_refused() {
     assert_names(&refused(&path), "a folder");
     dir.write("small.bin", [0u8; 20]);
     let path = dir.write("small.gltf", with_uri("small.bin"));
-    assert_names(&refused(&path), "buffer 0 (small.bin) has 20 bytes, but its byteLength says 36");
+    assert_names(
+        &refused(&path),
+        "buffer 0 (small.bin) has 20 bytes, but its byteLength says 36",
+    );
     let path = dir.write("draco.gltf", with_uri("x.bin").replace(
         r#""asset":{"version":"2.0"}"#,
         r#""asset":{"version":"2.0"},"extensionsUsed":["KHR_draco_mesh_compression"],"extensionsRequired":["KHR_draco_mesh_compression"]"#,
     ));
-    assert_names(&refused(&path), "requires the glTF extension(s) KHR_draco_mesh_compression");
+    assert_names(
+        &refused(&path),
+        "requires the glTF extension(s) KHR_draco_mesh_compression",
+    );
 }
 
 #[test]
@@ -670,15 +808,23 @@ fn out_of_bounds_and_absurd_accessors_are_refused_before_allocating() {
     let dir = Scratch::new("bounds");
     let mut doc = Doc::default();
     let p = doc.floats(&TRIANGLE, "VEC3");
-    let rest = format!(r#","nodes":[{{"mesh":0}}],"meshes":[{{"primitives":[{{"attributes":{{"POSITION":{p}}}}}]}}]"#);
+    let rest = format!(
+        r#","nodes":[{{"mesh":0}}],"meshes":[{{"primitives":[{{"attributes":{{"POSITION":{p}}}}}]}}]"#
+    );
     let original = doc.accessors[p].clone();
     doc.accessors[p] = original.replace(r#""count":3"#, r#""count":4"#);
     let path = dir.write("overrun.glb", doc.glb(&rest));
-    assert_names(&refused(&path), "accessor 0 (POSITION of mesh 0 primitive 0) reaches byte 48 of a 36-byte buffer view 0");
+    assert_names(
+        &refused(&path),
+        "accessor 0 (POSITION of mesh 0 primitive 0) reaches byte 48 of a 36-byte buffer view 0",
+    );
     doc.accessors[p] = original.replace(r#""count":3"#, r#""count":2147483648"#);
     let path = dir.write("huge.glb", doc.glb(&rest));
     let error = refused(&path);
-    assert_names(&error, "accessor 0 (POSITION of mesh 0 primitive 0) reaches byte 25769803776");
+    assert_names(
+        &error,
+        "accessor 0 (POSITION of mesh 0 primitive 0) reaches byte 25769803776",
+    );
     doc.accessors[p] = original.replace(r#""count":3"#, r#""count":3,"byteOffset":4294967296"#);
     let path = dir.write("far.glb", doc.glb(&rest));
     assert_names(&refused(&path), "reaches byte 4294967332");
@@ -690,13 +836,34 @@ fn out_of_bounds_and_absurd_accessors_are_refused_before_allocating() {
     doc.views[0] = doc.views[0].replace(r#""byteLength":36"#, r#""byteLength":4000000000"#);
     doc.accessors[p] = original.replace(r#""count":3"#, r#""count":300000000"#);
     let path = dir.write("view.glb", doc.glb(&rest));
-    assert_names(&refused(&path), "buffer view 0 reaches byte 4000000000 of the 36-byte buffer 0");
+    assert_names(
+        &refused(&path),
+        "buffer view 0 reaches byte 4000000000 of the 36-byte buffer 0",
+    );
+    doc.views[0] = doc.views[0].replace(r#""byteLength":4000000000"#, r#""byteLength":36"#);
+    doc.accessors[p] = original;
     // Indices naming missing things, which panic the gltf crate's own validation.
-    let path = dir.write("index.glb", doc.glb(&rest.replace(&format!(r#""POSITION":{p}"#), r#""POSITION":7"#)));
+    let path = dir.write(
+        "index.glb",
+        doc.glb(&rest.replace(&format!(r#""POSITION":{p}"#), r#""POSITION":7"#)),
+    );
     assert_names(&refused(&path), "accessor 7 does not exist");
-    let path = dir.write("node.glb", doc.glb(&format!(r#"{rest},"scenes":[{{"nodes":[3]}}]"#)));
-    assert_names(&refused(&path), "scene 0 lists node 3, which does not exist");
-    let path = dir.write("cycle.glb", doc.glb(&rest.replace(r#""mesh":0}"#, r#""mesh":0,"children":[0]}"#).replace("\"nodes\":[", "\"scenes\":[{\"nodes\":[0]}],\"nodes\":[")));
+    let path = dir.write(
+        "node.glb",
+        doc.glb(&format!(r#"{rest},"scenes":[{{"nodes":[3]}}]"#)),
+    );
+    assert_names(
+        &refused(&path),
+        "scene 0 lists node 3, which does not exist",
+    );
+    let path = dir.write(
+        "cycle.glb",
+        doc.glb(
+            &rest
+                .replace(r#""mesh":0}"#, r#""mesh":0,"children":[0]}"#)
+                .replace("\"nodes\":[", "\"scenes\":[{\"nodes\":[0]}],\"nodes\":["),
+        ),
+    );
     assert_names(&refused(&path), "node 0 is reached twice");
 }
 
@@ -732,7 +899,10 @@ fn folders_and_fifos_are_refused_without_blocking() {
     std::fs::create_dir_all(&folder).unwrap();
     assert_names(&refused(&folder), "a folder");
     let fifo = dir.0.join("pipe.glb");
-    let status = std::process::Command::new("mkfifo").arg(&fifo).status().expect("mkfifo runs");
+    let status = std::process::Command::new("mkfifo")
+        .arg(&fifo)
+        .status()
+        .expect("mkfifo runs");
     assert!(status.success());
     let (send, receive) = std::sync::mpsc::channel();
     let path = fifo.clone();
@@ -740,7 +910,10 @@ fn folders_and_fifos_are_refused_without_blocking() {
         let _ = send.send(load_gltf(&path).map(|_| ()).map_err(|e| e.to_string()));
     });
     match receive.recv_timeout(Duration::from_secs(10)) {
-        Ok(result) => assert_names(&result.expect_err("a FIFO is refused"), "a FIFO (named pipe), not a regular file"),
+        Ok(result) => assert_names(
+            &result.expect_err("a FIFO is refused"),
+            "a FIFO (named pipe), not a regular file",
+        ),
         Err(_) => {
             // Unblock the reader before failing.
             let _ = std::fs::OpenOptions::new().write(true).open(&fifo);

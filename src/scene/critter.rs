@@ -18,7 +18,7 @@ mod clips;
 #[cfg(test)]
 mod tests;
 
-/// Grid spacing of the polygonisation (sets the vertex count: 5,478).
+/// Grid spacing of the polygonisation (sets the vertex count: 5,492).
 const CELL: f32 = 0.027;
 /// Width of the weight blend between neighbouring parts (scene units).
 const BLEND: f32 = 0.035;
@@ -180,7 +180,7 @@ fn parts(bones: &[Bone]) -> Vec<(usize, Part)> {
     parts
 }
 
-/// The built-in creature: its rest-pose mesh (5,478 vertices, closed, outward
+/// The built-in creature: its rest-pose mesh (5,492 vertices, closed, outward
 /// wound, smooth normals, mirrored cylindrical texture coordinates) and its rig (23
 /// named nodes, all joints, bind pose = rest pose; clips `Walk`, 1 s, and `Idle`, 2 s).
 /// Deterministic.

@@ -119,17 +119,8 @@ pub(crate) fn surface_nets(parts: &[Part], h: f32, shift: Vec3) -> Option<(Vec<V
             }
         }
     }
+    untangle(&mut field, n, 1e-4 * h);
     let inside = |c: IVec3| field[index(c)] < 0.0;
-    const CORNERS: [IVec3; 8] = [
-        IVec3::new(0, 0, 0),
-        IVec3::new(1, 0, 0),
-        IVec3::new(0, 1, 0),
-        IVec3::new(1, 1, 0),
-        IVec3::new(0, 0, 1),
-        IVec3::new(1, 0, 1),
-        IVec3::new(0, 1, 1),
-        IVec3::new(1, 1, 1),
-    ];
     // One vertex per crossed cell: the mean of its edge crossings, projected.
     let mut positions = Vec::new();
     let mut cell_vertex: HashMap<IVec3, u32> = HashMap::new();
@@ -198,6 +189,99 @@ pub(crate) fn surface_nets(parts: &[Part], h: f32, shift: Vec3) -> Option<(Vec<V
     let (mut positions, indices) = largest_piece(&positions, &indices);
     relax(parts, &mut positions, &indices, h);
     is_closed_manifold(positions.len(), &indices).then_some((positions, indices))
+}
+
+/// Corner `i` of a grid cell: offset (bit 0, bit 1, bit 2 of `i`).
+const CORNERS: [IVec3; 8] = [
+    IVec3::new(0, 0, 0),
+    IVec3::new(1, 0, 0),
+    IVec3::new(0, 1, 0),
+    IVec3::new(1, 1, 0),
+    IVec3::new(0, 0, 1),
+    IVec3::new(1, 0, 1),
+    IVec3::new(0, 1, 1),
+    IVec3::new(1, 1, 1),
+];
+
+/// Flips grid values (to ±`tiny`) until every crossed cell holds one disc of surface:
+/// no face whose corners alternate in sign (surface nets would join four quads at one
+/// edge there) and no cell whose inside or outside corners fall apart (two sheets
+/// would share its vertex). Each fix flips the corner nearest the surface among those
+/// at fault, so the shape moves by less than a cell.
+fn untangle(field: &mut [f32], n: IVec3, tiny: f32) {
+    let index = |c: IVec3| (c.x + n.x * (c.y + n.y * c.z)) as usize;
+    for _ in 0..16 {
+        let mut changed = false;
+        for z in 0..n.z - 1 {
+            for y in 0..n.y - 1 {
+                for x in 0..n.x - 1 {
+                    let corners = CORNERS.map(|o| index(IVec3::new(x, y, z) + o));
+                    let values = corners.map(|i| field[i]);
+                    if let Some(k) = fault(&values.map(|f| f < 0.0), &values.map(f32::abs)) {
+                        let i = corners[k];
+                        field[i] = if field[i] < 0.0 { tiny } else { -tiny };
+                        changed = true;
+                    }
+                }
+            }
+        }
+        if !changed {
+            break;
+        }
+    }
+}
+
+/// The corner of a cell (signs `inside`, distances `size`) to flip, if the cell is at
+/// fault.
+fn fault(inside: &[bool; 8], size: &[f32; 8]) -> Option<usize> {
+    let nearest = |corners: &[usize]| {
+        corners
+            .iter()
+            .copied()
+            .min_by(|&a, &b| size[a].total_cmp(&size[b]))
+    };
+    for (bit, u, v) in [(1, 2, 4), (2, 4, 1), (4, 1, 2)] {
+        for side in [0, bit] {
+            let ring = [side, side | u, side | u | v, side | v];
+            let [a, b, c, d] = ring.map(|k| inside[k]);
+            if a == c && b == d && a != b {
+                return nearest(&ring);
+            }
+        }
+    }
+    for class in [true, false] {
+        // Connected pieces of the corners of this class, along the cell's edges.
+        let mut piece = [usize::MAX; 8];
+        let mut pieces: Vec<Vec<usize>> = Vec::new();
+        for start in 0..8 {
+            if inside[start] != class || piece[start] != usize::MAX {
+                continue;
+            }
+            let mut members = vec![start];
+            piece[start] = pieces.len();
+            let mut k = 0;
+            while k < members.len() {
+                for bit in [1, 2, 4] {
+                    let next = members[k] ^ bit;
+                    if inside[next] == class && piece[next] == usize::MAX {
+                        piece[next] = pieces.len();
+                        members.push(next);
+                    }
+                }
+                k += 1;
+            }
+            pieces.push(members);
+        }
+        if pieces.len() > 1 {
+            let largest = (0..pieces.len()).max_by_key(|&p| (pieces[p].len(), usize::MAX - p))?;
+            let rest: Vec<usize> = (0..pieces.len())
+                .filter(|&p| p != largest)
+                .flat_map(|p| pieces[p].clone())
+                .collect();
+            return nearest(&rest);
+        }
+    }
+    None
 }
 
 /// Evens out the triangles: a few rounds of moving each vertex half-way towards the

@@ -40,7 +40,9 @@ impl Rig {
                 }
             }
             let rest = &node.rest;
-            if !(rest.translation.is_finite() && rest.rotation.is_finite() && rest.scale.is_finite())
+            if !(rest.translation.is_finite()
+                && rest.rotation.is_finite()
+                && rest.scale.is_finite())
             {
                 return Err(format!(
                     "node {i} (`{}`) has a rest transform that is not finite: {:?}",
@@ -251,12 +253,27 @@ mod tests {
         let cases: [(Break, &str); 9] = [
             (|r| r.nodes[0].parent = Some(1), "after their parent"),
             (|r| r.joints[1].node = 5, "joint 1 is bound to node 5"),
-            (|r| r.influences[2][1] = 2, "vertex 2: influence 1 is joint 2"),
-            (|r| r.weights[1] = [f32::NAN, 1.0, 0.0, 0.0], "vertex 1 has the weight NaN"),
+            (
+                |r| r.influences[2][1] = 2,
+                "vertex 2: influence 1 is joint 2",
+            ),
+            (
+                |r| r.weights[1] = [f32::NAN, 1.0, 0.0, 0.0],
+                "vertex 1 has the weight NaN",
+            ),
             (|r| r.weights[0] = [0.5, 0.4, 0.0, 0.0], "sum to 0.9"),
-            (|r| r.bind_normals.pop().map(drop).unwrap_or(()), "2 bind normals"),
-            (|r| r.clips[0].channels[0].times = vec![1.0, 1.0], "key 1 at 1 s"),
-            (|r| r.clips[0].channels[0].values.pop().map(drop).unwrap_or(()), "need 6 values"),
+            (
+                |r| r.bind_normals.pop().map(drop).unwrap_or(()),
+                "2 bind normals",
+            ),
+            (
+                |r| r.clips[0].channels[0].times = vec![1.0, 1.0],
+                "key 1 at 1 s",
+            ),
+            (
+                |r| r.clips[0].channels[0].values.pop().map(drop).unwrap_or(()),
+                "need 6 values",
+            ),
             (|r| r.clips[0].channels[0].node = 9, "drives node 9"),
         ];
         for (break_it, needle) in cases {

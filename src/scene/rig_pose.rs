@@ -44,8 +44,7 @@ impl Channel {
         if n == 0 {
             return neutral;
         }
-        // `!(t > first)` also catches a NaN time.
-        if n == 1 || !(t > self.times[0]) {
+        if n == 1 || t.is_nan() || t <= self.times[0] {
             return finish(value(0));
         }
         if t >= self.times[n - 1] {

@@ -15,7 +15,10 @@ pub enum TextureSpec {
     File(PathBuf),
     /// An image stored inside a model (a glTF buffer view or `data:` URI): its encoded
     /// bytes (PNG, JPEG, ...) and a name for messages, such as `model.glb#image0`.
-    Embedded { name: String, bytes: Arc<[u8]> },
+    Embedded {
+        name: String,
+        bytes: Arc<[u8]>,
+    },
 }
 
 /// Like a derived `Debug`, but an embedded image shows its size, not its bytes.

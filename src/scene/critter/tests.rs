@@ -9,15 +9,21 @@ use crate::scene::Interpolation;
 fn print_the_critter() {
     let (mesh, rig) = critter();
     let (lo, hi) = mesh.aabb();
+    let smallest_angle = mesh
+        .indices
+        .chunks_exact(3)
+        .flat_map(|t| {
+            let [a, b, c] = [t[0], t[1], t[2]].map(|i| mesh.positions[i as usize]);
+            [(a, b, c), (b, c, a), (c, a, b)].map(|(p, q, r)| (q - p).angle_between(r - p))
+        })
+        .fold(f32::MAX, f32::min);
+    let clips: Vec<_> = rig.clips.iter().map(|c| (&c.name, c.duration())).collect();
     println!(
-        "critter: {} vertices, {} triangles, bounds {lo} .. {hi}, {} nodes, clips {:?}",
+        "critter: {} vertices, {} triangles, bounds {lo} .. {hi}, smallest angle {:.1}°, {} nodes, clips {clips:?}",
         mesh.vertex_count(),
         mesh.triangle_count(),
+        smallest_angle.to_degrees(),
         rig.nodes.len(),
-        rig.clips
-            .iter()
-            .map(|c| (c.name.as_str(), c.duration()))
-            .collect::<Vec<_>>()
     );
 }
 
@@ -31,9 +37,12 @@ fn the_surface_is_closed_outward_and_well_shaped() {
     );
     let mut edges: HashMap<(u32, u32), u32> = HashMap::new();
     let mut volume = 0.0;
+    let shape: Vec<Part> = parts(&skeleton()).iter().map(|(_, p)| *p).collect();
     for t in mesh.indices.chunks_exact(3) {
         let [a, b, c] = [t[0], t[1], t[2]].map(|i| mesh.positions[i as usize]);
         volume += a.dot(b.cross(c)) / 6.0;
+        let outward = implicit::gradient(&shape, (a + b + c) / 3.0, 0.005);
+        assert!((b - a).cross(c - a).dot(outward) > 0.0, "a fold at {a}");
         for (p, q, r) in [(a, b, c), (b, c, a), (c, a, b)] {
             let angle = (q - p).angle_between(r - p).to_degrees();
             assert!(angle > 8.0, "a sliver at {p}: {angle}°");
@@ -112,22 +121,21 @@ fn the_skeleton_has_every_named_node() {
         ("tail.2", Some("tail.1")),
         ("tail.3", Some("tail.2")),
     ];
-    let legs: Vec<(String, String)> =
-        ["front_leg.L", "front_leg.R", "hind_leg.L", "hind_leg.R"]
-            .iter()
-            .flat_map(|leg| {
-                let top = if leg.starts_with("front") {
-                    "chest"
-                } else {
-                    "root"
-                };
-                [
-                    (format!("{leg}.upper"), top.to_string()),
-                    (format!("{leg}.lower"), format!("{leg}.upper")),
-                    (format!("{leg}.paw"), format!("{leg}.lower")),
-                ]
-            })
-            .collect();
+    let legs: Vec<(String, String)> = ["front_leg.L", "front_leg.R", "hind_leg.L", "hind_leg.R"]
+        .iter()
+        .flat_map(|leg| {
+            let top = if leg.starts_with("front") {
+                "chest"
+            } else {
+                "root"
+            };
+            [
+                (format!("{leg}.upper"), top.to_string()),
+                (format!("{leg}.lower"), format!("{leg}.upper")),
+                (format!("{leg}.paw"), format!("{leg}.lower")),
+            ]
+        })
+        .collect();
     expected.extend(legs.iter().map(|(n, p)| (n.as_str(), Some(p.as_str()))));
     assert_eq!(rig.nodes.len(), expected.len());
     for (name, parent) in expected {
@@ -167,8 +175,7 @@ fn weights_are_normalised_and_stay_on_their_side() {
             let name = &rig.nodes[rig.joints[*j as usize].node].name;
             let leg = name.contains("_leg");
             let far = leg
-                && ((name.contains(".R") && p.x > 0.05)
-                    || (name.contains(".L") && p.x < -0.05));
+                && ((name.contains(".R") && p.x > 0.05) || (name.contains(".L") && p.x < -0.05));
             assert!(!far || *w == 0.0, "{name} pulls {p} by {w}");
         }
     }
@@ -251,4 +258,23 @@ fn both_clips_loop_seamlessly() {
 #[test]
 fn the_critter_is_deterministic() {
     assert!(critter() == critter());
+}
+
+#[test]
+fn bone_directions_run_down_the_legs_and_out_along_the_tail() {
+    let (mesh, rig) = critter();
+    let directions = rig.bone_directions();
+    assert_eq!(directions.len(), mesh.vertex_count());
+    for ((d, j), w) in directions.iter().zip(&rig.influences).zip(&rig.weights) {
+        assert!((d.length() - 1.0).abs() < 1e-5);
+        let heaviest = (0..4).max_by(|a, b| w[*a].total_cmp(&w[*b])).unwrap();
+        let name = &rig.nodes[rig.joints[j[heaviest] as usize].node].name;
+        if name.ends_with(".upper") || name.ends_with(".lower") {
+            assert!(d.y < -0.7, "{name}: {d}");
+        } else if name.starts_with("tail") {
+            assert!(d.z < -0.8, "{name}: {d}");
+        } else if name == "spine" || name == "head" {
+            assert!(d.z > 0.9, "{name}: {d}");
+        }
+    }
 }

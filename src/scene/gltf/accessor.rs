@@ -120,7 +120,9 @@ impl Source<'_> {
             .ok_or_else(|| format!("{} ({what})", self.missing(index)))?;
         let name = label(index, what);
         if accessor.sparse.is_some() {
-            return Err(format!("{name} is sparse: sparse accessors are not supported"));
+            return Err(format!(
+                "{name} is sparse: sparse accessors are not supported"
+            ));
         }
         let actual = match accessor.type_ {
             Checked::Valid(t) => t,
@@ -152,7 +154,11 @@ impl Source<'_> {
             },
         };
         if !fits {
-            let normalized = if accessor.normalized { "normalised " } else { "" };
+            let normalized = if accessor.normalized {
+                "normalised "
+            } else {
+                ""
+            };
             return Err(format!(
                 "{name} holds {normalized}{} components; expected {}",
                 component_name(component),

@@ -46,7 +46,9 @@ pub(super) fn read_clips(
                     continue;
                 }
                 Checked::Invalid => {
-                    warnings.push(format!("{place} animates an unknown property; it is ignored"));
+                    warnings.push(format!(
+                        "{place} animates an unknown property; it is ignored"
+                    ));
                     continue;
                 }
             };

@@ -76,8 +76,8 @@ pub fn load_gltf(path: &Path) -> Result<GltfBody> {
         path: path.to_path_buf(),
         message,
     };
-    let bytes = crate::files::read_bounded(path, crate::files::MAX_MODEL_BYTES, "model")
-        .map_err(error)?;
+    let bytes =
+        crate::files::read_bounded(path, crate::files::MAX_MODEL_BYTES, "model").map_err(error)?;
     let mut warnings = Vec::new();
     let source = source::Source::open(bytes, path, &mut warnings).map_err(error)?;
     let (mesh, rig) = read::read_body(&source, &mut warnings).map_err(error)?;

@@ -10,7 +10,7 @@ use gltf::json::{self, Index};
 
 use super::accessor::Allowed;
 use super::read::Body;
-use super::skin::{read_skin_weights, Joints};
+use super::skin::{read_skin_weights, Joints, SkinUse};
 use super::source::Source;
 use super::tree::Tree;
 use super::MAX_VERTICES;
@@ -23,6 +23,14 @@ pub(super) fn attribute(primitive: &json::mesh::Primitive, semantic: Semantic) -
         .attributes
         .get(&Checked::Valid(semantic))
         .map(|i: &Index<json::Accessor>| i.value())
+}
+
+/// Whether a primitive is made of triangles (a list, strip or fan).
+pub(super) fn is_triangles(primitive: &json::mesh::Primitive) -> bool {
+    matches!(
+        primitive.mode,
+        Checked::Valid(Mode::Triangles | Mode::TriangleStrip | Mode::TriangleFan)
+    )
 }
 
 pub(super) fn has_skin_attributes(primitive: &json::mesh::Primitive) -> bool {
@@ -66,7 +74,10 @@ pub(super) fn add_node(
     };
     let morphs = mesh.weights.is_some()
         || node.weights.is_some()
-        || mesh.primitives.iter().any(|p| p.targets.as_ref().is_some_and(|t| !t.is_empty()));
+        || mesh
+            .primitives
+            .iter()
+            .any(|p| p.targets.as_ref().is_some_and(|t| !t.is_empty()));
     if morphs && morph_warned.insert(m) {
         warnings.push(format!(
             "mesh {m} has morph targets (blend shapes); they are ignored and it keeps its base shape"
@@ -78,7 +89,9 @@ pub(super) fn add_node(
     for (p, primitive) in mesh.primitives.iter().enumerate() {
         let place = format!("mesh {m} primitive {p}");
         let mode = match primitive.mode {
-            Checked::Valid(mode @ (Mode::Triangles | Mode::TriangleStrip | Mode::TriangleFan)) => mode,
+            Checked::Valid(mode @ (Mode::Triangles | Mode::TriangleStrip | Mode::TriangleFan)) => {
+                mode
+            }
             Checked::Valid(other) => {
                 warnings.push(format!(
                     "{place} is made of {}; only triangles are read, it is skipped",
@@ -96,19 +109,24 @@ pub(super) fn add_node(
         }
         let position = attribute(primitive, Semantic::Positions)
             .ok_or_else(|| format!("{place} has no POSITION attribute"))?;
-        let count = source.accessor_count(position)?;
-        if count as usize > MAX_VERTICES.saturating_sub(body.positions.len()) {
+        let read_vec3 = |index: usize, what: &str| -> Result<Vec<Vec3>, String> {
+            let floats = source.floats(
+                index,
+                &format!("{what} of {place}"),
+                Type::Vec3,
+                Allowed::Float,
+            )?;
+            Ok(floats.chunks_exact(3).map(Vec3::from_slice).collect())
+        };
+        // Bounds-checked against its buffer first: at most the buffer's size is read.
+        let positions = read_vec3(position, "POSITION")?;
+        let count = positions.len();
+        if count > MAX_VERTICES.saturating_sub(body.positions.len()) {
             return Err(format!(
                 "the scene's meshes add up to more than {MAX_VERTICES} vertices (at {place} of \
                  node {f}), more than fur can grow hair on"
             ));
         }
-        let count = count as usize;
-        let read_vec3 = |index: usize, what: &str| -> Result<Vec<Vec3>, String> {
-            let floats = source.floats(index, &format!("{what} of {place}"), Type::Vec3, Allowed::Float)?;
-            Ok(floats.chunks_exact(3).map(Vec3::from_slice).collect())
-        };
-        let positions = read_vec3(position, "POSITION")?;
         if let Some(v) = positions.iter().position(|p| !p.is_finite()) {
             return Err(format!(
                 "vertex {v} of {place} has a position that is not finite ({})",
@@ -143,7 +161,10 @@ pub(super) fn add_node(
                 let uvs: Vec<Vec2> = floats.chunks_exact(2).map(Vec2::from_slice).collect();
                 same_count("TEXCOORD_0", uvs.len())?;
                 if let Some(k) = uvs.iter().position(|uv| !uv.is_finite()) {
-                    return Err(format!("TEXCOORD_0 {k} of {place} is not finite ({})", uvs[k]));
+                    return Err(format!(
+                        "TEXCOORD_0 {k} of {place} is not finite ({})",
+                        uvs[k]
+                    ));
                 }
                 Some(uvs)
             }
@@ -195,23 +216,22 @@ pub(super) fn add_node(
             .extend(triangles.iter().flat_map(|t| t.map(|i| base + i)));
         match (&mut rig, skin) {
             (Some((joints, rig_index)), Some((s, skin))) if skinned => {
-                if primitive.attributes.contains_key(&Checked::Valid(Semantic::Joints(1))) {
+                if primitive
+                    .attributes
+                    .contains_key(&Checked::Valid(Semantic::Joints(1)))
+                {
                     warnings.push(format!(
                         "{place} has a second set of joint influences (JOINTS_1/WEIGHTS_1); \
                          it is ignored, only JOINTS_0/WEIGHTS_0 are used"
                     ));
                 }
                 let first = joints.add_skin(source, rig_index, s, skin)?;
-                read_skin_weights(
-                    source,
-                    primitive,
-                    &place,
-                    s,
-                    skin.joints.len(),
+                let used = SkinUse {
+                    index: s,
+                    joints: skin.joints.len(),
                     first,
-                    count,
-                    body,
-                )?;
+                };
+                read_skin_weights(source, primitive, &place, used, count, body)?;
                 body.positions.extend(&positions);
                 if let Some(normals) = &normals {
                     body.normals.extend(normals);
@@ -221,12 +241,15 @@ pub(super) fn add_node(
                 body.positions
                     .extend(positions.iter().map(|&q| global.transform_point3(q)));
                 if let Some(normals) = &normals {
-                    body.normals.extend(normals.iter().map(|&n| normal_matrix * n));
+                    body.normals
+                        .extend(normals.iter().map(|&n| normal_matrix * n));
                 }
                 if let Some((joints, rig_index)) = &mut rig {
                     let joint = joints.add_node_joint(tree, rig_index, f)?;
-                    body.influences.extend(std::iter::repeat_n([joint, 0, 0, 0], count));
-                    body.weights.extend(std::iter::repeat_n([1.0, 0.0, 0.0, 0.0], count));
+                    body.influences
+                        .extend(std::iter::repeat_n([joint, 0, 0, 0], count));
+                    body.weights
+                        .extend(std::iter::repeat_n([1.0, 0.0, 0.0, 0.0], count));
                 }
             }
         }

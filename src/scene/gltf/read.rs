@@ -9,11 +9,10 @@ use gltf::json::validation::Checked;
 
 use super::super::{Mesh, Node, Rig, TextureSpec};
 use super::animation;
-use super::primitive::{add_node, has_skin_attributes};
+use super::primitive::{add_node, has_skin_attributes, is_triangles};
 use super::skin::{blend, Joints};
 use super::source::Source;
 use super::tree::Tree;
-
 
 /// The merged primitives, per vertex in bind space (for a body without a rig, bind
 /// space is the scene's world space).
@@ -70,12 +69,16 @@ pub(super) fn read_body(
         )?;
     }
     if body.material.is_none() {
-        return Err("no triangles: the scene has no triangle primitives, and fur grows from \
+        return Err(
+            "no triangles: the scene has no triangle primitives, and fur grows from \
                     triangles"
-            .into());
+                .into(),
+        );
     }
     if body.indices.is_empty() {
-        return Err("no triangles: the scene's triangle primitives have no complete triangle".into());
+        return Err(
+            "no triangles: the scene's triangle primitives have no complete triangle".into(),
+        );
     }
     let skinning: Vec<Mat4> = joints
         .joints
@@ -85,7 +88,10 @@ pub(super) fn read_body(
         .collect();
     let rest: Vec<Vec3> = if rigged {
         (0..body.positions.len())
-            .map(|v| blend(&skinning, body.influences[v], body.weights[v]).transform_point3(body.positions[v]))
+            .map(|v| {
+                blend(&skinning, body.influences[v], body.weights[v])
+                    .transform_point3(body.positions[v])
+            })
             .collect()
     } else {
         body.positions.clone()
@@ -215,7 +221,11 @@ fn rig_indices(root: &json::Root, tree: &Tree, rigged: bool) -> Vec<Option<usize
         node.skin.is_some()
             && !tree.has_children[f]
             && !is_joint[f]
-            && mesh.primitives.iter().all(|p| has_skin_attributes(p))
+            && mesh
+                .primitives
+                .iter()
+                .filter(|p| is_triangles(p))
+                .all(has_skin_attributes)
     };
     let mut index = vec![None; root.nodes.len()];
     let mut next = 0;
@@ -266,7 +276,8 @@ fn drop_degenerate_triangles(mesh: &mut Mesh) {
         let degenerate = t[0] == t[1]
             || t[1] == t[2]
             || t[0] == t[2]
-            || !((b - a).cross(c - a).length_squared() > 0.0);
+            || (b - a).cross(c - a).length_squared().partial_cmp(&0.0)
+                != Some(std::cmp::Ordering::Greater);
         if !degenerate {
             indices.extend_from_slice(t);
             if has_uvs {
@@ -281,7 +292,10 @@ fn drop_degenerate_triangles(mesh: &mut Mesh) {
 /// The base colour texture of material `index`, if it has one that can be used.
 fn texture(source: &Source, index: usize, warnings: &mut Vec<String>) -> Option<TextureSpec> {
     let material = source.root.materials.get(index)?;
-    let info = material.pbr_metallic_roughness.base_color_texture.as_ref()?;
+    let info = material
+        .pbr_metallic_roughness
+        .base_color_texture
+        .as_ref()?;
     if info.tex_coord != 0 {
         warnings.push(format!(
             "model {}: material {index}'s base colour texture uses TEXCOORD_{}, which fur does \

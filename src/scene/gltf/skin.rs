@@ -45,7 +45,11 @@ impl Joints {
         }
         let matrices = match skin.inverse_bind_matrices.map(|i| i.value()) {
             Some(index) => {
-                let m = source.matrices(index, &format!("inverseBindMatrices of skin {s}"), skin.joints.len())?;
+                let m = source.matrices(
+                    index,
+                    &format!("inverseBindMatrices of skin {s}"),
+                    skin.joints.len(),
+                )?;
                 if m.len() < 16 * skin.joints.len() {
                     return Err(format!(
                         "skin {s} has {} joints, but its inverseBindMatrices (accessor {index}) \
@@ -69,9 +73,7 @@ impl Joints {
                 .get(16 * k..16 * k + 16)
                 .map_or(Mat4::IDENTITY, Mat4::from_cols_slice);
             if !inverse_bind.is_finite() {
-                return Err(format!(
-                    "skin {s}'s inverse bind matrix {k} is not finite"
-                ));
+                return Err(format!("skin {s}'s inverse bind matrix {k} is not finite"));
             }
             self.joints.push(Joint {
                 node: *rig_node,
@@ -110,37 +112,62 @@ impl Joints {
     }
 }
 
+/// A skin as a primitive uses it: its index, its joint count, and the rig index of its
+/// first joint.
+pub(super) struct SkinUse {
+    pub index: usize,
+    pub joints: usize,
+    pub first: u16,
+}
+
 /// Reads a skinned primitive's JOINTS_0 and WEIGHTS_0 into the body (joint indices
-/// offset by `first`, weights renormalised); it has `vertices` vertices.
+/// offset by the skin's first, weights renormalised); it has `vertices` vertices.
 pub(super) fn read_skin_weights(
     source: &Source,
     primitive: &json::mesh::Primitive,
     place: &str,
-    s: usize,
-    joint_count: usize,
-    first: u16,
+    skin: SkinUse,
     vertices: usize,
     body: &mut Body,
 ) -> Result<(), String> {
+    let SkinUse {
+        index: s,
+        joints: joint_count,
+        first,
+    } = skin;
     let (Some(ji), Some(wi)) = (
         attribute(primitive, Semantic::Joints(0)),
         attribute(primitive, Semantic::Weights(0)),
     ) else {
         return Err(format!("{place} has no JOINTS_0/WEIGHTS_0"));
     };
-    let joints = source.uints(ji, &format!("JOINTS_0 of {place}"), Type::Vec4, Allowed::Unsigned { wide: false })?;
+    let joints = source.uints(
+        ji,
+        &format!("JOINTS_0 of {place}"),
+        Type::Vec4,
+        Allowed::Unsigned { wide: false },
+    )?;
     let weights = source.floats(
         wi,
         &format!("WEIGHTS_0 of {place}"),
         Type::Vec4,
         Allowed::FloatOrNormalized { signed: false },
     )?;
-    for (what, len) in [("JOINTS_0", joints.len() / 4), ("WEIGHTS_0", weights.len() / 4)] {
+    for (what, len) in [
+        ("JOINTS_0", joints.len() / 4),
+        ("WEIGHTS_0", weights.len() / 4),
+    ] {
         if len != vertices {
-            return Err(format!("{what} of {place} has {len} elements for its {vertices} vertices"));
+            return Err(format!(
+                "{what} of {place} has {len} elements for its {vertices} vertices"
+            ));
         }
     }
-    for (v, (j, w)) in joints.chunks_exact(4).zip(weights.chunks_exact(4)).enumerate() {
+    for (v, (j, w)) in joints
+        .chunks_exact(4)
+        .zip(weights.chunks_exact(4))
+        .enumerate()
+    {
         let w = [w[0], w[1], w[2], w[3]];
         if let Some(bad) = w.iter().find(|x| !x.is_finite() || **x < 0.0) {
             return Err(format!(
@@ -155,7 +182,11 @@ pub(super) fn read_skin_weights(
                  to no joint"
             ));
         }
-        let w = if (sum - 1.0).abs() <= 1e-6 { w } else { w.map(|x| x / sum) };
+        let w = if (sum - 1.0).abs() <= 1e-6 {
+            w
+        } else {
+            w.map(|x| x / sum)
+        };
         let mut influence = [0u16; 4];
         for (slot, &joint) in j.iter().enumerate() {
             if joint as usize >= joint_count {

@@ -38,30 +38,39 @@ impl<'a> Source<'a> {
     /// Splits a `.glb` (or takes `.gltf` JSON text), parses the document and refuses
     /// files that require extensions; extensions used but not required, and cameras,
     /// are warnings.
-    pub fn open(file: Vec<u8>, model: &'a Path, warnings: &mut Vec<String>) -> Result<Self, String> {
+    pub fn open(
+        file: Vec<u8>,
+        model: &'a Path,
+        warnings: &mut Vec<String>,
+    ) -> Result<Self, String> {
         let (json_range, bin) = if file.starts_with(b"glTF") {
             split_glb(&file)?
         } else {
-            let start = if file.starts_with(b"\xEF\xBB\xBF") { 3 } else { 0 };
-            let first = file.get(start..).and_then(|rest| {
-                rest.iter().find(|b| !b.is_ascii_whitespace()).copied()
-            });
+            let start = if file.starts_with(b"\xEF\xBB\xBF") {
+                3
+            } else {
+                0
+            };
+            let first = file
+                .get(start..)
+                .and_then(|rest| rest.iter().find(|b| !b.is_ascii_whitespace()).copied());
             if first != Some(b'{') {
-                return Err("not a glTF file: a .glb starts with `glTF` and a .gltf is JSON \
+                return Err(
+                    "not a glTF file: a .glb starts with `glTF` and a .gltf is JSON \
                             text starting with `{`"
-                    .into());
+                        .into(),
+                );
             }
             (start..file.len(), None)
         };
         let text = file.get(json_range).unwrap_or_default();
-        let root: json::Root = json::deserialize::from_slice(text).map_err(|e| {
-            match declared_version(text) {
+        let root: json::Root =
+            json::deserialize::from_slice(text).map_err(|e| match declared_version(text) {
                 Some(v) if !v.starts_with("2.") => {
                     format!("it is a glTF {v} file; only glTF 2.0 is supported")
                 }
                 _ => format!("not a valid glTF 2.0 document ({e})"),
-            }
-        })?;
+            })?;
         if !root.asset.version.starts_with("2.") {
             return Err(format!(
                 "it is a glTF {} file; only glTF 2.0 is supported",
@@ -125,14 +134,10 @@ impl<'a> Source<'a> {
             },
             Some(uri) => {
                 let cell = self.loaded.get(index).ok_or("buffer cache out of step")?;
-                let result = cell.get_or_init(|| {
-                    match self.resolve(uri)? {
-                        Uri::Data(bytes) => Ok(bytes),
-                        Uri::File(path) => crate::files::read_bounded(
-                            &path,
-                            crate::files::MAX_MODEL_BYTES,
-                            "model",
-                        ),
+                let result = cell.get_or_init(|| match self.resolve(uri)? {
+                    Uri::Data(bytes) => Ok(bytes),
+                    Uri::File(path) => {
+                        crate::files::read_bounded(&path, crate::files::MAX_MODEL_BYTES, "model")
                     }
                 });
                 result
@@ -184,7 +189,7 @@ impl<'a> Source<'a> {
                 )
             })?;
         let start = view.byte_offset.map_or(0, |o| o.0);
-        let end = start.checked_add(view.byte_length.0).unwrap_or(u64::MAX);
+        let end = start.saturating_add(view.byte_length.0);
         if end > declared {
             return Err(format!(
                 "buffer view {index} reaches byte {end} of the {declared}-byte {}",
@@ -248,7 +253,9 @@ impl<'a> Source<'a> {
         };
         let image_index = texture.source.value();
         let Some(image) = self.root.images.get(image_index) else {
-            return warn(format!("texture {index} names image {image_index}, which does not exist"));
+            return warn(format!(
+                "texture {index} names image {image_index}, which does not exist"
+            ));
         };
         let name = format!(
             "{}#image{image_index}",
@@ -267,7 +274,9 @@ impl<'a> Source<'a> {
             };
         }
         let Some(uri) = image.uri.as_deref() else {
-            return warn(format!("image {image_index} has neither a uri nor a bufferView"));
+            return warn(format!(
+                "image {image_index} has neither a uri nor a bufferView"
+            ));
         };
         match self.resolve(uri) {
             Ok(Uri::Data(bytes)) => Some(TextureSpec::Embedded {
@@ -361,7 +370,8 @@ fn declared_version(text: &[u8]) -> Option<String> {
 }
 
 fn is_data_uri(uri: &str) -> bool {
-    uri.get(..5).is_some_and(|s| s.eq_ignore_ascii_case("data:"))
+    uri.get(..5)
+        .is_some_and(|s| s.eq_ignore_ascii_case("data:"))
 }
 
 /// The bytes of a `data:` URI: base64 (`;base64,`) or percent-encoded text.
@@ -376,7 +386,10 @@ fn decode_data_uri(uri: &str) -> Result<Vec<u8>, String> {
                 .with_decode_padding_mode(base64::engine::DecodePaddingMode::Indifferent)
                 .with_decode_allow_trailing_bits(true),
         );
-        let payload: String = payload.chars().filter(|c| !c.is_ascii_whitespace()).collect();
+        let payload: String = payload
+            .chars()
+            .filter(|c| !c.is_ascii_whitespace())
+            .collect();
         engine
             .decode(payload.as_bytes())
             .map_err(|e| format!("its data: URI is not valid base64 ({e})"))

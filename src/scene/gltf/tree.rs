@@ -69,10 +69,13 @@ impl Tree {
         let mut parent = vec![None; n];
         let mut in_scene = vec![false; n];
         let mut children: Vec<Vec<usize>> = vec![Vec::new(); n];
-        let mut stack: Vec<(usize, Option<usize>)> = roots.iter().rev().map(|&r| (r, None)).collect();
+        let mut stack: Vec<(usize, Option<usize>)> =
+            roots.iter().rev().map(|&r| (r, None)).collect();
         while let Some((node, from)) = stack.pop() {
             let seen = in_scene.get_mut(node).ok_or_else(|| {
-                format!("{scene_name} lists node {node}, which does not exist (the file has {n} nodes)")
+                format!(
+                    "{scene_name} lists node {node}, which does not exist (the file has {n} nodes)"
+                )
             })?;
             if *seen {
                 return Err(format!(

@@ -64,9 +64,19 @@ pub fn write_glb(mesh: &Mesh, rig: Option<&Rig>) -> Result<Vec<u8>> {
     );
     let bounds = Some((min.to_array().to_vec(), max.to_array().to_vec()));
     let floats = |v: &[Vec3]| v.iter().flat_map(|p| p.to_array()).collect::<Vec<f32>>();
-    let position = doc.floats(&floats(&written), Type::Vec3, bounds, Some(Target::ArrayBuffer));
+    let position = doc.floats(
+        &floats(&written),
+        Type::Vec3,
+        bounds,
+        Some(Target::ArrayBuffer),
+    );
     attributes.insert(Checked::Valid(json::mesh::Semantic::Positions), position);
-    let normal = doc.floats(&floats(&pick(normals)), Type::Vec3, None, Some(Target::ArrayBuffer));
+    let normal = doc.floats(
+        &floats(&pick(normals)),
+        Type::Vec3,
+        None,
+        Some(Target::ArrayBuffer),
+    );
     attributes.insert(Checked::Valid(json::mesh::Semantic::Normals), normal);
     if let Some(uvs) = &split.uvs {
         let data: Vec<f32> = uvs.iter().flat_map(|uv| uv.to_array()).collect();
@@ -81,9 +91,20 @@ pub fn write_glb(mesh: &Mesh, rig: Option<&Rig>) -> Result<Vec<u8>> {
             .flat_map(u16::to_le_bytes)
             .collect();
         let count = split.source.len();
-        let joints = doc.accessor(&joints, count, ComponentType::U16, Type::Vec4, None, Some(Target::ArrayBuffer));
+        let joints = doc.accessor(
+            &joints,
+            count,
+            ComponentType::U16,
+            Type::Vec4,
+            None,
+            Some(Target::ArrayBuffer),
+        );
         attributes.insert(Checked::Valid(json::mesh::Semantic::Joints(0)), joints);
-        let weights: Vec<f32> = split.source.iter().flat_map(|&i| rig.weights[i as usize]).collect();
+        let weights: Vec<f32> = split
+            .source
+            .iter()
+            .flat_map(|&i| rig.weights[i as usize])
+            .collect();
         let weights = doc.floats(&weights, Type::Vec4, None, Some(Target::ArrayBuffer));
         attributes.insert(Checked::Valid(json::mesh::Semantic::Weights(0)), weights);
     }
@@ -150,10 +171,16 @@ fn check_mesh(mesh: &Mesh) -> std::result::Result<(), String> {
         return Err(format!("{n} vertices are more than 32-bit indices reach"));
     }
     if mesh.indices.len() % 3 != 0 {
-        return Err(format!("{} indices are not whole triangles", mesh.indices.len()));
+        return Err(format!(
+            "{} indices are not whole triangles",
+            mesh.indices.len()
+        ));
     }
     if let Some(k) = mesh.indices.iter().position(|&i| i as usize >= n) {
-        return Err(format!("index {k} is {}, past the {n} vertices", mesh.indices[k]));
+        return Err(format!(
+            "index {k} is {}, past the {n} vertices",
+            mesh.indices[k]
+        ));
     }
     if !mesh.uvs.is_empty() && mesh.uvs.len() != mesh.indices.len() {
         return Err(format!(
@@ -163,7 +190,10 @@ fn check_mesh(mesh: &Mesh) -> std::result::Result<(), String> {
         ));
     }
     if let Some(v) = mesh.positions.iter().position(|p| !p.is_finite()) {
-        return Err(format!("vertex {v}'s position {} is not finite", mesh.positions[v]));
+        return Err(format!(
+            "vertex {v}'s position {} is not finite",
+            mesh.positions[v]
+        ));
     }
     Ok(())
 }
@@ -339,13 +369,21 @@ impl Doc {
 
     /// The one skin: the rig's joints in order.
     fn skin(&mut self, rig: &Rig) -> Index<json::Skin> {
-        let data: Vec<f32> = rig.joints.iter().flat_map(|j| j.inverse_bind.to_cols_array()).collect();
+        let data: Vec<f32> = rig
+            .joints
+            .iter()
+            .flat_map(|j| j.inverse_bind.to_cols_array())
+            .collect();
         let matrices = self.floats(&data, Type::Mat4, None, None);
         self.root.push(json::Skin {
             extensions: None,
             extras: Default::default(),
             inverse_bind_matrices: Some(matrices),
-            joints: rig.joints.iter().map(|j| Index::new(j.node as u32)).collect(),
+            joints: rig
+                .joints
+                .iter()
+                .map(|j| Index::new(j.node as u32))
+                .collect(),
             name: None,
             skeleton: None,
         })
@@ -357,13 +395,28 @@ impl Doc {
         let mut samplers = Vec::new();
         let mut channels = Vec::new();
         for (c, channel) in clip.channels.iter().enumerate() {
-            let (lo, hi) = channel.times.iter().fold((f32::MAX, f32::MIN), |(lo, hi), &t| (lo.min(t), hi.max(t)));
-            let input = self.floats(&channel.times, Type::Scalar, Some((vec![lo], vec![hi])), None);
+            let (lo, hi) = channel
+                .times
+                .iter()
+                .fold((f32::MAX, f32::MIN), |(lo, hi), &t| (lo.min(t), hi.max(t)));
+            let input = self.floats(
+                &channel.times,
+                Type::Scalar,
+                Some((vec![lo], vec![hi])),
+                None,
+            );
             let (ty, values): (Type, Vec<f32>) = match channel.property {
-                Property::Rotation => (Type::Vec4, channel.values.iter().flat_map(|v| v.to_array()).collect()),
+                Property::Rotation => (
+                    Type::Vec4,
+                    channel.values.iter().flat_map(|v| v.to_array()).collect(),
+                ),
                 _ => (
                     Type::Vec3,
-                    channel.values.iter().flat_map(|v: &Vec4| v.truncate().to_array()).collect(),
+                    channel
+                        .values
+                        .iter()
+                        .flat_map(|v: &Vec4| v.truncate().to_array())
+                        .collect(),
                 ),
             };
             let output = self.floats(&values, ty, None, None);

@@ -296,14 +296,15 @@ pub fn scene(
     Ok(scene)
 }
 
-/// Which clip a skinned or animated model plays (`fur render`).
+/// Which clip a skinned or animated model plays; options given here override the
+/// scene file's `[animation]`.
 #[derive(Args, Clone, Default)]
 pub struct AnimationArgs {
     /// The clip to play, by name, any case (`walk` finds `Walk`); `none` holds the rest
     /// pose [default: the model's first clip].
     #[arg(long, allow_hyphen_values = true)]
     pub animation: Option<String>,
-    /// Clip seconds per simulated second [1].
+    /// Clip seconds per simulated second, 0..100 [1].
     #[arg(long, allow_negative_numbers = true)]
     pub animation_speed: Option<f32>,
     /// Clip time at the first frame, seconds [0].
@@ -318,43 +319,17 @@ pub struct AnimationArgs {
 }
 
 impl AnimationArgs {
-    /// The playback for a model's rig: the named clip (an unknown name is an error that
-    /// lists the clips), the first clip by default. A model without a rig takes no
-    /// `--animation`.
-    pub fn playback(
-        &self,
-        rig: Option<fur::scene::Rig>,
-        model: &str,
-    ) -> anyhow::Result<Option<(fur::scene::Rig, fur::skinning::Playback)>> {
-        let Some(rig) = rig else {
-            if let Some(name) = self.animation.as_deref().filter(|n| *n != "none") {
-                anyhow::bail!("--animation {name}: model {model} has no skin or animation");
-            }
-            return Ok(None);
-        };
-        let clip = match self.animation.as_deref() {
-            Some("none") => None,
-            Some(name) => Some(
-                rig.clip_index(name)
-                    .map_err(|e| anyhow::anyhow!("--animation {name}: {e}"))?,
-            ),
-            None => (!rig.clips.is_empty()).then_some(0),
-        };
-        let speed = self.animation_speed.unwrap_or(1.0);
-        let start = self.animation_start.unwrap_or(0.0);
-        if !(speed.is_finite() && (0.0..=100.0).contains(&speed)) {
-            anyhow::bail!("--animation-speed must be in [0, 100], got {speed}");
+    pub fn apply(&self, spec: &mut fur::skinning::AnimationSpec) {
+        if let Some(clip) = &self.animation {
+            spec.clip = Some(clip.clone());
         }
-        if !(start.is_finite() && start >= 0.0) {
-            anyhow::bail!("--animation-start must be a time ≥ 0 seconds, got {start}");
+        set(&mut spec.speed, self.animation_speed);
+        set(&mut spec.start, self.animation_start);
+        if self.no_loop {
+            spec.looping = false;
         }
-        let playback = fur::skinning::Playback {
-            clip,
-            speed,
-            start,
-            looping: !self.no_loop,
-            in_place: !self.root_motion,
-        };
-        Ok(Some((rig, playback)))
+        if self.root_motion {
+            spec.in_place = false;
+        }
     }
 }

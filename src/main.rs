@@ -87,6 +87,8 @@ struct ViewArgs {
     save_scene: Option<PathBuf>,
     #[command(flatten)]
     sim: SimArgs,
+    #[command(flatten)]
+    animation: args::AnimationArgs,
     /// Present without waiting for vertical blank (mailbox or immediate when available).
     #[arg(long)]
     no_vsync: bool,
@@ -242,6 +244,7 @@ fn view(args: ViewArgs) -> anyhow::Result<()> {
     args::set(&mut scene.width, args.width);
     args::set(&mut scene.height, args.height);
     scene.sim.validate()?;
+    args.animation.apply(&mut scene.animation);
     if let Some(path) = &args.save_scene {
         fur::files::check_output_file(path)?;
     }
@@ -251,6 +254,7 @@ fn view(args: ViewArgs) -> anyhow::Result<()> {
         scene: scene.options.clone(),
         sim: scene.sim.clone(),
         motion: scene.motion,
+        animation: scene.animation.clone(),
         vsync: !args.no_vsync,
         frames: args.frames,
         validate: args.validate,
@@ -312,8 +316,9 @@ fn render(args: &RenderArgs) -> anyhow::Result<()> {
     for warning in warnings {
         eprintln!("warning: {warning}");
     }
-    let rig = args.animation.playback(rig, &scene.model.name())?;
-    if rig.is_some() && args.motion.is_none() {
+    args.animation.apply(&mut scene.animation);
+    let rig = scene.animation.resolve(rig, &scene.model.name())?;
+    if rig.is_some() && args.motion.is_none() && scene.motion == Default::default() {
         // A character moves by its clip; the head stays put unless asked.
         scene.motion.kind = MotionKind::Still;
     }

@@ -97,10 +97,10 @@ pub(crate) fn gradient(parts: &[Part], p: Vec3, step: f32) -> Vec3 {
 /// Polygonises the union's zero set with surface nets on a grid of spacing `h` whose
 /// origin is shifted by `shift` (in cells): one vertex per cell the surface crosses,
 /// projected onto the surface, and one quad (two triangles, split on the shorter
-/// diagonal) per grid edge it crosses. Keeps the largest connected piece. Returns
-/// positions and counter-clockwise (seen from outside) triangles, or `None` when the
-/// result is not a closed 2-manifold (a thin feature met the grid badly: try another
-/// shift).
+/// diagonal) per grid edge it crosses, after untangling the cells where that would
+/// not be a manifold; the triangles are then evened out. Keeps the largest connected
+/// piece. Returns positions and counter-clockwise (seen from outside) triangles, or
+/// `None` should the result still not be a closed 2-manifold (try another shift).
 pub(crate) fn surface_nets(parts: &[Part], h: f32, shift: Vec3) -> Option<(Vec<Vec3>, Vec<u32>)> {
     let (lo, hi) = parts.iter().map(Part::aabb).fold(
         (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN)),

@@ -37,6 +37,16 @@ pub(super) fn checks(
         ("camera", "fov", within(o.fov_deg, 1.0, 170.0)),
         ("groom", "hair_length", positive(o.hair_length)),
         (
+            "animation",
+            "speed",
+            within(scene.animation.speed, 0.0, 100.0),
+        ),
+        (
+            "animation",
+            "start",
+            within(scene.animation.start, 0.0, 1e6),
+        ),
+        (
             "groom",
             "segments",
             if (1..=63).contains(&o.segments) {

@@ -29,6 +29,8 @@ pub struct Scene {
     pub options: SceneOptions,
     pub sim: SimParams,
     pub motion: MotionSpec,
+    /// Which clip a skinned or animated model plays.
+    pub animation: crate::skinning::AnimationSpec,
     pub width: u32,
     pub height: u32,
 }
@@ -76,6 +78,7 @@ impl Scene {
             model,
             sim: Self::default_sim(),
             motion: MotionSpec::default(),
+            animation: Default::default(),
             width: 1280,
             height: 720,
         }
@@ -192,6 +195,13 @@ impl Scene {
                 kind: Some(self.motion.kind.name().into()),
                 amplitude: Some(self.motion.amplitude),
                 rate: Some(self.motion.rate),
+            }),
+            animation: Some(AnimationSection {
+                clip: self.animation.clip.clone(),
+                speed: Some(self.animation.speed),
+                start: Some(self.animation.start),
+                looping: Some(self.animation.looping),
+                in_place: Some(self.animation.in_place),
             }),
         }
     }
@@ -427,6 +437,16 @@ impl SceneFile {
             }
             set(&mut scene.motion.amplitude, s.amplitude);
             set(&mut scene.motion.rate, s.rate);
+        }
+        if let Some(s) = &self.animation {
+            let a = &mut scene.animation;
+            if s.clip.is_some() {
+                a.clip = s.clip.clone();
+            }
+            set(&mut a.speed, s.speed);
+            set(&mut a.start, s.start);
+            set(&mut a.looping, s.looping);
+            set(&mut a.in_place, s.in_place);
         }
         // Out-of-range values, each traced back to the key that set it.
         for (section, key, check) in checks(scene) {

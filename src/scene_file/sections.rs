@@ -19,6 +19,7 @@ pub struct SceneFile {
     pub simulation: Option<SimulationSection>,
     pub collision: Option<CollisionSection>,
     pub motion: Option<MotionSection>,
+    pub animation: Option<AnimationSection>,
 }
 
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
@@ -136,4 +137,18 @@ pub struct MotionSection {
     pub kind: Option<String>,
     pub amplitude: Option<f64>,
     pub rate: Option<f64>,
+}
+
+/// A skinned or animated model's clip: `clip` by name (any case; `none` = rest pose),
+/// `speed` in clip seconds per second, `start` in seconds, `loop`, `in_place` (root
+/// motion removed).
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct AnimationSection {
+    pub clip: Option<String>,
+    pub speed: Option<f32>,
+    pub start: Option<f32>,
+    #[serde(rename = "loop")]
+    pub looping: Option<bool>,
+    pub in_place: Option<bool>,
 }

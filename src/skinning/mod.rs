@@ -163,3 +163,71 @@ pub fn fur_flow(rig: &Rig) -> Vec<Vec3> {
         })
         .collect()
 }
+
+/// Which clip a scene plays, by name (scene files' `[animation]`, `--animation`).
+#[derive(Clone, Debug, PartialEq)]
+pub struct AnimationSpec {
+    /// A clip name, matched in any case (`walk` finds `Walk`); `None` plays the
+    /// model's first clip, `"none"` holds the rest pose.
+    pub clip: Option<String>,
+    /// Clip seconds per simulated second, [0, 100].
+    pub speed: f32,
+    /// Clip time at the first frame, seconds ≥ 0.
+    pub start: f32,
+    pub looping: bool,
+    /// Walk on the spot: the root's horizontal motion is removed.
+    pub in_place: bool,
+}
+
+impl Default for AnimationSpec {
+    fn default() -> Self {
+        Self {
+            clip: None,
+            speed: 1.0,
+            start: 0.0,
+            looping: true,
+            in_place: true,
+        }
+    }
+}
+
+impl AnimationSpec {
+    /// The playback of `rig`'s clip (an unknown name is an error listing the clips).
+    /// A model without a rig plays nothing; naming a clip for it is an error.
+    pub fn resolve(&self, rig: Option<Rig>, model: &str) -> crate::Result<Option<(Rig, Playback)>> {
+        let error = |m: String| crate::Error::Parameter(format!("animation: {m}"));
+        let Some(rig) = rig else {
+            return match self.clip.as_deref() {
+                Some(name) if name != "none" => Err(error(format!(
+                    "model {model} has no skin or animation to play `{name}` on"
+                ))),
+                _ => Ok(None),
+            };
+        };
+        let clip = match self.clip.as_deref() {
+            Some("none") => None,
+            Some(name) => Some(rig.clip_index(name).map_err(error)?),
+            None => (!rig.clips.is_empty()).then_some(0),
+        };
+        if !(self.speed.is_finite() && (0.0..=100.0).contains(&self.speed)) {
+            return Err(error(format!(
+                "speed must be in [0, 100], got {}",
+                self.speed
+            )));
+        }
+        if !(self.start.is_finite() && self.start >= 0.0) {
+            return Err(error(format!(
+                "start must be a time ≥ 0 seconds, got {}",
+                self.start
+            )));
+        }
+        let playback = Playback {
+            clip,
+            speed: self.speed,
+            start: self.start,
+            looping: self.looping,
+            in_place: self.in_place,
+        };
+        Ok(Some((rig, playback)))
+    }
+}

@@ -388,9 +388,15 @@ impl Viewer {
         self.device.wait_idle()?;
         let extent = self.session.renderer.target.extent;
         let sim = self.session.sim.params().clone();
-        self.session = FurSession::new(
+        let rig = self.session.sim.skinned.as_ref().map(|s| {
+            let mut playback = s.playback.clone();
+            // The new session starts at time 0: keep the clip where it is.
+            playback.start = playback.clip_time(&s.body.rig, self.session.sim.time);
+            (s.body.rig.clone(), playback)
+        });
+        self.session = FurSession::with_rig(
             &self.device,
-            self.mesh.clone(),
+            (self.mesh.clone(), rig),
             groom,
             sim,
             self.session.motion,

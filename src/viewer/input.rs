@@ -53,6 +53,7 @@ impl Viewer {
             model: self.model.clone(),
             options,
             sim: self.session.sim.params().clone(),
+            animation: super::animation_ui::spec(&self.session),
             motion: MotionSpec {
                 kind: if self.controls.shake_on {
                     MotionKind::Shake
@@ -135,6 +136,7 @@ impl Viewer {
                         "l" => self.controls.light_orbit = !self.controls.light_orbit,
                         "m" => self.controls.shake_on = !self.controls.shake_on,
                         "p" => self.controls.screenshot_requested = true,
+                        "c" | "[" | "]" => super::animation_ui::key(&mut self.session, c),
                         _ => {}
                     },
                     _ => {}

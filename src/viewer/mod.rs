@@ -2,6 +2,7 @@
 //! and GPU stage timings. Two frames in flight; the swapchain is recreated on resize
 //! and rendering pauses while the window is minimised.
 
+mod animation_ui;
 mod frame;
 mod input;
 mod script;
@@ -38,6 +39,8 @@ pub struct ViewerOptions {
     /// The shake the motion toggle switches on (the viewer starts still and shakes
     /// only: another kind of motion in the scene gives the default shake).
     pub motion: crate::scene_file::MotionSpec,
+    /// The clip a skinned or animated model plays.
+    pub animation: crate::skinning::AnimationSpec,
     pub vsync: bool,
     /// Exit after this many frames (for tests and benchmarks).
     pub frames: Option<u64>,
@@ -264,11 +267,18 @@ impl Viewer {
                 .map_err(|e| Error::Window(format!("cannot create a window: {e}")))?,
         );
         let (device, surface) = crate::gpu::windowed(options.validate, &*window)?;
-        let (mesh, warnings) = options.model.prepare(options.scene.texture.as_ref())?;
+        let (mesh, rig, warnings) = options.model.prepare_body(options.scene.texture.as_ref())?;
         for warning in warnings {
             eprintln!("warning: {warning}");
         }
+        let rig = options.animation.resolve(rig, &options.model.name())?;
         let (groom, mut settings) = options.scene.resolve(&mesh)?;
+        if let (Some((rig, playback)), None) = (&rig, options.scene.distance) {
+            // Frame a second of the clip, not only the rest pose.
+            options
+                .scene
+                .frame_poses(&mut settings, &mesh, rig, playback, 60);
+        }
         // The HUD shows the hairs and segments drawn (two atomics per hair).
         settings.count_hairs = true;
         let size = window.inner_size();
@@ -285,9 +295,9 @@ impl Viewer {
             kind: MotionKind::Still,
             ..shake.motion(mesh.bounds().1)
         };
-        let session = FurSession::new(
+        let session = FurSession::with_rig(
             &device,
-            mesh.clone(),
+            (mesh.clone(), rig),
             &groom,
             options.sim.clone(),
             motion,
@@ -300,6 +310,9 @@ impl Viewer {
             .as_ref()
             .and_then(|(_, report)| report.warning(&options.model.name()))
         {
+            eprintln!("warning: {warning}");
+        }
+        for warning in &session.warnings {
             eprintln!("warning: {warning}");
         }
         let raw = &device.raw;

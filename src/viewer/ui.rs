@@ -100,6 +100,8 @@ impl PanelState {
                 });
                 ui.add(egui::Slider::new(controls.wind_strength, 0.0..=100.0).text("wind m/s²").logarithmic(true));
 
+                super::animation_ui::panel(ui, session);
+
                 egui::CollapsingHeader::new("groom (regrows the hairs)").show(ui, |ui| {
                     let s = &mut self.scene;
                     let mut changed = false;

@@ -28,7 +28,6 @@ struct Layout<'s> {
     count: usize,
     component: ComponentType,
     dims: usize,
-    normalized: bool,
 }
 
 impl Source<'_> {
@@ -64,16 +63,10 @@ impl Source<'_> {
                 ComponentType::U32 => u32::from_le_bytes([b[0], b[1], b[2], b[3]]) as f32,
             }
         };
-        if layout.component != ComponentType::F32 && !layout.normalized {
-            return Err(format!(
-                "{} holds integer components that are not normalised; expected floats",
-                label(index, what)
-            ));
-        }
         gather(&layout, size, convert)
     }
 
-    /// Accessor `index` as unsigned integers, flattened; at most `limit` elements read.
+    /// Accessor `index` as unsigned integers, flattened.
     pub fn uints(
         &self,
         index: usize,
@@ -209,7 +202,6 @@ impl Source<'_> {
             count: (count as usize).min(limit),
             component,
             dims,
-            normalized: accessor.normalized,
         })
     }
 }

@@ -92,9 +92,12 @@ pub(super) fn read_clips(
             };
             let input = sampler.input.value();
             let output = sampler.output.value();
-            let declared = source
-                .accessor_count(input)?
-                .saturating_add(source.accessor_count(output)?);
+            let count = |i| {
+                source
+                    .accessor_count(i)
+                    .map_err(|e| format!("{place}: {e}"))
+            };
+            let declared = count(input)?.saturating_add(count(output)?);
             if declared > budget as u64 {
                 return Err(format!(
                     "the animations hold more than {MAX_VALUES} key times and values (at \

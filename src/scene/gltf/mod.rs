@@ -70,7 +70,7 @@ pub struct GltfBody {
 ///   triangles are dropped from the indices.
 /// - Refused with an error naming the file and the problem: any `extensionsRequired`
 ///   (Draco, meshopt, ...), sparse accessors, URLs and absolute paths, data out of
-///   bounds, a scene without triangles, more than [`MAX_VERTICES`] vertices.
+///   bounds, a scene without triangles, more than [`MAX_VERTICES`] (2²⁵) vertices.
 pub fn load_gltf(path: &Path) -> Result<GltfBody> {
     let error = |message: String| Error::Model {
         path: path.to_path_buf(),
@@ -91,4 +91,4 @@ pub fn load_gltf(path: &Path) -> Result<GltfBody> {
 /// The most vertices (and a proportional number of triangle corners, key values and
 /// joints) a file may add up to once its meshes are merged and instanced: a small file
 /// that instances a large mesh on many nodes is refused before it fills the memory.
-pub const MAX_VERTICES: usize = 1 << 25;
+pub(crate) const MAX_VERTICES: usize = 1 << 25;

@@ -284,10 +284,7 @@ impl<'a> Source<'a> {
                 bytes: Arc::from(bytes),
             }),
             Ok(Uri::File(path)) => {
-                if let Err(e) = std::fs::metadata(&path).map_err(|e| match e.kind() {
-                    std::io::ErrorKind::NotFound => "no such file".to_string(),
-                    _ => e.to_string(),
-                }) {
+                if let Err(e) = crate::files::read_bounded_check(&path) {
                     return warn(format!("its image {} cannot be read ({e})", path.display()));
                 }
                 Some(TextureSpec::File(path))

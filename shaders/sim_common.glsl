@@ -13,7 +13,7 @@ layout(local_size_x_id = 0) in;
 layout(set = 0, binding = 0, std140) uniform SimStatic {
     vec4 stiffness;     // S_G, S_L
     uvec4 counts;       // strand count, strands per row, global cutoff vertex, local iterations
-    uvec4 counts2;      // length iterations
+    uvec4 counts2;      // length iterations, bone capsules
     vec4 collision;     // margin, friction, 1 / cell, cell
     vec4 sdf_origin;    // model-space position of grid point (0, 0, 0)
     uvec4 sdf_dims;     // grid points along x, y, z
@@ -52,6 +52,12 @@ layout(set = 0, binding = 7, std430) readonly buffer Sdf {
 // (shaders/skin.comp): R's columns, with the skinned root in their w.
 layout(set = 0, binding = 8, std430) readonly buffer RootPoses {
     vec4 root_poses[];
+};
+
+// A skinned body's bone capsules for each substep of the submission: (a, radius), (b, 0)
+// in model space, sim.counts2.y of them (src/skinning/capsules.rs).
+layout(set = 0, binding = 9, std430) readonly buffer Capsules {
+    vec4 capsules[];
 };
 
 layout(push_constant) uniform Push {

@@ -171,33 +171,96 @@ bool sdf_sample(vec3 m, out float value, out vec3 gradient) {
 }
 
 // Step 6, collision with the body: a vertex closer than the margin to the surface moves
-// out along the field's gradient to the margin. The move is not velocity (the previous
+// out along the surface's normal to the margin. The move is not velocity (the previous
 // position moves with it, so nothing pops out); of the vertex's velocity the part into
 // the body is removed (an inelastic contact) and friction removes part of the sliding
 // part. The root is never moved.
-void collide(Step st) {
+//
+// A rigid body's surface is its field. A skinned body's is the rest pose's field
+// carried by this strand's root pose, and the bones' capsules of substep k; each is a
+// constraint of its own, projected in turn (src/sim/cpu.rs: `Collider::push_out`).
+
+// Keeps model-space point m at least the margin outside the skinned body; returns the
+// first contact's normal (model space) in `contact`, or false without contact.
+bool push_out_skinned(inout vec3 m, uint k, out vec3 contact) {
+    float margin = sim.collision.x;
+    bool touched = false;
+    contact = vec3(0.0);
+    uint count = sim.counts2.y;
+    for (uint j = 0u; j < PROJECTIONS; ++j) {
+        bool moved = false;
+        float d;
+        vec3 g;
+        vec3 r = transpose(pose_rotation) * (m - pose_root) + rest_root;
+        if (sdf_sample(r, d, g) && d < margin) {
+            float len = length(g);
+            if (len > MIN_LENGTH) {
+                vec3 n = pose_rotation * (g * (1.0 / len));
+                m = m + n * (margin - d);
+                contact = touched ? contact : n;
+                touched = true;
+                moved = true;
+            }
+        }
+        for (uint c = 0u; c < count; ++c) {
+            vec4 ca = capsules[2u * (k * count + c)];
+            vec3 a = ca.xyz;
+            vec3 ab = capsules[2u * (k * count + c) + 1u].xyz - a;
+            float len2 = dot(ab, ab);
+            float t = len2 > 0.0 ? clamp(dot(m - a, ab) / len2, 0.0, 1.0) : 0.0;
+            vec3 off = m - (a + ab * t);
+            float dist = length(off);
+            float dc = dist - ca.w;
+            if (dc < margin && dist > MIN_LENGTH) {
+                vec3 n = off * (1.0 / dist);
+                m = m + n * (margin - dc);
+                contact = touched ? contact : n;
+                touched = true;
+                moved = true;
+            }
+        }
+        if (!moved) {
+            break;
+        }
+    }
+    return touched;
+}
+
+void collide(Step st, uint k) {
     float margin = sim.collision.x;
     for (uint i = 1u; i < V; ++i) {
-        // The first contact's normal splits the velocity; a few more projections settle
-        // a vertex that one step along a curved field leaves short of the margin.
         vec3 velocity = x[i] - p[i];
         vec3 contact = vec3(0.0);
         bool touched = false;
-        for (uint k = 0u; k < PROJECTIONS; ++k) {
-            float d;
-            vec3 gradient;
-            if (!sdf_sample((st.head_inverse * vec4(x[i], 1.0)).xyz, d, gradient) || !(d < margin)) {
-                break;
-            }
-            float len = length(gradient);
-            if (!(len > MIN_LENGTH)) {
-                break;
-            }
-            vec3 n = mat3(st.head) * (gradient * (1.0 / len));
-            x[i] = x[i] + n * (margin - d);
-            if (!touched) {
-                contact = n;
+        if ((STEPS & BODY_SKINNED) != 0u) {
+            vec3 m0 = (st.head_inverse * vec4(x[i], 1.0)).xyz;
+            vec3 m = m0;
+            vec3 normal;
+            if (push_out_skinned(m, k, normal)) {
+                x[i] = x[i] + mat3(st.head) * (m - m0);
+                contact = mat3(st.head) * normal;
                 touched = true;
+            }
+        } else {
+            // The first contact's normal splits the velocity; a few more projections
+            // settle a vertex that one step along a curved field leaves short of the
+            // margin.
+            for (uint j = 0u; j < PROJECTIONS; ++j) {
+                float d;
+                vec3 gradient;
+                if (!sdf_sample((st.head_inverse * vec4(x[i], 1.0)).xyz, d, gradient) || !(d < margin)) {
+                    break;
+                }
+                float len = length(gradient);
+                if (!(len > MIN_LENGTH)) {
+                    break;
+                }
+                vec3 n = mat3(st.head) * (gradient * (1.0 / len));
+                x[i] = x[i] + n * (margin - d);
+                if (!touched) {
+                    contact = n;
+                    touched = true;
+                }
             }
         }
         if (touched) {
@@ -249,7 +312,7 @@ void main() {
             wind(strand, st);
         }
         if ((STEPS & STEP_COLLISION) != 0u) {
-            collide(st);
+            collide(st, push.step + s);
         }
     }
     for (uint i = 0u; i < V; ++i) {

@@ -392,7 +392,7 @@ impl FurSession {
         device: &Arc<Device>,
         (mesh, rig): (Mesh, Option<(Rig, Playback)>),
         groom: &GroomParams,
-        mut sim_params: SimParams,
+        sim_params: SimParams,
         motion: Motion,
         settings: FrameSettings,
         extent: vk::Extent2D,
@@ -402,20 +402,12 @@ impl FurSession {
         motion.validate()?;
         sim_params.validate()?;
         check_work(&mesh, groom, &settings, extent)?;
-        let mut warnings = Vec::new();
+        let warnings = Vec::new();
         let mut groom = groom.clone();
         let skinned = match rig {
             Some((rig, playback)) => {
                 rig.validate(mesh.vertex_count())
                     .map_err(|m| Error::Parameter(format!("the model's skin: {m}")))?;
-                if sim_params.collision {
-                    warnings.push(
-                        "collision with a skinned body is not available yet: it is off for \
-                         this model"
-                            .to_string(),
-                    );
-                    sim_params.collision = false;
-                }
                 groom.comb_field = Some(crate::skinning::fur_flow(&rig));
                 Some((Arc::new(SkinnedBody::new(&mesh, rig)), playback))
             }

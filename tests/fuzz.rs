@@ -313,7 +313,9 @@ fn mutated_glb_files_never_panic_the_gltf_loader() {
     let body = fur::scene::load_gltf(&path).expect("the unmutated file loads");
     assert!(body.rig.is_some());
     let loaded = std::cell::Cell::new(0u32);
-    let result = runner(2000).run(&prop::collection::vec(mutation(), 1..4), |mutations| {
+    let mut runner = runner(2000);
+    let cases = runner.config().cases;
+    let result = runner.run(&prop::collection::vec(mutation(), 1..4), |mutations| {
         std::fs::write(&path, mutate(original.clone(), &mutations)).unwrap();
         if let Ok(body) = fur::scene::load_gltf(&path) {
             check_mesh(&body.mesh)?;
@@ -330,7 +332,11 @@ fn mutated_glb_files_never_panic_the_gltf_loader() {
     });
     let _ = std::fs::remove_dir_all(&dir);
     result.unwrap();
-    eprintln!("LOADED {}", loaded.get());
-    // Some mutations (in key values, weights, positions) still load.
-    assert!(loaded.get() > 0, "no mutated file loaded");
+    // Many mutations (of key values, weights, positions) still load: the checks of a
+    // loaded body run too.
+    assert!(
+        loaded.get() * 20 > cases,
+        "only {} of {cases} mutated files loaded",
+        loaded.get()
+    );
 }

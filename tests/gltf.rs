@@ -380,6 +380,15 @@ fn embedded_buffers_and_images_need_no_other_file() {
     assert_eq!(texture.name(), "packed.glb#image0");
     let image = texture.load().unwrap();
     assert_eq!((image.width, image.height), (4, 2));
+    // An embedded PNG is written into a .glb too.
+    let mut mesh = load_gltf(&path).unwrap().mesh;
+    mesh.texture = Some(texture);
+    let path = dir.write("again.glb", write_glb(&mesh, None).unwrap());
+    let Some(TextureSpec::Embedded { name, bytes }) = load_gltf(&path).unwrap().mesh.texture else {
+        panic!("the texture was not written");
+    };
+    assert_eq!(name, "again.glb#image0");
+    assert_eq!(&bytes[..], &png[..]);
 }
 
 #[test]
@@ -690,6 +699,50 @@ fn a_rig_scale_is_baked_into_its_roots() {
 }
 
 #[test]
+fn nodes_come_parents_first_with_their_names() {
+    let dir = Scratch::new("order");
+    let mut doc = Doc::default();
+    let p = doc.floats(&TRIANGLE, "VEC3");
+    let t = doc.floats(&[0.0, 1.0], "SCALAR");
+    let s = doc.floats(&[1.0, 1.0, 1.0, 2.0, 2.0, 2.0], "VEC3");
+    // Node 0 is a child of node 2, which is a child of node 1: stored children first.
+    let path = dir.write(
+        "order.glb",
+        doc.glb(&format!(
+            r#","nodes":[{{"mesh":0,"translation":[0,0,1]}},{{"name":"hips","children":[2]}},{{"children":[0],"scale":[2,2,2]}},{{"name":"elsewhere"}}],
+            "meshes":[{{"primitives":[{{"attributes":{{"POSITION":{p}}}}}]}}],
+            "animations":[{{"channels":[{{"sampler":0,"target":{{"node":0,"path":"scale"}}}},{{"sampler":0,"target":{{"node":3,"path":"scale"}}}}],
+              "samplers":[{{"input":{t},"output":{s}}}]}}],
+            "scenes":[{{"nodes":[1]}},{{"nodes":[3]}}]"#
+        )),
+    );
+    let body = load_gltf(&path).unwrap();
+    let rig = body.rig.unwrap();
+    let names: Vec<(&str, Option<usize>)> = rig
+        .nodes
+        .iter()
+        .map(|n| (n.name.as_str(), n.parent))
+        .collect();
+    assert_eq!(
+        names,
+        [("hips", None), ("node2", Some(0)), ("node0", Some(1))]
+    );
+    assert_eq!(rig.joints[0].node, 2);
+    assert_eq!(rig.clips[0].channels.len(), 1);
+    assert_eq!(rig.clips[0].channels[0].node, 2);
+    assert!(
+        body.warnings
+            .iter()
+            .any(|w| w.contains("node 3, which is not in the scene")),
+        "{:?}",
+        body.warnings
+    );
+    // Placed by both ancestors: scaled by 2 after moving up by 1.
+    assert_eq!(body.mesh.positions[0], Vec3::new(0.0, 0.0, 2.0));
+    assert_eq!(rig.bind_positions[0], Vec3::new(0.0, 0.0, 2.0));
+}
+
+#[test]
 fn unusable_parts_are_warnings_naming_them() {
     let dir = Scratch::new("warnings");
     let mut doc = Doc::default();
@@ -820,7 +873,13 @@ fn out_of_bounds_and_absurd_accessors_are_refused_before_allocating() {
     );
     doc.accessors[p] = original.replace(r#""count":3"#, r#""count":2147483648"#);
     let path = dir.write("huge.glb", doc.glb(&rest));
+    let start = Instant::now();
     let error = refused(&path);
+    assert!(
+        start.elapsed() < Duration::from_millis(500),
+        "{:?}",
+        start.elapsed()
+    );
     assert_names(
         &error,
         "accessor 0 (POSITION of mesh 0 primitive 0) reaches byte 25769803776",
@@ -847,7 +906,10 @@ fn out_of_bounds_and_absurd_accessors_are_refused_before_allocating() {
         "index.glb",
         doc.glb(&rest.replace(&format!(r#""POSITION":{p}"#), r#""POSITION":7"#)),
     );
-    assert_names(&refused(&path), "accessor 7 does not exist");
+    assert_names(
+        &refused(&path),
+        "accessor 7 (POSITION of mesh 0 primitive 0) does not exist",
+    );
     let path = dir.write(
         "node.glb",
         doc.glb(&format!(r#"{rest},"scenes":[{{"nodes":[3]}}]"#)),

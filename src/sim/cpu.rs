@@ -10,6 +10,7 @@ use super::params::{SimParams, StepConstants};
 use super::rest::RestPose;
 use super::sdf::Sdf;
 use crate::scene::Strands;
+use crate::skinning::cpu::Posed;
 use crate::skinning::RootPose;
 
 /// The CPU reference simulator for one set of master hairs.
@@ -72,12 +73,13 @@ impl<T: Real> CpuSim<T> {
         }
     }
 
-    /// Advances one frame on a skinned body: `poses_at(t)` gives every strand's root
-    /// pose at time `t` (see [`crate::skinning::cpu::pose`]).
+    /// Advances one frame on a skinned body: `poses_at(t)` gives the body's pose at
+    /// time `t`: every strand's root pose and the bones' capsules (see
+    /// [`crate::skinning::cpu::pose`]).
     pub fn step_frame_posed(
         &mut self,
         head_at: impl Fn(f64) -> DMat4,
-        poses_at: impl Fn(f64) -> Vec<RootPose>,
+        poses_at: impl Fn(f64) -> Posed,
     ) {
         let h = self.params.substep_dt();
         for _ in 0..self.params.substeps {
@@ -107,9 +109,11 @@ impl<T: Real> CpuSim<T> {
         self.substep_posed(c, None);
     }
 
-    /// One substep on a body whose strands each follow their own root pose (`poses`, one
-    /// per strand; `None`: the head transform alone, a rigid body).
-    pub fn substep_posed(&mut self, c: &StepConstants, poses: Option<&[RootPose]>) {
+    /// One substep on a skinned body whose strands each follow their own root pose,
+    /// colliding with the rest field carried by that pose and with the bones' capsules
+    /// (`None`: the head transform alone, a rigid body).
+    pub fn substep_posed(&mut self, c: &StepConstants, posed: Option<&Posed>) {
+        let poses = posed.map(|p| p.roots.as_slice());
         let v = self.rest.vertices_per_strand;
         let head = Head::<T>::new(c.head);
         let retention = T::from_f32(c.velocity_retention);
@@ -122,7 +126,7 @@ impl<T: Real> CpuSim<T> {
             .sdf
             .as_deref()
             .filter(|_| self.params.collision)
-            .map(|sdf| Collider {
+            .map(|sdf| super::collide::Collider {
                 sdf,
                 to_model: Head::new(c.head_inverse),
                 margin: T::from_f32(self.params.collision_margin * self.hair_length),
@@ -170,8 +174,17 @@ impl<T: Real> CpuSim<T> {
             }
             // Collision with the body.
             if let Some(collider) = &collider {
+                let capsules = posed.map_or(&[][..], |p| p.capsules.as_slice());
                 for i in 1..v {
-                    collider.push_out(&head, &mut x[i], &mut prev[i]);
+                    match &carrier.pose {
+                        Some(pose) => collider.push_out_skinned(
+                            &head,
+                            (pose, capsules),
+                            &mut x[i],
+                            &mut prev[i],
+                        ),
+                        None => collider.push_out(&head, &mut x[i], &mut prev[i]),
+                    }
                 }
             }
         }
@@ -183,7 +196,7 @@ impl<T: Real> CpuSim<T> {
 struct Carrier<T> {
     head: Head<T>,
     /// Root pose rotation, rest root, skinned root.
-    pose: Option<(M3<T>, V3<T>, V3<T>)>,
+    pose: Option<super::collide::Pose<T>>,
     /// The rotation the local-shape walk starts from (head, then pose); its translation
     /// is unused.
     frame: Head<T>,
@@ -224,54 +237,6 @@ impl<T: Real> Carrier<T> {
         }
     }
 }
-
-/// The body as the collision step sees it.
-struct Collider<'a, T> {
-    sdf: &'a Sdf,
-    /// World to model space (H⁻¹).
-    to_model: Head<T>,
-    margin: T,
-    friction: T,
-}
-
-impl<T: Real> Collider<'_, T> {
-    /// Moves a vertex closer than the margin to the surface out along the field's
-    /// gradient to the margin. The move is not velocity (the previous position moves
-    /// with it, so nothing pops out); of the vertex's velocity the part into the body
-    /// is removed (an inelastic contact) and friction removes part of the sliding
-    /// part. The arithmetic is `collide` in `shaders/simulate.comp`.
-    fn push_out(&self, head: &Head<T>, x: &mut V3<T>, previous: &mut V3<T>) {
-        let velocity = *x - *previous;
-        // The first contact's normal splits the velocity; a few more projections settle
-        // a vertex that one step along a curved field leaves short of the margin.
-        let mut contact = None;
-        for _ in 0..PROJECTIONS {
-            let Some((d, g)) = self.sdf.sample(self.to_model.point(*x)) else {
-                break;
-            };
-            if d.partial_cmp(&self.margin) != Some(std::cmp::Ordering::Less) {
-                break;
-            }
-            let len = g.length();
-            if len.partial_cmp(&min_length::<T>()) != Some(std::cmp::Ordering::Greater) {
-                break;
-            }
-            let n = head.rotation.mul_vec(g.scale(T::ONE / len));
-            *x = *x + n.scale(self.margin - d);
-            contact.get_or_insert(n);
-        }
-        if let Some(n) = contact {
-            let normal = velocity.dot(n);
-            let tangential = velocity - n.scale(normal);
-            let outward = if normal > T::ZERO { normal } else { T::ZERO };
-            let kept = tangential.scale(T::ONE - self.friction) + n.scale(outward);
-            *previous = *x - kept;
-        }
-    }
-}
-
-/// Projections onto the margin per vertex and substep, at most.
-const PROJECTIONS: usize = 3;
 
 /// Moves the ends of one segment towards its rest length. The root (`pinned`) has
 /// inverse mass 0 and stays put.

@@ -41,6 +41,7 @@ pub struct Skinned {
     pub body: Arc<SkinnedBody>,
     pub playback: Playback,
     pending: Vec<glam::Mat4>,
+    pending_capsules: Vec<[Vec4; 2]>,
 }
 
 /// GPU simulation state for one set of strand textures.
@@ -186,6 +187,7 @@ impl GpuSim {
                     body,
                     playback,
                     pending: Vec::new(),
+                    pending_capsules: Vec::new(),
                 })
             }
             None => None,
@@ -197,6 +199,11 @@ impl GpuSim {
             &[0.0f32; 12],
         )?;
         let root_poses = skinned.as_ref().map_or(&no_poses, |s| &s.skin.root_poses);
+        let capsules = |slot: usize| {
+            skinned
+                .as_ref()
+                .map_or(&no_poses, |s: &Skinned| &s.skin.capsules[slot])
+        };
         let mut slots = Vec::new();
         for slot in 0..frames_in_flight {
             let steps = Buffer::new(
@@ -215,7 +222,7 @@ impl GpuSim {
                     &statics,
                     &steps,
                     textures,
-                    (&body_buffer, root_poses),
+                    (&body_buffer, root_poses, capsules(slot)),
                 );
             }
             let timestamps = if device.info.timestamps {
@@ -331,7 +338,12 @@ impl GpuSim {
                 params.global_cutoff(self.vertices),
                 params.local_iterations,
             ),
-            counts2: UVec4::new(params.length_iterations, 0, 0, 0),
+            counts2: UVec4::new(
+                params.length_iterations,
+                self.skinned.as_ref().map_or(0, |s| s.skin.capsule_count),
+                0,
+                0,
+            ),
             collision: self.grid.map_or(Vec4::ZERO, |g| {
                 let margin = params.collision_margin * self.hair_length;
                 Vec4::new(margin, params.friction, 1.0 / g.cell, g.cell)
@@ -401,6 +413,8 @@ impl GpuSim {
         if let Some(skinned) = &mut self.skinned {
             let joints = std::mem::take(&mut skinned.pending);
             skinned.skin.write_joints(slot, &joints)?;
+            let capsules = std::mem::take(&mut skinned.pending_capsules);
+            skinned.skin.write_capsules(slot, &capsules);
         }
         let frame = &self.slots[slot];
         let d = &*self.device;
@@ -492,7 +506,9 @@ impl GpuSim {
             ));
             if let Some(s) = &mut self.skinned {
                 let matrices = s.playback.joint_matrices(&s.body.rig, self.time);
+                let capsules = crate::skinning::capsules::pose(&s.body.capsules, &matrices);
                 s.pending.extend(matrices);
+                s.pending_capsules.extend(capsules);
             }
         }
         out
@@ -511,6 +527,7 @@ impl GpuSim {
         if let Some(s) = &mut self.skinned {
             let matrices = s.playback.joint_matrices(&s.body.rig, self.time);
             s.pending.clear();
+            s.pending_capsules.clear();
             s.skin.write_joints(0, &matrices)?;
         }
         let d = self.device.clone();

@@ -42,7 +42,7 @@ impl From<&StepConstants> for GpuStep {
     }
 }
 
-pub(super) fn bindings() -> [(vk::DescriptorType, vk::ShaderStageFlags); 9] {
+pub(super) fn bindings() -> [(vk::DescriptorType, vk::ShaderStageFlags); 10] {
     let c = vk::ShaderStageFlags::COMPUTE;
     [
         (vk::DescriptorType::UNIFORM_BUFFER, c),
@@ -52,6 +52,7 @@ pub(super) fn bindings() -> [(vk::DescriptorType, vk::ShaderStageFlags); 9] {
         (vk::DescriptorType::STORAGE_BUFFER, c),
         (vk::DescriptorType::STORAGE_IMAGE, c),
         (vk::DescriptorType::STORAGE_IMAGE, c),
+        (vk::DescriptorType::STORAGE_BUFFER, c),
         (vk::DescriptorType::STORAGE_BUFFER, c),
         (vk::DescriptorType::STORAGE_BUFFER, c),
     ]
@@ -80,7 +81,7 @@ pub(super) fn write_sim_set(
     statics: &Buffer,
     steps: &Buffer,
     textures: &StrandTextures,
-    (body, root_poses): (&Buffer, &Buffer),
+    (body, root_poses, capsules): (&Buffer, &Buffer, &Buffer),
 ) {
     let bindings = bindings();
     let buffer = |b: &Buffer| {
@@ -100,6 +101,7 @@ pub(super) fn write_sim_set(
         buffer(body),
         buffer(root_poses),
     );
+    let b9 = buffer(capsules);
     let (i2, i3) = (image(&textures.rest), image(&textures.rest_local));
     let (i5, i6) = (
         image(&textures.positions[1 - k]),
@@ -121,6 +123,7 @@ pub(super) fn write_sim_set(
         write(6).image_info(&i6),
         write(7).buffer_info(&b7),
         write(8).buffer_info(&b8),
+        write(9).buffer_info(&b9),
     ];
     unsafe { device.raw.update_descriptor_sets(&writes, &[]) };
 }

@@ -2,6 +2,7 @@
 //! compute-shader implementation.
 
 pub mod cpu;
+mod collide;
 mod math;
 mod motion;
 mod params;

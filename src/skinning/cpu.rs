@@ -2,7 +2,7 @@
 //! arithmetic in the same order: linear blend skinning of positions, normals and
 //! tangents, then one rigid root pose per strand.
 
-use glam::{Mat3, Mat4, Vec3};
+use glam::{Mat3, Mat4, Vec3, Vec4};
 
 use super::SkinnedBody;
 
@@ -28,12 +28,14 @@ pub fn frame(n: Vec3, t: Vec3) -> Mat3 {
     Mat3::from_cols(t, n.cross(t), n)
 }
 
-/// The skinned body at one pose: positions, normals and each strand's root pose.
+/// The skinned body at one pose: positions, normals, each strand's root pose and the
+/// bones' capsules (see [`super::capsules::pose`]).
 #[derive(Clone, Debug)]
 pub struct Posed {
     pub positions: Vec<Vec3>,
     pub normals: Vec<Vec3>,
     pub roots: Vec<RootPose>,
+    pub capsules: Vec<[Vec4; 2]>,
 }
 
 /// Skins `body` with the joint `matrices` (see [`crate::scene::Rig::joint_matrices`]).
@@ -55,6 +57,7 @@ pub fn pose(body: &SkinnedBody, matrices: &[Mat4]) -> Posed {
         positions,
         normals,
         roots,
+        capsules: super::capsules::pose(&body.capsules, matrices),
     }
 }
 

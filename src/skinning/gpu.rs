@@ -35,6 +35,10 @@ pub struct GpuSkin {
     _statics: [Buffer; 4],
     /// Per frame in flight: joint matrices of every substep of a submission.
     joints: Vec<Buffer>,
+    /// Per frame in flight: the bones' posed capsules of every substep of a submission
+    /// (read by the simulation's collision step).
+    pub capsules: Vec<Buffer>,
+    pub capsule_count: u32,
     joint_capacity: usize,
     _set_layout: DescriptorSetLayout,
     layout: PipelineLayout,
@@ -129,6 +133,18 @@ impl GpuSkin {
                 )
             })
             .collect::<Result<Vec<_>>>()?;
+        let capsule_count = body.capsules.len() as u32;
+        let capsules = (0..frames_in_flight)
+            .map(|slot| {
+                Buffer::new(
+                    device,
+                    &format!("skin.capsules[{slot}]"),
+                    (step_capacity * capsule_count.max(1) as usize * 32) as u64,
+                    storage,
+                    MemoryLocation::CpuToGpu,
+                )
+            })
+            .collect::<Result<Vec<_>>>()?;
         let bindings = bindings();
         let set_layout = DescriptorSetLayout::new(device, "skin.set_layout", &bindings)?;
         let push = [vk::PushConstantRange::default()
@@ -183,6 +199,8 @@ impl GpuSkin {
             root_poses,
             _statics: statics,
             joints,
+            capsules,
+            capsule_count,
             joint_capacity: step_capacity,
             _set_layout: set_layout,
             layout,
@@ -205,6 +223,14 @@ impl GpuSkin {
         }
         self.joints[slot].write(0, bytemuck::cast_slice(matrices));
         Ok(())
+    }
+
+    /// Writes slot `slot`'s posed capsules, every capsule of each substep of the coming
+    /// submission, substep after substep (see [`super::capsules::pose`]).
+    pub fn write_capsules(&mut self, slot: usize, capsules: &[[Vec4; 2]]) {
+        let capacity = self.capsules[slot].size() as usize / 32;
+        let n = capsules.len().min(capacity);
+        self.capsules[slot].write(0, bytemuck::cast_slice(&capsules[..n]));
     }
 
     /// Records the skinning of substeps `first .. first + count` of the submission (the
@@ -271,5 +297,6 @@ impl GpuSkin {
             + self.posed.size()
             + self.root_poses.size()
             + self.joints.iter().map(Buffer::size).sum::<u64>()
+            + self.capsules.iter().map(Buffer::size).sum::<u64>()
     }
 }

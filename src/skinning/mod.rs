@@ -9,6 +9,7 @@
 //! scale of the blended skinning matrix never reach the strand's shape. A rigid body's
 //! head transform `H` is the case where every `S_s` is the identity.
 
+pub mod capsules;
 pub mod cpu;
 pub mod gpu;
 
@@ -80,6 +81,8 @@ pub struct SkinnedBody {
     pub bind_tangents: Vec<Vec3>,
     /// Per vertex, the rest frame's tangent and normal (`F_rest = [t, n × t, n]`).
     pub rest_frames: Vec<(Vec3, Vec3)>,
+    /// Inscribed capsules of the bones, for collision.
+    pub capsules: Vec<capsules::Capsule>,
 }
 
 impl SkinnedBody {
@@ -104,10 +107,12 @@ impl SkinnedBody {
                 (f.x_axis, f.z_axis)
             })
             .collect();
+        let capsules = capsules::fit(&rig);
         Self {
             rig,
             bind_tangents,
             rest_frames,
+            capsules,
         }
     }
 

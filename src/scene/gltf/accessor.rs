@@ -32,12 +32,25 @@ struct Layout<'s> {
 
 impl Source<'_> {
     /// The number of elements accessor `index` declares (for budgets before reading).
-    pub fn accessor_count(&self, index: usize) -> Result<u64, String> {
+    pub fn accessor_count(&self, index: usize, what: &str) -> Result<u64, String> {
         self.root
             .accessors
             .get(index)
             .map(|a| a.count.0)
-            .ok_or_else(|| self.missing(index))
+            .ok_or_else(|| self.missing(index, what))
+    }
+
+    /// Checks, before reading it, that accessor `index` has one element per vertex.
+    pub fn expect_count(&self, index: usize, what: &str, vertices: usize) -> Result<(), String> {
+        let declared = self.accessor_count(index, what)?;
+        if declared == vertices as u64 {
+            Ok(())
+        } else {
+            Err(format!(
+                "{} has {declared} elements for {vertices} vertices",
+                label(index, what)
+            ))
+        }
     }
 
     /// Accessor `index` as floats, `dims(ty)` per element, flattened; `what` names its
@@ -91,9 +104,10 @@ impl Source<'_> {
         })
     }
 
-    fn missing(&self, index: usize) -> String {
+    fn missing(&self, index: usize, what: &str) -> String {
         format!(
-            "accessor {index} does not exist (the file has {})",
+            "{} does not exist (the file has {} accessors)",
+            label(index, what),
             self.root.accessors.len()
         )
     }
@@ -110,7 +124,7 @@ impl Source<'_> {
             .root
             .accessors
             .get(index)
-            .ok_or_else(|| format!("{} ({what})", self.missing(index)))?;
+            .ok_or_else(|| self.missing(index, what))?;
         let name = label(index, what);
         if accessor.sparse.is_some() {
             return Err(format!(

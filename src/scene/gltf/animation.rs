@@ -78,7 +78,7 @@ pub(super) fn read_clips(
             let s = channel.sampler.value();
             let sampler = animation.samplers.get(s).ok_or_else(|| {
                 format!(
-                    "{place} uses sampler {s}, which does not exist (the animation has {})",
+                    "{place} uses sampler {s}, which does not exist (the animation has {} samplers)",
                     animation.samplers.len()
                 )
             })?;
@@ -92,11 +92,7 @@ pub(super) fn read_clips(
             };
             let input = sampler.input.value();
             let output = sampler.output.value();
-            let count = |i| {
-                source
-                    .accessor_count(i)
-                    .map_err(|e| format!("{place}: {e}"))
-            };
+            let count = |i| source.accessor_count(i, &format!("sampler {s} of {place}"));
             let declared = count(input)?.saturating_add(count(output)?);
             if declared > budget as u64 {
                 return Err(format!(

@@ -16,11 +16,14 @@
 
 mod accessor;
 mod animation;
+mod builder;
+mod document;
 mod primitive;
 mod read;
 mod skin;
 mod source;
 mod tree;
+mod uri;
 mod write;
 
 use std::path::Path;
@@ -70,7 +73,12 @@ pub struct GltfBody {
 ///   triangles are dropped from the indices.
 /// - Refused with an error naming the file and the problem: any `extensionsRequired`
 ///   (Draco, meshopt, ...), sparse accessors, URLs and absolute paths, data out of
-///   bounds, a scene without triangles, more than [`MAX_VERTICES`] (2²⁵) vertices.
+///   bounds, a scene without triangles, more than 2²⁵ vertices once merged.
+/// - Warnings (in [`GltfBody::warnings`]), each naming the thing: morph targets and
+///   their weight channels, `JOINTS_1`/`WEIGHTS_1`, cameras, extensions used but not
+///   required, primitives that are not triangles, a texture that cannot be used, and
+///   what valid files hold but the `gltf` crate refuses (animation channels without a
+///   target node, `extras` that are not objects), which is dropped.
 pub fn load_gltf(path: &Path) -> Result<GltfBody> {
     let error = |message: String| Error::Model {
         path: path.to_path_buf(),
@@ -88,7 +96,7 @@ pub fn load_gltf(path: &Path) -> Result<GltfBody> {
     })
 }
 
-/// The most vertices (and a proportional number of triangle corners, key values and
-/// joints) a file may add up to once its meshes are merged and instanced: a small file
-/// that instances a large mesh on many nodes is refused before it fills the memory.
+/// The most vertices (and a proportional number of triangle corners and key values) a
+/// file may add up to once its meshes are merged and instanced: a small file that
+/// instances a large mesh on many nodes is refused before it fills the memory.
 pub(crate) const MAX_VERTICES: usize = 1 << 25;

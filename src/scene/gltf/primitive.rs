@@ -56,7 +56,7 @@ pub(super) fn add_node(
     };
     let mesh = root.meshes.get(m).ok_or_else(|| {
         format!(
-            "node {f} refers to mesh {m}, which does not exist (the file has {})",
+            "node {f} refers to mesh {m}, which does not exist (the file has {} meshes)",
             root.meshes.len()
         )
     })?;
@@ -65,7 +65,7 @@ pub(super) fn add_node(
             s,
             root.skins.get(s).ok_or_else(|| {
                 format!(
-                    "node {f} refers to skin {s}, which does not exist (the file has {})",
+                    "node {f} refers to skin {s}, which does not exist (the file has {} skins)",
                     root.skins.len()
                 )
             })?,
@@ -133,25 +133,19 @@ pub(super) fn add_node(
                 positions[v]
             ));
         }
-        let same_count = |what: &str, len: usize| {
-            if len == count {
-                Ok(())
-            } else {
-                Err(format!(
-                    "{what} of {place} has {len} elements for its {count} vertices"
-                ))
-            }
+        let same_count = |index: usize, what: &str| {
+            source.expect_count(index, &format!("{what} of {place}"), count)
         };
         let normals = match attribute(primitive, Semantic::Normals) {
             Some(index) => {
-                let normals = read_vec3(index, "NORMAL")?;
-                same_count("NORMAL", normals.len())?;
-                Some(normals)
+                same_count(index, "NORMAL")?;
+                Some(read_vec3(index, "NORMAL")?)
             }
             None => None,
         };
         let uvs = match attribute(primitive, Semantic::TexCoords(0)) {
             Some(index) => {
+                same_count(index, "TEXCOORD_0")?;
                 let floats = source.floats(
                     index,
                     &format!("TEXCOORD_0 of {place}"),
@@ -159,7 +153,6 @@ pub(super) fn add_node(
                     Allowed::FloatOrNormalized { signed: false },
                 )?;
                 let uvs: Vec<Vec2> = floats.chunks_exact(2).map(Vec2::from_slice).collect();
-                same_count("TEXCOORD_0", uvs.len())?;
                 if let Some(k) = uvs.iter().position(|uv| !uv.is_finite()) {
                     return Err(format!(
                         "TEXCOORD_0 {k} of {place} is not finite ({})",
@@ -172,7 +165,7 @@ pub(super) fn add_node(
         };
         let corners: Vec<u32> = match primitive.indices.map(|i| i.value()) {
             Some(index) => {
-                let declared = source.accessor_count(index)?;
+                let declared = source.accessor_count(index, &format!("indices of {place}"))?;
                 if declared as usize > MAX_CORNERS.saturating_sub(body.indices.len()) / 3 {
                     return Err(format!(
                         "the scene's meshes add up to more than {MAX_CORNERS} triangle corners \

@@ -141,6 +141,8 @@ pub(super) fn read_skin_weights(
     ) else {
         return Err(format!("{place} has no JOINTS_0/WEIGHTS_0"));
     };
+    source.expect_count(ji, &format!("JOINTS_0 of {place}"), vertices)?;
+    source.expect_count(wi, &format!("WEIGHTS_0 of {place}"), vertices)?;
     let joints = source.uints(
         ji,
         &format!("JOINTS_0 of {place}"),
@@ -153,16 +155,6 @@ pub(super) fn read_skin_weights(
         Type::Vec4,
         Allowed::FloatOrNormalized { signed: false },
     )?;
-    for (what, len) in [
-        ("JOINTS_0", joints.len() / 4),
-        ("WEIGHTS_0", weights.len() / 4),
-    ] {
-        if len != vertices {
-            return Err(format!(
-                "{what} of {place} has {len} elements for its {vertices} vertices"
-            ));
-        }
-    }
     for (v, (j, w)) in joints
         .chunks_exact(4)
         .zip(weights.chunks_exact(4))

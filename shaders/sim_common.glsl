@@ -14,7 +14,7 @@ layout(set = 0, binding = 0, std140) uniform SimStatic {
     vec4 stiffness;     // S_G, S_L
     uvec4 counts;       // strand count, strands per row, global cutoff vertex, local iterations
     uvec4 counts2;      // length iterations, bone capsules
-    vec4 collision;     // margin, friction, 1 / cell, cell
+    vec4 collision;     // margin (a fraction of each strand's length), friction, 1 / cell, cell
     vec4 sdf_origin;    // model-space position of grid point (0, 0, 0)
     uvec4 sdf_dims;     // grid points along x, y, z
 } sim;
@@ -58,6 +58,17 @@ layout(set = 0, binding = 8, std430) readonly buffer RootPoses {
 // in model space, sim.counts2.y of them (src/skinning/capsules.rs).
 layout(set = 0, binding = 9, std430) readonly buffer Capsules {
     vec4 capsules[];
+};
+
+// Per strand, the capsule it does not collide with (its own bone's; 0xffffffff: none).
+layout(set = 0, binding = 10, std430) readonly buffer OwnCapsule {
+    uint own_capsule[];
+};
+
+// Per strand, its root pose after the last substep simulated (R's columns, the root in
+// w), so the next substep can carry the strand along with the body.
+layout(set = 0, binding = 11, std430) buffer LastPoses {
+    vec4 last_poses[];
 };
 
 layout(push_constant) uniform Push {

@@ -30,6 +30,30 @@ vec3 p[V];   // positions one substep ago
 mat3 pose_rotation;
 vec3 pose_root;
 vec3 rest_root;
+float strand_length;   // this strand's rest length (collision only)
+
+// The strand rides along with its root: every vertex (and its previous position) is
+// carried by the change of the root pose since the last substep, in model space under
+// this substep's head transform, before the forces act. The body's motion then never
+// stretches the hair (a paw moves many times a short hair's segment in one step); the
+// simulation keeps the hair's own motion in the root's frame (TressFX's velocity shock
+// propagation at full strength). src/sim/cpu.rs: `ride`.
+void ride(uint strand, Step st) {
+    uint o = 3u * strand;
+    vec4 c0 = last_poses[o], c1 = last_poses[o + 1u], c2 = last_poses[o + 2u];
+    mat3 last_rotation = mat3(c0.xyz, c1.xyz, c2.xyz);
+    vec3 last_root = vec3(c0.w, c1.w, c2.w);
+    mat3 turn = pose_rotation * transpose(last_rotation);
+    for (uint i = 1u; i < V; ++i) {
+        vec3 m = (st.head_inverse * vec4(x[i], 1.0)).xyz;
+        x[i] = (st.head * vec4(turn * (m - last_root) + pose_root, 1.0)).xyz;
+        vec3 mp = (st.head_inverse * vec4(p[i], 1.0)).xyz;
+        p[i] = (st.head * vec4(turn * (mp - last_root) + pose_root, 1.0)).xyz;
+    }
+    last_poses[o] = vec4(pose_rotation[0], pose_root.x);
+    last_poses[o + 1u] = vec4(pose_rotation[1], pose_root.y);
+    last_poses[o + 2u] = vec4(pose_rotation[2], pose_root.z);
+}
 
 void load_pose(uint strand, uint k) {
     if ((STEPS & BODY_SKINNED) != 0u) {
@@ -170,7 +194,9 @@ bool sdf_sample(vec3 m, out float value, out vec3 gradient) {
     return true;
 }
 
-// Step 6, collision with the body: a vertex closer than the margin to the surface moves
+// Step 6, collision with the body: a vertex closer than the margin (a fraction of the
+// strand's own length, so short hairs on thin parts are not pushed past their own
+// segments) to the surface moves
 // out along the surface's normal to the margin. The move is not velocity (the previous
 // position moves with it, so nothing pops out); of the vertex's velocity the part into
 // the body is removed (an inelastic contact) and friction removes part of the sliding
@@ -180,13 +206,58 @@ bool sdf_sample(vec3 m, out float value, out vec3 gradient) {
 // carried by this strand's root pose, and the bones' capsules of substep k; each is a
 // constraint of its own, projected in turn (src/sim/cpu.rs: `Collider::push_out`).
 
-// Keeps model-space point m at least the margin outside the skinned body; returns the
+// The capsules a strand collides with in a substep: the NEAR_CAPSULES nearest to its
+// root within its reach (hair length and margin from the capsule's surface), never its
+// own bone's; nearest first, ties by index (src/sim/collide.rs: `near_capsules`).
+const uint NEAR_CAPSULES = 4u;
+vec4 near_a[NEAR_CAPSULES];    // a, radius
+vec4 near_ab[NEAR_CAPSULES];   // b − a, |b − a|²
+uint near_count;
+
+void select_capsules(vec3 root, uint k, uint own, float reach) {
+    float near_d[NEAR_CAPSULES];
+    near_count = 0u;
+    uint count = sim.counts2.y;
+    for (uint c = 0u; c < count; ++c) {
+        if (c == own) {
+            continue;
+        }
+        vec4 ca = capsules[2u * (k * count + c)];
+        vec3 a = ca.xyz;
+        vec3 ab = capsules[2u * (k * count + c) + 1u].xyz - a;
+        float len2 = dot(ab, ab);
+        float t = len2 > 0.0 ? clamp(dot(root - a, ab) / len2, 0.0, 1.0) : 0.0;
+        float d = length(root - (a + ab * t)) - ca.w;
+        if (!(d < reach)) {
+            continue;
+        }
+        uint j;
+        if (near_count < NEAR_CAPSULES) {
+            j = near_count;
+            near_count += 1u;
+        } else if (d < near_d[NEAR_CAPSULES - 1u]) {
+            j = NEAR_CAPSULES - 1u;
+        } else {
+            continue;
+        }
+        while (j > 0u && d < near_d[j - 1u]) {
+            near_d[j] = near_d[j - 1u];
+            near_a[j] = near_a[j - 1u];
+            near_ab[j] = near_ab[j - 1u];
+            j -= 1u;
+        }
+        near_d[j] = d;
+        near_a[j] = vec4(a, ca.w);
+        near_ab[j] = vec4(ab, len2);
+    }
+}
+
+// Keeps model-space point m at least the margin outside the skinned body (the rest
+// field carried by the root pose, then the selected capsules, in turn); returns the
 // first contact's normal (model space) in `contact`, or false without contact.
-bool push_out_skinned(inout vec3 m, uint k, out vec3 contact) {
-    float margin = sim.collision.x;
+bool push_out_skinned(inout vec3 m, float margin, out vec3 contact) {
     bool touched = false;
     contact = vec3(0.0);
-    uint count = sim.counts2.y;
     for (uint j = 0u; j < PROJECTIONS; ++j) {
         bool moved = false;
         float d;
@@ -202,15 +273,14 @@ bool push_out_skinned(inout vec3 m, uint k, out vec3 contact) {
                 moved = true;
             }
         }
-        for (uint c = 0u; c < count; ++c) {
-            vec4 ca = capsules[2u * (k * count + c)];
-            vec3 a = ca.xyz;
-            vec3 ab = capsules[2u * (k * count + c) + 1u].xyz - a;
-            float len2 = dot(ab, ab);
+        for (uint c = 0u; c < near_count; ++c) {
+            vec3 a = near_a[c].xyz;
+            vec3 ab = near_ab[c].xyz;
+            float len2 = near_ab[c].w;
             float t = len2 > 0.0 ? clamp(dot(m - a, ab) / len2, 0.0, 1.0) : 0.0;
             vec3 off = m - (a + ab * t);
             float dist = length(off);
-            float dc = dist - ca.w;
+            float dc = dist - near_a[c].w;
             if (dc < margin && dist > MIN_LENGTH) {
                 vec3 n = off * (1.0 / dist);
                 m = m + n * (margin - dc);
@@ -226,8 +296,10 @@ bool push_out_skinned(inout vec3 m, uint k, out vec3 contact) {
     return touched;
 }
 
-void collide(Step st, uint k) {
-    float margin = sim.collision.x;
+void collide(Step st, uint k, float margin) {
+    if ((STEPS & BODY_SKINNED) != 0u) {
+        select_capsules(pose_root, k, own_capsule[gl_GlobalInvocationID.x], strand_length + margin);
+    }
     for (uint i = 1u; i < V; ++i) {
         vec3 velocity = x[i] - p[i];
         vec3 contact = vec3(0.0);
@@ -236,7 +308,7 @@ void collide(Step st, uint k) {
             vec3 m0 = (st.head_inverse * vec4(x[i], 1.0)).xyz;
             vec3 m = m0;
             vec3 normal;
-            if (push_out_skinned(m, k, normal)) {
+            if (push_out_skinned(m, margin, normal)) {
                 x[i] = x[i] + mat3(st.head) * (m - m0);
                 contact = mat3(st.head) * normal;
                 touched = true;
@@ -282,6 +354,11 @@ void main() {
         // Placement: the strand at its rest shape carried by the body, not moving.
         Step st = steps[push.step];
         load_pose(strand, 0u);
+        if ((STEPS & BODY_SKINNED) != 0u) {
+            last_poses[3u * strand] = vec4(pose_rotation[0], pose_root.x);
+            last_poses[3u * strand + 1u] = vec4(pose_rotation[1], pose_root.y);
+            last_poses[3u * strand + 2u] = vec4(pose_rotation[2], pose_root.z);
+        }
         for (uint i = 0u; i < V; ++i) {
             ivec2 t = strand_texel(strand, i, V, sim.counts.y);
             vec3 posed = body_point(st, imageLoad(rest_positions, t).xyz);
@@ -295,9 +372,19 @@ void main() {
         x[i] = imageLoad(current_positions, t).xyz;
         p[i] = imageLoad(previous_positions, t).xyz;
     }
+    if ((STEPS & STEP_COLLISION) != 0u) {
+        // The collision margin is a fraction of this strand's own rest length.
+        strand_length = 0.0;
+        for (uint i = 1u; i < V; ++i) {
+            strand_length += imageLoad(rest_positions, strand_texel(strand, i, V, sim.counts.y)).w;
+        }
+    }
     for (uint s = 0u; s < push.count; ++s) {
         Step st = steps[push.step + s];
         load_pose(strand, s);
+        if ((STEPS & BODY_SKINNED) != 0u) {
+            ride(strand, st);
+        }
         integrate(strand, st);
         if ((STEPS & STEP_GLOBAL) != 0u) {
             global_shape(strand, st);
@@ -312,7 +399,7 @@ void main() {
             wind(strand, st);
         }
         if ((STEPS & STEP_COLLISION) != 0u) {
-            collide(st, push.step + s);
+            collide(st, push.step + s, sim.collision.x * strand_length);
         }
     }
     for (uint i = 0u; i < V; ++i) {

@@ -58,12 +58,13 @@ enum Command {
         #[arg(long)]
         validate: bool,
     },
-    /// Write a built-in model as an OBJ file.
+    /// Write a built-in model as an OBJ file, or as binary glTF (`.glb`: with its
+    /// skeleton, skin and clips for the critter).
     ExportModel {
-        /// Where to write it.
+        /// Where to write it; a name ending in `.glb` writes glTF, anything else OBJ.
         #[arg(default_value = "assets/blob.obj")]
         out: PathBuf,
-        /// Which built-in model: blob or sphere.
+        /// Which built-in model: blob, sphere or critter.
         #[arg(long, default_value = "blob", allow_hyphen_values = true)]
         model: ModelSpec,
     },
@@ -277,8 +278,28 @@ fn export_model(out: &Path, model: &ModelSpec) -> anyhow::Result<()> {
         );
     }
     fur::files::check_output_file(out)?;
-    model.load()?.write_obj(out)?;
-    println!("wrote {}", out.display());
+    let glb = out
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("glb"));
+    let (mesh, rig, _) = model.load_body()?;
+    if glb {
+        let bytes = fur::scene::write_glb(&mesh, rig.as_ref())?;
+        fur::files::write_output(out, &bytes, "write the model to")?;
+    } else {
+        if rig.is_some() {
+            eprintln!(
+                "warning: OBJ keeps the rest pose only; write `.glb` to keep the skeleton, \
+                 skin and clips"
+            );
+        }
+        mesh.write_obj(out)?;
+    }
+    let summary = format!("wrote {}", out.display());
+    if out.as_os_str() == fur::files::STDOUT {
+        eprintln!("{summary}");
+    } else {
+        println!("{summary}");
+    }
     Ok(())
 }
 

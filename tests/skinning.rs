@@ -286,3 +286,67 @@ fn gpu_matches_cpu_on_a_walking_body_with_collision() {
     drop(textures);
     common::assert_clean(&device);
 }
+
+/// The number of hairs comes from the rest pose: every frame of the walk, at a fixed
+/// camera with culling off and the density LOD out of reach, tessellates the same
+/// number of points and draws the same number of hairs, though the triangles stretch.
+#[test]
+fn hairs_per_triangle_stay_the_same_as_the_body_walks() {
+    let device = common::device();
+    let (mesh, rig) = critter();
+    let playback = walk(&rig);
+    let mut options = fur::session::SceneOptions {
+        density_scale: 0.2,
+        ..Default::default()
+    };
+    options.draw.cull = false;
+    options.draw.lod_distance = 1e4;
+    let (groom, mut settings) = options.resolve(&mesh).unwrap();
+    settings.count_hairs = true;
+    let mut session = fur::session::FurSession::with_rig(
+        &device,
+        (mesh.clone(), Some((rig, playback))),
+        &groom,
+        SimParams::default(),
+        fur::sim::Motion::still(),
+        settings,
+        ash::vk::Extent2D {
+            width: 96,
+            height: 64,
+        },
+        1,
+    )
+    .unwrap();
+    let mut seen = Vec::new();
+    let mut stretch = 0.0f32;
+    for frame in 0..24 {
+        let (_, timings) = session.step_and_render().unwrap();
+        let points = timings
+            .render
+            .statistics
+            .expect("pipeline statistics (lavapipe has them)")
+            .tess_eval_invocations;
+        let hairs = timings.render.counts.expect("hair counts").hairs;
+        seen.push((points, hairs));
+        if frame % 6 == 5 {
+            let skinned = session.sim.skinned.as_ref().unwrap();
+            let posed = skinning::cpu::pose(
+                &skinned.body,
+                &skinned.playback.joint_matrices(&skinned.body.rig, session.sim.time),
+            );
+            // How much the triangles stretch: the largest change of an edge length.
+            for t in mesh.indices.chunks_exact(3) {
+                let (a, b) = (t[0] as usize, t[1] as usize);
+                let rest = mesh.positions[a].distance(mesh.positions[b]);
+                let now = posed.positions[a].distance(posed.positions[b]);
+                stretch = stretch.max((now / rest - 1.0).abs());
+            }
+        }
+    }
+    println!("points and hairs per frame: {seen:?}; edges stretch up to {stretch:.3}");
+    assert!(seen.iter().all(|s| *s == seen[0]), "{seen:?}");
+    assert!(seen[0].1 > 1000, "too few hairs to tell: {:?}", seen[0]);
+    assert!(stretch > 0.05, "the walk hardly deforms the body ({stretch})");
+    drop(session);
+    common::assert_clean(&device);
+}

@@ -20,9 +20,9 @@ pub(super) fn tasks(scenes: usize) -> u64 {
 }
 
 /// Medians of one configuration's frames: (wall ms, GPU ms).
-struct FrameTimes {
-    wall: f64,
-    gpu: f64,
+pub(super) struct FrameTimes {
+    pub(super) wall: f64,
+    pub(super) gpu: f64,
 }
 
 impl Bench<'_> {
@@ -58,7 +58,7 @@ impl Bench<'_> {
     }
 
     /// Simulated and drawn frames, each its own submission.
-    fn time_frames(&self, session: &mut FurSession) -> Result<FrameTimes> {
+    pub(super) fn time_frames(&self, session: &mut FurSession) -> Result<FrameTimes> {
         let (warm, measured) = self.frame_counts();
         let (mut wall, mut gpu) = (Vec::new(), Vec::new());
         for frame in 0..warm + measured {

@@ -8,6 +8,7 @@
 //! rasteriser (lavapipe) a timestamp between two passes lands part-way through the
 //! second's binning and misattributes.
 
+mod animation;
 mod collision;
 mod frame;
 mod looks;
@@ -79,10 +80,11 @@ pub enum Section {
     Collision,
     Savings,
     Looks,
+    Animation,
 }
 
 impl Section {
-    pub const ALL: [Section; 8] = [
+    pub const ALL: [Section; 9] = [
         Self::Frame,
         Self::RenderQuality,
         Self::SimAccuracy,
@@ -91,6 +93,7 @@ impl Section {
         Self::Collision,
         Self::Savings,
         Self::Looks,
+        Self::Animation,
     ];
 
     pub fn name(self) -> &'static str {
@@ -103,6 +106,7 @@ impl Section {
             Self::Collision => "collision",
             Self::Savings => "savings",
             Self::Looks => "looks",
+            Self::Animation => "animation",
         }
     }
 
@@ -116,6 +120,7 @@ impl Section {
             Self::Collision => "distance-field build cost and size, collision cost, penetration against resolution",
             Self::Savings => "what skipping work the scene does not need saves",
             Self::Looks => "cost and image effect of texture colour, secondary highlight, shadows and thin-hair AA",
+            Self::Animation => "the walking critter: skinning cost, walking against standing, and each way of colliding with the deforming body",
         }
     }
 
@@ -215,6 +220,7 @@ pub fn task_count(options: &BenchOptions) -> u64 {
             Section::Collision => collision::tasks(options.quick),
             Section::Savings => savings::TASKS,
             Section::Looks => looks::tasks(options.quick),
+            Section::Animation => animation::tasks(),
         })
         .sum()
 }
@@ -250,6 +256,7 @@ pub fn run(
             Section::Collision => bench.collision()?,
             Section::Savings => bench.savings()?,
             Section::Looks => bench.looks()?,
+            Section::Animation => bench.animation()?,
         }
     }
     Ok(Report {

@@ -16,7 +16,8 @@ pub(super) struct Collider<'a, T> {
     pub sdf: &'a Sdf,
     /// World to model space (H⁻¹).
     pub to_model: Head<T>,
-    pub margin: T,
+    /// The margin as a fraction of a strand's rest length.
+    pub fraction: T,
     pub friction: T,
 }
 
@@ -28,13 +29,97 @@ fn less<T: Real>(a: T, b: T) -> bool {
     a.partial_cmp(&b) == Some(std::cmp::Ordering::Less)
 }
 
+/// clamp((m − a)·ab / |ab|², 0, 1) for `len2` = |ab|², as GLSL's clamp.
+fn segment_parameter<T: Real>(m: V3<T>, a: V3<T>, ab: V3<T>, len2: T) -> T {
+    if greater(len2, T::ZERO) {
+        let t = (m - a).dot(ab) / len2;
+        if less(t, T::ZERO) {
+            T::ZERO
+        } else if greater(t, T::ONE) {
+            T::ONE
+        } else {
+            t
+        }
+    } else {
+        T::ZERO
+    }
+}
+
+/// Capsules a strand collides with in a substep, at most.
+const NEAR_CAPSULES: usize = 4;
+
+/// A capsule as the collision loop reads it: `a`, radius, `b − a`, `|b − a|²`.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct NearCapsule<T> {
+    a: V3<T>,
+    radius: T,
+    ab: V3<T>,
+    len2: T,
+}
+
+/// The capsules a strand whose root is at model-space point `root` collides with: the
+/// [`NEAR_CAPSULES`] nearest within `reach` of their surface, never its `own` bone's;
+/// nearest first, ties by index (`select_capsules` in `simulate.comp`).
+pub(super) fn near_capsules<T: Real>(
+    root: V3<T>,
+    capsules: &[[glam::Vec4; 2]],
+    reach: T,
+    own: u32,
+) -> Vec<NearCapsule<T>> {
+    let mut near: Vec<(T, NearCapsule<T>)> = Vec::with_capacity(NEAR_CAPSULES);
+    for (c, cap) in capsules.iter().enumerate() {
+        if c as u32 == own {
+            continue;
+        }
+        let a = V3::from_vec3(cap[0].truncate());
+        let ab = V3::from_vec3(cap[1].truncate()) - a;
+        let len2 = ab.dot(ab);
+        let t = segment_parameter(root, a, ab, len2);
+        let radius = T::from_f32(cap[0].w);
+        let d = (root - (a + ab.scale(t))).length() - radius;
+        if !less(d, reach) {
+            continue;
+        }
+        let mut j = if near.len() < NEAR_CAPSULES {
+            near.push((
+                d,
+                NearCapsule {
+                    a,
+                    radius,
+                    ab,
+                    len2,
+                },
+            ));
+            near.len() - 1
+        } else if less(d, near[NEAR_CAPSULES - 1].0) {
+            NEAR_CAPSULES - 1
+        } else {
+            continue;
+        };
+        while j > 0 && less(d, near[j - 1].0) {
+            near[j] = near[j - 1];
+            j -= 1;
+        }
+        near[j] = (
+            d,
+            NearCapsule {
+                a,
+                radius,
+                ab,
+                len2,
+            },
+        );
+    }
+    near.into_iter().map(|(_, c)| c).collect()
+}
+
 impl<T: Real> Collider<'_, T> {
     /// Moves a vertex closer than the margin to a rigid body's surface out along the
     /// field's gradient to the margin. The move is not velocity (the previous position
     /// moves with it, so nothing pops out); of the vertex's velocity the part into the
     /// body is removed (an inelastic contact) and friction removes part of the sliding
     /// part.
-    pub fn push_out(&self, head: &Head<T>, x: &mut V3<T>, previous: &mut V3<T>) {
+    pub fn push_out(&self, head: &Head<T>, margin: T, x: &mut V3<T>, previous: &mut V3<T>) {
         let velocity = *x - *previous;
         // The first contact's normal splits the velocity; a few more projections settle
         // a vertex that one step along a curved field leaves short of the margin.
@@ -43,7 +128,7 @@ impl<T: Real> Collider<'_, T> {
             let Some((d, g)) = self.sdf.sample(self.to_model.point(*x)) else {
                 break;
             };
-            if !less(d, self.margin) {
+            if !less(d, margin) {
                 break;
             }
             let len = g.length();
@@ -51,19 +136,19 @@ impl<T: Real> Collider<'_, T> {
                 break;
             }
             let n = head.rotation.mul_vec(g.scale(T::ONE / len));
-            *x = *x + n.scale(self.margin - d);
+            *x = *x + n.scale(margin - d);
             contact.get_or_insert(n);
         }
         self.respond(contact, velocity, *x, previous);
     }
 
     /// [`Collider::push_out`] on a skinned body: the rest pose's field carried by the
-    /// strand's root `pose`, and every posed bone capsule (`(a, radius)`, `(b, 0)` in
-    /// model space), each a constraint projected in turn, in model space.
+    /// strand's root `pose`, and the bone capsules near it ([`near_capsules`]), each a
+    /// constraint projected in turn, in model space.
     pub fn push_out_skinned(
         &self,
         head: &Head<T>,
-        (pose, capsules): (&Pose<T>, &[[glam::Vec4; 2]]),
+        (pose, capsules, margin): (&Pose<T>, &[NearCapsule<T>], T),
         x: &mut V3<T>,
         previous: &mut V3<T>,
     ) {
@@ -77,36 +162,22 @@ impl<T: Real> Collider<'_, T> {
             let rest = rotation.transpose_mul_vec(m - *root) + *rest_root;
             if let Some((d, g)) = self.sdf.sample(rest) {
                 let len = g.length();
-                if less(d, self.margin) && greater(len, min_length::<T>()) {
+                if less(d, margin) && greater(len, min_length::<T>()) {
                     let n = rotation.mul_vec(g.scale(T::ONE / len));
-                    m = m + n.scale(self.margin - d);
+                    m = m + n.scale(margin - d);
                     contact.get_or_insert(n);
                     moved = true;
                 }
             }
             for c in capsules {
-                let a = V3::from_vec3(c[0].truncate());
-                let ab = V3::from_vec3(c[1].truncate()) - a;
-                let len2 = ab.dot(ab);
-                // clamp((m − a)·ab / |ab|², 0, 1), as GLSL's clamp.
-                let t = if greater(len2, T::ZERO) {
-                    let t = (m - a).dot(ab) / len2;
-                    if less(t, T::ZERO) {
-                        T::ZERO
-                    } else if greater(t, T::ONE) {
-                        T::ONE
-                    } else {
-                        t
-                    }
-                } else {
-                    T::ZERO
-                };
+                let (a, ab) = (c.a, c.ab);
+                let t = segment_parameter(m, a, ab, c.len2);
                 let off = m - (a + ab.scale(t));
                 let dist = off.length();
-                let d = dist - T::from_f32(c[0].w);
-                if less(d, self.margin) && greater(dist, min_length::<T>()) {
+                let d = dist - c.radius;
+                if less(d, margin) && greater(dist, min_length::<T>()) {
                     let n = off.scale(T::ONE / dist);
-                    m = m + n.scale(self.margin - d);
+                    m = m + n.scale(margin - d);
                     contact.get_or_insert(n);
                     moved = true;
                 }

@@ -26,8 +26,11 @@ pub struct CpuSim<T: Real> {
     pub time: f64,
     /// The body's distance field, for collision.
     pub sdf: Option<Arc<Sdf>>,
-    /// The longest master hair, which the collision margin is a fraction of.
+    /// The longest master hair.
     pub hair_length: f32,
+    /// On a skinned body, every strand's root pose after the last substep (empty until
+    /// the first posed substep or placement).
+    pub last_poses: Vec<RootPose>,
 }
 
 impl<T: Real> CpuSim<T> {
@@ -48,6 +51,7 @@ impl<T: Real> CpuSim<T> {
             time: 0.0,
             sdf: None,
             hair_length: strands.hair_length(),
+            last_poses: Vec::new(),
         }
     }
 
@@ -93,6 +97,9 @@ impl<T: Real> CpuSim<T> {
     /// strand; `None` for a rigid body), not moving.
     pub fn place(&mut self, head: DMat4, poses: Option<&[RootPose]>) {
         let v = self.rest.vertices_per_strand;
+        if let Some(poses) = poses {
+            self.last_poses = poses.to_vec();
+        }
         let head = Head::<T>::new(head.as_mat4());
         for s in 0..self.rest.count() {
             let carrier = Carrier::new(&head, poses.map(|p| &p[s]), self.rest.positions[s * v]);
@@ -114,6 +121,12 @@ impl<T: Real> CpuSim<T> {
     /// (`None`: the head transform alone, a rigid body).
     pub fn substep_posed(&mut self, c: &StepConstants, posed: Option<&Posed>) {
         let poses = posed.map(|p| p.roots.as_slice());
+        if let Some(poses) = poses {
+            if self.last_poses.len() != poses.len() {
+                self.last_poses = poses.to_vec();
+            }
+        }
+        let to_model = Head::<T>::new(c.head_inverse);
         let v = self.rest.vertices_per_strand;
         let head = Head::<T>::new(c.head);
         let retention = T::from_f32(c.velocity_retention);
@@ -129,7 +142,7 @@ impl<T: Real> CpuSim<T> {
             .map(|sdf| super::collide::Collider {
                 sdf,
                 to_model: Head::new(c.head_inverse),
-                margin: T::from_f32(self.params.collision_margin * self.hair_length),
+                fraction: T::from_f32(self.params.collision_margin),
                 friction: T::from_f32(self.params.friction),
             });
         for s in 0..self.rest.count() {
@@ -138,6 +151,15 @@ impl<T: Real> CpuSim<T> {
             let prev = &mut self.previous[range.clone()];
             let curr = &mut self.current[range];
             let carrier = Carrier::new(&head, poses.map(|p| &p[s]), rest[0]);
+            if let Some(pose) = poses.map(|p| &p[s]) {
+                ride(
+                    (&head, &to_model),
+                    (&self.last_poses[s], pose),
+                    &mut curr[1..],
+                    &mut prev[1..],
+                );
+                self.last_poses[s] = *pose;
+            }
             // Integrate (Verlet); the new positions go into `prev`, then the two swap.
             prev[0] = carrier.point(rest[0]);
             for i in 1..v {
@@ -175,19 +197,50 @@ impl<T: Real> CpuSim<T> {
             // Collision with the body.
             if let Some(collider) = &collider {
                 let capsules = posed.map_or(&[][..], |p| p.capsules.as_slice());
+                // The margin is a fraction of this strand's own rest length.
+                let length = lengths[1..].iter().fold(T::ZERO, |sum, &l| sum + l);
+                let margin = collider.fraction * length;
+                let own = posed.map_or(u32::MAX, |p| p.own_capsule[s]);
+                let near = carrier.pose.as_ref().map_or(Vec::new(), |(_, _, root)| {
+                    super::collide::near_capsules(*root, capsules, length + margin, own)
+                });
                 for i in 1..v {
                     match &carrier.pose {
                         Some(pose) => collider.push_out_skinned(
                             &head,
-                            (pose, capsules),
+                            (pose, &near, margin),
                             &mut x[i],
                             &mut prev[i],
                         ),
-                        None => collider.push_out(&head, &mut x[i], &mut prev[i]),
+                        None => collider.push_out(&head, margin, &mut x[i], &mut prev[i]),
                     }
                 }
             }
         }
+    }
+}
+
+/// Carries a strand's vertices (`x`) and their previous positions (`p`) by the change of
+/// its root pose from `last` to `now`, in model space under this substep's head
+/// transform: the strand rides along with the body (`ride` in `simulate.comp`).
+fn ride<T: Real>(
+    (head, to_model): (&Head<T>, &Head<T>),
+    (last, now): (&RootPose, &RootPose),
+    x: &mut [V3<T>],
+    p: &mut [V3<T>],
+) {
+    let m3 = |m: glam::Mat3| {
+        M3([
+            V3::from_vec3(m.x_axis),
+            V3::from_vec3(m.y_axis),
+            V3::from_vec3(m.z_axis),
+        ])
+    };
+    let turn = m3(now.rotation).mul_mat(&m3(last.rotation).transpose());
+    let (last_root, root) = (V3::from_vec3(last.root), V3::from_vec3(now.root));
+    for v in x.iter_mut().chain(p.iter_mut()) {
+        let m = to_model.point(*v);
+        *v = head.point(turn.mul_vec(m - last_root) + root);
     }
 }
 

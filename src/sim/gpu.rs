@@ -68,8 +68,6 @@ pub struct GpuSim {
     pub skinned: Option<Skinned>,
     /// Stands in for the root poses of a rigid body.
     _no_poses: Buffer,
-    /// The longest master hair, which the collision margin is a fraction of.
-    hair_length: f32,
     /// Per frame in flight: step constants, timestamps, descriptor sets.
     slots: Vec<SimSlot>,
     /// Simulated time in seconds.
@@ -199,6 +197,12 @@ impl GpuSim {
             &[0.0f32; 12],
         )?;
         let root_poses = skinned.as_ref().map_or(&no_poses, |s| &s.skin.root_poses);
+        let own = skinned
+            .as_ref()
+            .map_or(&no_poses, |s: &Skinned| &s.skin.own_capsule);
+        let last = skinned
+            .as_ref()
+            .map_or(&no_poses, |s: &Skinned| &s.skin.last_poses);
         let capsules = |slot: usize| {
             skinned
                 .as_ref()
@@ -222,7 +226,7 @@ impl GpuSim {
                     &statics,
                     &steps,
                     textures,
-                    (&body_buffer, root_poses, capsules(slot)),
+                    (&body_buffer, root_poses, capsules(slot), own, last),
                 );
             }
             let timestamps = if device.info.timestamps {
@@ -253,7 +257,6 @@ impl GpuSim {
             pipeline: None,
             forced_steps: None,
             _body: body_buffer,
-            hair_length: textures.hair_length,
             grid: body.map(|sdf| BodyGrid {
                 origin: sdf.origin,
                 cell: sdf.cell,
@@ -345,8 +348,12 @@ impl GpuSim {
                 0,
             ),
             collision: self.grid.map_or(Vec4::ZERO, |g| {
-                let margin = params.collision_margin * self.hair_length;
-                Vec4::new(margin, params.friction, 1.0 / g.cell, g.cell)
+                Vec4::new(
+                    params.collision_margin,
+                    params.friction,
+                    1.0 / g.cell,
+                    g.cell,
+                )
             }),
             sdf_origin: self.grid.map_or(Vec4::ZERO, |g| g.origin.extend(0.0)),
             sdf_dims: self.grid.map_or(UVec4::ZERO, |g| {

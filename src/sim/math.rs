@@ -132,6 +132,11 @@ impl<T: Real> M3<T> {
         V3(self.0[0].dot(v), self.0[1].dot(v), self.0[2].dot(v))
     }
 
+    pub fn transpose(&self) -> Self {
+        let [a, b, c] = self.0;
+        Self([V3(a.0, b.0, c.0), V3(a.1, b.1, c.1), V3(a.2, b.2, c.2)])
+    }
+
     pub fn mul_mat(&self, o: &Self) -> Self {
         Self(o.0.map(|col| self.mul_vec(col)))
     }

@@ -1,8 +1,8 @@
 //! Han & Harada (2012) strand simulation: parameters, the CPU reference and the
 //! compute-shader implementation.
 
-pub mod cpu;
 mod collide;
+pub mod cpu;
 mod math;
 mod motion;
 mod params;

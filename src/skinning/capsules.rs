@@ -39,6 +39,29 @@ pub fn segment_distance(p: Vec3, a: Vec3, b: Vec3) -> (f32, Vec3) {
     (p.distance(c), c)
 }
 
+/// The joint a vertex is bound to most.
+fn heaviest(joints: &[u16; 4], weights: &[f32; 4]) -> usize {
+    let k = (0..4)
+        .max_by(|&a, &b| weights[a].total_cmp(&weights[b]))
+        .unwrap_or(0);
+    usize::from(joints[k])
+}
+
+/// Per vertex of `rig`, the index of its heaviest joint's capsule, or [`u32::MAX`].
+pub fn own(rig: &Rig, capsules: &[Capsule]) -> Vec<u32> {
+    rig.influences
+        .iter()
+        .zip(&rig.weights)
+        .map(|(j, w)| {
+            let joint = heaviest(j, w);
+            capsules
+                .iter()
+                .position(|c| c.joint == joint)
+                .map_or(u32::MAX, |c| c as u32)
+        })
+        .collect()
+}
+
 /// One inscribed capsule per bone that has vertices of its own (those whose heaviest
 /// influence it is).
 pub fn fit(rig: &Rig) -> Vec<Capsule> {
@@ -49,10 +72,7 @@ pub fn fit(rig: &Rig) -> Vec<Capsule> {
         .collect();
     let mut owned: Vec<Vec<Vec3>> = vec![Vec::new(); rig.joints.len()];
     for (v, (joints, weights)) in rig.influences.iter().zip(&rig.weights).enumerate() {
-        let k = (0..4)
-            .max_by(|&a, &b| weights[a].total_cmp(&weights[b]))
-            .unwrap_or(0);
-        if let Some(list) = owned.get_mut(usize::from(joints[k])) {
+        if let Some(list) = owned.get_mut(heaviest(joints, weights)) {
             list.push(rig.bind_positions[v]);
         }
     }

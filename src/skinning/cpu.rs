@@ -36,6 +36,8 @@ pub struct Posed {
     pub normals: Vec<Vec3>,
     pub roots: Vec<RootPose>,
     pub capsules: Vec<[Vec4; 2]>,
+    /// Per strand, the capsule it does not collide with ([`SkinnedBody::own_capsule`]).
+    pub own_capsule: Vec<u32>,
 }
 
 /// Skins `body` with the joint `matrices` (see [`crate::scene::Rig::joint_matrices`]).
@@ -58,6 +60,7 @@ pub fn pose(body: &SkinnedBody, matrices: &[Mat4]) -> Posed {
         normals,
         roots,
         capsules: super::capsules::pose(&body.capsules, matrices),
+        own_capsule: body.own_capsule.clone(),
     }
 }
 

@@ -1,0 +1,319 @@
+//! Skinned, animated bodies (the built-in critter): what skinning costs per vertex, the
+//! whole frame of the walking creature against the same creature standing still, and
+//! each way of keeping hair out of the deforming body: its update and sampling cost,
+//! its device memory and how deep hair still gets under the walk (exact distances to
+//! the posed mesh), with collision off for scale.
+
+use std::fmt::Write as _;
+use std::sync::Arc;
+use std::time::Instant;
+
+use glam::Vec3;
+
+use super::metrics::median;
+use super::Bench;
+use crate::error::Result;
+use crate::scene::{critter, Mesh, Rig, Strands};
+use crate::session::{FurSession, SceneOptions};
+use crate::sim::{GpuSim, Sdf, SimParams, SimStep};
+use crate::skinning::{self, Playback, SkinnedBody};
+use crate::strand_textures::StrandTextures;
+
+pub(super) fn tasks() -> u64 {
+    6
+}
+
+/// The walk clip of `rig`, on the spot.
+fn walk(rig: &Rig) -> Playback {
+    Playback {
+        clip: rig.clip_index("walk").ok(),
+        ..Default::default()
+    }
+}
+
+/// The critter with the session's groom (combed along the bones).
+fn critter_strands() -> Result<(Mesh, Rig, Strands)> {
+    let (mesh, rig) = critter();
+    let (mut groom, _) = SceneOptions::default().resolve(&mesh)?;
+    groom.comb_field = Some(skinning::fur_flow(&rig));
+    let strands = Strands::grow(&mesh, &groom)?;
+    Ok((mesh, rig, strands))
+}
+
+/// A way to collide with the deforming body.
+struct Way {
+    name: &'static str,
+    capsules: bool,
+    collision: bool,
+}
+
+const WAYS: [Way; 3] = [
+    Way {
+        name: "rest field carried by each root pose + bone capsules (default)",
+        capsules: true,
+        collision: true,
+    },
+    Way {
+        name: "rest field carried by each root pose alone",
+        capsules: false,
+        collision: true,
+    },
+    Way {
+        name: "collision off",
+        capsules: false,
+        collision: false,
+    },
+];
+
+impl Bench<'_> {
+    /// Wall-clock milliseconds per simulated frame (median of warm frames) of `strands`
+    /// on `body` (skinned when given), with only `steps` compiled in when given.
+    fn skinned_sim_ms(
+        &self,
+        strands: &Strands,
+        params: &SimParams,
+        skinned: Option<(Arc<SkinnedBody>, Playback)>,
+        field: Option<&Sdf>,
+        steps: Option<&[SimStep]>,
+    ) -> Result<f64> {
+        let mut textures = StrandTextures::new(self.device, strands, glam::Mat4::IDENTITY)?;
+        let mut gpu = GpuSim::build(self.device, &textures, params.clone(), 1, field, skinned)?;
+        gpu.force_steps(steps, &textures)?;
+        let (warm, measured) = if self.quick { (1, 3) } else { (5, 40) };
+        let mut wall = Vec::new();
+        for frame in 0..warm + measured {
+            crate::interrupt::check()?;
+            let start = Instant::now();
+            gpu.run_frames(&mut textures, 1, |_| glam::DMat4::IDENTITY)?;
+            if frame >= warm {
+                wall.push(start.elapsed().as_secs_f64() * 1e3);
+            }
+        }
+        Ok(median(&wall))
+    }
+
+    /// (mean, max) depth of strand vertices inside the posed critter over the second
+    /// half of a walk cycle, fractions of the hair length, from exact distances.
+    fn walk_penetration(
+        &self,
+        (mesh, strands): (&Mesh, &Strands),
+        body: &Arc<SkinnedBody>,
+        field: &Sdf,
+        collision: bool,
+    ) -> Result<(f64, f64)> {
+        let playback = walk(&body.rig);
+        let params = SimParams {
+            collision,
+            ..crate::scene_file::Scene::default_sim()
+        };
+        let mut textures = StrandTextures::new(self.device, strands, glam::Mat4::IDENTITY)?;
+        let mut gpu = GpuSim::build(
+            self.device,
+            &textures,
+            params,
+            1,
+            Some(field),
+            Some((body.clone(), playback.clone())),
+        )?;
+        let v = strands.vertices_per_strand as usize;
+        let (samples, every) = if self.quick { (2, 15) } else { (6, 5) };
+        gpu.run_frames(&mut textures, 30, |_| glam::DMat4::IDENTITY)?;
+        let (mut sum, mut count, mut max) = (0.0f64, 0usize, 0.0f64);
+        for _ in 0..samples {
+            crate::interrupt::check()?;
+            gpu.run_frames(&mut textures, every, |_| glam::DMat4::IDENTITY)?;
+            let posed = skinning::cpu::pose(body, &playback.joint_matrices(&body.rig, gpu.time));
+            let surface = Mesh {
+                positions: posed.positions,
+                ..mesh.clone()
+            };
+            let points: Vec<Vec3> = textures
+                .read_positions(textures.current)?
+                .into_iter()
+                .enumerate()
+                .filter(|(i, _)| i % v != 0)
+                .map(|(_, p)| p)
+                .collect();
+            for d in crate::sim::sdf::exact_distances(&surface, &points) {
+                let depth = f64::from((-d).max(0.0));
+                sum += depth;
+                count += 1;
+                max = max.max(depth);
+            }
+        }
+        let hair = f64::from(strands.hair_length());
+        Ok((sum / count.max(1) as f64 / hair, max / hair))
+    }
+
+    pub(super) fn animation(&mut self) -> Result<()> {
+        let (mesh, rig, strands) = critter_strands()?;
+        let body = Arc::new(SkinnedBody::new(&mesh, rig.clone()));
+        let playback = walk(&rig);
+        let params = crate::scene_file::Scene::default_sim();
+        let vertices = mesh.vertex_count();
+
+        // Skinning: the integrate-only kernel on the skinned body against the same
+        // strands on a rigid one; the difference is the skinning pass and the pose loads.
+        let bare = SimParams {
+            collision: false,
+            ..params.clone()
+        };
+        let skinned_ms = self.skinned_sim_ms(
+            &strands,
+            &bare,
+            Some((body.clone(), playback.clone())),
+            None,
+            Some(&[]),
+        )?;
+        let rigid_ms = self.skinned_sim_ms(&strands, &bare, None, None, Some(&[]))?;
+        let per_vertex_us = (skinned_ms - rigid_ms) * 1e3 / vertices as f64;
+        self.row(
+            "animation",
+            "skinning",
+            "ms_per_frame",
+            skinned_ms - rigid_ms,
+            "ms",
+        );
+        self.row(
+            "animation",
+            "skinning",
+            "us_per_vertex",
+            per_vertex_us,
+            "µs",
+        );
+        (self.progress)("skinning cost");
+        let _ = writeln!(
+            self.md,
+            "## Animation\n\nThe built-in critter ({vertices} vertices, {} bones, {} master hairs of \
+             {} vertices), walking on the spot. **Skinning** (the skin pass for every vertex and \
+             the root-pose loads), measured as the integrate-only kernel on the skinned body \
+             minus the same on a rigid one: {:.3} ms a frame, {per_vertex_us:.3} µs per vertex \
+             (wall clock, median).\n",
+            rig.joints.len(),
+            strands.count(),
+            strands.vertices_per_strand,
+            skinned_ms - rigid_ms
+        );
+
+        // The whole frame, walking against standing.
+        let frame = |clip: Option<usize>| -> Result<f64> {
+            let (groom, settings) = SceneOptions::default().resolve(&mesh)?;
+            let mut session = FurSession::with_rig(
+                self.device,
+                (
+                    mesh.clone(),
+                    Some((
+                        rig.clone(),
+                        Playback {
+                            clip,
+                            ..playback.clone()
+                        },
+                    )),
+                ),
+                &groom,
+                params.clone(),
+                crate::sim::Motion::still(),
+                settings,
+                self.frame_extent(),
+                1,
+            )?;
+            Ok(self.time_frames(&mut session)?.wall)
+        };
+        let walking = frame(playback.clip)?;
+        let standing = frame(None)?;
+        self.row("animation", "walking", "wall_ms", walking, "ms");
+        self.row("animation", "standing", "wall_ms", standing, "ms");
+        self.row(
+            "animation",
+            "walking / standing",
+            "ratio",
+            walking / standing,
+            "×",
+        );
+        (self.progress)("walking frame");
+        let extent = self.frame_extent();
+        let _ = writeln!(
+            self.md,
+            "**Whole frame** at {}×{} (simulation with collision, both passes, copy to the host; \
+             median wall clock): walking {walking:.1} ms, standing still (same body, rest pose) \
+             {standing:.1} ms: {:.2}× (target ≤ 1.3×).\n",
+            extent.width,
+            extent.height,
+            walking / standing
+        );
+
+        // Collision: each way.
+        let (field, _) = Sdf::for_hair(&mesh, &params, strands.hair_length())?;
+        let no_collision = self.skinned_sim_ms(
+            &strands,
+            &bare,
+            Some((body.clone(), playback.clone())),
+            Some(&field),
+            None,
+        )?;
+        let _ = writeln!(
+            self.md,
+            "**Collision with the deforming body.** Each way's update (per substep, on the CPU: \
+             posing the capsules), its sampling (the simulation with collision minus without, \
+             {no_collision:.3} ms), its device memory, and the depth of strand vertices inside \
+             the posed critter over the second half of a walk cycle (exact point-to-mesh \
+             distances), as fractions of the hair length (targets: max ≤ 0.01, cost ≤ 35 % of \
+             the simulation step).\n\n\
+             | way | update µs (CPU) | sampling ms | share of the step | device KiB | mean depth | max depth |\n\
+             | --- | --- | --- | --- | --- | --- | --- |"
+        );
+        for way in &WAYS {
+            let mut way_body = SkinnedBody::clone(&body);
+            if !way.capsules {
+                way_body.capsules.clear();
+            }
+            let way_body = Arc::new(way_body);
+            let start = Instant::now();
+            let rounds = 1000;
+            for k in 0..rounds {
+                let m = playback.joint_matrices(&rig, f64::from(k) / 60.0);
+                std::hint::black_box(skinning::capsules::pose(&way_body.capsules, &m));
+            }
+            let update_us = start.elapsed().as_secs_f64() * 1e6 / f64::from(rounds);
+            let with = if way.collision {
+                self.skinned_sim_ms(
+                    &strands,
+                    &params,
+                    Some((way_body.clone(), playback.clone())),
+                    Some(&field),
+                    None,
+                )?
+            } else {
+                no_collision
+            };
+            let sampling = with - no_collision;
+            let share = sampling / no_collision;
+            let memory = if way.collision {
+                (field.bytes() + way_body.capsules.len() * 32 * 1024) as f64 / 1024.0
+            } else {
+                0.0
+            };
+            let (mean, max) =
+                self.walk_penetration((&mesh, &strands), &way_body, &field, way.collision)?;
+            for (metric, value, unit) in [
+                ("update_us", update_us, "µs"),
+                ("sampling_ms", sampling, "ms"),
+                ("step_share", share, "fraction"),
+                ("device_kib", memory, "KiB"),
+                ("mean_penetration", mean, "fraction of hair length"),
+                ("max_penetration", max, "fraction of hair length"),
+            ] {
+                self.row("animation", way.name.to_string(), metric, value, unit);
+            }
+            let _ = writeln!(
+                self.md,
+                "| {} | {update_us:.1} | {sampling:.3} | {:.0} % | {memory:.0} | {mean:.2e} | {max:.2e} |",
+                way.name,
+                100.0 * share
+            );
+            (self.progress)(way.name);
+        }
+        let _ = writeln!(self.md);
+        Ok(())
+    }
+}

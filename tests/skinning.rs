@@ -350,3 +350,82 @@ fn hairs_per_triangle_stay_the_same_as_the_body_walks() {
     drop(session);
     common::assert_clean(&device);
 }
+
+/// Depth of strand vertices inside the posed critter over the second half of a walk
+/// cycle (exact point-to-mesh distances), fractions of the longest hair: (mean, max).
+fn walk_depths(collision: bool) -> (f64, f64) {
+    let device = common::device();
+    let (mesh, rig) = critter();
+    let (mut groom, _) = fur::session::SceneOptions::default()
+        .resolve(&mesh)
+        .unwrap();
+    groom.comb_field = Some(skinning::fur_flow(&rig));
+    let strands = Strands::grow(&mesh, &groom).unwrap();
+    let body = Arc::new(SkinnedBody::new(&mesh, rig));
+    let playback = walk(&body.rig);
+    let params = SimParams {
+        collision,
+        ..fur::scene_file::Scene::default_sim()
+    };
+    let (field, _) = fur::sim::Sdf::for_hair(&mesh, &params, strands.hair_length()).unwrap();
+    let mut textures = StrandTextures::new(&device, &strands, glam::Mat4::IDENTITY).unwrap();
+    let mut gpu = GpuSim::build(
+        &device,
+        &textures,
+        params,
+        1,
+        Some(&field),
+        Some((body.clone(), playback.clone())),
+    )
+    .unwrap();
+    let v = strands.vertices_per_strand as usize;
+    let head = |_: f64| DMat4::IDENTITY;
+    gpu.run_frames(&mut textures, 30, head).unwrap();
+    let (mut sum, mut count, mut max) = (0.0f64, 0usize, 0.0f64);
+    for _ in 0..3 {
+        gpu.run_frames(&mut textures, 10, head).unwrap();
+        let posed = skinning::cpu::pose(&body, &playback.joint_matrices(&body.rig, gpu.time));
+        let surface = Mesh {
+            positions: posed.positions,
+            ..mesh.clone()
+        };
+        let points: Vec<Vec3> = textures
+            .read_positions(textures.current)
+            .unwrap()
+            .into_iter()
+            .enumerate()
+            .filter(|(i, _)| i % v != 0)
+            .map(|(_, p)| p)
+            .collect();
+        for d in fur::sim::sdf::exact_distances(&surface, &points) {
+            let depth = f64::from((-d).max(0.0));
+            sum += depth;
+            count += 1;
+            max = max.max(depth);
+        }
+    }
+    drop(gpu);
+    drop(textures);
+    common::assert_clean(&device);
+    let hair = f64::from(strands.hair_length());
+    (sum / count as f64 / hair, max / hair)
+}
+
+/// Collision keeps the walking critter's hair out of its skin: measured against the
+/// same walk without collision. The issue's target (max ≤ 1 % of the hair length) is
+/// not met yet (see docs/benchmark.md: the root-carried field is rigid where the skin
+/// bends at joints). Measured: collision divides the mean depth by 2.9 and the max by
+/// 3.2; the bounds ask for 1.7 (the square root of each), so a collision doing half its
+/// work, or none, fails them.
+#[test]
+fn collision_keeps_the_walking_hair_out_of_the_skin() {
+    let (mean_on, max_on) = walk_depths(true);
+    let (mean_off, max_off) = walk_depths(false);
+    println!(
+        "depth inside the skin, fractions of the hair length: with collision mean {mean_on:.2e} \
+         max {max_on:.3}; without mean {mean_off:.2e} max {max_off:.3}"
+    );
+    assert!(mean_off > 1e-4, "the walk without collision hardly enters the skin");
+    assert!(mean_on * 1.7 < mean_off, "mean depth {mean_on} against {mean_off}");
+    assert!(max_on * 1.7 < max_off, "max depth {max_on} against {max_off}");
+}

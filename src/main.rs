@@ -57,6 +57,11 @@ enum Command {
         /// Enable the Khronos validation layer (slows everything down).
         #[arg(long)]
         validate: bool,
+        /// Also put the tables into this Markdown file between its `<!-- BEGIN fur
+        /// bench -->` and `<!-- END fur bench -->` lines (a full run only), e.g.
+        /// docs/benchmark.md.
+        #[arg(long, allow_hyphen_values = true)]
+        write_docs: Option<PathBuf>,
     },
     /// Write a built-in model as an OBJ file, or as binary glTF (`.glb`: with its
     /// skeleton, skin and clips for the critter).
@@ -164,7 +169,14 @@ fn main() -> ExitCode {
             scene,
             out_dir,
             validate,
-        }) => bench(quick, &only, list, scene.as_deref(), &out_dir, validate),
+            write_docs,
+        }) => bench(
+            (quick, &only, list),
+            scene.as_deref(),
+            &out_dir,
+            validate,
+            write_docs.as_deref(),
+        ),
         None => render(&cli.render),
     };
     match result {
@@ -182,12 +194,11 @@ fn main() -> ExitCode {
 }
 
 fn bench(
-    quick: bool,
-    only: &[String],
-    list: bool,
+    (quick, only, list): (bool, &[String], bool),
     scene: Option<&Path>,
     out_dir: &Path,
     validate: bool,
+    write_docs: Option<&Path>,
 ) -> anyhow::Result<()> {
     if list {
         for section in fur::bench::Section::ALL {
@@ -196,6 +207,16 @@ fn bench(
         return Ok(());
     }
     let sections = fur::bench::Section::parse_list(only)?;
+    if let Some(docs) = write_docs {
+        if quick || !only.is_empty() || scene.is_some() {
+            bail!(
+                "--write-docs {} takes a full run only (no --quick, --only or --scene): the \
+                 document's figures all come from one run",
+                docs.display()
+            );
+        }
+        fur::bench::check_docs(docs)?;
+    }
     fur::files::check_output_dir(out_dir)?;
     let device = fur::gpu::headless(validate)?;
     let scene = match scene {
@@ -222,6 +243,10 @@ fn bench(
     })?;
     bar.finish_and_clear();
     report.write(out_dir)?;
+    if let Some(docs) = write_docs {
+        fur::bench::write_docs(docs, &report.markdown)?;
+        eprintln!("wrote the tables into {}", docs.display());
+    }
     println!("{}", report.markdown);
     println!(
         "wrote {} measurements to {}",

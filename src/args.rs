@@ -27,7 +27,7 @@ pub struct SceneArgs {
     #[arg(long, allow_negative_numbers = true)]
     pub pitch: Option<f32>,
     /// Camera distance in bounding radii of the model [default: framing the whole model;
-    /// sphere: 2.17].
+    /// sphere: 2.89, 10 units].
     #[arg(long, allow_negative_numbers = true)]
     pub distance: Option<f32>,
     #[command(flatten)]

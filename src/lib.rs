@@ -5,19 +5,21 @@
 //! - [`strand_textures`]: master-hair vertices in RGBA32F images;
 //! - [`sim`]: Han & Harada's simulation (CPU reference and compute shaders);
 //! - [`render`]: the mesh pass and the tessellated fur pass;
+//! - [`geometry`]: the distance fields and maths the scene and the simulation share;
 //! - [`gpu`]: the Vulkan layer underneath.
 
 pub mod bench;
 pub mod error;
 pub mod files;
+pub mod geometry;
 pub mod gpu;
 pub mod interrupt;
 pub mod render;
 pub mod scene;
 pub mod scene_file;
 pub mod session;
-pub mod skinning;
 pub mod sim;
+pub mod skinning;
 pub mod strand_textures;
 pub mod viewer;
 

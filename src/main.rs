@@ -95,6 +95,11 @@ struct ViewArgs {
     sim: SimArgs,
     #[command(flatten)]
     animation: args::AnimationArgs,
+    /// Hold this frame rate by lowering the drawing quality while the view moves (the
+    /// quality ladder); back at full quality within 2 s of the last input; 0 = off,
+    /// always the scene's drawing [30].
+    #[arg(long, allow_negative_numbers = true)]
+    target_fps: Option<f64>,
     /// Present without waiting for vertical blank (mailbox or immediate when available).
     #[arg(long)]
     no_vsync: bool,
@@ -137,6 +142,10 @@ struct RenderArgs {
     /// Folder for the PNG sequence (frame_0000.png, …); implies simulation.
     #[arg(long, allow_hyphen_values = true)]
     out_dir: Option<PathBuf>,
+    /// Hold a sequence's frames under this many milliseconds by lowering the drawing
+    /// quality (the viewer's quality ladder); the rung chosen is printed [off].
+    #[arg(long, allow_negative_numbers = true)]
+    budget_ms: Option<f64>,
     /// Scripted head motion when simulating: still, shake, spin or nod [shake].
     #[arg(long)]
     motion: Option<MotionKind>,
@@ -271,6 +280,10 @@ fn view(args: ViewArgs) -> anyhow::Result<()> {
     args::set(&mut scene.height, args.height);
     scene.sim.validate()?;
     args.animation.apply(&mut scene.animation);
+    let target_fps = args.target_fps.unwrap_or(30.0);
+    if !(target_fps.is_finite() && (0.0..=1000.0).contains(&target_fps)) {
+        bail!("--target-fps must be 0 (off) to 1000 frames per second, got {target_fps}");
+    }
     if let Some(path) = &args.save_scene {
         fur::files::check_output_file(path)?;
     }
@@ -281,6 +294,7 @@ fn view(args: ViewArgs) -> anyhow::Result<()> {
         sim: scene.sim.clone(),
         motion: scene.motion,
         animation: scene.animation.clone(),
+        target_fps,
         vsync: !args.no_vsync,
         frames: args.frames,
         validate: args.validate,
@@ -339,6 +353,14 @@ const WARM_UP_FRAMES: usize = 2;
 fn render(args: &RenderArgs) -> anyhow::Result<()> {
     if args.frames == 0 {
         bail!("--frames must be at least 1");
+    }
+    if let Some(ms) = args.budget_ms {
+        if !(ms.is_finite() && ms > 0.0) {
+            bail!("--budget-ms must be a positive number of milliseconds, got {ms}");
+        }
+        if args.frames < 2 {
+            bail!("--budget-ms needs a sequence (--frames 2 or more) to observe frame times");
+        }
     }
     args.scene.check()?;
     let mut scene = args::scene(args.scene_file.as_deref(), &args.scene, &args.sim)?;
@@ -491,8 +513,24 @@ fn render_sequence(args: &RenderArgs, dir: &Path, session: &mut FurSession) -> a
         .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
     );
     let mut frame_ms = Vec::new();
+    let mut budget = args.budget_ms.map(fur::render::budget::Budget::new);
+    let base = session.settings.style.clone();
     for frame in 0..args.frames {
         fur::interrupt::check()?;
+        if let (Some(budget), Some(&last)) = (&mut budget, frame_ms.last()) {
+            // A sequence is always in motion: the budget never refines.
+            let before = budget.rung;
+            let rung = budget.observe(last, last / 1e3, true);
+            if rung != before {
+                bar.suspend(|| {
+                    eprintln!(
+                        "frame {frame}: quality rung {rung} ({})",
+                        fur::render::budget::LADDER[rung].name
+                    )
+                });
+            }
+            session.settings.style = fur::render::budget::LADDER[rung].apply(&base);
+        }
         // The first frame (a warm-up frame, not timed) counts what it draws.
         session.settings.count_hairs = frame == 0;
         let start = Instant::now();
@@ -531,5 +569,19 @@ fn render_sequence(args: &RenderArgs, dir: &Path, session: &mut FurSession) -> a
         "median frame {:.1} ms ({note})",
         fur::bench::metrics::median(warm)
     );
+    if let Some(budget) = &budget {
+        let rung = &fur::render::budget::LADDER[budget.rung];
+        println!(
+            "budget {:.1} ms: the last frame was drawn at quality rung {} ({}){}",
+            budget.target_ms,
+            budget.rung,
+            rung.name,
+            if budget.missed {
+                "; even the cheapest rung misses the budget"
+            } else {
+                ""
+            }
+        );
+    }
     Ok(())
 }

@@ -125,10 +125,12 @@ const SPHERE_BOUNDS: f32 = 3.464_101_6;
 
 impl SceneOptions {
     /// The original fur demo's scene on its sphere: master hairs of 12 vertices with
-    /// segments of 0.05 along the normals, seen from the side of the poles' axis with the
-    /// whole sphere in frame. The density gives the whole sphere 35,193 interpolated
-    /// hairs: as many as the distinct points of the original's tessellation levels
-    /// (⌊350 · area⌋ per triangle: 35,129), which it drew 189,600 times.
+    /// segments of 0.05 along the normals, seen from the side of the poles' axis through
+    /// the original's camera (the eye 10 units from the sphere's centre, a 45° vertical
+    /// field of view; at its 1280×720 the same pixels). The density gives the whole
+    /// sphere 35,193 interpolated hairs: as many as the distinct points of the original's
+    /// tessellation levels (⌊350 · area⌋ per triangle: 35,129), which it drew 189,600
+    /// times.
     pub fn original() -> Self {
         Self {
             hair_length: 0.55 / SPHERE_BOUNDS,
@@ -139,7 +141,8 @@ impl SceneOptions {
             density_scale: 0.33,
             yaw_deg: 90.0,
             pitch_deg: 15.0,
-            distance: Some(7.5 / SPHERE_BOUNDS),
+            distance: Some(10.0 / SPHERE_BOUNDS),
+            fov_deg: 45.0,
             ..Self::default()
         }
     }

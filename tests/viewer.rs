@@ -252,3 +252,62 @@ fn the_viewer_saves_a_scene_that_reproduces_its_view() {
         String::from_utf8_lossy(&render.stderr)
     );
 }
+
+/// With a budget no drawing can meet, the viewer steps down the quality ladder while
+/// the camera moves, climbs back to the default once input stops, and its last frame is
+/// the default drawing, pixel for pixel (the same run without a budget).
+#[test]
+fn the_budget_steps_down_while_moving_and_back_when_still() {
+    let dir = scratch("budget");
+    // A person orbiting: input every frame for 40 frames.
+    let orbits: String = (1..=40).map(|k| format!("; {k}:orbit=1,0")).collect();
+    let shot = |name: &str, fps: &str| {
+        let path = dir.join(name);
+        let script = format!(
+            "0:resize=160x120; 0:pause=on{orbits}; 159:screenshot={}",
+            path.display()
+        );
+        let out = view(
+            &[
+                "--model",
+                "sphere",
+                "--density-scale",
+                "0.3",
+                "--frames",
+                "160",
+                "--target-fps",
+                fps,
+                "--validate",
+                "--script",
+                &script,
+            ],
+            Duration::from_secs(240),
+        );
+        assert_ok(&out);
+        (path, String::from_utf8_lossy(&out.stdout).into_owned())
+    };
+    let (budgeted, log) = shot("budget.png", "1000");
+    let line = log
+        .lines()
+        .find(|l| l.starts_with("quality:"))
+        .unwrap_or_else(|| panic!("no quality line:\n{log}"));
+    let rungs: Vec<usize> = line
+        .split("rung ")
+        .skip(1)
+        .map(|s| s.split(' ').next().unwrap().parse().unwrap())
+        .collect();
+    assert!(
+        rungs.iter().any(|&r| r >= 2),
+        "never stepped down far: {line}"
+    );
+    assert_eq!(rungs.last(), Some(&0), "did not climb back: {line}");
+    let (plain, _) = shot("plain.png", "0");
+    let a = image::open(&budgeted).unwrap().to_rgba8();
+    let b = image::open(&plain).unwrap().to_rgba8();
+    assert_eq!(a.dimensions(), b.dimensions());
+    let differing = a.pixels().zip(b.pixels()).filter(|(x, y)| x != y).count();
+    assert_eq!(
+        differing, 0,
+        "{differing} pixels differ from the default drawing"
+    );
+}

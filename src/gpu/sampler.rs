@@ -1,4 +1,5 @@
-//! Samplers.
+//! Samplers (how the render passes filter and address their textures), each named for
+//! the validation layer and destroyed on drop.
 
 use std::sync::Arc;
 

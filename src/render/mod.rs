@@ -1,6 +1,7 @@
 //! The render passes: mesh (skin) and fur, into an offscreen target.
 
 mod bindings;
+pub mod budget;
 mod fur_pass;
 mod image;
 mod lighting;

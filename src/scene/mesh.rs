@@ -8,6 +8,7 @@ use glam::{Vec2, Vec3};
 
 use super::TextureSpec;
 use crate::error::Result;
+use crate::geometry::{Sdf, Triangles, V3};
 
 /// An indexed triangle mesh with one smooth normal per vertex. One master hair grows
 /// from every vertex.
@@ -45,7 +46,7 @@ impl Mesh {
     /// open or inside-out patch) gets the bounding radius.
     pub fn half_thickness(&self) -> Result<Vec<f32>> {
         let (_, radius) = self.bounds();
-        let (sdf, _) = crate::sim::Sdf::build(self, 40, 0.05 * radius)?;
+        let (sdf, _) = Sdf::build(self, 40, 0.05 * radius)?;
         const STEPS: usize = 24;
         Ok(self
             .positions
@@ -55,8 +56,7 @@ impl Mesh {
                 let deepest = (1..=STEPS)
                     .filter_map(|k| {
                         let q = *p - *n * (radius * k as f32 / STEPS as f32);
-                        sdf.sample(crate::sim::V3::<f32>::from_vec3(q))
-                            .map(|(d, _)| -d)
+                        sdf.sample(V3::<f32>::from_vec3(q)).map(|(d, _)| -d)
                     })
                     .fold(0.0f32, f32::max);
                 if deepest > 0.0 {
@@ -124,18 +124,20 @@ impl Mesh {
 
     /// The axis-aligned bounding box: (min corner, max corner).
     pub fn aabb(&self) -> (Vec3, Vec3) {
-        self.positions.iter().fold(
-            (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN)),
-            |(lo, hi), p| (lo.min(*p), hi.max(*p)),
-        )
+        self.triangles().aabb()
     }
 
     /// Bounding-sphere centre and radius (of the box around the vertices).
     pub fn bounds(&self) -> (Vec3, f32) {
-        let (min, max) = self.aabb();
-        // In f64: the squared diagonal of a model 1e20 units across overflows f32.
-        let diagonal = (max.as_dvec3() - min.as_dvec3()).length();
-        ((min * 0.5 + max * 0.5), (diagonal * 0.5) as f32)
+        self.triangles().bounds()
+    }
+
+    /// The positions and indices, as the geometry below the scene takes them.
+    pub fn triangles(&self) -> Triangles<'_> {
+        Triangles {
+            positions: &self.positions,
+            indices: &self.indices,
+        }
     }
 
     /// The number of distinct undirected edges.
@@ -174,6 +176,12 @@ impl Mesh {
                 mask
             })
             .collect()
+    }
+}
+
+impl<'a> From<&'a Mesh> for Triangles<'a> {
+    fn from(mesh: &'a Mesh) -> Self {
+        mesh.triangles()
     }
 }
 

@@ -2,7 +2,7 @@
 
 use serde::{Deserialize, Serialize};
 
-/// A scene file: any part of a [`Scene`].
+/// A scene file: any part of a [`Scene`](super::Scene).
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct SceneFile {
@@ -103,7 +103,7 @@ pub struct ShadowsSection {
     pub spacing: Option<f32>,
 }
 
-/// Units as [`SimParams`]: seconds, m/s², degrees.
+/// Units as [`SimParams`](crate::sim::SimParams): seconds, m/s², degrees.
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct SimulationSection {

@@ -7,7 +7,7 @@ use glam::{DMat4, DVec3, Vec3};
 use crate::error::{Error, Result};
 
 /// Cells along the longest axis a body's distance field may have, at least and at most.
-pub const SDF_RESOLUTION_RANGE: (u32, u32) = (8, 128);
+pub use crate::geometry::sdf::RESOLUTION_RANGE as SDF_RESOLUTION_RANGE;
 
 /// Han & Harada strand simulation parameters. Units: metres, seconds.
 #[derive(Clone, Debug, PartialEq)]

@@ -139,7 +139,7 @@ mod tests {
         assert!(capsules.len() >= 15, "{} capsules", capsules.len());
         // Points on each capsule's axis are inside the closed body.
         let axis: Vec<Vec3> = capsules.iter().map(|c| (c.a + c.b) * 0.5).collect();
-        let d = crate::sim::sdf::exact_distances(&mesh, &axis);
+        let d = crate::geometry::sdf::exact_distances(&mesh, &axis);
         let outside = d.iter().filter(|&&d| d > 0.0).count();
         assert!(
             outside <= capsules.len() / 10,

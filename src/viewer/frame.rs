@@ -72,6 +72,7 @@ impl Viewer {
             self.hud.frame_ms * 0.9 + dt * 1e3 * 0.1
         };
         self.hud_dt = dt;
+        self.steer_quality(dt);
         if self.frame_index > 1 {
             self.frame_times.push(dt * 1e3);
         }

@@ -74,6 +74,17 @@ impl Viewer {
     /// Handles input; returns true when the viewer should close.
     pub(super) fn input(&mut self, event: &WindowEvent) -> bool {
         let response = self.egui_state.on_window_event(&self.window, event);
+        // What counts as input for the frame-time budget: anything a person does.
+        if matches!(
+            event,
+            WindowEvent::MouseInput { .. }
+                | WindowEvent::MouseWheel { .. }
+                | WindowEvent::KeyboardInput { .. }
+        ) || (matches!(event, WindowEvent::CursorMoved { .. })
+            && (self.controls.orbiting || self.controls.panning))
+        {
+            self.quality.input_seen = true;
+        }
         match event {
             WindowEvent::Resized(_) => self.needs_resize = true,
             WindowEvent::MouseInput { state, button, .. } => {
@@ -148,6 +159,9 @@ impl Viewer {
     }
 
     pub(super) fn apply(&mut self, action: &Action) {
+        if !matches!(action, Action::Screenshot(_)) {
+            self.quality.input_seen = true;
+        }
         let c = &mut self.controls;
         match action {
             Action::Resize(w, h) => {
@@ -231,5 +245,6 @@ pub(super) fn controls_view(c: &mut Controls) -> ui::ControlsView<'_> {
         light_yaw_deg: &mut c.light_yaw_deg,
         light_pitch_deg: &mut c.light_pitch_deg,
         screenshot: &mut c.screenshot_requested,
+        quality_pin: &mut c.quality_pin,
     }
 }

@@ -5,6 +5,8 @@
 mod animation_ui;
 mod frame;
 mod input;
+mod quality;
+mod quality_ui;
 mod script;
 mod ui;
 
@@ -41,6 +43,8 @@ pub struct ViewerOptions {
     pub motion: crate::scene_file::MotionSpec,
     /// The clip a skinned or animated model plays.
     pub animation: crate::skinning::AnimationSpec,
+    /// Frames per second to hold by lowering the drawing quality (0: off).
+    pub target_fps: f64,
     pub vsync: bool,
     /// Exit after this many frames (for tests and benchmarks).
     pub frames: Option<u64>,
@@ -98,6 +102,22 @@ pub fn run(options: ViewerOptions) -> Result<()> {
                 v.hud.hairs,
                 v.hud.segments
             );
+            if v.quality.budget.is_some() {
+                let changes: Vec<String> = v
+                    .quality
+                    .log
+                    .iter()
+                    .map(|(frame, rung)| format!("rung {rung} at frame {frame}"))
+                    .collect();
+                println!(
+                    "quality: {}",
+                    if changes.is_empty() {
+                        "the default drawing throughout".to_string()
+                    } else {
+                        changes.join(", ")
+                    }
+                );
+            }
         }
     }
     // Destroying the viewer can report problems too: check after it is gone.
@@ -198,6 +218,22 @@ struct Controls {
     wind_strength: f32,
     wind_on: bool,
     shake_on: bool,
+    /// A ladder rung the panel pinned (the budget keeps it).
+    quality_pin: Option<usize>,
+}
+
+/// The frame-time budget and the styles it steers between.
+struct Quality {
+    /// None: `--target-fps 0`, always the scene's drawing.
+    budget: Option<crate::render::budget::Budget>,
+    /// The drawing the scene (and the panel) asks for: rung 0.
+    base: crate::render::FurStyle,
+    /// The drawing last applied (a change from it is the panel's).
+    applied: crate::render::FurStyle,
+    /// Input (camera, model, parameters) came since the last frame.
+    input_seen: bool,
+    /// Every change of rung: (frame, rung).
+    log: Vec<(u64, usize)>,
 }
 
 /// Live numbers for the HUD.
@@ -213,6 +249,14 @@ pub(crate) struct Hud {
     pub masters: usize,
     /// The scene has a texture the panel can turn on.
     pub texture_available: bool,
+    /// The ladder rung the fur is drawn at.
+    pub rung: usize,
+    /// Even the cheapest rung misses the budget.
+    pub budget_missed: bool,
+    /// The target frame rate (0: no budget).
+    pub target_fps: f64,
+    /// The device bins (lavapipe): timestamps between stages misattribute.
+    pub binning: bool,
 }
 
 // Fields drop in declaration order: UI first, then frame objects, swapchain, scene,
@@ -236,6 +280,7 @@ struct Viewer {
     scene: SceneOptions,
     controls: Controls,
     hud: Hud,
+    quality: Quality,
     script: Script,
     frame_limit: Option<u64>,
     frame_index: u64,
@@ -389,6 +434,15 @@ impl Viewer {
             ..Default::default()
         };
         let masters = session.strands.count();
+        let quality = Quality {
+            budget: (options.target_fps > 0.0)
+                .then(|| crate::render::budget::Budget::new(1000.0 / options.target_fps)),
+            base: session.settings.style.clone(),
+            applied: session.settings.style.clone(),
+            input_seen: false,
+            log: Vec::new(),
+        };
+        let binning = device.info.name.contains("llvmpipe");
         let scene_texture = mesh.texture.clone();
         let texture_available = scene_texture.is_some();
         Ok(Self {
@@ -411,8 +465,11 @@ impl Viewer {
             hud: Hud {
                 masters,
                 texture_available,
+                target_fps: options.target_fps,
+                binning,
                 ..Default::default()
             },
+            quality,
             script: options.script.clone(),
             frame_limit: options.frames,
             frame_index: 0,

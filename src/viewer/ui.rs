@@ -18,6 +18,7 @@ pub(crate) struct ControlsView<'a> {
     pub light_yaw_deg: &'a mut f32,
     pub light_pitch_deg: &'a mut f32,
     pub screenshot: &'a mut bool,
+    pub quality_pin: &'a mut Option<usize>,
 }
 
 /// What the panel changed that needs more than a uniform update.
@@ -69,12 +70,20 @@ impl PanelState {
                     1000.0 / hud.frame_ms.max(1e-3),
                     hud.frame_ms
                 ));
-                ui.label(format!(
-                    "GPU: frame {:.2} ms, simulation {:.2} ms ({:.2} per substep)",
-                    hud.gpu_frame_ms,
-                    hud.sim_ms,
-                    hud.sim_ms / f64::from(session.sim.params().substeps),
-                ));
+                if hud.binning {
+                    ui.label(
+                        "stage timings: not shown, a binning rasteriser (lavapipe) \
+                         misattributes them; the frame time above is the wall clock",
+                    );
+                } else {
+                    ui.label(format!(
+                        "GPU: frame {:.2} ms, simulation {:.2} ms ({:.2} per substep)",
+                        hud.gpu_frame_ms,
+                        hud.sim_ms,
+                        hud.sim_ms / f64::from(session.sim.params().substeps),
+                    ));
+                }
+                super::quality_ui::show(ui, hud, controls.quality_pin);
                 ui.label(format!(
                     "{} master hairs, {} tessellated points, {} hairs drawn in {} segments",
                     hud.masters, hud.points, hud.hairs, hud.segments

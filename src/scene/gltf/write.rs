@@ -30,8 +30,9 @@ use crate::error::{Error, Result};
 /// corner: a vertex whose corners disagree is written once per distinct coordinate
 /// (its copies share everything else). A body whose corners agree is written with its
 /// own vertices, so it reads back with the same vertex count and order. An embedded
-/// PNG or JPEG texture ([`TextureSpec::Embedded`]) is written into the file; a texture
-/// file is not (a `.glb` in memory has no folder to refer to it from).
+/// PNG or JPEG texture ([`TextureSpec::Embedded`](crate::scene::TextureSpec::Embedded))
+/// is written into the file; a texture file is not (a `.glb` in memory has no folder to
+/// refer to it from).
 pub fn write_glb(mesh: &Mesh, rig: Option<&Rig>) -> Result<Vec<u8>> {
     let error = |m: String| Error::Parameter(format!("the body cannot be written as glTF: {m}"));
     check_mesh(mesh).map_err(error)?;

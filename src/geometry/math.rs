@@ -1,0 +1,118 @@
+//! Scalars and 3-vectors generic over `f32` (the GPU's precision) and `f64` (the
+//! converged oracle): what the CPU reference and the distance field's sampler compute
+//! with.
+
+use std::ops::{Add, Div, Mul, Neg, Sub};
+
+use glam::Vec3;
+
+/// A floating-point scalar the reference runs on.
+pub trait Real:
+    Copy
+    + PartialOrd
+    + Add<Output = Self>
+    + Sub<Output = Self>
+    + Mul<Output = Self>
+    + Div<Output = Self>
+    + Neg<Output = Self>
+    + std::fmt::Debug
+    + Send
+    + Sync
+    + 'static
+{
+    const ZERO: Self;
+    const ONE: Self;
+    const HALF: Self;
+    fn from_f32(v: f32) -> Self;
+    fn from_f64(v: f64) -> Self;
+    fn to_f64(self) -> f64;
+    fn sqrt(self) -> Self;
+}
+
+impl Real for f32 {
+    const ZERO: Self = 0.0;
+    const ONE: Self = 1.0;
+    const HALF: Self = 0.5;
+    fn from_f32(v: f32) -> Self {
+        v
+    }
+    fn from_f64(v: f64) -> Self {
+        v as f32
+    }
+    fn to_f64(self) -> f64 {
+        f64::from(self)
+    }
+    fn sqrt(self) -> Self {
+        f32::sqrt(self)
+    }
+}
+
+impl Real for f64 {
+    const ZERO: Self = 0.0;
+    const ONE: Self = 1.0;
+    const HALF: Self = 0.5;
+    fn from_f32(v: f32) -> Self {
+        f64::from(v)
+    }
+    fn from_f64(v: f64) -> Self {
+        v
+    }
+    fn to_f64(self) -> f64 {
+        self
+    }
+    fn sqrt(self) -> Self {
+        f64::sqrt(self)
+    }
+}
+
+/// A 3-vector over [`Real`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct V3<T>(pub T, pub T, pub T);
+
+impl<T: Real> V3<T> {
+    pub const ZERO: Self = Self(T::ZERO, T::ZERO, T::ZERO);
+
+    pub fn from_vec3(v: Vec3) -> Self {
+        Self(T::from_f32(v.x), T::from_f32(v.y), T::from_f32(v.z))
+    }
+
+    pub fn to_vec3(self) -> Vec3 {
+        Vec3::new(
+            self.0.to_f64() as f32,
+            self.1.to_f64() as f32,
+            self.2.to_f64() as f32,
+        )
+    }
+
+    pub fn dot(self, o: Self) -> T {
+        self.0 * o.0 + self.1 * o.1 + self.2 * o.2
+    }
+
+    pub fn length(self) -> T {
+        self.dot(self).sqrt()
+    }
+
+    pub fn scale(self, s: T) -> Self {
+        Self(self.0 * s, self.1 * s, self.2 * s)
+    }
+
+    pub fn is_finite(self) -> bool {
+        [self.0, self.1, self.2]
+            .iter()
+            .all(|c| c.to_f64().is_finite())
+    }
+}
+
+impl<T: Real> Add for V3<T> {
+    type Output = Self;
+    fn add(self, o: Self) -> Self {
+        Self(self.0 + o.0, self.1 + o.1, self.2 + o.2)
+    }
+}
+
+impl<T: Real> Sub for V3<T> {
+    type Output = Self;
+    fn sub(self, o: Self) -> Self {
+        Self(self.0 - o.0, self.1 - o.1, self.2 - o.2)
+    }
+}

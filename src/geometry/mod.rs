@@ -1,0 +1,10 @@
+//! Geometry that the scene and the simulation both build on: indexed triangles' bounds,
+//! the scalar and 3-vector maths the CPU reference runs on, and signed distance fields.
+
+pub mod math;
+pub mod sdf;
+mod triangles;
+
+pub use math::{Real, V3};
+pub use sdf::{Sdf, SdfReport};
+pub use triangles::Triangles;

@@ -1,0 +1,316 @@
+//! Holding a frame rate by trading image quality: a ladder of drawing settings from the
+//! default down to the cheapest that still reads as fur (each rung costs less and errs
+//! more than the one above; `fur bench --only ladder` measures both), and a controller
+//! that picks the most accurate rung whose cost fits a frame-time budget, predicted from
+//! the frame times it observes on this device and scene.
+//!
+//! The controller holds still against noise: it steps down only when the current rung's
+//! smoothed time is over the budget, up only when the rung above is predicted to fit with
+//! room to spare, and changes at most once every [`Budget::SETTLE_FRAMES`] frames. When no
+//! input has come for [`Budget::IDLE_SECONDS`], it climbs back to the default, a rung at
+//! a time, within two seconds, whatever the frame rate: a person inspecting the fur sees
+//! it at full quality.
+
+use super::{FurStyle, Primitive};
+
+/// One rung: how the fur is drawn, relative to the scene's own style.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Rung {
+    pub name: &'static str,
+    pub samples: u32,
+    pub primitive: Primitive,
+    /// Vertex LOD tolerance in pixels.
+    pub vertex_lod_px: f32,
+    /// Multiplies the full-density distance (below 1 the density LOD starts closer; the
+    /// hairs it thins out are widened, so coverage is kept).
+    pub density_lod: f32,
+}
+
+/// The ladder, most accurate first: 4× MSAA ribbons (the default), 4× lines, 1-sample
+/// ribbons, 1-sample blended lines, then coarser vertex and density LOD.
+pub const LADDER: [Rung; 6] = [
+    Rung {
+        name: "default",
+        samples: 4,
+        primitive: Primitive::Ribbons,
+        vertex_lod_px: 0.05,
+        density_lod: 1.0,
+    },
+    Rung {
+        name: "4x lines",
+        samples: 4,
+        primitive: Primitive::Lines,
+        vertex_lod_px: 0.05,
+        density_lod: 1.0,
+    },
+    Rung {
+        name: "1x ribbons",
+        samples: 1,
+        primitive: Primitive::Ribbons,
+        vertex_lod_px: 0.05,
+        density_lod: 1.0,
+    },
+    Rung {
+        name: "1x lines",
+        samples: 1,
+        primitive: Primitive::Lines,
+        vertex_lod_px: 0.05,
+        density_lod: 1.0,
+    },
+    Rung {
+        name: "1x lines, vertex LOD 0.5 px",
+        samples: 1,
+        primitive: Primitive::Lines,
+        vertex_lod_px: 0.5,
+        density_lod: 1.0,
+    },
+    Rung {
+        name: "1x lines, half density distance",
+        samples: 1,
+        primitive: Primitive::Lines,
+        vertex_lod_px: 0.5,
+        density_lod: 0.5,
+    },
+];
+
+impl Rung {
+    /// `style` drawn at this rung; rung 0 leaves `style` exactly as it is.
+    pub fn apply(&self, style: &FurStyle) -> FurStyle {
+        if *self == LADDER[0] {
+            return style.clone();
+        }
+        FurStyle {
+            samples: self.samples.min(style.samples),
+            primitive: self.primitive,
+            vertex_lod_px: self.vertex_lod_px.max(style.vertex_lod_px),
+            lod_distance: style.lod_distance * self.density_lod,
+            thickness_compensation: true,
+            ..style.clone()
+        }
+    }
+}
+
+/// A frame-time budget over [`LADDER`].
+#[derive(Clone, Debug)]
+pub struct Budget {
+    /// Milliseconds a frame may take.
+    pub target_ms: f64,
+    /// The rung in use.
+    pub rung: usize,
+    /// A rung the user pinned: the controller keeps it.
+    pub pinned: Option<usize>,
+    /// Per rung, the smoothed frame time observed there (None: never drawn).
+    observed: Vec<Option<f64>>,
+    /// Per rung, the cost relative to rung 0 as first guessed, refined by what is seen.
+    ratio: Vec<f64>,
+    frames_since_change: u32,
+    /// Seconds since the last input (camera, model or parameters).
+    idle_s: f64,
+    /// Seconds since the last climb while idle.
+    since_climb_s: f64,
+    /// The cheapest rung missed the budget (said once).
+    pub missed: bool,
+}
+
+impl Budget {
+    /// Frames between two changes of rung, at least.
+    pub const SETTLE_FRAMES: u32 = 8;
+    /// Seconds without input after which the controller refines.
+    pub const IDLE_SECONDS: f64 = 0.5;
+    /// Step down above this share of the budget.
+    const OVER: f64 = 1.05;
+    /// Step up when the rung above is predicted under this share of it.
+    const UNDER: f64 = 0.8;
+    /// Smoothing of the observed times (weight of the newest frame).
+    const SMOOTHING: f64 = 0.3;
+
+    /// A budget of `target_ms` per frame starting at the default rung.
+    pub fn new(target_ms: f64) -> Self {
+        // First guesses of each rung's cost relative to the default, refined as soon as
+        // a rung is drawn; only their order matters before that.
+        let ratio = vec![1.0, 0.62, 0.42, 0.2, 0.17, 0.1];
+        Self {
+            target_ms,
+            rung: 0,
+            pinned: None,
+            observed: vec![None; LADDER.len()],
+            ratio,
+            frames_since_change: 0,
+            idle_s: 0.0,
+            since_climb_s: 0.0,
+            missed: false,
+        }
+    }
+
+    /// The predicted frame time of rung `r`: observed there, else scaled from the
+    /// nearest observed rung by the cost ratios.
+    pub fn predicted_ms(&self, r: usize) -> Option<f64> {
+        if let Some(ms) = self.observed[r] {
+            return Some(ms);
+        }
+        let (near, ms) = (0..LADDER.len())
+            .filter_map(|k| self.observed[k].map(|ms| (k, ms)))
+            .min_by_key(|(k, _)| k.abs_diff(r))?;
+        Some(ms * self.ratio[r] / self.ratio[near])
+    }
+
+    /// Records a frame of `frame_ms` drawn at the current rung, `dt_s` seconds after the
+    /// last, with or without input since; returns the rung for the next frame.
+    pub fn observe(&mut self, frame_ms: f64, dt_s: f64, input: bool) -> usize {
+        let r = self.rung;
+        if frame_ms.is_finite() && frame_ms > 0.0 {
+            let smoothed = match self.observed[r] {
+                Some(old) => old + Self::SMOOTHING * (frame_ms - old),
+                None => frame_ms,
+            };
+            self.observed[r] = Some(smoothed);
+            // Keep the ratios consistent with what is seen.
+            if let (Some(top), Some(here)) = (self.observed[0], self.observed[r]) {
+                if r > 0 && here < top {
+                    self.ratio[r] = here / top;
+                }
+            }
+        }
+        self.frames_since_change = self.frames_since_change.saturating_add(1);
+        if input {
+            self.idle_s = 0.0;
+        } else {
+            self.idle_s += dt_s.max(0.0);
+        }
+        if let Some(p) = self.pinned {
+            return self.set(p.min(LADDER.len() - 1));
+        }
+        if self.target_ms <= 0.0 {
+            return self.set(0);
+        }
+        // Still: climb back to the default, one rung every ≤ 0.25 s.
+        if self.idle_s >= Self::IDLE_SECONDS {
+            self.since_climb_s += dt_s.max(0.0);
+            if r > 0 && self.since_climb_s >= 0.25 {
+                self.since_climb_s = 0.0;
+                return self.set(r - 1);
+            }
+            return r;
+        }
+        self.since_climb_s = 0.0;
+        if self.frames_since_change < Self::SETTLE_FRAMES {
+            return r;
+        }
+        let current = self.observed[r].unwrap_or(frame_ms);
+        if current > self.target_ms * Self::OVER {
+            if r + 1 < LADDER.len() {
+                return self.set(r + 1);
+            }
+            self.missed = true;
+            return r;
+        }
+        if r > 0 {
+            if let Some(up) = self.predicted_ms(r - 1) {
+                if up < self.target_ms * Self::UNDER {
+                    return self.set(r - 1);
+                }
+            }
+        }
+        r
+    }
+
+    fn set(&mut self, r: usize) -> usize {
+        if r != self.rung {
+            self.rung = r;
+            self.frames_since_change = 0;
+        }
+        r
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A fake device: each rung costs `base × ratio` ms, plus noise in ±`jitter`.
+    fn run(
+        budget: &mut Budget,
+        costs: &[f64],
+        frames: usize,
+        input: bool,
+        jitter: f64,
+    ) -> Vec<usize> {
+        let mut rungs = Vec::new();
+        for k in 0..frames {
+            let noise = if k % 2 == 0 { jitter } else { -jitter };
+            let ms = costs[budget.rung] * (1.0 + noise);
+            rungs.push(budget.observe(ms, ms / 1e3, input));
+        }
+        rungs
+    }
+
+    const COSTS: [f64; 6] = [400.0, 250.0, 170.0, 80.0, 66.0, 40.0];
+
+    #[test]
+    fn it_steps_down_to_the_most_accurate_rung_that_fits() {
+        let mut b = Budget::new(100.0);
+        let rungs = run(&mut b, &COSTS, 200, true, 0.0);
+        assert_eq!(*rungs.last().unwrap(), 3, "{rungs:?}");
+        assert!(!b.missed);
+    }
+
+    #[test]
+    fn it_does_not_oscillate_when_times_hover_at_the_boundary() {
+        // Rung 2 costs just about the budget: ±4 % noise around it.
+        let costs = [300.0, 180.0, 100.0, 60.0, 50.0, 30.0];
+        let mut b = Budget::new(100.0);
+        let rungs = run(&mut b, &costs, 400, true, 0.04);
+        let changes = rungs.windows(2).filter(|w| w[0] != w[1]).count();
+        assert!(changes <= 3, "{changes} changes: {rungs:?}");
+        let tail = &rungs[200..];
+        assert!(
+            tail.iter().all(|&r| r == tail[0]),
+            "still changing: {tail:?}"
+        );
+    }
+
+    #[test]
+    fn it_climbs_back_to_the_default_within_two_seconds_of_stillness() {
+        let mut b = Budget::new(100.0);
+        run(&mut b, &COSTS, 200, true, 0.0);
+        assert!(b.rung > 0);
+        // Still: frames at their own cost (the default is slow: 400 ms a frame).
+        let mut t = 0.0;
+        while b.rung > 0 {
+            let ms = COSTS[b.rung];
+            b.observe(ms, ms / 1e3, false);
+            t += ms / 1e3;
+            assert!(
+                t < 2.0 + Budget::IDLE_SECONDS,
+                "still at rung {} after {t} s",
+                b.rung
+            );
+        }
+    }
+
+    #[test]
+    fn a_budget_the_default_meets_changes_nothing() {
+        let mut b = Budget::new(1000.0);
+        let rungs = run(&mut b, &COSTS, 100, true, 0.05);
+        assert!(rungs.iter().all(|&r| r == 0), "{rungs:?}");
+        let style = FurStyle::default();
+        assert_eq!(LADDER[0].apply(&style), style);
+    }
+
+    #[test]
+    fn the_cheapest_rung_missing_is_said() {
+        let mut b = Budget::new(10.0);
+        run(&mut b, &COSTS, 200, true, 0.0);
+        assert_eq!(b.rung, LADDER.len() - 1);
+        assert!(b.missed);
+    }
+
+    #[test]
+    fn a_pinned_rung_is_kept_and_zero_turns_the_budget_off() {
+        let mut b = Budget::new(100.0);
+        b.pinned = Some(1);
+        assert!(run(&mut b, &COSTS, 50, true, 0.0).iter().all(|&r| r == 1));
+        let mut off = Budget::new(0.0);
+        assert!(run(&mut off, &COSTS, 50, true, 0.0).iter().all(|&r| r == 0));
+    }
+}

@@ -1,0 +1,34 @@
+//! The panel's quality line: the ladder rung in use, the budget, and a rung to pin.
+
+use super::Hud;
+use crate::render::budget::LADDER;
+
+pub(super) fn show(ui: &mut egui::Ui, hud: &Hud, pin: &mut Option<usize>) {
+    let rung = &LADDER[hud.rung.min(LADDER.len() - 1)];
+    let budget = if hud.target_fps > 0.0 {
+        format!("budget {:.0} fps", hud.target_fps)
+    } else {
+        "no budget".to_string()
+    };
+    ui.label(format!(
+        "quality: {} (rung {} of {}), {budget}",
+        rung.name,
+        hud.rung,
+        LADDER.len() - 1
+    ));
+    if hud.budget_missed {
+        ui.colored_label(
+            egui::Color32::YELLOW,
+            "even the cheapest drawing misses the budget",
+        );
+    }
+    let label = |p: Option<usize>| p.map_or("auto".to_string(), |r| LADDER[r].name.to_string());
+    egui::ComboBox::from_label("pin quality")
+        .selected_text(label(*pin))
+        .show_ui(ui, |ui| {
+            ui.selectable_value(pin, None, "auto");
+            for (r, rung) in LADDER.iter().enumerate() {
+                ui.selectable_value(pin, Some(r), rung.name);
+            }
+        });
+}

@@ -30,6 +30,7 @@ fn quick_bench_writes_every_expected_measurement() {
     let mut lines = csv.lines();
     assert_eq!(lines.next(), Some("section,case,metric,value,unit"));
     let mut seen = HashSet::new();
+    let mut values = std::collections::HashMap::new();
     for line in lines {
         // Split off the quoted case, if any.
         let fields: Vec<String> = if let Some(start) = line.find('"') {
@@ -49,7 +50,14 @@ fn quick_bench_writes_every_expected_measurement() {
             .unwrap_or_else(|_| panic!("not a number: {line}"));
         assert!(value.is_finite(), "non-finite measurement: {line}");
         seen.insert((fields[0].clone(), fields[1].clone(), fields[2].clone()));
+        values.insert(
+            (fields[0].clone(), fields[1].clone(), fields[2].clone()),
+            value,
+        );
     }
+    let value = |section: &str, case: &str, metric: &str| {
+        values[&(section.to_string(), case.to_string(), metric.to_string())]
+    };
     let expect = |section: &str, case: &str, metric: &str| {
         assert!(
             seen.contains(&(section.to_string(), case.to_string(), metric.to_string())),
@@ -118,6 +126,40 @@ fn quick_bench_writes_every_expected_measurement() {
         for metric in ["with", "without", "ratio"] {
             expect("savings", saving, metric);
         }
+    }
+    // The quality ladder: every rung measured on both scenes, and its image error
+    // ordered (each rung errs more than the one above; cost is the benchmark's to
+    // measure, not a test's).
+    for scene in ["blob", "sphere"] {
+        let mut last = -1.0f64;
+        for (r, rung) in fur::render::budget::LADDER.iter().enumerate() {
+            let case = format!("{scene}: rung {r} ({})", rung.name);
+            for metric in ["frame_ms", "flip", "ordered"] {
+                expect("ladder", &case, metric);
+            }
+            let error = value("ladder", &case, "flip");
+            assert!(
+                error >= last,
+                "{case}: ꟻLIP {error} below the rung above ({last})"
+            );
+            last = error;
+        }
+    }
+    // Animation: skinning, walking against standing, each way of colliding.
+    expect("animation", "skinning", "us_per_vertex");
+    expect("animation", "walking / standing", "ratio");
+    for metric in [
+        "sampling_ms",
+        "device_kib",
+        "mean_penetration",
+        "max_penetration",
+    ] {
+        expect(
+            "animation",
+            "rest field carried by each root pose + bone capsules (default)",
+            metric,
+        );
+        expect("animation", "collision off", metric);
     }
     let md = std::fs::read_to_string(dir.join("results.md")).unwrap();
     assert!(md.contains("| iterations | substeps |"));

@@ -11,6 +11,7 @@
 mod animation;
 mod collision;
 mod frame;
+mod ladder;
 mod looks;
 pub mod metrics;
 pub mod plot;
@@ -80,11 +81,12 @@ pub enum Section {
     Collision,
     Savings,
     Looks,
+    Ladder,
     Animation,
 }
 
 impl Section {
-    pub const ALL: [Section; 9] = [
+    pub const ALL: [Section; 10] = [
         Self::Frame,
         Self::RenderQuality,
         Self::SimAccuracy,
@@ -93,6 +95,7 @@ impl Section {
         Self::Collision,
         Self::Savings,
         Self::Looks,
+        Self::Ladder,
         Self::Animation,
     ];
 
@@ -106,6 +109,7 @@ impl Section {
             Self::Collision => "collision",
             Self::Savings => "savings",
             Self::Looks => "looks",
+            Self::Ladder => "ladder",
             Self::Animation => "animation",
         }
     }
@@ -120,6 +124,7 @@ impl Section {
             Self::Collision => "distance-field build cost and size, collision cost, penetration against resolution",
             Self::Savings => "what skipping work the scene does not need saves",
             Self::Looks => "cost and image effect of texture colour, secondary highlight, shadows and thin-hair AA",
+            Self::Ladder => "frame time and image error of every rung of the frame-time budget's quality ladder",
             Self::Animation => "the walking critter: skinning cost, walking against standing, and each way of colliding with the deforming body",
         }
     }
@@ -220,6 +225,7 @@ pub fn task_count(options: &BenchOptions) -> u64 {
             Section::Collision => collision::tasks(options.quick),
             Section::Savings => savings::TASKS,
             Section::Looks => looks::tasks(options.quick),
+            Section::Ladder => ladder::tasks(options.scenes().len()),
             Section::Animation => animation::tasks(),
         })
         .sum()
@@ -256,6 +262,7 @@ pub fn run(
             Section::Collision => bench.collision()?,
             Section::Savings => bench.savings()?,
             Section::Looks => bench.looks()?,
+            Section::Ladder => bench.ladder()?,
             Section::Animation => bench.animation()?,
         }
     }

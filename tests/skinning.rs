@@ -332,7 +332,9 @@ fn hairs_per_triangle_stay_the_same_as_the_body_walks() {
             let skinned = session.sim.skinned.as_ref().unwrap();
             let posed = skinning::cpu::pose(
                 &skinned.body,
-                &skinned.playback.joint_matrices(&skinned.body.rig, session.sim.time),
+                &skinned
+                    .playback
+                    .joint_matrices(&skinned.body.rig, session.sim.time),
             );
             // How much the triangles stretch: the largest change of an edge length.
             for t in mesh.indices.chunks_exact(3) {
@@ -346,7 +348,10 @@ fn hairs_per_triangle_stay_the_same_as_the_body_walks() {
     println!("points and hairs per frame: {seen:?}; edges stretch up to {stretch:.3}");
     assert!(seen.iter().all(|s| *s == seen[0]), "{seen:?}");
     assert!(seen[0].1 > 1000, "too few hairs to tell: {:?}", seen[0]);
-    assert!(stretch > 0.05, "the walk hardly deforms the body ({stretch})");
+    assert!(
+        stretch > 0.05,
+        "the walk hardly deforms the body ({stretch})"
+    );
     drop(session);
     common::assert_clean(&device);
 }
@@ -425,7 +430,64 @@ fn collision_keeps_the_walking_hair_out_of_the_skin() {
         "depth inside the skin, fractions of the hair length: with collision mean {mean_on:.2e} \
          max {max_on:.3}; without mean {mean_off:.2e} max {max_off:.3}"
     );
-    assert!(mean_off > 1e-4, "the walk without collision hardly enters the skin");
-    assert!(mean_on * 1.7 < mean_off, "mean depth {mean_on} against {mean_off}");
-    assert!(max_on * 1.7 < max_off, "max depth {max_on} against {max_off}");
+    assert!(
+        mean_off > 1e-4,
+        "the walk without collision hardly enters the skin"
+    );
+    assert!(
+        mean_on * 1.7 < mean_off,
+        "mean depth {mean_on} against {mean_off}"
+    );
+    assert!(
+        max_on * 1.7 < max_off,
+        "max depth {max_on} against {max_off}"
+    );
+}
+
+/// A still pose under gravity with collision on (the product's defaults, the session's
+/// groom): once the hair has settled onto the body, no vertex should move more than 1e-6
+/// of the hair length a frame. It does not yet: on the critter about 150 strands (on
+/// the back and where the legs meet the body) keep moving by up to 3e-2 a frame, and
+/// the same run on the rigid critter (no skin) measures the same, so it is the rigid
+/// collision's limit cycle on a thin, concave body, not the skinning's (with collision
+/// off the skinned pose moves 4.9e-7 a frame: rounding). Ignored until that is fixed;
+/// run it with `cargo test --test skinning -- --ignored`.
+#[test]
+#[ignore = "known: the collision step keeps ~150 strands moving on the critter's still pose"]
+fn a_still_pose_under_gravity_with_collision_comes_to_rest() {
+    let device = common::device();
+    let (mesh, rig) = critter();
+    let (strands, _) = session_strands(&mesh, &rig);
+    let body = Arc::new(SkinnedBody::new(&mesh, rig));
+    let params = SimParams::default();
+    let (sdf, _) = fur::sim::Sdf::for_hair(&mesh, &params, strands.hair_length()).unwrap();
+    let mut textures = StrandTextures::new(&device, &strands, glam::Mat4::IDENTITY).unwrap();
+    let mut gpu = GpuSim::build(
+        &device,
+        &textures,
+        params,
+        1,
+        Some(&sdf),
+        Some((body, Playback::default())),
+    )
+    .unwrap();
+    let head = |_: f64| DMat4::IDENTITY;
+    gpu.run_frames(&mut textures, 300, head).unwrap();
+    let limit = 1e-6 * strands.hair_length();
+    let mut before = textures.read_positions(textures.current).unwrap();
+    let mut worst = 0.0f32;
+    for _ in 0..5 {
+        gpu.run_frames(&mut textures, 1, head).unwrap();
+        let now = textures.read_positions(textures.current).unwrap();
+        worst = worst.max(max_error(&before, &now));
+        before = now;
+    }
+    println!("largest move a frame after settling: {worst:e} (limit {limit:e})");
+    assert!(
+        worst <= limit,
+        "the still pose jitters by {worst} a frame (limit {limit})"
+    );
+    drop(gpu);
+    drop(textures);
+    common::assert_clean(&device);
 }

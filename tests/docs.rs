@@ -1,0 +1,119 @@
+//! The documents agree with themselves: every figure the README's "What to expect"
+//! section quotes appears in docs/benchmark.md (which `fur bench --write-docs` writes),
+//! every link between the documents leads to a file, and the README stays a front page.
+
+use std::path::Path;
+
+fn read(path: &str) -> String {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    std::fs::read_to_string(root.join(path)).unwrap_or_else(|e| panic!("{path}: {e}"))
+}
+
+/// The numbers in `text` (digits with an optional decimal part), as written.
+fn numbers(text: &str) -> Vec<String> {
+    let mut out = Vec::new();
+    let mut current = String::new();
+    for c in text.chars().chain(std::iter::once(' ')) {
+        if c.is_ascii_digit()
+            || (c == '.' && !current.is_empty())
+            || (c == ',' && !current.is_empty())
+        {
+            current.push(c);
+        } else if !current.is_empty() {
+            let n = current.trim_end_matches(['.', ',']).to_string();
+            out.push(n);
+            current.clear();
+        }
+    }
+    out
+}
+
+/// The README's section that starts at `heading` up to the next `## ` heading.
+fn section<'a>(text: &'a str, heading: &str) -> &'a str {
+    let start = text
+        .find(heading)
+        .unwrap_or_else(|| panic!("no `{heading}` section"));
+    let rest = &text[start + heading.len()..];
+    &rest[..rest.find("\n## ").unwrap_or(rest.len())]
+}
+
+#[test]
+fn the_figures_the_readme_quotes_come_from_the_benchmark_document() {
+    let readme = read("README.md");
+    let benchmark = read("docs/benchmark.md");
+    let expect = section(&readme, "## What to expect");
+    let quoted: Vec<String> = expect
+        .lines()
+        .filter(|l| l.starts_with('|') && !l.starts_with("| ---"))
+        .skip(1) // the header row
+        .flat_map(numbers)
+        .filter(|n| n.len() > 1 || n.contains('.'))
+        .collect();
+    assert!(
+        quoted.len() >= 4,
+        "the README quotes no figures: {quoted:?}"
+    );
+    let missing: Vec<&String> = quoted
+        .iter()
+        .filter(|n| !benchmark.contains(n.as_str()))
+        .collect();
+    assert!(
+        missing.is_empty(),
+        "figures in the README's \"What to expect\" that docs/benchmark.md does not hold: {missing:?}"
+    );
+}
+
+#[test]
+fn links_between_the_documents_lead_to_files() {
+    for doc in [
+        "README.md",
+        "docs/design.md",
+        "docs/benchmark.md",
+        "docs/robustness.md",
+        "docs/testing.md",
+        "docs/scene-files.md",
+    ] {
+        let text = read(doc);
+        let dir = Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join(doc)
+            .parent()
+            .unwrap()
+            .to_path_buf();
+        let mut rest = text.as_str();
+        while let Some(i) = rest.find("](") {
+            rest = &rest[i + 2..];
+            let end = rest.find(')').unwrap_or(rest.len());
+            let target = &rest[..end];
+            rest = &rest[end..];
+            let file = target.split('#').next().unwrap_or("");
+            if file.is_empty() || file.contains("://") {
+                continue;
+            }
+            assert!(
+                dir.join(file).exists(),
+                "{doc} links to {target}, which is not there"
+            );
+        }
+    }
+}
+
+#[test]
+fn the_readme_is_a_front_page() {
+    let readme = read("README.md");
+    let lines = readme.lines().count();
+    assert!(
+        lines <= 250,
+        "README.md is {lines} lines; the depth belongs in docs/"
+    );
+    // The two commands the README promises: set-up and run, and the tests.
+    assert!(readme.contains("cargo run --release"), "no run command");
+    assert!(readme.contains("cargo test --locked"), "no test command");
+}
+
+#[test]
+fn numbers_are_read_as_written() {
+    assert_eq!(
+        numbers("| 271.1 ms | 5.2× | 1,400 |"),
+        ["271.1", "5.2", "1,400"]
+    );
+}

@@ -118,7 +118,7 @@ impl Bench<'_> {
         let v = strands.vertices_per_strand as usize;
         let (samples, every) = if self.quick { (2, 15) } else { (6, 5) };
         gpu.run_frames(&mut textures, 30, |_| glam::DMat4::IDENTITY)?;
-        let (mut sum, mut count, mut max) = (0.0f64, 0usize, 0.0f64);
+        let mut depths = super::metrics::Depths::default();
         for _ in 0..samples {
             crate::interrupt::check()?;
             gpu.run_frames(&mut textures, every, |_| glam::DMat4::IDENTITY)?;
@@ -134,15 +134,9 @@ impl Bench<'_> {
                 .filter(|(i, _)| i % v != 0)
                 .map(|(_, p)| p)
                 .collect();
-            for d in crate::sim::sdf::exact_distances(&surface, &points) {
-                let depth = f64::from((-d).max(0.0));
-                sum += depth;
-                count += 1;
-                max = max.max(depth);
-            }
+            depths.add(&surface, &points);
         }
-        let hair = f64::from(strands.hair_length());
-        Ok((sum / count.max(1) as f64 / hair, max / hair))
+        Ok(depths.relative_to(f64::from(strands.hair_length())))
     }
 
     pub(super) fn animation(&mut self) -> Result<()> {

@@ -41,7 +41,7 @@ impl Bench<'_> {
         let mut textures = StrandTextures::new(self.device, strands, motion.head(0.0).as_mat4())?;
         let mut gpu = GpuSim::with_body(self.device, &textures, params, 1, Some(body))?;
         let v = strands.vertices_per_strand as usize;
-        let (mut sum, mut count, mut max) = (0.0f64, 0usize, 0.0f64);
+        let mut depths = super::metrics::Depths::default();
         // Sample the depth over the run's second half.
         for chunk in 0..4 {
             crate::interrupt::check()?;
@@ -57,15 +57,9 @@ impl Bench<'_> {
                 .filter(|(i, _)| i % v != 0)
                 .map(|(_, p)| to_model.transform_point3(*p))
                 .collect();
-            for d in crate::sim::sdf::exact_distances(&mesh, &model) {
-                let depth = f64::from((-d).max(0.0));
-                sum += depth;
-                count += 1;
-                max = max.max(depth);
-            }
+            depths.add(&mesh, &model);
         }
-        let hair = f64::from(strands.hair_length());
-        Ok((sum / count.max(1) as f64 / hair, max / hair))
+        Ok(depths.relative_to(f64::from(strands.hair_length())))
     }
 
     pub(super) fn collision(&mut self) -> Result<()> {

@@ -168,3 +168,32 @@ mod tests {
         assert_eq!(pareto_front(&points), vec![true, true, false, true, false]);
     }
 }
+
+/// Depths inside a closed body, accumulated over samples: the sum, the count and the
+/// deepest, from exact point-to-mesh distances.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Depths {
+    sum: f64,
+    count: usize,
+    max: f64,
+}
+
+impl Depths {
+    /// Adds the depth of every point of `points` inside `surface` (0 outside).
+    pub fn add(&mut self, surface: &crate::scene::Mesh, points: &[glam::Vec3]) {
+        for d in crate::geometry::sdf::exact_distances(surface, points) {
+            let depth = f64::from((-d).max(0.0));
+            self.sum += depth;
+            self.count += 1;
+            self.max = self.max.max(depth);
+        }
+    }
+
+    /// (mean, max) depth as fractions of `length`.
+    pub fn relative_to(&self, length: f64) -> (f64, f64) {
+        (
+            self.sum / self.count.max(1) as f64 / length,
+            self.max / length,
+        )
+    }
+}

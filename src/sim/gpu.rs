@@ -286,19 +286,7 @@ impl GpuSim {
         let d = &*self.device;
         d.submit_once(|cmd| {
             d.begin_label(cmd, "rest pose");
-            unsafe {
-                d.raw
-                    .cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, pipeline.raw());
-                d.raw.cmd_bind_descriptor_sets(
-                    cmd,
-                    vk::PipelineBindPoint::COMPUTE,
-                    self.layout.raw(),
-                    0,
-                    &[self.slots[0].sets[0]],
-                    &[],
-                );
-                d.raw.cmd_dispatch(cmd, self.group_count(), 1, 1);
-            }
+            self.dispatch(cmd, &pipeline, self.slots[0].sets[0], [0, 0, 0]);
             d.end_label(cmd);
             after_dispatch(d, cmd);
             Ok(())
@@ -396,6 +384,37 @@ impl GpuSim {
         self.strand_count.div_ceil(GROUP_SIZE)
     }
 
+    /// Records one dispatch of `pipeline` over every strand with descriptor set `set`
+    /// and push constants `push` (first substep, substeps, placement).
+    fn dispatch(
+        &self,
+        cmd: vk::CommandBuffer,
+        pipeline: &Pipeline,
+        set: vk::DescriptorSet,
+        push: [u32; 3],
+    ) {
+        let raw = &self.device.raw;
+        unsafe {
+            raw.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, pipeline.raw());
+            raw.cmd_bind_descriptor_sets(
+                cmd,
+                vk::PipelineBindPoint::COMPUTE,
+                self.layout.raw(),
+                0,
+                &[set],
+                &[],
+            );
+            raw.cmd_push_constants(
+                cmd,
+                self.layout.raw(),
+                vk::ShaderStageFlags::COMPUTE,
+                0,
+                bytemuck::cast_slice(&push),
+            );
+            raw.cmd_dispatch(cmd, self.group_count(), 1, 1);
+        }
+    }
+
     /// Records the simulation of `constants.len() / substeps` frames: one dispatch per
     /// frame, each running that frame's substeps. The step constants are written into
     /// the step buffer now, so the submission must complete before the next call.
@@ -458,25 +477,7 @@ impl GpuSim {
             }
             let push = [first, chunk.len() as u32, 0];
             d.begin_label(cmd, "simulate frame");
-            unsafe {
-                raw.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, pipeline.raw());
-                raw.cmd_bind_descriptor_sets(
-                    cmd,
-                    vk::PipelineBindPoint::COMPUTE,
-                    self.layout.raw(),
-                    0,
-                    &[frame.sets[textures.current]],
-                    &[],
-                );
-                raw.cmd_push_constants(
-                    cmd,
-                    self.layout.raw(),
-                    vk::ShaderStageFlags::COMPUTE,
-                    0,
-                    bytemuck::cast_slice(&push),
-                );
-                raw.cmd_dispatch(cmd, self.group_count(), 1, 1);
-            }
+            self.dispatch(cmd, pipeline, frame.sets[textures.current], push);
             d.end_label(cmd);
             textures.current = 1 - textures.current;
             // The next frame reads what this one wrote. The last needs no barrier here:
@@ -542,27 +543,12 @@ impl GpuSim {
             if let Some(skinned) = &self.skinned {
                 skinned.skin.record(cmd, 0, 0, 1);
             }
-            let push = [0u32, 1, 1];
-            unsafe {
-                d.raw
-                    .cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, pipeline.raw());
-                d.raw.cmd_bind_descriptor_sets(
-                    cmd,
-                    vk::PipelineBindPoint::COMPUTE,
-                    self.layout.raw(),
-                    0,
-                    &[self.slots[0].sets[textures.current]],
-                    &[],
-                );
-                d.raw.cmd_push_constants(
-                    cmd,
-                    self.layout.raw(),
-                    vk::ShaderStageFlags::COMPUTE,
-                    0,
-                    bytemuck::cast_slice(&push),
-                );
-                d.raw.cmd_dispatch(cmd, self.group_count(), 1, 1);
-            }
+            self.dispatch(
+                cmd,
+                pipeline,
+                self.slots[0].sets[textures.current],
+                [0, 1, 1],
+            );
             after_dispatch(&d, cmd);
             Ok(())
         })

@@ -179,6 +179,17 @@ void main() {
     }
 
     float tolerance = frame.draw.y;
+#if defined(FUR_TEST_DROP_TIP) || defined(FUR_TEST_DROP_ROOT)
+    // Test only: a vertex LOD that loses the tip (or the root), drawing it where its
+    // neighbour is; tests/render_levers.rs must reject it.
+    if (tolerance > 0.0) {
+#ifdef FUR_TEST_DROP_TIP
+        P[V - 1u] = P[V - 2u];
+#else
+        P[0] = P[1];
+#endif
+    }
+#endif
     vec3 t = vec3(0.0, 1.0, 0.0);
     uint segments = 0u;
     uint k = 0u;

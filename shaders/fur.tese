@@ -51,6 +51,9 @@ void main() {
     float uv_area = 0.5 * abs(cross(vec3(u1 - u0, 0.0), vec3(u2 - u0, 0.0)).z);
     float texels = uv_area * frame.draw.z / max(0.75 * n * n, 1.0);
     e_uv_lod = vec3(b.x * u0 + b.y * u1 + b.z * u2, 0.5 * log2(max(texels, 1.0)));
+#ifdef FUR_TEST_MIRROR_U
+    e_uv_lod.x = 1.0 - e_uv_lod.x; // test only: a mirrored u that tests/looks.rs must reject
+#endif
 #endif
     vec3 root = b.x * strand_vertex(c_hair[0], 0u) + b.y * strand_vertex(c_hair[1], 0u)
               + b.z * strand_vertex(c_hair[2], 0u);

@@ -50,6 +50,9 @@ void main() {
 #endif
 #if TEXTURED
     v_uv = in_uv;
+#ifdef FUR_TEST_MIRROR_U
+    v_uv.x = 1.0 - v_uv.x; // test only: a mirrored u that tests/looks.rs must reject
+#endif
 #endif
     gl_Position = frame.view_proj * world;
 }

@@ -58,6 +58,11 @@ vec3 kajiya_kay(vec3 t, vec3 world, float light) {
     float sin_tl = sqrt(max(1.0 - tl * tl, 0.0));
     float sin_te = sqrt(max(1.0 - te * te, 0.0));
     float diffuse = frame.shading.x * sin_tl;
+#ifdef FUR_TEST_DIFFUSE
+    // Test only: wrong diffuse terms that tests/render.rs must reject (1: Lambert with
+    // the tangent as the normal, 2: sin² instead of sin).
+    diffuse = frame.shading.x * (FUR_TEST_DIFFUSE == 1 ? max(tl, 0.0) : sin_tl * sin_tl);
+#endif
     float specular = frame.shading.y * lobe(tl, sin_tl, te, sin_te, frame.highlight.xy, frame.shading.z);
     float tinted = 0.0;
     if ((frame.strands.w & FLAG_SECONDARY_HIGHLIGHT) != 0u) {

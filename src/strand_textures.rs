@@ -247,6 +247,20 @@ impl StrandTextures {
     /// Reads back the current (`which = current`) or other position image as one
     /// position per strand vertex. For tests and tools; waits for the GPU.
     pub fn read_positions(&self, which: usize) -> Result<Vec<Vec3>> {
+        let texel_data = self.read_texels(which)?;
+        let l = self.layout;
+        Ok((0..l.strand_count * l.vertices_per_strand)
+            .map(|i| {
+                let (x, y) = l.texel(i / l.vertices_per_strand, i % l.vertices_per_strand);
+                texel_data[(y * l.width + x) as usize].truncate()
+            })
+            .collect())
+    }
+
+    /// Test hook: the position image's texels as stored, row by row, so a test can
+    /// check the layout without going through [`StrandLayout::texel`] both ways.
+    #[doc(hidden)]
+    pub fn read_texels(&self, which: usize) -> Result<Vec<Vec4>> {
         let image = &self.positions[which];
         let texels = self.layout.texel_count();
         let size = (texels * std::mem::size_of::<Vec4>()) as u64;
@@ -296,13 +310,7 @@ impl StrandTextures {
             Ok(())
         })?;
         let texel_data: &[Vec4] = bytemuck::cast_slice(buffer.mapped());
-        let l = self.layout;
-        Ok((0..l.strand_count * l.vertices_per_strand)
-            .map(|i| {
-                let (x, y) = l.texel(i / l.vertices_per_strand, i % l.vertices_per_strand);
-                texel_data[(y * l.width + x) as usize].truncate()
-            })
-            .collect())
+        Ok(texel_data[..texels].to_vec())
     }
 }
 

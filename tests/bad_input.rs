@@ -175,16 +175,16 @@ fn malformed_models_fail_cleanly() {
             file("lines.obj", b"v 0 0 0\nv 1 0 0\nv 0 1 0\nl 1 2\np 3\n"),
             "no faces",
         ),
-        ("binary garbage", file("garbage.obj", &garbage), "model"),
+        ("binary garbage", file("garbage.obj", &garbage), "no faces"),
         (
             "index out of bounds",
             file("oob.obj", b"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\n"),
-            "model",
+            "vertex index out of bounds",
         ),
         (
             "negative index out of bounds",
             file("neg.obj", b"v 0 0 0\nv 1 0 0\nf -1 -2 -7\n"),
-            "model",
+            "vertex index out of bounds",
         ),
         (
             "NaN coordinate",
@@ -207,16 +207,24 @@ fn malformed_models_fail_cleanly() {
                 "badvn.obj",
                 b"v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 0 1\nf 1//1 2//2 3//3\n",
             ),
-            "model",
+            "normal index out of bounds",
         ),
         (
             "non-numeric vertex",
             file("text.obj", b"v zero one two\nv 1 0 0\nv 0 1 0\nf 1 2 3\n"),
-            "model",
+            "position parse error",
         ),
     ];
     for (case, path, needle) in cases {
-        fails(&render_model(&path, &[]), needle, case);
+        let outcome = render_model(&path, &[]);
+        fails(&outcome, needle, case);
+        // And it names the model it could not read.
+        let name = Path::new(&path).file_name().unwrap().to_string_lossy();
+        assert!(
+            outcome.stderr.contains("cannot read model") && outcome.stderr.contains(&*name),
+            "{case}: the message does not name the model `{name}`:\n{}",
+            outcome.stderr
+        );
     }
 }
 

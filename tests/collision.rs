@@ -152,13 +152,31 @@ fn an_open_or_inconsistent_mesh_is_named_in_a_warning() {
     assert!(report.closed(), "{report:?}");
 }
 
+/// What the pressing case left, as fractions of the hair length.
+struct Pressed {
+    /// The nearest any strand vertex but a root comes to the body's surface, by exact
+    /// distance (negative inside).
+    nearest: f64,
+    /// The nearest any of them is by the collider's own field, over its margin.
+    in_field: f64,
+    /// The collision margin.
+    margin: f64,
+    /// The field's largest error against exact distances within two cells outside the
+    /// surface (`common::field_error`).
+    field_error: f64,
+}
+
 /// Hair combed down on `mesh`, simulated on the GPU for `frames` frames under strong
-/// gravity and a shake; returns the deepest any strand vertex reaches inside the body
-/// as a fraction of the hair length, measured with exact distances.
-fn deepest(mesh: &Mesh, collision: bool, frames: usize) -> f32 {
+/// gravity and a shake (`pressing_case`), with the collider keeping `margin` of the hair
+/// length out (`None`: collision off).
+fn pressed(mesh: &Mesh, margin: Option<f32>, frames: usize) -> Pressed {
     let device = common::device();
     let (_, radius) = mesh.bounds();
-    let (groom, params, motion) = fur::sim::sdf::pressing_case(radius, collision);
+    let (groom, params, motion) = fur::sim::sdf::pressing_case(radius, margin.is_some());
+    let params = SimParams {
+        collision_margin: margin.unwrap_or(params.collision_margin),
+        ..params
+    };
     let strands = Strands::grow(mesh, &groom).unwrap();
     let hair = strands.hair_length();
     let (sdf, _) = Sdf::build(
@@ -167,11 +185,12 @@ fn deepest(mesh: &Mesh, collision: bool, frames: usize) -> f32 {
         hair,
     )
     .unwrap();
+    let field_error = common::field_error(mesh, &sdf, (0.0, 2.0 * sdf.cell)) / f64::from(hair);
     let mut textures = StrandTextures::new(&device, &strands, motion.head(0.0).as_mat4()).unwrap();
-    let mut gpu = GpuSim::with_body(&device, &textures, params, 1, Some(&sdf)).unwrap();
+    let mut gpu = GpuSim::with_body(&device, &textures, params.clone(), 1, Some(&sdf)).unwrap();
     assert_eq!(
         gpu.active_steps().contains(&fur::sim::SimStep::Collision),
-        collision
+        margin.is_some()
     );
     gpu.run_frames(&mut textures, frames, |t| motion.head(t))
         .unwrap();
@@ -184,11 +203,21 @@ fn deepest(mesh: &Mesh, collision: bool, frames: usize) -> f32 {
         .filter(|(i, _)| i % v != 0) // roots sit on the surface
         .map(|(_, p)| to_model.transform_point3(*p))
         .collect();
-    let depth = exact(mesh, &model).iter().fold(0.0f32, |d, t| d.max(-t));
+    let nearest = exact(mesh, &model).iter().fold(f32::MAX, |d, t| d.min(*t));
+    let in_field = model
+        .iter()
+        .filter_map(|p| sdf.sample(V3::<f32>::from_vec3(*p)))
+        .fold(f32::MAX, |d, (f, _)| d.min(f));
     drop(gpu);
     drop(textures);
     common::assert_clean(&device);
-    depth / hair
+    let margin = margin.unwrap_or(0.0);
+    Pressed {
+        nearest: f64::from(nearest / hair),
+        in_field: f64::from(in_field / (margin * hair)),
+        margin: f64::from(margin),
+        field_error,
+    }
 }
 
 #[test]
@@ -197,16 +226,50 @@ fn hair_never_passes_through_the_sphere_or_the_blob() {
         ("sphere", Mesh::uv_sphere(2.0, 20, 40)),
         ("blob", Mesh::blob()),
     ] {
-        let with = deepest(&mesh, true, 200);
-        let without = deepest(&mesh, false, 200);
-        println!("{name}: deepest {with} of the hair length with collision, {without} without");
+        let with = pressed(&mesh, Some(0.02), 200);
+        let half = pressed(&mesh, Some(0.01), 200);
+        let without = pressed(&mesh, None, 200);
+        println!(
+            "{name}: nearest vertex {:.4} of the hair length out (margin {}, field error \
+             {:.4}), {:.3} of the margin by the field; with half the margin {:.4}; without \
+             collision {:.2}",
+            with.nearest,
+            with.margin,
+            with.field_error,
+            with.in_field,
+            half.nearest,
+            without.nearest
+        );
+        // The test pushes hair into the body: without collision, over a hair length deep.
         assert!(
-            without > 0.1,
-            "{name}: the test does not push hair into the body ({without})"
+            without.nearest < -1.0,
+            "{name}: the test does not push hair into the body ({})",
+            without.nearest
+        );
+        // The collider's contract, in its own field: every vertex at least the margin
+        // out. It projects a vertex onto the margin along the field's gradient up to
+        // three times; a step that crosses into the next grid point's linear patch can
+        // leave it short by the change of the field's slope over the step, which three
+        // projections bring under 5 % of the margin (measured: under 0.2 %). A collider
+        // keeping half the margin fails it.
+        assert!(
+            with.in_field >= 0.95,
+            "{name}: a vertex is {} of the margin out by the field",
+            with.in_field
         );
         assert!(
-            with <= 0.01,
-            "{name}: hair {with} of its length inside the body"
+            half.in_field * 0.5 < 0.95,
+            "{name}: half the margin passes the contract"
+        );
+        // And by exact distances: the field is within its error of the surface, so
+        // every vertex is at least 0.95 × margin − error out (on the sphere a real
+        // distance outside; the blob's field errs by more than the margin near its
+        // sharpest folds, so there only no deeper than that).
+        let bound = 0.95 * with.margin - with.field_error;
+        assert!(
+            with.nearest >= bound,
+            "{name}: a vertex {} of the hair length from the surface, under {bound}",
+            with.nearest
         );
     }
 }
@@ -278,17 +341,21 @@ fn hair_resting_on_the_body_stays_still() {
 fn gpu_collision_matches_the_cpu_reference() {
     let device = common::device();
     let mesh = Mesh::blob();
+    // Hair combed down hard, no global shape and a soft local one, under strong
+    // gravity: it lies on the body (see `pressing_case`).
     let groom = GroomParams {
         segments: 10,
         segment_length: 0.03,
         comb_direction: Vec3::NEG_Y,
-        comb_strength: 2.5,
+        comb_strength: 3.0,
         ..Default::default()
     };
     let strands = Strands::grow(&mesh, &groom).unwrap();
     let hair = strands.hair_length();
     let params = SimParams {
-        gravity: Vec3::new(0.0, -30.0, 0.0),
+        gravity: Vec3::new(0.0, -40.0, 0.0),
+        global_stiffness: 0.0,
+        local_stiffness: 0.3,
         substeps: 2,
         wind: Vec3::new(2.0, 0.0, 1.0),
         ..SimParams::default()
@@ -303,32 +370,87 @@ fn gpu_collision_matches_the_cpu_reference() {
     let mut textures = StrandTextures::new(&device, &strands, motion.head(0.0).as_mat4()).unwrap();
     let mut gpu = GpuSim::with_body(&device, &textures, params.clone(), 1, Some(&sdf)).unwrap();
     let mut cpu = CpuSim::<f32>::new(&strands, params, motion.head(0.0)).with_sdf(sdf.clone());
-    gpu.run_frames(&mut textures, 40, |t| motion.head(t))
-        .unwrap();
-    for _ in 0..40 {
+    // Frame by frame from the same state: the CPU takes the GPU's positions and previous
+    // positions before each frame, so what is compared is one frame's arithmetic, with
+    // thousands of vertices in contact. Left to run apart, the two part within a few
+    // frames wherever a vertex sits within a rounding of the margin: one side counts a
+    // contact and takes the normal velocity and friction off it, the other does not,
+    // and the difference grows as any contact's does (measured on lavapipe: 7.7e-7
+    // after one frame, 2e-5 after 7, 1.5e-2 after 40, in under 100 of 9,000 vertices).
+    // Within one frame such a flip in its first substep changes what the second
+    // carries by at most the vertex's velocity (the projection itself is continuous
+    // at the margin), so: every vertex within 10 ulps (the simulation tests' budget),
+    // but for at most 5 a frame (measured: up to 4) that are within 10 ulps plus their
+    // step; a collision step that differs for all contacts fails.
+    let mut error = 0.0f32;
+    let mut flips = 0;
+    let budget = |positions: &[Vec3]| {
+        let reach = positions
+            .iter()
+            .map(|p| p.abs().max_element())
+            .fold(0.0f32, f32::max);
+        10.0 * f32::EPSILON * 2f32.powi(reach.log2().floor() as i32)
+    };
+    for frame in 0..40 {
+        let state = |which: usize| -> Vec<V3<f32>> {
+            textures
+                .read_positions(which)
+                .unwrap()
+                .into_iter()
+                .map(V3::from_vec3)
+                .collect()
+        };
+        cpu.current = state(textures.current);
+        cpu.previous = state(1 - textures.current);
+        gpu.run_frames(&mut textures, 1, |t| motion.head(t))
+            .unwrap();
         cpu.step_frame(|t| motion.head(t));
+        assert_eq!(cpu.time, gpu.time);
+        let on_gpu = textures.read_positions(textures.current).unwrap();
+        let before = textures.read_positions(1 - textures.current).unwrap();
+        let tolerance = budget(&on_gpu);
+        let mut over = 0;
+        for ((g, c), p) in on_gpu.iter().zip(&cpu.current).zip(&before) {
+            let off = (*g - c.to_vec3()).length();
+            if off > tolerance {
+                over += 1;
+                let step = (*g - *p).length();
+                assert!(
+                    off <= tolerance + step,
+                    "frame {frame}: a vertex {off:e} off, more than its step {step:e}"
+                );
+            } else {
+                error = error.max(off);
+            }
+        }
+        assert!(
+            over <= 5,
+            "frame {frame}: {over} vertices differ by more than {tolerance:e}"
+        );
+        flips += over;
     }
-    let on_gpu = textures.read_positions(textures.current).unwrap();
-    let error = on_gpu
-        .iter()
-        .zip(&cpu.current)
-        .map(|(g, c)| (*g - c.to_vec3()).length())
-        .fold(0.0f32, f32::max);
-    // Collisions happened: vertices sit on the margin.
+    // Collisions happened: strand vertices (not the roots, which sit on the surface by
+    // construction) rest on the margin.
     let to_model = motion.head(cpu.time).inverse();
     let margin = cpu.params.collision_margin * hair;
+    let v = strands.vertices_per_strand as usize;
     let touching = cpu
         .current
         .iter()
-        .filter(|p| {
+        .enumerate()
+        .filter(|(i, p)| {
             let m = to_model.as_mat4().transform_point3(p.to_vec3());
-            sdf.sample(V3::<f32>::from_vec3(m))
-                .is_some_and(|(d, _)| d < 1.5 * margin)
+            i % v != 0
+                && sdf
+                    .sample(V3::<f32>::from_vec3(m))
+                    .is_some_and(|(d, _)| d < 1.5 * margin)
         })
         .count();
-    println!("max |gpu - cpu| {error:e}; {touching} vertices on the margin");
-    assert!(touching > 100, "only {touching} vertices collided");
-    assert!(error <= 1e-4 * hair, "GPU and CPU differ by {error}");
+    println!(
+        "max |gpu - cpu| over a frame {error:e} but for {flips} contacts decided apart; \
+         {touching} strand vertices (not roots) on the margin"
+    );
+    assert!(touching > 1000, "only {touching} strand vertices collided");
     drop(gpu);
     drop(textures);
     common::assert_clean(&device);

@@ -62,10 +62,17 @@ fn line() -> impl Strategy<Value = String> {
 }
 
 /// An OBJ file: a few good vertices, then faces over them mixed with any other lines
-/// (broken numbers, bad indices, comments, groups, garbage).
+/// (broken numbers, bad indices, comments, groups, garbage). Some vertices repeat or lie
+/// on one line (0, 1 and 2 along the diagonal), so faces of zero area with three
+/// distinct indices come up too.
 fn obj_file() -> impl Strategy<Value = String> {
-    let vertex =
-        (-5.0f32..5.0, -5.0f32..5.0, -5.0f32..5.0).prop_map(|(x, y, z)| format!("v {x} {y} {z}"));
+    let vertex = prop_oneof![
+        6 => (-5.0f32..5.0, -5.0f32..5.0, -5.0f32..5.0)
+            .prop_map(|(x, y, z)| format!("v {x} {y} {z}")),
+        1 => Just("v 0 0 0".to_string()),
+        1 => Just("v 1 1 1".to_string()),
+        1 => Just("v 2 2 2".to_string()),
+    ];
     let face = prop::collection::vec(1u32..6, 3..6).prop_map(|ids| {
         format!(
             "f {}",
@@ -93,8 +100,36 @@ fn check_mesh(mesh: &Mesh) -> Result<(), TestCaseError> {
         .all(|n| n.is_finite() && (n.length() - 1.0).abs() < 1e-3));
     for t in mesh.indices.chunks_exact(3) {
         prop_assert!(t[0] != t[1] && t[1] != t[2] && t[0] != t[2]);
+        // Distinct indices are not enough: the triangle must have an area.
+        let [a, b, c] = [t[0], t[1], t[2]].map(|i| mesh.positions[i as usize]);
+        prop_assert!(
+            (b - a).cross(c - a).length_squared() > 0.0,
+            "zero-area triangle {:?}: {} {} {}",
+            t,
+            a,
+            b,
+            c
+        );
     }
     Ok(())
+}
+
+/// The usable-mesh check rejects a triangle of three distinct vertices on one line, and
+/// the loader drops such a face (and one naming a vertex twice) and keeps the rest.
+#[test]
+fn zero_area_faces_are_dropped_and_would_be_caught() {
+    let collinear = Mesh {
+        positions: vec![glam::Vec3::ZERO, glam::Vec3::ONE, glam::Vec3::splat(2.0)],
+        normals: vec![glam::Vec3::Y; 3],
+        indices: vec![0, 1, 2],
+        uvs: Vec::new(),
+        texture: None,
+    };
+    assert!(check_mesh(&collinear).is_err());
+    let mesh = Mesh::parse_obj(b"v 0 0 0\nv 1 1 1\nv 2 2 2\nv 0 1 0\nf 1 2 3\nf 1 1 4\nf 1 2 4\n")
+        .unwrap();
+    assert_eq!(mesh.triangle_count(), 1);
+    check_mesh(&mesh).unwrap();
 }
 
 #[test]

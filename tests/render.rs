@@ -40,6 +40,7 @@ fn default_scene_grows_fur_beyond_the_silhouette_and_is_lit() {
         ..settings.clone()
     };
     let (furry_image, stats, _) = common::render(&device, &mesh, &blob_groom(), &settings, SIZE);
+    let stats = common::statistics(stats);
     let (bare_image, _, _) = common::render(&device, &mesh, &blob_groom(), &bare, SIZE);
     common::keep(&furry_image, "default_furry");
     let furry = common::covered(&furry_image);
@@ -124,6 +125,7 @@ fn every_interpolated_hair_is_generated_and_drawn_exactly_once() {
                 settings.style.vertex_lod_px = 0.0;
                 let (_, stats, counts) =
                     common::render(&device, &mesh, &groom, &settings, (64, 64));
+                let stats = common::statistics(stats);
                 // Each patch evaluates each of its points once…
                 assert_eq!(
                     stats.tess_eval_invocations,
@@ -170,6 +172,43 @@ fn every_interpolated_hair_is_generated_and_drawn_exactly_once() {
     common::assert_clean(&device);
 }
 
+/// The same exactly-once count on 1,280 triangles. Fails on lavapipe (Mesa 22.3): there
+/// `gl_PrimitiveID` in the tessellation stages restarts every few hundred patches, so
+/// later triangles read an earlier triangle's ownership mask (`fur.tesc`) and points on
+/// shared edges are drawn twice or not at all (measured: 4,041 hairs for 3,842 points).
+#[test]
+#[ignore = "fails on lavapipe 22.3: gl_PrimitiveID in fur.tesc restarts every few hundred patches"]
+fn every_hair_is_drawn_once_on_a_thousand_triangles() {
+    let device = common::device();
+    let mesh = Mesh::icosphere(3);
+    let (v, e, f) = (
+        mesh.vertex_count() as u64,
+        mesh.edge_count() as u64,
+        mesh.triangle_count() as u64,
+    );
+    let mut settings = FrameSettings {
+        camera: Camera {
+            distance: 4.0,
+            ..Default::default()
+        },
+        ..Default::default()
+    };
+    settings.style = FurStyle {
+        fixed_level: 2,
+        cull: false,
+        vertex_lod_px: 0.0,
+        ..FurStyle::default()
+    };
+    let groom = GroomParams {
+        segments: 4,
+        segment_length: 0.05,
+        ..Default::default()
+    };
+    let (_, _, counts) = common::render(&device, &mesh, &groom, &settings, (64, 64));
+    assert_eq!(counts.hairs, v + e + f * inner_points(2));
+    common::assert_clean(&device);
+}
+
 #[test]
 fn hair_count_grows_as_the_camera_approaches_and_culled_triangles_cost_nothing() {
     let device = common::device();
@@ -191,7 +230,7 @@ fn hair_count_grows_as_the_camera_approaches_and_culled_triangles_cost_nothing()
         settings.style.density = 3000.0;
         settings.style.lod_distance = 2.0;
         let (_, stats, _) = common::render(&device, &mesh, &groom, &settings, (96, 96));
-        counts.push(stats.tess_eval_invocations);
+        counts.push(common::statistics(stats).tess_eval_invocations);
     }
     assert!(
         counts.windows(2).all(|w| w[0] > w[1]),
@@ -210,6 +249,7 @@ fn hair_count_grows_as_the_camera_approaches_and_culled_triangles_cost_nothing()
         ..Default::default()
     };
     let (_, stats, _) = common::render(&device, &mesh, &groom, &away, (96, 96));
+    let stats = common::statistics(stats);
     assert_eq!(stats.patches, mesh.triangle_count() as u64);
     assert_eq!(
         stats.tess_eval_invocations, 0,
@@ -224,8 +264,10 @@ fn hair_count_grows_as_the_camera_approaches_and_culled_triangles_cost_nothing()
         ..Default::default()
     };
     let (_, from_below, _) = common::render(&device, &plane, &groom, &away, (96, 96));
+    let from_below = common::statistics(from_below);
     away.camera.pitch_deg = 60.0;
     let (_, from_above, _) = common::render(&device, &plane, &groom, &away, (96, 96));
+    let from_above = common::statistics(from_above);
     assert_eq!(
         from_below.tess_eval_invocations, 0,
         "back-facing triangles generated hairs"
@@ -234,11 +276,28 @@ fn hair_count_grows_as_the_camera_approaches_and_culled_triangles_cost_nothing()
     common::assert_clean(&device);
 }
 
-#[test]
-fn kajiya_kay_brightness_follows_the_cpu_formula() {
-    // Straight hairs standing up (+Y) on a plane, seen from the side; the light turns
-    // from along the hair to across it. The tangent parallel to the light is darkest.
-    let device = common::device();
+/// The linear value of an sRGB-encoded channel.
+fn linear(c: u8) -> f32 {
+    let c = f32::from(c) / 255.0;
+    if c <= 0.04045 {
+        c / 12.92
+    } else {
+        ((c + 0.055) / 1.055).powf(2.4)
+    }
+}
+
+/// Straight grey hairs standing up (+Y) on a plane, seen from the side, lit by the
+/// diffuse term alone from `light_deg` off the hair (in the x–y plane), rendered with
+/// `defines` added to every shader (a deliberately broken variant; none for the
+/// renderer as it ships). Returns the red channel's linear light over the background
+/// summed over `mask` (the pixels the hairs cover), the mask of this image's covered
+/// pixels, and the background's linear red.
+fn standing_hairs_lit(
+    device: &std::sync::Arc<fur::gpu::Device>,
+    light_deg: Option<f32>,
+    defines: &[(&str, &str)],
+    mask: Option<&[bool]>,
+) -> (f32, Vec<bool>, f32) {
     let plane = Mesh::grid(6, 6, 1.0);
     let groom = GroomParams {
         segments: 6,
@@ -246,61 +305,138 @@ fn kajiya_kay_brightness_follows_the_cpu_formula() {
         comb_strength: 0.0,
         ..Default::default()
     };
-    let camera = Camera {
+    let (light, kd, ambient) = match light_deg {
+        Some(angle) => {
+            let a = angle.to_radians();
+            (Vec3::new(a.sin(), a.cos(), 0.0), 1.0, 0.0)
+        }
+        // Unlit: ambient alone shows where the hairs are and how much they cover.
+        None => (Vec3::Y, 0.0, 1.0),
+    };
+    let settings = FrameSettings {
+        camera: kajiya_kay_camera(),
+        lighting: kajiya_kay_lighting(light, kd, ambient),
+        draw_mesh: false,
+        style: FurStyle {
+            jitter: 0.0,
+            ..FurStyle::default()
+        },
+        ..Default::default()
+    };
+    let (image, _, _) = fur::gpu::shader::with_test_defines(defines, || {
+        common::render(device, &plane, &groom, &settings, (128, 96))
+    });
+    common::keep(
+        &image,
+        &format!("kajiya_kay_{light_deg:?}{}", defines.len()),
+    );
+    let covered = common::covered(&image);
+    let mask = mask.unwrap_or(&covered);
+    let background = linear(image.pixel(0, 0)[0]);
+    let sum = (0..image.height)
+        .flat_map(|y| (0..image.width).map(move |x| (x, y)))
+        .zip(mask)
+        .filter(|(_, c)| **c)
+        .map(|((x, y), _)| linear(image.pixel(x, y)[0]) - background)
+        .sum();
+    (sum, covered, background)
+}
+
+fn kajiya_kay_camera() -> Camera {
+    Camera {
         target: Vec3::new(0.0, 0.2, 0.0),
         yaw_deg: 0.0,
         pitch_deg: 20.0,
         distance: 2.0,
         ..Default::default()
-    };
-    let mut measured = Vec::new();
-    let mut predicted = Vec::new();
-    for angle in [0.0f32, 30.0, 60.0, 90.0] {
+    }
+}
+
+fn kajiya_kay_lighting(light: Vec3, kd: f32, ambient: f32) -> Lighting {
+    Lighting {
+        light_direction: light,
+        kd,
+        ks: 0.0,
+        ambient,
+        root_occlusion: 0.0,
+        root_color: Vec3::splat(0.8),
+        tip_color: Vec3::splat(0.8),
+        highlights: fur::render::Highlights {
+            secondary: false,
+            ..Default::default()
+        },
+        ..Default::default()
+    }
+}
+
+/// Light angles from the hair, through the diffuse term's peak across it (90°) and
+/// back to along it: Kajiya–Kay's sin(t, l) rises and falls, a Lambert-like cos or a
+/// sin² have other shapes.
+const LIGHT_ANGLES: [f32; 7] = [0.0, 30.0, 60.0, 90.0, 120.0, 150.0, 180.0];
+
+/// Renders the standing hairs under every light angle with `defines` and compares the
+/// brightness with the CPU twin's prediction: a hair of colour c drawn over the
+/// background b with coverage α adds α (c − b) to a pixel (blending and resolve are
+/// linear), so summed over the covered pixels the image holds S (0.8 K_d sin(t, l) − b),
+/// S the coverage the unlit render measures (S (0.8 − b)). Returns the largest
+/// difference as a fraction of S × 0.8 (the brightest a hair gets), and the values.
+fn kajiya_kay_mismatch(
+    device: &std::sync::Arc<fur::gpu::Device>,
+    defines: &[(&str, &str)],
+) -> (f32, Vec<(f32, f32)>) {
+    let (unlit, mask, background) = standing_hairs_lit(device, None, defines, None);
+    let coverage = unlit / (0.8 - background);
+    let eye_to_hair = (Vec3::new(0.0, 0.2, 0.0) - kajiya_kay_camera().eye()).normalize();
+    let mut worst = 0.0f32;
+    let mut values = Vec::new();
+    for angle in LIGHT_ANGLES {
+        let (measured, _, _) = standing_hairs_lit(device, Some(angle), defines, Some(&mask));
         let a = angle.to_radians();
         let light = Vec3::new(a.sin(), a.cos(), 0.0);
-        let lighting = Lighting {
-            light_direction: light,
-            ks: 0.0,
-            ambient: 0.0,
-            root_occlusion: 0.0,
-            root_color: Vec3::splat(0.8),
-            tip_color: Vec3::splat(0.8),
-            ..Default::default()
-        };
-        let settings = FrameSettings {
-            camera,
-            lighting: lighting.clone(),
-            draw_mesh: false,
-            style: FurStyle {
-                jitter: 0.0,
-                ..FurStyle::default()
-            },
-            ..Default::default()
-        };
-        let (image, _, _) = common::render(&device, &plane, &groom, &settings, (128, 96));
-        common::keep(&image, &format!("kajiya_kay_{angle}"));
-        let covered = common::covered(&image);
-        let lumas: Vec<f32> = (0..image.height)
-            .flat_map(|y| (0..image.width).map(move |x| (x, y)))
-            .zip(&covered)
-            .filter(|(_, c)| **c)
-            .map(|((x, y), _)| image.luma(x, y))
-            .collect();
-        assert!(lumas.len() > 200, "too little fur visible at {angle}°");
-        measured.push(lumas.iter().sum::<f32>() / lumas.len() as f32);
-        let eye_to_hair = (Vec3::new(0.0, 0.2, 0.0) - camera.eye()).normalize();
-        predicted.push(kajiya_kay(Vec3::Y, light, eye_to_hair, &lighting).diffuse);
+        let diffuse = kajiya_kay(
+            Vec3::Y,
+            light,
+            eye_to_hair,
+            &kajiya_kay_lighting(light, 1.0, 0.0),
+        )
+        .diffuse;
+        let predicted = coverage * (0.8 * diffuse - background);
+        worst = worst.max((measured - predicted).abs() / (0.8 * coverage));
+        values.push((measured / (0.8 * coverage), predicted / (0.8 * coverage)));
     }
-    for i in 1..measured.len() {
+    (worst, values)
+}
+
+#[test]
+fn kajiya_kay_brightness_follows_the_cpu_formula() {
+    // Straight hairs standing up on a plane, seen from the side; the light turns from
+    // along the hair (darkest) through across it (brightest) to along it again.
+    let device = common::device();
+    let (mismatch, values) = kajiya_kay_mismatch(&device, &[]);
+    println!("Kajiya–Kay, (measured, predicted) per angle: {values:?}; off by {mismatch}");
+    // 1 % of the brightest value: the 8-bit image's rounding (measured: 0.3 %); a
+    // diffuse term off by 2 % of its peak anywhere fails.
+    assert!(
+        mismatch < 0.01,
+        "brightness {values:?} is off Kajiya–Kay by {mismatch} of its peak"
+    );
+    let peak = values
+        .iter()
+        .enumerate()
+        .max_by(|a, b| a.1 .0.total_cmp(&b.1 .0))
+        .unwrap()
+        .0;
+    assert_eq!(LIGHT_ANGLES[peak], 90.0, "{values:?}");
+    // The check rejects other diffuse terms: Lambert with the tangent as the normal
+    // (brightest along the hair) and sin² (the right peak, the wrong shape).
+    for (name, variant) in [("Lambert", "1"), ("sin²", "2")] {
+        let (mismatch, values) = kajiya_kay_mismatch(&device, &[("FUR_TEST_DIFFUSE", variant)]);
+        println!("{name}: {values:?}; off by {mismatch}");
         assert!(
-            (measured[i] > measured[i - 1]) == (predicted[i] > predicted[i - 1]),
-            "brightness {measured:?} does not follow Kajiya–Kay {predicted:?}"
+            mismatch > 0.1,
+            "a {name} diffuse term passes as Kajiya–Kay: {values:?}"
         );
     }
-    assert!(
-        measured[0] < 0.5 * measured[3],
-        "hair along the light is not dark: {measured:?}"
-    );
     common::assert_clean(&device);
 }
 
@@ -317,15 +453,35 @@ fn fifty_thousand_master_hairs_tile_the_strand_textures() {
     let strands = fur::scene::Strands::grow(&mesh, &groom).unwrap();
     let textures =
         fur::strand_textures::StrandTextures::new(&device, &strands, glam::Mat4::IDENTITY).unwrap();
+    // 50,451 strands of 5 vertices in one row would need 252,255 texels: more than any
+    // device's widest image, so they must tile into rows. The layout, worked out by
+    // hand: ⌊max / 5⌋ strands a row, rows stacked downwards.
     let max = device.info().limits.max_image_dimension2_d;
-    assert!(strands.count() as u32 > max.min(16_384) || textures.layout.height > 1);
-    // Every strand vertex reads back where the layout put it.
-    let back = textures.read_positions(textures.current).unwrap();
-    assert_eq!(back.len(), strands.positions.len());
-    assert!(
-        back.iter().zip(&strands.positions).all(|(a, b)| a == b),
-        "strand texture round trip differs"
+    assert!(strands.count() * 5 > max as usize);
+    let per_row = (max / 5) as usize;
+    let rows = strands.count().div_ceil(per_row);
+    assert!(rows > 1);
+    assert_eq!(
+        (textures.layout.width, textures.layout.height),
+        (per_row as u32 * 5, rows as u32)
     );
+    // Every strand vertex is at that texel of the image as stored (read back raw, not
+    // through the layout's own mapping).
+    let texels = textures.read_texels(textures.current).unwrap();
+    let width = per_row * 5;
+    assert_eq!(texels.len(), width * rows);
+    for (i, p) in strands.positions.iter().enumerate() {
+        let (strand, vertex) = (i / 5, i % 5);
+        let (x, y) = ((strand % per_row) * 5 + vertex, strand / per_row);
+        assert_eq!(
+            texels[y * width + x].truncate(),
+            *p,
+            "strand {strand} vertex {vertex} is not at texel ({x}, {y})"
+        );
+    }
+    // And the layout's own round trip agrees.
+    let back = textures.read_positions(textures.current).unwrap();
+    assert_eq!(back, strands.positions);
     drop(textures);
     let settings = FrameSettings {
         camera: Camera {
@@ -340,6 +496,7 @@ fn fifty_thousand_master_hairs_tile_the_strand_textures() {
         ..Default::default()
     };
     let (image, stats, _) = common::render(&device, &mesh, &groom, &settings, (96, 72));
+    let stats = common::statistics(stats);
     common::keep(&image, "fifty_thousand");
     assert!(stats.geometry_invocations > 10_000, "{stats:?}");
     assert!(common::covered(&image).iter().filter(|c| **c).count() > 1000);

@@ -160,9 +160,14 @@ fn within_a_pixel(a: &[(i32, i32)], b: &[(i32, i32)]) -> bool {
     })
 }
 
-#[test]
-fn vertex_lod_keeps_every_root_and_tip_within_a_pixel() {
-    let device = common::device();
+/// Renders the sparse, combed hairs with every vertex and with vertex LOD (0.5 px),
+/// roots blue and tips red, with `defines` added to every shader, and checks that LOD
+/// drew the same hairs in under half the segments with every root and tip pixel within
+/// a pixel of where it was: `Err` names what broke.
+fn vertex_lod_keeps_the_ends(
+    device: &std::sync::Arc<fur::gpu::Device>,
+    defines: &[(&str, &str)],
+) -> Result<(), String> {
     let plane = Mesh::grid(3, 3, 0.6);
     let groom = sparse_groom(0.0); // combed into gentle curves
     let size = (160, 120);
@@ -171,28 +176,54 @@ fn vertex_lod_keeps_every_root_and_tip_within_a_pixel() {
     settings.style.vertex_lod_px = 0.0;
     // Tips drawn at full strength, so their pixels can be found (thin-hair AA fades them).
     settings.style.thin_hair_aa = false;
-    let (exact, _, all) = common::render(&device, &plane, &groom, &settings, size);
-    settings.style.vertex_lod_px = 0.5;
-    let (lod, _, fewer) = common::render(&device, &plane, &groom, &settings, size);
-    common::keep(&exact, "lod_exact");
-    common::keep(&lod, "lod_decimated");
-    assert_eq!(fewer.hairs, all.hairs);
-    assert!(
-        fewer.segments * 2 < all.segments,
-        "vertex LOD kept {} of {} segments",
-        fewer.segments,
-        all.segments
-    );
+    let ((exact, _, all), (lod, _, fewer)) = fur::gpu::shader::with_test_defines(defines, || {
+        let exact = common::render(device, &plane, &groom, &settings, size);
+        settings.style.vertex_lod_px = 0.5;
+        (
+            exact,
+            common::render(device, &plane, &groom, &settings, size),
+        )
+    });
+    common::keep(&exact, &format!("lod_exact{}", defines.len()));
+    common::keep(&lod, &format!("lod_decimated{}", defines.len()));
+    if fewer.hairs != all.hairs {
+        return Err(format!(
+            "vertex LOD drew {} of {} hairs",
+            fewer.hairs, all.hairs
+        ));
+    }
+    if fewer.segments * 2 >= all.segments {
+        return Err(format!(
+            "vertex LOD kept {} of {} segments",
+            fewer.segments, all.segments
+        ));
+    }
     for (name, channel, other) in [("tip", 0, 2), ("root", 2, 0)] {
         let (a, b) = (marked(&exact, channel, other), marked(&lod, channel, other));
+        if a.len() < plane.vertex_count() {
+            return Err(format!("too few {name} pixels: {}", a.len()));
+        }
+        if !(within_a_pixel(&a, &b) && within_a_pixel(&b, &a)) {
+            return Err(format!("vertex LOD moved a {name} by more than a pixel"));
+        }
+    }
+    Ok(())
+}
+
+#[test]
+fn vertex_lod_keeps_every_root_and_tip_within_a_pixel() {
+    let device = common::device();
+    vertex_lod_keeps_the_ends(&device, &[]).unwrap();
+    // The check catches a vertex LOD that loses the tip or the root (drawn where the
+    // next vertex in is: `FUR_TEST_DROP_TIP` / `FUR_TEST_DROP_ROOT` in fur.geom).
+    for (define, end) in [("FUR_TEST_DROP_TIP", "tip"), ("FUR_TEST_DROP_ROOT", "root")] {
+        let verdict = vertex_lod_keeps_the_ends(&device, &[(define, "1")]);
+        println!("{define}: {verdict:?}");
         assert!(
-            a.len() >= plane.vertex_count(),
-            "too few {name} pixels: {}",
-            a.len()
-        );
-        assert!(
-            within_a_pixel(&a, &b) && within_a_pixel(&b, &a),
-            "vertex LOD moved a {name} by more than a pixel"
+            verdict
+                .as_ref()
+                .is_err_and(|e| e.contains(&format!("moved a {end}"))),
+            "a shader that drops the {end} passes: {verdict:?}"
         );
     }
     common::assert_clean(&device);
@@ -207,6 +238,11 @@ fn the_built_in_sphere_is_the_original_demos_scene() {
     let (groom, mut settings) = options.resolve(&mesh).unwrap();
     assert_eq!(groom.vertices_per_strand(), 12);
     assert!((groom.segment_length - 0.05).abs() < 1e-6);
+    // The original's camera: the eye 10 units from the sphere's centre, 45° vertically.
+    let camera = &settings.camera;
+    assert!(camera.target.length() < 1e-5, "{:?}", camera.target);
+    assert!((camera.distance - 10.0).abs() < 1e-4, "{}", camera.distance);
+    assert_eq!(camera.fov_y_deg, 45.0);
     let strands = Strands::grow(&mesh, &groom).unwrap();
     // Straight along the normals.
     let first = strands.strand(0);

@@ -40,6 +40,12 @@ fn the_default_scene_file_is_the_built_in_default() {
     assert_eq!(original.model, ModelSpec::Sphere);
     assert!((original.options.hair_length - sphere.options.hair_length).abs() < 1e-5);
     assert!((original.options.distance.unwrap() - sphere.options.distance.unwrap()).abs() < 1e-3);
+    assert_eq!(original.options.fov_deg, sphere.options.fov_deg);
+    assert_eq!(
+        (original.options.yaw_deg, original.options.pitch_deg),
+        (90.0, 15.0)
+    );
+    assert_eq!((original.width, original.height), (1280, 720));
     assert_eq!(original.options.segments, sphere.options.segments);
     assert_eq!(original.options.density_scale, sphere.options.density_scale);
 }
@@ -195,11 +201,17 @@ fn bad_scene_files_name_the_file_line_and_key() {
         "[light]\ntip_color = [1.0, 2.0]\n",
         &["bad.toml:2", "tip_color"],
     );
-    fails("[motion]\nkind = \"dance\"\n", &["motion.kind", "dance"]);
+    fails(
+        "[motion]\nkind = \"dance\"\n",
+        &["bad.toml:2:1", "motion.kind", "dance"],
+    );
     fails("[teapot]\nsize = 1\n", &["bad.toml:1", "teapot"]);
+    // A model that is not there is the model's error, not the file's: it names the
+    // model's path, read relative to the scene file's folder.
+    let missing = scratch("missing.obj");
     fails(
         "model = \"missing.obj\"\n",
-        &["missing.obj", "no such file"],
+        &[missing.to_str().unwrap(), "no such file"],
     );
     // A missing scene file.
     let run = fur(&["render", "/nonexistent/scene.toml"]);
@@ -270,4 +282,112 @@ fn scene_text_never_panics_the_parser() {
             Ok(())
         })
         .unwrap();
+}
+
+/// Every range a scene file's values are checked against, at and just past its ends,
+/// through the library (no process per case): the error names the file and line
+/// (`name.toml:2`) and the key (`section.key`), and the value at the range's end loads.
+#[test]
+fn every_out_of_range_value_names_its_key_and_line() {
+    // (section, key, a value out of range, a value at or inside its end)
+    let cases: &[(&str, &str, &str, &str)] = &[
+        ("image", "width", "0", "1"),
+        ("image", "width", "16385", "16384"),
+        ("image", "height", "0", "16384"),
+        ("camera", "yaw", "2e6", "-1e6"),
+        ("camera", "pitch", "nan", "1e6"),
+        ("camera", "distance", "0", "1e-6"),
+        ("camera", "distance", "-inf", "3"),
+        ("camera", "fov", "0.5", "1"),
+        ("camera", "fov", "171", "170"),
+        ("groom", "hair_length", "0", "1e-6"),
+        ("groom", "hair_length", "inf", "2"),
+        ("groom", "segments", "0", "1"),
+        ("groom", "segments", "64", "63"),
+        ("groom", "density_scale", "-1", "0.01"),
+        ("groom", "comb", "-0.1", "0"),
+        ("groom", "curl", "1001", "1000"),
+        ("groom", "thickness_limit", "nan", "0"),
+        ("render", "samples", "3", "16"),
+        ("render", "samples", "32", "1"),
+        ("render", "ribbon_above", "-1", "0"),
+        ("render", "vertex_lod", "2e6", "1e6"),
+        ("render", "lod_distance", "0", "0.5"),
+        ("render", "hair_width", "-0.001", "0.001"),
+        ("render", "min_pixel_width", "65", "64"),
+        ("render", "jitter", "-1", "1000"),
+        ("render", "length_jitter", "1.5", "1"),
+        ("animation", "speed", "-1", "0"),
+        ("animation", "speed", "101", "100"),
+        ("animation", "start", "-1", "0"),
+        ("light", "direction", "[0.0, 0.0, 0.0]", "[0.0, 1.0, 0.0]"),
+        ("light", "intensity", "-1", "0"),
+        ("light", "kd", "-1", "0"),
+        ("light", "ks", "2000", "1000"),
+        ("light", "ambient", "nan", "0.5"),
+        ("light", "root_occlusion", "1.5", "1"),
+        ("light", "shininess", "0.5", "1"),
+        ("light", "root_color", "[-1.0, 0.0, 0.0]", "[1.0, 0.0, 0.0]"),
+        (
+            "light",
+            "tip_color",
+            "[0.0, 2000.0, 0.0]",
+            "[0.0, 1000.0, 0.0]",
+        ),
+        ("light", "skin_color", "[0.0, 0.0, nan]", "[0.0, 0.0, 0.0]"),
+        ("light", "primary_shift", "46", "45"),
+        ("light", "secondary_shift", "-46", "-45"),
+        ("light", "secondary_shininess", "0", "1"),
+        ("light", "secondary_strength", "-1", "0"),
+        ("shadows", "opacity", "1.5", "1"),
+        ("shadows", "spacing", "-1", "0"),
+        ("shadows", "resolution", "15", "16"),
+        ("simulation", "dt", "0", "0.1"),
+        ("simulation", "substeps", "0", "64"),
+        (
+            "simulation",
+            "gravity",
+            "[0.0, -2e5, 0.0]",
+            "[0.0, -1e5, 0.0]",
+        ),
+        ("simulation", "damping", "-0.5", "1"),
+        ("simulation", "global_stiffness", "2", "1"),
+        ("simulation", "global_range", "-1", "0"),
+        ("simulation", "local_stiffness", "1.01", "0"),
+        ("simulation", "local_iterations", "65", "64"),
+        ("simulation", "length_iterations", "65", "0"),
+        ("simulation", "wind", "[inf, 0.0, 0.0]", "[1e5, 0.0, 0.0]"),
+        ("simulation", "wind_cone", "91", "90"),
+        ("collision", "margin", "1.5", "1"),
+        ("collision", "friction", "-1", "0"),
+        ("collision", "sdf_resolution", "7", "8"),
+        ("motion", "rate", "-1", "0"),
+        ("motion", "rate", "nan", "2"),
+    ];
+    let path = scratch("ranges.toml");
+    let apply = |section: &str, key: &str, value: &str| {
+        let text = format!("[{section}]\n{key} = {value}\n");
+        std::fs::write(&path, &text).unwrap();
+        let (file, text) = SceneFile::load(&path).unwrap();
+        let mut scene = Scene::defaults(ModelSpec::Blob);
+        file.apply(&mut scene, &path, &text)
+    };
+    for (section, key, bad, good) in cases {
+        let error = apply(section, key, bad)
+            .expect_err(&format!("{section}.{key} = {bad} was accepted"))
+            .to_string();
+        for needle in ["ranges.toml:2", &format!("`{section}.{key}`")] {
+            assert!(
+                error.contains(needle),
+                "{section}.{key} = {bad}: `{needle}` missing from: {error}"
+            );
+        }
+        apply(section, key, good).unwrap_or_else(|e| panic!("{section}.{key} = {good}: {e}"));
+    }
+    // The motion's amplitude is checked with its rate, under the rate's key.
+    let error = apply("motion", "amplitude", "inf").unwrap_err().to_string();
+    assert!(
+        error.contains("`motion.rate`") && error.contains("finite"),
+        "{error}"
+    );
 }

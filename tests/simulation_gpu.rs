@@ -4,7 +4,7 @@
 mod common;
 
 use fur::scene::{GroomParams, Mesh, Strands};
-use fur::sim::{CpuSim, GpuSim, Motion, MotionKind, SimParams};
+use fur::sim::{CpuSim, GpuSim, Motion, MotionKind, SimParams, StepConstants};
 use fur::strand_textures::StrandTextures;
 use glam::{DMat4, Vec3};
 
@@ -17,6 +17,23 @@ fn max_error(a: &[Vec3], b: &[Vec3]) -> f32 {
         .zip(b)
         .map(|(a, b)| (*a - *b).length())
         .fold(0.0, f32::max)
+}
+
+/// How far the GPU may be from the CPU reference, both in f32 running the same steps
+/// in the same order: each substep rounds a position through about a dozen operations
+/// (integrate 3, global 2, local and length passes 3 each, wind 3), and a compiler that
+/// contracts or reorders them differs by up to half an ulp in each, about 6 ulps of the
+/// largest coordinate per substep. Damping and the shape and length constraints pull
+/// every strand back towards one state, so the differences do not add up over steps
+/// (measured on lavapipe: 3.4 ulps after 1 step, 6.0 after 10, 5.0 after 100; 6.2 with
+/// substeps). The tolerance is that budget with a step's carry-over, 10 ulps: an
+/// implementation twice as far off fails it.
+fn parity_tolerance(positions: &[Vec3]) -> f32 {
+    let reach = positions
+        .iter()
+        .map(|p| p.abs().max_element())
+        .fold(0.0f32, f32::max);
+    10.0 * f32::EPSILON * 2f32.powi(reach.log2().floor() as i32)
 }
 
 #[test]
@@ -40,8 +57,6 @@ fn gpu_matches_cpu_f32_after_1_10_and_100_steps() {
     let mut textures = StrandTextures::new(&device, &strands, head(0.0).as_mat4()).unwrap();
     let mut gpu = GpuSim::new(&device, &textures, params.clone()).unwrap();
     let mut cpu = CpuSim::<f32>::new(&strands, params, head(0.0));
-    let hair_length = groom.segment_length * groom.segments as f32;
-    let tolerance = 1e-4 * hair_length;
     let mut done = 0;
     for target in [1, 10, 100] {
         gpu.run_frames(&mut textures, target - done, head).unwrap();
@@ -52,6 +67,7 @@ fn gpu_matches_cpu_f32_after_1_10_and_100_steps() {
         let on_gpu = textures.read_positions(textures.current).unwrap();
         let on_cpu: Vec<Vec3> = cpu.current.iter().map(|v| v.to_vec3()).collect();
         let error = max_error(&on_gpu, &on_cpu);
+        let tolerance = parity_tolerance(&on_cpu);
         println!("after {target} steps: max |gpu - cpu| = {error:e} (tolerance {tolerance:e})");
         assert!(
             error <= tolerance,
@@ -87,8 +103,6 @@ fn gpu_matches_cpu_with_substeps_and_steps_compiled_out() {
         rate: 1.5,
     };
     let head = |t: f64| motion.head(t);
-    let hair_length = groom.segment_length * groom.segments as f32;
-    let tolerance = 1e-4 * hair_length;
     let cases = [
         SimParams {
             substeps: 4,
@@ -123,7 +137,11 @@ fn gpu_matches_cpu_with_substeps_and_steps_compiled_out() {
             let on_gpu = textures.read_positions(image).unwrap();
             let on_cpu: Vec<Vec3> = on_cpu.iter().map(|v| v.to_vec3()).collect();
             let error = max_error(&on_gpu, &on_cpu);
-            println!("{steps:?}, {} substeps: {what} {error:e}", params.substeps);
+            let tolerance = parity_tolerance(&on_cpu);
+            println!(
+                "{steps:?}, {} substeps: {what} {error:e} (tolerance {tolerance:e})",
+                params.substeps
+            );
             assert!(
                 error <= tolerance,
                 "{what} differ by {error} with {steps:?} and {} substeps",
@@ -164,23 +182,13 @@ fn gpu_at_rest_stays_exactly_put() {
     common::assert_clean(&device);
 }
 
-/// Largest |segment / rest − 1| of positions laid out strand after strand.
-fn stretch(positions: &[Vec3], rest: &[Vec3], v: usize) -> f32 {
-    let mut worst = 0.0f32;
-    for (now, then) in positions.chunks(v).zip(rest.chunks(v)) {
-        for i in 1..v {
-            let r = (then[i] - then[i - 1]).length();
-            if r > 0.0 {
-                worst = worst.max(((now[i] - now[i - 1]).length() / r - 1.0).abs());
-            }
-        }
-    }
-    worst
-}
-
 #[test]
 fn gpu_stays_finite_and_bounded_at_the_extremes() {
     // A representative subset of the CPU stability matrix (tests/simulation_cpu.rs).
+    // The rows with full global stiffness have a real bound: each substep puts every
+    // vertex on the moved rest pose before the wind pushes it, so the positions are
+    // known exactly (`common::seed::rest_pose_pushed_by_wind`). The others are extremes
+    // nothing bounds in closed form: checked for finite positions only.
     struct Row {
         dt: f32,
         stiffness: f32,
@@ -198,6 +206,15 @@ fn gpu_stays_finite_and_bounded_at_the_extremes() {
             segment_length: 10.0,
             vertices: 64,
         },
+        Row {
+            dt: 1.0 / 60.0,
+            stiffness: 1.0,
+            iterations: 2,
+            force_scale: 1.0,
+            segment_length: 0.02,
+            vertices: 33,
+        },
+        // Finite only:
         Row {
             dt: 1e-4,
             stiffness: 0.0,
@@ -222,17 +239,10 @@ fn gpu_stays_finite_and_bounded_at_the_extremes() {
             segment_length: 0.02,
             vertices: 17,
         },
-        Row {
-            dt: 1.0 / 60.0,
-            stiffness: 1.0,
-            iterations: 2,
-            force_scale: 1.0,
-            segment_length: 0.02,
-            vertices: 33,
-        },
     ];
     let device = common::device();
     let mesh = Mesh::icosphere(1);
+    let mut predicted = 0;
     for row in &rows {
         let groom = GroomParams {
             segments: row.vertices - 1,
@@ -241,9 +251,13 @@ fn gpu_stays_finite_and_bounded_at_the_extremes() {
             ..Default::default()
         };
         let mut s = Strands::grow(&mesh, &groom).unwrap();
-        // Fold every strand onto itself at vertex 1: a zero-length segment.
+        // Fold every strand of the finite-only rows onto itself at vertex 1: a
+        // zero-length segment. (Not the predicted rows: after the constraints the ends
+        // of a folded segment differ by rounding only, and the local walk's frame and
+        // the wind's tangent there follow that rounding's direction, which no equation
+        // predicts.)
         let v = row.vertices as usize;
-        if v > 2 {
+        if v > 2 && row.stiffness < 1.0 {
             for strand in 0..s.count() {
                 s.positions[strand * v + 2] = s.positions[strand * v + 1];
             }
@@ -264,8 +278,7 @@ fn gpu_stays_finite_and_bounded_at_the_extremes() {
             rate: 2.0,
         };
         let mut textures = StrandTextures::new(&device, &s, motion.head(0.0).as_mat4()).unwrap();
-        let mut gpu = GpuSim::new(&device, &textures, params).unwrap();
-        let mut worst = 0.0f32;
+        let mut gpu = GpuSim::new(&device, &textures, params.clone()).unwrap();
         for _ in 0..4 {
             gpu.run_frames(&mut textures, 10, |t| motion.head(t))
                 .unwrap();
@@ -276,19 +289,49 @@ fn gpu_stays_finite_and_bounded_at_the_extremes() {
                 row.dt,
                 v
             );
-            worst = worst.max(stretch(&now, &s.positions, v));
-        }
-        if row.iterations > 0 {
-            // The same bound as the CPU matrix: about n² f h² / L.
-            let n = (v - 1) as f32;
-            let force = row.force_scale * (9.82 + 6.0f32.hypot(2.0));
-            let bound = 4.0 * n * n * force * row.dt * row.dt / row.segment_length + 1.0;
-            assert!(
-                worst <= bound,
-                "dt {} V {v}: stretch {worst} exceeds {bound}",
-                row.dt
-            );
+            if row.stiffness == 1.0 {
+                // The positions the equations give, to the rounding of f32: 16 ulps of
+                // the largest coordinate, and the push's error from the tangent's (a
+                // segment whose ends are 4 ulps off turns by 8 ulps / L).
+                let c = StepConstants::new(&params, gpu.time, motion.head(gpu.time));
+                let expected = common::seed::rest_pose_pushed_by_wind(
+                    &s.positions,
+                    v,
+                    c.head,
+                    Some(c.wind_h2),
+                );
+                let strength = f64::from(params.wind.length());
+                let h = f64::from(row.dt);
+                let push = (0..s.count())
+                    .map(|k| common::seed::strand_wind_length(strength, 40.0, h, gpu.time, k))
+                    .fold(0.0, f64::max);
+                let reach = expected
+                    .iter()
+                    .map(|p| p.abs().max_element())
+                    .fold(1.0, f64::max);
+                let tolerance = f64::from(f32::EPSILON)
+                    * reach
+                    * (16.0 + 8.0 * push / f64::from(row.segment_length));
+                let error = now
+                    .iter()
+                    .zip(&expected)
+                    .map(|(a, b)| (a.as_dvec3() - *b).length())
+                    .fold(0.0, f64::max);
+                println!(
+                    "dt {} V {v}: {error:e} off the moved rest pose pushed by the wind \
+                     (tolerance {tolerance:e}); stretch {:e}",
+                    row.dt,
+                    common::seed::stretch(&expected, &s.positions, v)
+                );
+                assert!(
+                    error <= tolerance,
+                    "dt {} V {v}: {error:e} off the rest pose pushed by the wind",
+                    row.dt
+                );
+                predicted += 1;
+            }
         }
     }
+    assert_eq!(predicted, 8);
     common::assert_clean(&device);
 }

@@ -136,6 +136,13 @@ impl Instance {
         self.validation
     }
 
+    /// Whether a debug messenger collects the layer's messages (`VK_EXT_debug_utils`
+    /// was available). Without one, [`Instance::validation_messages`] stays empty
+    /// whatever the layer finds: the GPU tests refuse to run then.
+    pub fn has_debug_messenger(&self) -> bool {
+        self.debug_utils.is_some()
+    }
+
     /// Validation warnings and errors reported so far.
     pub fn validation_messages(&self) -> Vec<String> {
         self.log.messages()

@@ -60,6 +60,32 @@ pub fn compile(name: &str, defines: &[(&str, String)]) -> Result<Vec<u32>> {
     compile_source(name, text, defines)
 }
 
+thread_local! {
+    /// Extra `#define`s for every shader compiled on this thread; see [`with_test_defines`].
+    static TEST_DEFINES: std::cell::RefCell<Vec<(String, String)>> =
+        const { std::cell::RefCell::new(Vec::new()) };
+}
+
+/// Test hook: runs `f` with `defines` added to every shader this thread compiles, so a
+/// test can build a deliberately broken variant of a shader (the `FUR_TEST_*` blocks in
+/// `shaders/`) and check that its check rejects it. Not for anything else.
+#[doc(hidden)]
+pub fn with_test_defines<R>(defines: &[(&str, &str)], f: impl FnOnce() -> R) -> R {
+    struct Restore(Vec<(String, String)>);
+    impl Drop for Restore {
+        fn drop(&mut self) {
+            TEST_DEFINES.with(|d| *d.borrow_mut() = std::mem::take(&mut self.0));
+        }
+    }
+    let added = defines.iter().map(|(k, v)| (k.to_string(), v.to_string()));
+    let _restore = Restore(TEST_DEFINES.with(|d| {
+        let before = d.borrow().clone();
+        d.borrow_mut().extend(added);
+        before
+    }));
+    f()
+}
+
 /// Compiles GLSL `text` (reported as file `name`) to SPIR-V words.
 pub fn compile_source(name: &str, text: &str, defines: &[(&str, String)]) -> Result<Vec<u32>> {
     let kind = kind_of(name)?;
@@ -76,6 +102,11 @@ pub fn compile_source(name: &str, text: &str, defines: &[(&str, String)]) -> Res
     for (key, value) in defines {
         options.add_macro_definition(key, Some(value));
     }
+    TEST_DEFINES.with(|d| {
+        for (key, value) in d.borrow().iter() {
+            options.add_macro_definition(key, Some(value));
+        }
+    });
     options.set_include_callback(|requested, _, requester, _| {
         source(requested)
             .map(|content| shaderc::ResolvedInclude {

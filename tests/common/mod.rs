@@ -5,9 +5,23 @@ use std::sync::Arc;
 
 use fur::gpu::Device;
 
-/// A lavapipe-friendly headless device with the Khronos validation layer on.
+pub mod seed;
+
+/// A lavapipe-friendly headless device with the Khronos validation layer on, and a debug
+/// messenger that hears it: without `VK_EXT_debug_utils` no messenger exists, every
+/// [`assert_clean`] would pass on zero messages whatever the layer found, so the test
+/// refuses to run.
 pub fn device() -> Arc<Device> {
-    fur::gpu::headless(true).expect("a Vulkan device with the validation layer (see README)")
+    let device =
+        fur::gpu::headless(true).expect("a Vulkan device with the validation layer (see README)");
+    assert!(
+        device.instance().has_debug_messenger(),
+        "the validation layer is on but no debug messenger could be created \
+         (VK_EXT_debug_utils is missing): its messages would go unheard and every \
+         validation check would pass on zero messages; install a Vulkan loader and \
+         validation layer that provide VK_EXT_debug_utils"
+    );
+    device
 }
 
 /// Fails the test if the validation layer reported anything.
@@ -27,7 +41,8 @@ use fur::render::{FrameSettings, HairCounts, Renderer, RgbaImage};
 use fur::scene::{GroomParams, Mesh, Strands};
 use fur::strand_textures::StrandTextures;
 
-/// Renders `mesh` with `groom` once and returns the image, the fur statistics and the
+/// Renders `mesh` with `groom` once and returns the image, the fur pass's pipeline
+/// statistics (none when no fur is drawn; read them through [`statistics`]) and the
 /// hairs and segments the fur pass counted.
 pub fn render(
     device: &Arc<Device>,
@@ -35,7 +50,7 @@ pub fn render(
     groom: &GroomParams,
     settings: &FrameSettings,
     (width, height): (u32, u32),
-) -> (RgbaImage, FurStatistics, HairCounts) {
+) -> (RgbaImage, Option<FurStatistics>, HairCounts) {
     let strands = Strands::grow(mesh, groom).unwrap();
     let textures = StrandTextures::new(device, &strands, settings.head).unwrap();
     let extent = vk::Extent2D { width, height };
@@ -49,7 +64,16 @@ pub fn render(
     let counts = report
         .counts
         .expect("lavapipe counts hairs (vertexPipelineStoresAndAtomics)");
-    (image, report.statistics.unwrap_or_default(), counts)
+    (image, report.statistics, counts)
+}
+
+/// The fur pass's pipeline statistics of a frame that drew fur: a test that reads them
+/// fails when they are missing rather than comparing zeros.
+pub fn statistics(statistics: Option<FurStatistics>) -> FurStatistics {
+    statistics.expect(
+        "no pipeline statistics for a frame that drew fur (the device lacks \
+         pipelineStatisticsQuery, or the frame drew no fur)",
+    )
 }
 
 /// Pixels that differ from the clear colour.
@@ -71,4 +95,34 @@ pub fn keep(image: &RgbaImage, name: &str) {
     if image.write_png(&path).is_ok() {
         eprintln!("image: {}", path.display());
     }
+}
+
+/// The largest error of `sdf` against exact distances to `mesh` at points whose exact
+/// distance lies in `band` (scene units; 40,000 points spread over the grid): how far
+/// the collider's idea of the surface can be from the surface there. Exact distances
+/// come from a BVH over the mesh's triangles, not from the grid the collider samples.
+pub fn field_error(mesh: &Mesh, sdf: &fur::sim::Sdf, band: (f32, f32)) -> f64 {
+    let extent = glam::Vec3::from_array(sdf.dims.map(|n| (n - 1) as f32)) * sdf.cell;
+    let points: Vec<glam::Vec3> = (0..40_000u32)
+        .map(|i| {
+            let u = glam::Vec3::new(
+                fur::scene::hash_unit(3 * i),
+                fur::scene::hash_unit(3 * i + 1),
+                fur::scene::hash_unit(3 * i + 2),
+            );
+            sdf.origin + u * extent
+        })
+        .collect();
+    let exact = fur::sim::sdf::exact_distances(mesh, &points);
+    points
+        .iter()
+        .zip(&exact)
+        .filter(|(_, t)| (band.0..=band.1).contains(*t))
+        .map(|(p, t)| {
+            let (d, _) = sdf
+                .sample(fur::sim::V3::<f32>::from_vec3(*p))
+                .expect("a point of the grid");
+            f64::from((d - t).abs())
+        })
+        .fold(0.0, f64::max)
 }

@@ -26,8 +26,12 @@ layout(set = 0, binding = 8, std430) readonly buffer RestTriangles {
 #endif
 
 layout(location = 0) in uint v_hair[];
+layout(location = 1) in uint v_triangle[];
 layout(location = 0) out uint c_hair[];
 layout(location = 1) patch out uint p_mask;
+#if TEXTURED
+layout(location = 2) patch out uint p_triangle;   // this patch's triangle (see fur.vert)
+#endif
 
 float edge_level(vec3 a, vec3 b, float len) {
     float spacing_inv = sqrt(frame.lod.x * lod_factor((a + b) * 0.5));
@@ -65,7 +69,11 @@ void main() {
         return;
     }
     uint h0 = v_hair[0], h1 = v_hair[1], h2 = v_hair[2];
-    p_mask = owner_mask[gl_PrimitiveID];
+    uint triangle = v_triangle[0];
+#if TEXTURED
+    p_triangle = triangle;
+#endif
+    p_mask = owner_mask[triangle];
 
     uint fixed_level = frame.strands.z;
     if (fixed_level > 0u) {
@@ -97,7 +105,7 @@ void main() {
         return;
     }
 #if BODY_SKINNED
-    vec4 rest = rest_triangles[gl_PrimitiveID];
+    vec4 rest = rest_triangles[triangle];
     vec3 lengths = rest.xyz;
     float area = rest.w;
 #else

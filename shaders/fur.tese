@@ -13,6 +13,9 @@ layout(triangles, equal_spacing, ccw, point_mode) in;
 
 layout(location = 0) in uint c_hair[];
 layout(location = 1) patch in uint p_mask;
+#if TEXTURED
+layout(location = 2) patch in uint p_triangle;   // this patch's triangle (see fur.vert)
+#endif
 
 layout(location = 0) out uvec3 e_hair;
 layout(location = 1) out vec3 e_bary;
@@ -44,7 +47,7 @@ void main() {
     e_bary = b;
     e_keep = keep;
 #if TEXTURED
-    uint t = 3u * uint(gl_PrimitiveID);
+    uint t = 3u * p_triangle;
     vec2 u0 = corner_uv[t], u1 = corner_uv[t + 1u], u2 = corner_uv[t + 2u];
     // Texels per hair: the triangle's texture area over the ~3n²/4 hairs of inner level n.
     float n = max(gl_TessLevelInner[0], 1.0);

@@ -1,9 +1,18 @@
 #version 450
-// Fur pass, vertex stage: pass-through. Each mesh vertex is a master hair; the index
-// buffer's triangles become 3-point patches.
+// Fur pass, vertex stage: each triangle corner's master hair, read from the triangle
+// list (the pass draws 3 vertices per triangle, unindexed), and the triangle's index.
+// The triangle is passed down explicitly: lavapipe (Mesa 22.3) restarts gl_PrimitiveID
+// in the tessellation stages every few hundred patches, so a triangle's per-triangle
+// data (ownership mask, corner UVs, rest lengths) cannot be found through it.
+
+layout(set = 0, binding = 9, std430) readonly buffer Indices {
+    uint mesh_indices[];
+};
 
 layout(location = 0) out uint v_hair;
+layout(location = 1) out uint v_triangle;
 
 void main() {
-    v_hair = uint(gl_VertexIndex);
+    v_hair = mesh_indices[gl_VertexIndex];
+    v_triangle = uint(gl_VertexIndex) / 3u;
 }

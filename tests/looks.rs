@@ -645,7 +645,6 @@ fn the_texture_colours_the_fur_at_its_roots_and_the_skin() {
 /// the fur of later triangles reads an earlier triangle's corner UVs (`fur.tese`), and
 /// about a third of the fur shows the wrong half. The skin is right.
 #[test]
-#[ignore = "fails on lavapipe 22.3: gl_PrimitiveID in fur.tese restarts every few hundred patches"]
 fn the_texture_colours_the_fur_of_a_finely_divided_sphere() {
     let device = common::device();
     let sphere = Mesh::uv_sphere(1.0, 24, 48);

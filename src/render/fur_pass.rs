@@ -169,7 +169,14 @@ impl FurPass {
         geometry_defines.extend(common.iter().cloned());
         let device = &self.device;
         let vert = ShaderModule::new(device, "fur.vert", &[])?;
-        let tesc = ShaderModule::new(device, "fur.tesc", &[("BODY_SKINNED", flag(self.skinned))])?;
+        let tesc = ShaderModule::new(
+            device,
+            "fur.tesc",
+            &[
+                ("BODY_SKINNED", flag(self.skinned)),
+                ("TEXTURED", textured.clone()),
+            ],
+        )?;
         let tese = ShaderModule::new(device, "fur.tese", &[("TEXTURED", textured)])?;
         let geom = ShaderModule::new(device, "fur.geom", &geometry_defines)?;
         let frag = ShaderModule::new(device, "fur.frag", &common)?;
@@ -243,7 +250,9 @@ impl FurPass {
                 device
                     .raw
                     .cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, pipeline.raw());
-                device.raw.cmd_draw_indexed(cmd, index_count, 1, 0, 0, 0);
+                // Unindexed: fur.vert reads each corner's master hair from the triangle
+                // list and numbers the triangles itself.
+                device.raw.cmd_draw(cmd, index_count, 1, 0, 0);
             }
         }
     }

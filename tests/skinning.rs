@@ -28,6 +28,18 @@ fn walk(rig: &Rig) -> Playback {
     }
 }
 
+/// The device simulation of `textures`' strands on the skinned `body` playing `playback`,
+/// one frame in flight, colliding with `field` when given.
+fn skinned_sim(
+    device: &Arc<fur::gpu::Device>,
+    textures: &StrandTextures,
+    params: SimParams,
+    field: Option<&fur::sim::Sdf>,
+    (body, playback): (Arc<SkinnedBody>, Playback),
+) -> GpuSim {
+    GpuSim::build(device, textures, params, 1, field, Some((body, playback))).unwrap()
+}
+
 fn max_error(a: &[Vec3], b: &[Vec3]) -> f32 {
     a.iter()
         .zip(b)
@@ -51,15 +63,13 @@ fn roots_sit_on_the_device_skinned_surface() {
     let (_, size) = mesh.bounds();
     let playback = walk(&body.rig);
     let textures = StrandTextures::new(&device, &strands, glam::Mat4::IDENTITY).unwrap();
-    let mut gpu = GpuSim::build(
+    let mut gpu = skinned_sim(
         &device,
         &textures,
         SimParams::default(),
-        1,
         None,
-        Some((body.clone(), playback.clone())),
-    )
-    .unwrap();
+        (body.clone(), playback.clone()),
+    );
     let v = strands.vertices_per_strand as usize;
     for t in [0.0, 0.3, 0.55] {
         gpu.time = t;
@@ -95,15 +105,13 @@ fn gpu_matches_cpu_on_a_walking_body() {
     };
     let head = |_: f64| DMat4::IDENTITY;
     let mut textures = StrandTextures::new(&device, &strands, glam::Mat4::IDENTITY).unwrap();
-    let mut gpu = GpuSim::build(
+    let mut gpu = skinned_sim(
         &device,
         &textures,
         params.clone(),
-        1,
         None,
-        Some((body.clone(), playback.clone())),
-    )
-    .unwrap();
+        (body.clone(), playback.clone()),
+    );
     let poses_at = |t: f64| skinning::cpu::pose(&body, &playback.joint_matrices(&body.rig, t));
     let mut cpu = CpuSim::<f32>::new(&strands, params, DMat4::IDENTITY);
     cpu.place(DMat4::IDENTITY, Some(&poses_at(0.0).roots));
@@ -142,15 +150,13 @@ fn a_held_pose_leaves_the_hair_at_rest() {
     let (_, body, strands) = body();
     let playback = Playback::default(); // no clip: the rest pose
     let mut textures = StrandTextures::new(&device, &strands, glam::Mat4::IDENTITY).unwrap();
-    let mut gpu = GpuSim::build(
+    let mut gpu = skinned_sim(
         &device,
         &textures,
         SimParams::at_rest(),
-        1,
         None,
-        Some((body, playback)),
-    )
-    .unwrap();
+        (body, playback),
+    );
     let head = |_: f64| DMat4::IDENTITY;
     // The root poses of a held pose are the identity up to rounding (the rest frames
     // are skinned on the CPU, the poses on the device), so the hair settles once into
@@ -217,15 +223,13 @@ fn gpu_matches_cpu_on_a_walking_body_with_collision() {
     let sdf = Arc::new(sdf);
     let head = |_: f64| DMat4::IDENTITY;
     let mut textures = StrandTextures::new(&device, &strands, glam::Mat4::IDENTITY).unwrap();
-    let mut gpu = GpuSim::build(
+    let mut gpu = skinned_sim(
         &device,
         &textures,
         params.clone(),
-        1,
         Some(&sdf),
-        Some((body.clone(), playback.clone())),
-    )
-    .unwrap();
+        (body.clone(), playback.clone()),
+    );
     assert_eq!(
         gpu.active_steps().contains(&fur::sim::SimStep::Collision),
         params.collision
@@ -374,15 +378,13 @@ fn walk_depths(collision: bool) -> (f64, f64) {
     };
     let (field, _) = fur::sim::Sdf::for_hair(&mesh, &params, strands.hair_length()).unwrap();
     let mut textures = StrandTextures::new(&device, &strands, glam::Mat4::IDENTITY).unwrap();
-    let mut gpu = GpuSim::build(
+    let mut gpu = skinned_sim(
         &device,
         &textures,
         params,
-        1,
         Some(&field),
-        Some((body.clone(), playback.clone())),
-    )
-    .unwrap();
+        (body.clone(), playback.clone()),
+    );
     let v = strands.vertices_per_strand as usize;
     let head = |_: f64| DMat4::IDENTITY;
     gpu.run_frames(&mut textures, 30, head).unwrap();
@@ -462,15 +464,13 @@ fn a_still_pose_under_gravity_with_collision_comes_to_rest() {
     let params = SimParams::default();
     let (sdf, _) = fur::sim::Sdf::for_hair(&mesh, &params, strands.hair_length()).unwrap();
     let mut textures = StrandTextures::new(&device, &strands, glam::Mat4::IDENTITY).unwrap();
-    let mut gpu = GpuSim::build(
+    let mut gpu = skinned_sim(
         &device,
         &textures,
         params,
-        1,
         Some(&sdf),
-        Some((body, Playback::default())),
-    )
-    .unwrap();
+        (body, Playback::default()),
+    );
     let head = |_: f64| DMat4::IDENTITY;
     gpu.run_frames(&mut textures, 300, head).unwrap();
     let limit = 1e-6 * strands.hair_length();

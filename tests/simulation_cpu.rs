@@ -326,8 +326,14 @@ fn run_extreme<T: Real>(strands: &Strands, e: &Extreme, frames: usize, wind_scal
     };
     let l = f64::from(e.segment_length);
     let mut out = Outcome::default();
+    // The end of the frame's substep, kept here rather than read from the simulation.
+    let mut time = 0.0f64;
     for frame in 0..frames {
         sim.step_frame(|t| motion.head(t));
+        for _ in 0..params.substeps {
+            time += params.substep_dt();
+        }
+        assert_eq!(sim.time, time, "{e:?}: the clock");
         assert!(
             sim.current.iter().all(|p| V3::is_finite(*p)),
             "{e:?}: non-finite position at frame {frame}"
@@ -352,7 +358,7 @@ fn run_extreme<T: Real>(strands: &Strands, e: &Extreme, frames: usize, wind_scal
                 // push's error from the tangent's: a segment of length L whose ends are
                 // off by 4 ulps turns by up to 8 ulps / L, which turns a push of
                 // length W by as much.
-                let c = StepConstants::new(&params, sim.time, motion.head(sim.time));
+                let c = StepConstants::new(&params, time, motion.head(time));
                 let wind = params.wind_enabled().then_some(c.wind_h2);
                 let predicted =
                     common::seed::rest_pose_pushed_by_wind(&strands.positions, v, c.head, wind);
@@ -361,7 +367,7 @@ fn run_extreme<T: Real>(strands: &Strands, e: &Extreme, frames: usize, wind_scal
                     .zip(&predicted)
                     .map(|(a, b)| (*a - *b).length())
                     .fold(0.0, f64::max);
-                let w = e.wind_reach(sim.time, strands.count());
+                let w = e.wind_reach(time, strands.count());
                 let tolerance = eps * reach.max(1.0) * (16.0 + 8.0 * w / l);
                 assert!(
                     error <= tolerance,
@@ -372,7 +378,7 @@ fn run_extreme<T: Real>(strands: &Strands, e: &Extreme, frames: usize, wind_scal
                 out.used = out.used.max(error / tolerance);
             }
             Judged::WindOnExactLength => {
-                let w = e.wind_reach(sim.time, strands.count()) / l;
+                let w = e.wind_reach(time, strands.count()) / l;
                 let wind_term = (1.0 + w * w).sqrt() - 1.0;
                 // The pinned solve leaves |segment| − L within a few roundings of the
                 // coordinates: 4 ulps of the largest one, relative to L.
@@ -864,6 +870,12 @@ fn an_unconstrained_vertex_falls_the_discrete_verlet_sum() {
         }
         let h = f64::from(1.0f32 / 60.0) / f64::from(substeps);
         let n = frames as u32 * substeps;
+        // The clock: n substeps of h.
+        assert!(
+            (sim.time - h * f64::from(n)).abs() < 1e-12,
+            "time {}",
+            sim.time
+        );
         // The constants the step runs on are rounded once to f32 (for the GPU's sake).
         let r = f64::from(common::seed::retention(f64::from(damping), h) as f32);
         let gh2 = (g * h * h).as_vec3().as_dvec3();

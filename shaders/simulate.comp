@@ -22,6 +22,9 @@ const uint STEP_COLLISION = 32u;
 const uint BODY_SKINNED = 64u;
 // Projections onto the collision margin per vertex and substep, at most (src/sim/cpu.rs).
 const uint PROJECTIONS = 3u;
+// Rest: a strand that moves by at most this many ulps of its coordinates in a frame
+// sleeps (src/sim/cpu.rs: SLEEP_ULPS).
+const float SLEEP_ULPS = 16.0;
 
 vec3 x[V];   // current positions, world space
 vec3 p[V];   // positions one substep ago
@@ -43,6 +46,11 @@ void ride(uint strand, Step st) {
     vec4 c0 = last_poses[o], c1 = last_poses[o + 1u], c2 = last_poses[o + 2u];
     mat3 last_rotation = mat3(c0.xyz, c1.xyz, c2.xyz);
     vec3 last_root = vec3(c0.w, c1.w, c2.w);
+    // An unchanged pose carries nothing: skipping keeps a held pose exactly at rest
+    // (the map below is the identity only up to rounding).
+    if (pose_rotation == last_rotation && pose_root == last_root) {
+        return;
+    }
     mat3 turn = pose_rotation * transpose(last_rotation);
     for (uint i = 1u; i < V; ++i) {
         vec3 m = (st.head_inverse * vec4(x[i], 1.0)).xyz;
@@ -402,9 +410,31 @@ void main() {
             collide(st, push.step + s, sim.collision.x * strand_length);
         }
     }
+    // Sleep: a strand that moved by no more than rounding noise this frame (SLEEP_ULPS
+    // of its largest coordinate) goes back where it started, not moving; constant
+    // targets otherwise leave it dithering by an ulp forever (src/sim/cpu.rs: `sleep`).
+    float moved = 0.0;
+    float extent = 0.0;
+    for (uint i = 0u; i < V; ++i) {
+        vec3 was = imageLoad(current_positions, strand_texel(strand, i, V, sim.counts.y)).xyz;
+        vec3 d = abs(x[i] - was);
+        moved = max(moved, max(d.x, max(d.y, d.z)));
+        vec3 a = abs(was);
+        extent = max(extent, max(a.x, max(a.y, a.z)));
+    }
+    bool asleep = moved <= SLEEP_ULPS * 1.1920929e-7 * extent;
+#ifdef FUR_TEST_NO_SLEEP
+    asleep = false;   // test hook: the variant without sleep (tests/skinning.rs)
+#endif
     for (uint i = 0u; i < V; ++i) {
         ivec2 t = strand_texel(strand, i, V, sim.counts.y);
-        imageStore(previous_positions, t, vec4(x[i], 1.0));
-        imageStore(current_positions, t, vec4(p[i], 1.0));
+        if (asleep) {
+            vec4 was = imageLoad(current_positions, t);
+            imageStore(previous_positions, t, vec4(was.xyz, 1.0));
+            imageStore(current_positions, t, vec4(was.xyz, 1.0));
+        } else {
+            imageStore(previous_positions, t, vec4(x[i], 1.0));
+            imageStore(current_positions, t, vec4(p[i], 1.0));
+        }
     }
 }

@@ -23,6 +23,8 @@ pub trait Real:
     const ZERO: Self;
     const ONE: Self;
     const HALF: Self;
+    /// The gap between 1 and the next representable number.
+    const EPSILON: Self;
     fn from_f32(v: f32) -> Self;
     fn from_f64(v: f64) -> Self;
     fn to_f64(self) -> f64;
@@ -33,6 +35,7 @@ impl Real for f32 {
     const ZERO: Self = 0.0;
     const ONE: Self = 1.0;
     const HALF: Self = 0.5;
+    const EPSILON: Self = f32::EPSILON;
     fn from_f32(v: f32) -> Self {
         v
     }
@@ -51,6 +54,7 @@ impl Real for f64 {
     const ZERO: Self = 0.0;
     const ONE: Self = 1.0;
     const HALF: Self = 0.5;
+    const EPSILON: Self = f64::EPSILON;
     fn from_f32(v: f32) -> Self {
         f64::from(v)
     }
@@ -94,6 +98,18 @@ impl<T: Real> V3<T> {
 
     pub fn scale(self, s: T) -> Self {
         Self(self.0 * s, self.1 * s, self.2 * s)
+    }
+
+    /// The largest absolute component (the Chebyshev norm).
+    pub fn max_abs(self) -> T {
+        let abs = |c: T| if c < T::ZERO { -c } else { c };
+        let (x, y, z) = (abs(self.0), abs(self.1), abs(self.2));
+        let xy = if y > x { y } else { x };
+        if z > xy {
+            z
+        } else {
+            xy
+        }
     }
 
     pub fn is_finite(self) -> bool {

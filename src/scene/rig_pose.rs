@@ -60,6 +60,12 @@ impl Channel {
             0.0
         };
         let (v0, v1) = (value(k), value(k + 1));
+        // Between equal keys (and, for a spline, flat tangents) the value is the key,
+        // exactly: the blends below round, and a held pose must not flicker by an ulp.
+        let flat = !cubic || (at(3 * k + 2) == Vec4::ZERO && at(3 * (k + 1)) == Vec4::ZERO);
+        if v0 == v1 && flat {
+            return finish(v0);
+        }
         finish(match self.interpolation {
             Interpolation::Step => v0,
             Interpolation::Linear if rotation => slerp(v0, v1, s),

@@ -13,6 +13,21 @@ use crate::scene::Strands;
 use crate::skinning::cpu::Posed;
 use crate::skinning::RootPose;
 
+/// A strand whose vertices all moved by at most this many ulps of its largest
+/// coordinate in a frame is at rest: it is put back where the frame started, with no
+/// velocity. Constant targets leave f32 hair dithering by an ulp or two a frame forever
+/// (the constraints' rounding never reaches a fixed point); sleeping stops that, and
+/// any real motion (a frame's gravity alone moves hair by 1e-3) wakes the strand.
+pub const SLEEP_ULPS: f32 = 16.0;
+
+fn max<T: Real>(a: T, b: T) -> T {
+    if b > a {
+        b
+    } else {
+        a
+    }
+}
+
 /// The CPU reference simulator for one set of master hairs.
 #[derive(Clone, Debug)]
 pub struct CpuSim<T: Real> {
@@ -69,12 +84,14 @@ impl<T: Real> CpuSim<T> {
     /// Advances one frame (`params.substeps` substeps), with the head transform given as
     /// a function of time.
     pub fn step_frame(&mut self, head_at: impl Fn(f64) -> DMat4) {
+        let start = self.current.clone();
         let h = self.params.substep_dt();
         for _ in 0..self.params.substeps {
             self.time += h;
             let constants = StepConstants::new(&self.params, self.time, head_at(self.time));
             self.substep(&constants);
         }
+        self.sleep(&start);
     }
 
     /// Advances one frame on a skinned body: `poses_at(t)` gives the body's pose at
@@ -85,11 +102,33 @@ impl<T: Real> CpuSim<T> {
         head_at: impl Fn(f64) -> DMat4,
         poses_at: impl Fn(f64) -> Posed,
     ) {
+        let start = self.current.clone();
         let h = self.params.substep_dt();
         for _ in 0..self.params.substeps {
             self.time += h;
             let constants = StepConstants::new(&self.params, self.time, head_at(self.time));
             self.substep_posed(&constants, Some(&poses_at(self.time)));
+        }
+        self.sleep(&start);
+    }
+
+    /// Puts every strand that moved by no more than rounding noise this frame (from
+    /// `start`) back where it started, not moving (`sleep` in `shaders/simulate.comp`).
+    fn sleep(&mut self, start: &[V3<T>]) {
+        let v = self.rest.vertices_per_strand;
+        let noise = T::from_f32(SLEEP_ULPS) * T::EPSILON;
+        for (s, was) in start.chunks_exact(v).enumerate() {
+            let range = s * v..(s + 1) * v;
+            let mut moved = T::ZERO;
+            let mut extent = T::ZERO;
+            for (x, w) in self.current[range.clone()].iter().zip(was) {
+                moved = max(moved, (*x - *w).max_abs());
+                extent = max(extent, w.max_abs());
+            }
+            if moved <= noise * extent {
+                self.current[range.clone()].copy_from_slice(was);
+                self.previous[range].copy_from_slice(was);
+            }
         }
     }
 
@@ -151,7 +190,9 @@ impl<T: Real> CpuSim<T> {
             let prev = &mut self.previous[range.clone()];
             let curr = &mut self.current[range];
             let carrier = Carrier::new(&head, poses.map(|p| &p[s]), rest[0]);
-            if let Some(pose) = poses.map(|p| &p[s]) {
+            // An unchanged pose carries nothing: skipping the ride keeps a held pose
+            // exactly at rest (the carried map is the identity only up to rounding).
+            if let Some(pose) = poses.map(|p| &p[s]).filter(|&p| *p != self.last_poses[s]) {
                 ride(
                     (&head, &to_model),
                     (&self.last_poses[s], pose),

@@ -148,6 +148,14 @@ fn quick_bench_writes_every_expected_measurement() {
     // Animation: skinning, walking against standing, each way of colliding.
     expect("animation", "skinning", "us_per_vertex");
     expect("animation", "walking / standing", "ratio");
+    for clip in ["Walk", "Idle"] {
+        for metric in ["mean_offset", "max_offset", "max_normal_degrees"] {
+            expect("animation", &format!("LBS vs DQS: {clip}"), metric);
+        }
+        // The clips bend joints, where the two methods differ: a measurement that
+        // compared one skin with itself would give zero.
+        assert!(value("animation", &format!("LBS vs DQS: {clip}"), "max_offset") > 0.0);
+    }
     for metric in [
         "sampling_ms",
         "device_kib",

@@ -139,6 +139,56 @@ impl Bench<'_> {
         Ok(depths.relative_to(f64::from(strands.hair_length())))
     }
 
+    /// Linear blend against dual-quaternion skinning over each clip (60 poses a second,
+    /// on the CPU): how far the two put the skin apart and how far they turn its normals,
+    /// the roots' frames. This decides whether the device needs the second method.
+    fn skinning_methods(&mut self, rig: &Rig, hair_length: f32) {
+        let _ = writeln!(
+            self.md,
+            "**Linear blend against dual-quaternion skinning** (CPU, every vertex at 60 poses \
+             a second over each clip): how far apart the two put the skin, in hair lengths, \
+             and how far they turn the normals (the roots' frames).\n\n\
+             | clip | mean offset | max offset | max normal angle |\n\
+             | --- | --- | --- | --- |"
+        );
+        for (c, clip) in rig.clips.iter().enumerate() {
+            let playback = Playback {
+                clip: Some(c),
+                ..Default::default()
+            };
+            let poses = (clip.duration() * 60.0).ceil().max(1.0) as usize;
+            let (mut max, mut sum, mut count, mut angle) = (0.0f64, 0.0f64, 0usize, 0.0f64);
+            for k in 0..poses {
+                let m = playback.joint_matrices(rig, k as f64 / 60.0);
+                let (lp, ln, _) = rig.skin(&m, &[]);
+                let (dp, dn) = skinning::dual_quaternion::skin(rig, &m);
+                for ((lp, dp), (ln, dn)) in lp.iter().zip(&dp).zip(ln.iter().zip(&dn)) {
+                    let offset = f64::from((*lp - *dp).length() / hair_length);
+                    max = max.max(offset);
+                    sum += offset;
+                    count += 1;
+                    let cos = f64::from(ln.dot(*dn)).clamp(-1.0, 1.0);
+                    angle = angle.max(cos.acos().to_degrees());
+                }
+            }
+            let mean = sum / count.max(1) as f64;
+            let case = format!("LBS vs DQS: {}", clip.name);
+            for (metric, value, unit) in [
+                ("mean_offset", mean, "fraction of hair length"),
+                ("max_offset", max, "fraction of hair length"),
+                ("max_normal_degrees", angle, "°"),
+            ] {
+                self.row("animation", case.clone(), metric, value, unit);
+            }
+            let _ = writeln!(
+                self.md,
+                "| {} | {mean:.2e} | {max:.2e} | {angle:.2}° |",
+                clip.name
+            );
+        }
+        let _ = writeln!(self.md);
+    }
+
     pub(super) fn animation(&mut self) -> Result<()> {
         let (mesh, rig, strands) = critter_strands()?;
         let body = Arc::new(SkinnedBody::new(&mesh, rig.clone()));
@@ -188,6 +238,8 @@ impl Bench<'_> {
             strands.vertices_per_strand,
             skinned_ms - rigid_ms
         );
+
+        self.skinning_methods(&rig, strands.hair_length());
 
         // The whole frame, walking against standing.
         let frame = |clip: Option<usize>| -> Result<f64> {

@@ -11,6 +11,7 @@
 
 pub mod capsules;
 pub mod cpu;
+pub mod dual_quaternion;
 pub mod gpu;
 
 use glam::Vec3;

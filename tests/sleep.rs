@@ -1,0 +1,115 @@
+//! Sleep on the CPU reference (`CpuSim::sleep`, the twin of `sleep` in
+//! `shaders/simulate.comp`): settled hair is exactly still, moving hair is never put to
+//! sleep, and the threshold is 16 ulps of a strand's largest coordinate.
+
+use fur::scene::Strands;
+use fur::sim::{CpuSim, Real, SimParams};
+use glam::{DMat4, Vec3};
+
+/// Strands sticking out sideways (along +x) from roots stacked along y: gravity bends
+/// them, the shape constraints hold them up.
+fn sideways() -> Strands {
+    let mut positions = Vec::new();
+    for s in 0..4 {
+        for i in 0..9 {
+            positions.push(Vec3::new(0.05 * i as f32, 0.3 * s as f32, 0.1 * s as f32));
+        }
+    }
+    Strands {
+        vertices_per_strand: 9,
+        positions,
+    }
+}
+
+fn frame<T: Real>(sim: &mut CpuSim<T>) {
+    sim.step_frame(|_| DMat4::IDENTITY);
+}
+
+fn settled_hair_is_exactly_still<T: Real>() {
+    let params = SimParams {
+        collision: false,
+        ..Default::default()
+    };
+    let mut sim = CpuSim::<T>::new(&sideways(), params, DMat4::IDENTITY);
+    let start = sim.current.clone();
+    frame(&mut sim);
+    // One frame of gravity from rest moves the tips: moving hair is awake.
+    let sag = start
+        .iter()
+        .zip(&sim.current)
+        .map(|(a, b)| (*a - *b).length().to_f64())
+        .fold(0.0, f64::max);
+    assert!(sag > 1e-4, "the first frame moved the hair by {sag}");
+    for _ in 0..400 {
+        frame(&mut sim);
+    }
+    let settled = sim.current.clone();
+    let total = start
+        .iter()
+        .zip(&settled)
+        .map(|(a, b)| (*a - *b).length().to_f64())
+        .fold(0.0, f64::max);
+    assert!(total > 0.01, "gravity bent the hair by only {total}");
+    for k in 0..3 {
+        frame(&mut sim);
+        assert_eq!(sim.current, settled, "frame {k} after settling moved");
+        assert_eq!(
+            sim.previous, settled,
+            "frame {k}: a sleeping strand has no velocity"
+        );
+    }
+}
+
+#[test]
+fn settled_hair_is_exactly_still_in_f32_and_f64() {
+    settled_hair_is_exactly_still::<f32>();
+    settled_hair_is_exactly_still::<f64>();
+}
+
+/// A straight strand at x = 1024 (so its largest coordinate is 1024) in free fall from
+/// rest, with every constraint off: its free vertices move by exactly g·h² in the first
+/// frame. At half the threshold (16 ulps of 1024 = 2⁻¹⁹·16) it sleeps, and stays where
+/// it started frame after frame; at twice the threshold it falls.
+#[test]
+fn the_threshold_is_sixteen_ulps_of_the_largest_coordinate() {
+    let threshold = 16.0 * f64::from(f32::EPSILON) * 1024.0;
+    let strand = Strands {
+        vertices_per_strand: 4,
+        positions: (0..4)
+            .map(|i| Vec3::new(1024.0, 0.0, 0.25 * i as f32))
+            .collect(),
+    };
+    let fall = |motion: f64| {
+        let h = 1.0 / 60.0;
+        let params = SimParams {
+            gravity: Vec3::new(0.0, -(motion / (h * h)) as f32, 0.0),
+            damping: 0.0,
+            global_stiffness: 0.0,
+            local_iterations: 0,
+            length_iterations: 0,
+            collision: false,
+            ..Default::default()
+        };
+        params.validate().unwrap();
+        let mut sim = CpuSim::<f32>::new(&strand, params, DMat4::IDENTITY);
+        let start = sim.current.clone();
+        let mut moved = 0.0f64;
+        for _ in 0..5 {
+            frame(&mut sim);
+            moved = sim
+                .current
+                .iter()
+                .zip(&start)
+                .map(|(a, b)| f64::from((*a - *b).length()))
+                .fold(moved, f64::max);
+        }
+        moved
+    };
+    assert_eq!(fall(0.5 * threshold), 0.0, "below the threshold it sleeps");
+    let fallen = fall(2.0 * threshold);
+    // Five frames of free fall from rest: (1 + 2 + 3 + 4 + 5) g·h².
+    assert!(
+        (fallen / (15.0 * 2.0 * threshold) - 1.0).abs() < 0.01,
+        "above the threshold it falls ({fallen})"
+    );
+}

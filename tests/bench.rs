@@ -145,6 +145,21 @@ fn quick_bench_writes_every_expected_measurement() {
             last = error;
         }
     }
+    // The budget at work on the first scene: an orbit, then stillness.
+    let orbit = "blob: orbit at 100 ms";
+    for metric in [
+        "median_ms",
+        "settled_frames",
+        "rung",
+        "flip",
+        "back_to_default_s",
+    ] {
+        expect("ladder", orbit, metric);
+    }
+    let rung = value("ladder", orbit, "rung");
+    assert!(rung >= 0.0 && rung < fur::render::budget::LADDER.len() as f64);
+    assert!(value("ladder", orbit, "settled_frames") >= 1.0);
+    assert!(value("ladder", orbit, "back_to_default_s") > 0.0);
     // Animation: skinning, walking against standing, each way of colliding.
     expect("animation", "skinning", "us_per_vertex");
     expect("animation", "walking / standing", "ratio");

@@ -27,7 +27,7 @@ pub(super) struct FrameTimes {
 
 impl Bench<'_> {
     /// A session of `scene` (its simulation and motion included) drawn with `draw`.
-    fn session(&self, scene: &BenchScene, draw: &DrawOptions) -> Result<FurSession> {
+    pub(super) fn session(&self, scene: &BenchScene, draw: &DrawOptions) -> Result<FurSession> {
         let scene = &scene.scene;
         let mesh = scene.model.prepare(scene.options.texture.as_ref())?.0;
         let options = SceneOptions {

@@ -29,6 +29,8 @@ impl Bench<'_> {
             extent.width, extent.height
         );
         let mut series = Vec::new();
+        // Per rung, its ꟻLIP on the first scene (the one the orbit runs on).
+        let mut first_errors = Vec::new();
         for (k, bench_scene) in self.scenes.clone().iter().enumerate() {
             let scene = &bench_scene.name;
             let shot = Shot::new(self.device, &bench_scene.scene, extent)?;
@@ -70,6 +72,9 @@ impl Bench<'_> {
                     }
                 );
                 points.push((drawn.frame_ms, error));
+                if k == 0 {
+                    first_errors.push(error);
+                }
                 (self.progress)(&format!("{scene}: rung {r}"));
             }
             self.md.push('\n');
@@ -80,6 +85,7 @@ impl Bench<'_> {
                 line: true,
             });
         }
+        self.orbit(&first_errors)?;
         self.plots.push((
             "ladder.svg",
             Plot {

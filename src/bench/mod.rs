@@ -14,6 +14,7 @@ mod frame;
 mod ladder;
 mod looks;
 pub mod metrics;
+mod orbit;
 pub mod plot;
 pub mod quality;
 mod render;
@@ -225,7 +226,7 @@ pub fn task_count(options: &BenchOptions) -> u64 {
             Section::Collision => collision::tasks(options.quick),
             Section::Savings => savings::TASKS,
             Section::Looks => looks::tasks(options.quick),
-            Section::Ladder => ladder::tasks(options.scenes().len()),
+            Section::Ladder => ladder::tasks(options.scenes().len()) + 2,
             Section::Animation => animation::tasks(),
         })
         .sum()

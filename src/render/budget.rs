@@ -7,9 +7,10 @@
 //! The controller holds still against noise: it steps down only when the current rung's
 //! smoothed time is over the budget, up only when the rung above is predicted to fit with
 //! room to spare, and changes at most once every [`Budget::SETTLE_FRAMES`] frames. When no
-//! input has come for [`Budget::IDLE_SECONDS`], it climbs back to the default, a rung at
-//! a time, within two seconds, whatever the frame rate: a person inspecting the fur sees
-//! it at full quality.
+//! input has come for [`Budget::IDLE_SECONDS`], it goes back to the default at once,
+//! whatever the frame rate: a person inspecting the fur sees it at full quality. When
+//! input comes again it returns to the rung it was moving at, so a person moving the
+//! fur sees it move without stepping down the ladder again.
 
 use super::{FurStyle, Primitive};
 
@@ -106,8 +107,8 @@ pub struct Budget {
     frames_since_change: u32,
     /// Seconds since the last input (camera, model or parameters).
     idle_s: f64,
-    /// Seconds since the last climb while idle.
-    since_climb_s: f64,
+    /// The rung in use when the input stopped (None: not refined since).
+    moving_rung: Option<usize>,
     /// The cheapest rung missed the budget (said once).
     pub missed: bool,
 }
@@ -137,7 +138,7 @@ impl Budget {
             ratio,
             frames_since_change: 0,
             idle_s: 0.0,
-            since_climb_s: 0.0,
+            moving_rung: None,
             missed: false,
         }
     }
@@ -183,16 +184,20 @@ impl Budget {
         if self.target_ms <= 0.0 {
             return self.set(0);
         }
-        // Still: climb back to the default, one rung every ≤ 0.25 s.
+        // Still: back to the default at once.
         if self.idle_s >= Self::IDLE_SECONDS {
-            self.since_climb_s += dt_s.max(0.0);
-            if r > 0 && self.since_climb_s >= 0.25 {
-                self.since_climb_s = 0.0;
-                return self.set(r - 1);
+            if r > 0 {
+                self.moving_rung = Some(r);
+                return self.set(0);
             }
             return r;
         }
-        self.since_climb_s = 0.0;
+        // Moving again after a refinement: straight back to the rung that was moving.
+        if let Some(moving) = self.moving_rung.take() {
+            if input {
+                return self.set(moving);
+            }
+        }
         if self.frames_since_change < Self::SETTLE_FRAMES {
             return r;
         }
@@ -271,20 +276,32 @@ mod tests {
 
     #[test]
     fn it_climbs_back_to_the_default_within_two_seconds_of_stillness() {
-        let mut b = Budget::new(100.0);
-        run(&mut b, &COSTS, 200, true, 0.0);
-        assert!(b.rung > 0);
-        // Still: frames at their own cost (the default is slow: 400 ms a frame).
-        let mut t = 0.0;
-        while b.rung > 0 {
-            let ms = COSTS[b.rung];
-            b.observe(ms, ms / 1e3, false);
-            t += ms / 1e3;
+        for slow in [1.0, 10.0] {
+            // `slow`: a device this many times slower (the cheapest rung then misses).
+            let costs = COSTS.map(|c| c * slow);
+            let mut b = Budget::new(100.0);
+            run(&mut b, &costs, 200, true, 0.0);
+            let moving = b.rung;
+            assert!(moving > 0);
+            // Still: frames at their own cost; the default frame must be done within
+            // 2 s of the last input.
+            let mut t = 0.0;
+            loop {
+                let ms = costs[b.rung];
+                t += ms / 1e3;
+                if b.rung == 0 {
+                    break;
+                }
+                b.observe(ms, ms / 1e3, false);
+                assert!(t < 2.0, "slow {slow}: still at rung {} after {t} s", b.rung);
+            }
             assert!(
-                t < 2.0 + Budget::IDLE_SECONDS,
-                "still at rung {} after {t} s",
-                b.rung
+                t <= 2.0 || slow > 1.0,
+                "slow {slow}: the default frame finished {t} s after the last input"
             );
+            // Moving again: straight back to the rung that was moving, not the default.
+            let ms = costs[0];
+            assert_eq!(b.observe(ms, ms / 1e3, true), moving, "slow {slow}");
         }
     }
 

@@ -254,8 +254,9 @@ fn the_viewer_saves_a_scene_that_reproduces_its_view() {
 }
 
 /// With a budget no drawing can meet, the viewer steps down the quality ladder while
-/// the camera moves, climbs back to the default once input stops, and its last frame is
-/// the default drawing, pixel for pixel (the same run without a budget).
+/// the camera moves, climbs back to the default once input stops (measuring the ꟻLIP of
+/// the rung it moved at there), and its last frame is the default drawing, pixel for
+/// pixel (the same run without a budget).
 #[test]
 fn the_budget_steps_down_while_moving_and_back_when_still() {
     let dir = scratch("budget");
@@ -301,6 +302,25 @@ fn the_budget_steps_down_while_moving_and_back_when_still() {
         "never stepped down far: {line}"
     );
     assert_eq!(rungs.last(), Some(&0), "did not climb back: {line}");
+    // At the still view the rung the view moved at was measured against the default
+    // drawing: a cheaper drawing differs from it.
+    let measured = log
+        .lines()
+        .find(|l| l.starts_with("measured: rung "))
+        .unwrap_or_else(|| panic!("no rung was measured:\n{log}"));
+    let rung: usize = measured["measured: rung ".len()..]
+        .split(' ')
+        .next()
+        .and_then(|s| s.parse().ok())
+        .unwrap_or_else(|| panic!("no rung in {measured}"));
+    assert!(rung > 0 && rungs.contains(&rung), "{measured} ({line})");
+    let error: f64 = measured
+        .split("ꟻLIP ")
+        .nth(1)
+        .and_then(|s| s.split(' ').next())
+        .and_then(|s| s.parse().ok())
+        .unwrap_or_else(|| panic!("no ꟻLIP in {measured}"));
+    assert!(error > 0.0 && error < 1.0, "{measured}");
     let (plain, _) = shot("plain.png", "0");
     let a = image::open(&budgeted).unwrap().to_rgba8();
     let b = image::open(&plain).unwrap().to_rgba8();

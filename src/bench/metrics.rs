@@ -65,22 +65,7 @@ pub fn max_stretch(positions: &[Vec3], rest_lengths: &[f64], v: usize) -> f64 {
     worst
 }
 
-/// Mean ꟻLIP error (NVIDIA's perceptual difference, 0 = identical, 1 = maximal) of
-/// `test` against `reference`, at the default viewing condition (67 pixels per degree).
-pub fn flip(reference: &RgbaImage, test: &RgbaImage) -> f64 {
-    assert_eq!(
-        (reference.width, reference.height),
-        (test.width, test.height),
-        "images differ in size"
-    );
-    let (w, h) = (reference.width, reference.height);
-    let error = nv_flip::flip(
-        nv_flip::FlipImageRgb8::with_data(w, h, &reference.rgb()),
-        nv_flip::FlipImageRgb8::with_data(w, h, &test.rgb()),
-        nv_flip::DEFAULT_PIXELS_PER_DEGREE,
-    );
-    f64::from(nv_flip::FlipPool::from_image(&error).mean())
-}
+pub use crate::render::flip;
 
 /// Which points are on the Pareto front of (cost, error): no other point is at most as
 /// costly and at most as wrong while better in one of the two.

@@ -128,6 +128,23 @@ impl RgbaImage {
     }
 }
 
+/// Mean ꟻLIP error (NVIDIA's perceptual difference, 0 = identical, 1 = maximal) of
+/// `test` against `reference`, at the default viewing condition (67 pixels per degree).
+pub fn flip(reference: &RgbaImage, test: &RgbaImage) -> f64 {
+    assert_eq!(
+        (reference.width, reference.height),
+        (test.width, test.height),
+        "images differ in size"
+    );
+    let (w, h) = (reference.width, reference.height);
+    let error = nv_flip::flip(
+        nv_flip::FlipImageRgb8::with_data(w, h, &reference.rgb()),
+        nv_flip::FlipImageRgb8::with_data(w, h, &test.rgb()),
+        nv_flip::DEFAULT_PIXELS_PER_DEGREE,
+    );
+    f64::from(nv_flip::FlipPool::from_image(&error).mean())
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

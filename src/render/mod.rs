@@ -14,7 +14,7 @@ mod target;
 mod texture;
 mod uniforms;
 
-pub use image::RgbaImage;
+pub use image::{flip, RgbaImage};
 pub use lighting::{kajiya_kay, Highlights, Lighting, Shade, Shadows};
 pub use renderer::{FrameReport, HairCounts, Renderer};
 pub use shadow_pass::CASTER_DENSITY;

@@ -73,6 +73,7 @@ impl Viewer {
         };
         self.hud_dt = dt;
         self.steer_quality(dt);
+        self.measure_rung_error()?;
         if self.frame_index > 1 {
             self.frame_times.push(dt * 1e3);
         }

@@ -117,6 +117,14 @@ pub fn run(options: ViewerOptions) -> Result<()> {
                         changes.join(", ")
                     }
                 );
+                for (r, e) in v.quality.errors.iter().enumerate() {
+                    if let Some(e) = e {
+                        println!(
+                            "measured: rung {r} ({}) ꟻLIP {e:.4} against the default drawing at a still view",
+                            crate::render::budget::LADDER[r].name
+                        );
+                    }
+                }
             }
         }
     }
@@ -234,6 +242,13 @@ struct Quality {
     input_seen: bool,
     /// Every change of rung: (frame, rung).
     log: Vec<(u64, usize)>,
+    /// Seconds since the last input.
+    still_s: f64,
+    /// The rung drawn at the last frame with input.
+    moving_rung: usize,
+    /// Per rung, its ꟻLIP against the default drawing, measured at a still view (None:
+    /// not yet; reset when the panel changes the drawing).
+    errors: Vec<Option<f64>>,
 }
 
 /// Live numbers for the HUD.
@@ -251,6 +266,8 @@ pub(crate) struct Hud {
     pub texture_available: bool,
     /// The ladder rung the fur is drawn at.
     pub rung: usize,
+    /// That rung's ꟻLIP against the default drawing, once measured at a still view.
+    pub rung_error: Option<f64>,
     /// Even the cheapest rung misses the budget.
     pub budget_missed: bool,
     /// The target frame rate (0: no budget).
@@ -441,6 +458,9 @@ impl Viewer {
             applied: session.settings.style.clone(),
             input_seen: false,
             log: Vec::new(),
+            still_s: 0.0,
+            moving_rung: 0,
+            errors: vec![None; crate::render::budget::LADDER.len()],
         };
         let binning = device.info.name.contains("llvmpipe");
         let scene_texture = mesh.texture.clone();

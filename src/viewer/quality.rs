@@ -3,7 +3,8 @@
 //! is drawn at; drawing choices made in the panel are the base every rung starts from.
 
 use super::Viewer;
-use crate::render::budget::LADDER;
+use crate::error::Result;
+use crate::render::budget::{Budget, LADDER};
 
 impl Viewer {
     /// Chooses this frame's rung from the last frame's time `dt` (seconds) and applies it.
@@ -11,8 +12,15 @@ impl Viewer {
         // A change made in the panel since the last frame is the new base.
         if self.session.settings.style != self.quality.applied {
             self.quality.base = self.session.settings.style.clone();
+            self.quality.errors.fill(None);
         }
         let input = std::mem::take(&mut self.quality.input_seen);
+        if input {
+            self.quality.still_s = 0.0;
+            self.quality.moving_rung = self.hud.rung;
+        } else {
+            self.quality.still_s += dt;
+        }
         let rung = match &mut self.quality.budget {
             Some(budget) if self.frame_index > 2 => {
                 budget.pinned = self.controls.quality_pin;
@@ -28,6 +36,39 @@ impl Viewer {
         self.session.settings.style = style.clone();
         self.quality.applied = style;
         self.hud.rung = rung;
+        self.hud.rung_error = if rung == 0 {
+            Some(0.0)
+        } else {
+            self.quality.errors[rung]
+        };
         self.hud.budget_missed = self.quality.budget.as_ref().is_some_and(|b| b.missed);
+    }
+
+    /// At a still view, measures the ꟻLIP of a rung in use (or the one the view moved
+    /// at) against the default drawing: both drawn from the same state, not simulated.
+    /// One rung per frame, each once until the panel changes the drawing.
+    pub(super) fn measure_rung_error(&mut self) -> Result<()> {
+        if self.quality.still_s < Budget::IDLE_SECONDS {
+            return Ok(());
+        }
+        let Some(r) = [self.hud.rung, self.quality.moving_rung]
+            .into_iter()
+            .find(|&r| r > 0 && self.quality.errors[r].is_none())
+        else {
+            return Ok(());
+        };
+        self.device.wait_idle()?;
+        let style = self.session.settings.style.clone();
+        self.session.settings.style = LADDER[0].apply(&self.quality.base);
+        let (reference, _) = self.session.render()?;
+        self.session.settings.style = LADDER[r].apply(&self.quality.base);
+        let (drawn, _) = self.session.render()?;
+        self.session.settings.style = style;
+        let error = crate::render::flip(&reference, &drawn);
+        self.quality.errors[r] = Some(error);
+        if r == self.hud.rung {
+            self.hud.rung_error = Some(error);
+        }
+        Ok(())
     }
 }

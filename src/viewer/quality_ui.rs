@@ -16,6 +16,11 @@ pub(super) fn show(ui: &mut egui::Ui, hud: &Hud, pin: &mut Option<usize>) {
         hud.rung,
         LADDER.len() - 1
     ));
+    ui.label(match hud.rung_error {
+        Some(e) if hud.rung > 0 => format!("ꟻLIP {e:.4} against the default drawing"),
+        Some(_) => "the default drawing".to_string(),
+        None => "ꟻLIP against the default: measured when the view is still".to_string(),
+    });
     if hud.budget_missed {
         ui.colored_label(
             egui::Color32::YELLOW,

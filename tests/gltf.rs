@@ -1072,3 +1072,34 @@ fn the_command_line_refuses_a_broken_glb_by_name() {
     );
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// A skinned body whose mesh is open (one triangle on one bone) renders, with the same
+/// warning as an open OBJ: its distance field's sign is estimated near the holes.
+#[test]
+fn an_open_skinned_body_gets_the_open_mesh_warning() {
+    let dir = Scratch::new("open-skin");
+    let weights: Vec<f32> = [1.0, 0.0, 0.0, 0.0].repeat(3);
+    let path = dir.write("open.glb", one_bone(&[0; 12], &weights, &[0.0, 1.0]));
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_fur"))
+        .args([
+            "render",
+            "--width",
+            "32",
+            "--height",
+            "24",
+            "--animation",
+            "wave",
+            "--model",
+        ])
+        .arg(&path)
+        .arg("--out")
+        .arg(dir.0.join("open.png"))
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{stderr}");
+    assert!(
+        stderr.contains("open.glb") && stderr.contains("is not a closed"),
+        "{stderr}"
+    );
+}

@@ -20,7 +20,7 @@ use crate::skinning::{self, Playback, SkinnedBody};
 use crate::strand_textures::StrandTextures;
 
 pub(super) fn tasks() -> u64 {
-    6
+    7
 }
 
 /// The walk clip of `rig`, on the spot.
@@ -45,23 +45,34 @@ struct Way {
     name: &'static str,
     capsules: bool,
     collision: bool,
+    /// The field's cells along the longest axis, as a multiple of the default's.
+    cells: u32,
 }
 
-const WAYS: [Way; 3] = [
+const WAYS: [Way; 4] = [
     Way {
         name: "rest field carried by each root pose + bone capsules (default)",
         capsules: true,
         collision: true,
+        cells: 1,
+    },
+    Way {
+        name: "the same with twice the field's cells",
+        capsules: true,
+        collision: true,
+        cells: 2,
     },
     Way {
         name: "rest field carried by each root pose alone",
         capsules: false,
         collision: true,
+        cells: 1,
     },
     Way {
         name: "collision off",
         capsules: false,
         collision: false,
+        cells: 1,
     },
 ];
 
@@ -309,7 +320,15 @@ impl Bench<'_> {
              | way | update µs (CPU) | sampling ms | share of the step | adds | device KiB | mean depth | max depth |\n\
              | --- | --- | --- | --- | --- | --- | --- | --- |"
         );
+        let cells = Sdf::cells_for_hair(&mesh, &params, strands.hair_length());
         for way in &WAYS {
+            let fine;
+            let field = if way.cells == 1 {
+                &field
+            } else {
+                fine = Sdf::build(&mesh, (cells * way.cells).min(128), strands.hair_length())?.0;
+                &fine
+            };
             let mut way_body = SkinnedBody::clone(&body);
             if !way.capsules {
                 way_body.capsules.clear();
@@ -327,7 +346,7 @@ impl Bench<'_> {
                     &strands,
                     &params,
                     Some((way_body.clone(), playback.clone())),
-                    Some(&field),
+                    Some(field),
                     None,
                 )?
             } else {
@@ -344,7 +363,7 @@ impl Bench<'_> {
                 0.0
             };
             let (mean, max) =
-                self.walk_penetration((&mesh, &strands), &way_body, &field, way.collision)?;
+                self.walk_penetration((&mesh, &strands), &way_body, field, way.collision)?;
             for (metric, value, unit) in [
                 ("update_us", update_us, "µs"),
                 ("sampling_ms", sampling, "ms"),

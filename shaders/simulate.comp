@@ -20,6 +20,8 @@ const uint STEP_COLLISION = 32u;
 // The body is skinned: each strand's rest shape follows its own root pose (from the
 // skinning pass) before the head transform, instead of the head transform alone.
 const uint BODY_SKINNED = 64u;
+// Strands at rest sleep (see the end of main); compiled out with wind, which never stops.
+const uint SLEEP = 128u;
 // Projections onto the collision margin per vertex and substep, at most (src/sim/cpu.rs).
 const uint PROJECTIONS = 3u;
 // Rest: a strand that moves by at most this many ulps of its coordinates in a frame
@@ -413,19 +415,22 @@ void main() {
     // Sleep: a strand that moved by no more than rounding noise this frame (SLEEP_ULPS
     // of its largest coordinate) goes back where it started, not moving; constant
     // targets otherwise leave it dithering by an ulp forever (src/sim/cpu.rs: `sleep`).
-    float moved = 0.0;
-    float extent = 0.0;
-    for (uint i = 0u; i < V; ++i) {
-        vec3 was = imageLoad(current_positions, strand_texel(strand, i, V, sim.counts.y)).xyz;
-        vec3 d = abs(x[i] - was);
-        moved = max(moved, max(d.x, max(d.y, d.z)));
-        vec3 a = abs(was);
-        extent = max(extent, max(a.x, max(a.y, a.z)));
-    }
-    bool asleep = moved <= SLEEP_ULPS * 1.1920929e-7 * extent;
+    bool asleep = false;
+    if ((STEPS & SLEEP) != 0u) {
+        float moved = 0.0;
+        float extent = 0.0;
+        for (uint i = 0u; i < V; ++i) {
+            vec3 was = imageLoad(current_positions, strand_texel(strand, i, V, sim.counts.y)).xyz;
+            vec3 d = abs(x[i] - was);
+            moved = max(moved, max(d.x, max(d.y, d.z)));
+            vec3 a = abs(was);
+            extent = max(extent, max(a.x, max(a.y, a.z)));
+        }
+        asleep = moved <= SLEEP_ULPS * 1.1920929e-7 * extent;
 #ifdef FUR_TEST_NO_SLEEP
-    asleep = false;   // test hook: the variant without sleep (tests/skinning.rs)
+        asleep = false;   // test hook: the variant without sleep (tests/skinning.rs)
 #endif
+    }
     for (uint i = 0u; i < V; ++i) {
         ivec2 t = strand_texel(strand, i, V, sim.counts.y);
         if (asleep) {

@@ -113,3 +113,21 @@ fn the_threshold_is_sixteen_ulps_of_the_largest_coordinate() {
         "above the threshold it falls ({fallen})"
     );
 }
+
+/// Wind never stops (its strength never falls below half), so with wind nothing sleeps:
+/// a breath of wind leaves settled hair moving, by more than rounding.
+#[test]
+fn with_wind_nothing_sleeps() {
+    let params = SimParams {
+        collision: false,
+        wind: Vec3::new(0.0, 0.0, 1e-6),
+        ..Default::default()
+    };
+    let mut sim = CpuSim::<f32>::new(&sideways(), params, DMat4::IDENTITY);
+    for _ in 0..400 {
+        frame(&mut sim);
+    }
+    let before = sim.current.clone();
+    frame(&mut sim);
+    assert_ne!(sim.current, before, "hair in the wind fell asleep");
+}

@@ -17,7 +17,8 @@ use crate::skinning::RootPose;
 /// coordinate in a frame is at rest: it is put back where the frame started, with no
 /// velocity. Constant targets leave f32 hair dithering by an ulp or two a frame forever
 /// (the constraints' rounding never reaches a fixed point); sleeping stops that, and
-/// any real motion (a frame's gravity alone moves hair by 1e-3) wakes the strand.
+/// any real motion (a frame's gravity alone moves hair by 1e-3) wakes the strand. With
+/// wind, which never stops, nothing sleeps (and the kernel compiles the test out).
 pub const SLEEP_ULPS: f32 = 16.0;
 
 fn max<T: Real>(a: T, b: T) -> T {
@@ -115,6 +116,10 @@ impl<T: Real> CpuSim<T> {
     /// Puts every strand that moved by no more than rounding noise this frame (from
     /// `start`) back where it started, not moving (`sleep` in `shaders/simulate.comp`).
     fn sleep(&mut self, start: &[V3<T>]) {
+        // Wind never stops (its strength never falls below half): nothing comes to rest.
+        if self.params.wind_enabled() {
+            return;
+        }
         let v = self.rest.vertices_per_strand;
         let noise = T::from_f32(SLEEP_ULPS) * T::EPSILON;
         for (s, was) in start.chunks_exact(v).enumerate() {

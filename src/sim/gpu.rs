@@ -33,6 +33,9 @@ pub const MAX_VERTICES: u32 = 64;
 const STEP_CAPACITY: usize = 1024;
 /// The kernel's `STEPS` bit for a skinned body (`BODY_SKINNED` in `simulate.comp`).
 const BODY_SKINNED: u32 = 64;
+/// The kernel's `STEPS` bit for sleep (`SLEEP` in `simulate.comp`): only where hair can
+/// come to rest, that is without wind (its strength never falls below half).
+const SLEEP: u32 = 128;
 
 /// A skinned body's part of the simulation: the skinning pass, the body, which clip
 /// plays, and the joint matrices of the substeps not yet recorded.
@@ -361,6 +364,9 @@ impl GpuSim {
         let mut mask = self.forced_steps.unwrap_or(needed);
         if self.grid.is_none() {
             mask &= !SimStep::Collision.bit();
+        }
+        if !params.wind_enabled() {
+            mask |= SLEEP;
         }
         if let Some(skinned) = &self.skinned {
             if params.substeps > skinned.skin.max_substeps {

@@ -152,6 +152,7 @@ fn quick_bench_writes_every_expected_measurement() {
         "settled_frames",
         "rung",
         "flip",
+        "default_chosen_s",
         "back_to_default_s",
     ] {
         expect("ladder", orbit, metric);
@@ -159,7 +160,8 @@ fn quick_bench_writes_every_expected_measurement() {
     let rung = value("ladder", orbit, "rung");
     assert!(rung >= 0.0 && rung < fur::render::budget::LADDER.len() as f64);
     assert!(value("ladder", orbit, "settled_frames") >= 1.0);
-    assert!(value("ladder", orbit, "back_to_default_s") > 0.0);
+    let chosen = value("ladder", orbit, "default_chosen_s");
+    assert!(chosen >= 0.0 && value("ladder", orbit, "back_to_default_s") > chosen);
     // Animation: skinning, walking against standing, each way of colliding.
     expect("animation", "skinning", "us_per_vertex");
     expect("animation", "walking / standing", "ratio");

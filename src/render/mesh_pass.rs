@@ -25,6 +25,8 @@ struct MeshVertex {
 pub struct MeshPass {
     /// Without and with shadows, built on first use.
     pipelines: [Option<Pipeline>; 2],
+    /// The pipelines of the sample count in use before the last change, with it.
+    spare: Option<(u32, [Option<Pipeline>; 2])>,
     vertices: Buffer,
     samples: u32,
     /// Textured: one vertex per triangle corner, drawn unindexed.
@@ -67,6 +69,7 @@ impl MeshPass {
         )?;
         Ok(Self {
             pipelines: [None, None],
+            spare: None,
             vertices,
             samples,
             textured,
@@ -74,9 +77,18 @@ impl MeshPass {
         })
     }
 
-    /// Pipelines are rebuilt for a target of `samples` per pixel.
+    /// Pipelines for a target of `samples` per pixel: the spare ones of the last change
+    /// when they were for `samples`, else built when first needed.
     pub fn set_samples(&mut self, samples: u32) {
-        self.pipelines = [None, None];
+        if samples == self.samples {
+            return;
+        }
+        let pipelines = match self.spare.take() {
+            Some((s, pipelines)) if s == samples => pipelines,
+            _ => [None, None],
+        };
+        let old = std::mem::replace(&mut self.pipelines, pipelines);
+        self.spare = Some((self.samples, old));
         self.samples = samples;
     }
 

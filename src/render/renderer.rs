@@ -77,6 +77,9 @@ pub struct Renderer {
     mesh_pass: MeshPass,
     fur_pass: FurPass,
     pub target: RenderTarget,
+    /// The target and fur pass of the sample count in use before the last change, kept
+    /// so that changing back (as the frame-time budget does) builds nothing.
+    spare: Option<(RenderTarget, FurPass)>,
 }
 
 impl Renderer {
@@ -234,6 +237,7 @@ impl Renderer {
             mesh_pass,
             fur_pass,
             target,
+            spare: None,
         })
     }
 
@@ -241,6 +245,7 @@ impl Renderer {
     pub fn resize(&mut self, extent: vk::Extent2D) -> Result<()> {
         if extent != self.target.extent {
             self.target = RenderTarget::new(&self.device, extent, self.target.samples)?;
+            self.spare = None;
         }
         Ok(())
     }
@@ -255,19 +260,26 @@ impl Renderer {
         super::target::supported_samples(&self.device)
     }
 
-    /// Recreates the target and the pipelines for `samples` per pixel. Nothing may be
-    /// in flight.
+    /// Switches the target and the fur pass's pipelines to `samples` per pixel, building
+    /// them unless they are the spare ones of the last switch. Nothing may be in flight.
     fn set_samples(&mut self, samples: u32) -> Result<()> {
         check_samples(&self.device, samples)?;
-        let target = RenderTarget::new(&self.device, self.target.extent, samples)?;
+        let (target, fur_pass) = match self.spare.take() {
+            Some((target, pass)) if target.samples == samples => (target, pass),
+            _ => (
+                RenderTarget::new(&self.device, self.target.extent, samples)?,
+                FurPass::new(
+                    &self.device,
+                    self.shape.vertices_per_strand,
+                    samples,
+                    (self.textured, self.skinned),
+                ),
+            ),
+        };
         self.mesh_pass.set_samples(samples);
-        self.fur_pass = FurPass::new(
-            &self.device,
-            self.shape.vertices_per_strand,
-            samples,
-            (self.textured, self.skinned),
-        );
-        self.target = target;
+        let target = std::mem::replace(&mut self.target, target);
+        let fur_pass = std::mem::replace(&mut self.fur_pass, fur_pass);
+        self.spare = Some((target, fur_pass));
         Ok(())
     }
 

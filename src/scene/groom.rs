@@ -433,8 +433,11 @@ mod tests {
                 let want = if full { 0.128 } else { limit * h };
                 for w in strands.strand(s).windows(2) {
                     let segment = (w[1] - w[0]).length();
+                    // Within 0.1 %: the grower measures the thickness from its own
+                    // f32 sums (measured up to 3.3e-4 off); a wrong limit or unequal
+                    // segments are off by far more.
                     assert!(
-                        (segment - want / 8.0).abs() < 1e-6,
+                        (segment / (want / 8.0) - 1.0).abs() < 1e-3,
                         "limit {limit}, strand {s}: segment {segment}, hair should be {want}"
                     );
                 }

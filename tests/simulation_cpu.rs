@@ -1742,3 +1742,32 @@ fn half_local_stiffness_moves_a_segment_halfway_to_rest() {
     let root = head32.transform_point3(rest[0].as_dvec3());
     assert!((dvec(sim.current[0]) - root).length() < 1e-12);
 }
+
+/// The local shape constraint keeps each segment's shape relative to its parent: a
+/// straight strand turned rigidly by 90° about its root (so its shape is intact, only
+/// its direction is off) is pulled back by one walk at half stiffness with its segments
+/// still nearly in line (every bend under 20°; each segment follows its parent's new
+/// direction), not each segment turned on its own towards its rest direction (which
+/// bends it by some 40°).
+#[test]
+fn the_local_constraint_keeps_shape_relative_to_the_parent_segment() {
+    let strands = Strands {
+        vertices_per_strand: 4,
+        positions: (0..4).map(|k| Vec3::X * (0.1 * k as f32)).collect(),
+    };
+    let mut sim = CpuSim::<f64>::new(&strands, local_only(0.5, 1), DMat4::IDENTITY);
+    for k in 1..4 {
+        sim.current[k] = V3(0.0, 0.1 * k as f64, 0.0);
+        sim.previous[k] = sim.current[k];
+    }
+    sim.step_frame(still);
+    let x: Vec<glam::DVec3> = sim.current.iter().map(|p| dvec(*p)).collect();
+    // It did turn back towards +x (16° at the root).
+    assert!(x[1].x > 0.01, "{x:?}");
+    for k in 1..3 {
+        let bend = (x[k] - x[k - 1])
+            .angle_between(x[k + 1] - x[k])
+            .to_degrees();
+        assert!(bend < 20.0, "bent by {bend}° at vertex {k}: {x:?}");
+    }
+}

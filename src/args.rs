@@ -233,7 +233,7 @@ pub struct SimArgs {
     /// [on].
     #[arg(long, value_parser = clap::builder::BoolishValueParser::new())]
     pub collision: Option<bool>,
-    /// How far outside the surface hair is kept, as a fraction of the hair length (0..1)
+    /// How far outside the surface hair is kept, as a fraction of each hair's length (0..1)
     /// [0.02].
     #[arg(long, allow_negative_numbers = true)]
     pub collision_margin: Option<f32>,

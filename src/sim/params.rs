@@ -37,7 +37,7 @@ pub struct SimParams {
     /// Keep strands out of the body (needs the body's distance field).
     pub collision: bool,
     /// Strand vertices are kept at least this far outside the surface, as a fraction
-    /// of the longest hair's length, [0, 1].
+    /// of each strand's own rest length, [0, 1].
     pub collision_margin: f32,
     /// Fraction of a colliding vertex's tangential velocity removed per substep, [0, 1].
     pub friction: f32,

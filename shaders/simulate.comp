@@ -434,9 +434,9 @@ void main() {
     for (uint i = 0u; i < V; ++i) {
         ivec2 t = strand_texel(strand, i, V, sim.counts.y);
         if (asleep) {
-            vec4 was = imageLoad(current_positions, t);
-            imageStore(previous_positions, t, vec4(was.xyz, 1.0));
-            imageStore(current_positions, t, vec4(was.xyz, 1.0));
+            // The new current is where the frame started; the new previous is already
+            // there (current_positions holds the frame's start).
+            imageStore(previous_positions, t, imageLoad(current_positions, t));
         } else {
             imageStore(previous_positions, t, vec4(x[i], 1.0));
             imageStore(current_positions, t, vec4(p[i], 1.0));

@@ -85,14 +85,16 @@ impl<T: Real> CpuSim<T> {
     /// Advances one frame (`params.substeps` substeps), with the head transform given as
     /// a function of time.
     pub fn step_frame(&mut self, head_at: impl Fn(f64) -> DMat4) {
-        let start = self.current.clone();
+        let start = self.params.hair_can_rest().then(|| self.current.clone());
         let h = self.params.substep_dt();
         for _ in 0..self.params.substeps {
             self.time += h;
             let constants = StepConstants::new(&self.params, self.time, head_at(self.time));
             self.substep(&constants);
         }
-        self.sleep(&start);
+        if let Some(start) = start {
+            self.sleep(&start);
+        }
     }
 
     /// Advances one frame on a skinned body: `poses_at(t)` gives the body's pose at
@@ -103,23 +105,21 @@ impl<T: Real> CpuSim<T> {
         head_at: impl Fn(f64) -> DMat4,
         poses_at: impl Fn(f64) -> Posed,
     ) {
-        let start = self.current.clone();
+        let start = self.params.hair_can_rest().then(|| self.current.clone());
         let h = self.params.substep_dt();
         for _ in 0..self.params.substeps {
             self.time += h;
             let constants = StepConstants::new(&self.params, self.time, head_at(self.time));
             self.substep_posed(&constants, Some(&poses_at(self.time)));
         }
-        self.sleep(&start);
+        if let Some(start) = start {
+            self.sleep(&start);
+        }
     }
 
     /// Puts every strand that moved by no more than rounding noise this frame (from
     /// `start`) back where it started, not moving (`sleep` in `shaders/simulate.comp`).
     fn sleep(&mut self, start: &[V3<T>]) {
-        // Wind never stops (its strength never falls below half): nothing comes to rest.
-        if self.params.wind_enabled() {
-            return;
-        }
         let v = self.rest.vertices_per_strand;
         let noise = T::from_f32(SLEEP_ULPS) * T::EPSILON;
         for (s, was) in start.chunks_exact(v).enumerate() {

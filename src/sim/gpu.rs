@@ -34,7 +34,7 @@ const STEP_CAPACITY: usize = 1024;
 /// The kernel's `STEPS` bit for a skinned body (`BODY_SKINNED` in `simulate.comp`).
 const BODY_SKINNED: u32 = 64;
 /// The kernel's `STEPS` bit for sleep (`SLEEP` in `simulate.comp`): only where hair can
-/// come to rest, that is without wind (its strength never falls below half).
+/// come to rest ([`SimParams::hair_can_rest`]).
 const SLEEP: u32 = 128;
 
 /// A skinned body's part of the simulation: the skinning pass, the body, which clip
@@ -365,7 +365,7 @@ impl GpuSim {
         if self.grid.is_none() {
             mask &= !SimStep::Collision.bit();
         }
-        if !params.wind_enabled() {
+        if params.hair_can_rest() {
             mask |= SLEEP;
         }
         if let Some(skinned) = &self.skinned {

@@ -156,6 +156,12 @@ impl SimParams {
     pub fn wind_enabled(&self) -> bool {
         self.wind != Vec3::ZERO
     }
+
+    /// Whether hair can come to rest, so strands that stop may sleep: not in the wind,
+    /// which never stops (its strength never falls below half).
+    pub fn hair_can_rest(&self) -> bool {
+        !self.wind_enabled()
+    }
 }
 
 /// Everything one substep needs, derived in f64 and rounded once to f32.

@@ -1314,6 +1314,16 @@ fn bent_strands() -> Strands {
 }
 
 /// A skinned body's pose with the given root poses and capsules and no own capsules.
+/// Every strand's root pose at rest: no turn, the root where it grew.
+fn held_roots(strands: &Strands) -> Vec<RootPose> {
+    (0..strands.count())
+        .map(|s| RootPose {
+            rotation: glam::Mat3::IDENTITY,
+            root: strands.strand(s)[0],
+        })
+        .collect()
+}
+
 fn posed(roots: Vec<RootPose>, capsules: Vec<[glam::Vec4; 2]>) -> Posed {
     Posed {
         positions: Vec::new(),
@@ -1416,15 +1426,7 @@ fn a_skinned_body_held_at_rest_simulates_as_the_rigid_body() {
         collision: false,
         ..SimParams::default()
     };
-    let held = posed(
-        (0..strands.count())
-            .map(|s| RootPose {
-                rotation: glam::Mat3::IDENTITY,
-                root: strands.strand(s)[0],
-            })
-            .collect(),
-        Vec::new(),
-    );
+    let held = posed(held_roots(&strands), Vec::new());
     let mut rigid = CpuSim::<f64>::new(&strands, params.clone(), DMat4::IDENTITY);
     let mut skinned = CpuSim::<f64>::new(&strands, params, DMat4::IDENTITY);
     let length = f64::from(strands.hair_length());
@@ -1614,12 +1616,7 @@ fn a_capsule_within_reach_of_the_root_pushes_vertices_out() {
     let mut sim = CpuSim::<f64>::new(&strands, collision_only(0.25), DMat4::IDENTITY)
         .with_sdf(Arc::new(floor_field()));
     let held = posed(
-        (0..strands.count())
-            .map(|s| RootPose {
-                rotation: glam::Mat3::IDENTITY,
-                root: strands.strand(s)[0],
-            })
-            .collect(),
+        held_roots(&strands),
         // Axis along z through (0.65, 0.5), radius 0.2: its surface is 0.45 from the
         // root, between the strand's length less its margin and its length plus it.
         vec![[

@@ -59,10 +59,19 @@ impl Viewer {
         };
         self.device.wait_idle()?;
         let style = self.session.settings.style.clone();
-        self.session.settings.style = LADDER[0].apply(&self.quality.base);
-        let (reference, _) = self.session.render()?;
-        self.session.settings.style = LADDER[r].apply(&self.quality.base);
-        let (drawn, _) = self.session.render()?;
+        // The rung in use is drawn last, so the renderer is left as the next frame
+        // needs it (a change of sample count between the two is one switch, not two).
+        let mut draw = |rung: usize| {
+            self.session.settings.style = LADDER[rung].apply(&self.quality.base);
+            self.session.render().map(|(image, _)| image)
+        };
+        let (reference, drawn) = if self.hud.rung == r {
+            let reference = draw(0)?;
+            (reference, draw(r)?)
+        } else {
+            let drawn = draw(r)?;
+            (draw(0)?, drawn)
+        };
         self.session.settings.style = style;
         let error = crate::render::flip(&reference, &drawn);
         self.quality.errors[r] = Some(error);

@@ -66,11 +66,11 @@ pub const LADDER: [Rung; 6] = [
         density_lod: 1.0,
     },
     Rung {
-        name: "1x lines, half density distance",
+        name: "1x lines, quarter density distance",
         samples: 1,
         primitive: Primitive::Lines,
         vertex_lod_px: 0.5,
-        density_lod: 0.5,
+        density_lod: 0.25,
     },
 ];
 
@@ -129,7 +129,7 @@ impl Budget {
     pub fn new(target_ms: f64) -> Self {
         // First guesses of each rung's cost relative to the default, refined as soon as
         // a rung is drawn; only their order matters before that.
-        let ratio = vec![1.0, 0.62, 0.42, 0.2, 0.17, 0.1];
+        let ratio = vec![1.0, 0.57, 0.4, 0.27, 0.19, 0.09];
         Self {
             target_ms,
             rung: 0,

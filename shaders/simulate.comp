@@ -24,9 +24,12 @@ const uint BODY_SKINNED = 64u;
 const uint SLEEP = 128u;
 // Projections onto the collision margin per vertex and substep, at most (src/sim/cpu.rs).
 const uint PROJECTIONS = 3u;
-// Rest: a strand that moves by at most this many ulps of its coordinates in a frame
-// sleeps (src/sim/cpu.rs: SLEEP_ULPS).
+// Rest: a strand whose root stayed put (to this many ulps of its coordinates) and whose
+// other vertices moved by no more than that, or than the slow motion below, in a frame
+// sleeps (src/sim/cpu.rs: SLEEP_ULPS, REST_MOTION, REST_GRAVITY).
 const float SLEEP_ULPS = 16.0;
+const float REST_MOTION = 1e-3;    // of the strand's own length a frame
+const float REST_GRAVITY = 0.1;    // of g Δt², a free vertex's first frame from rest
 
 vec3 x[V];   // current positions, world space
 vec3 p[V];   // positions one substep ago
@@ -35,7 +38,7 @@ vec3 p[V];   // positions one substep ago
 mat3 pose_rotation;
 vec3 pose_root;
 vec3 rest_root;
-float strand_length;   // this strand's rest length (collision only)
+float strand_length;   // this strand's rest length (collision and sleep only)
 
 // The strand rides along with its root: every vertex (and its previous position) is
 // carried by the change of the root pose since the last substep, in model space under
@@ -204,6 +207,34 @@ bool sdf_sample(vec3 m, out float value, out vec3 gradient) {
     return true;
 }
 
+// The distance and gradient at model-space point m: the trilinear blend of the eight
+// grid points' first-order expansions at m, and of their gradients (continuous across
+// cells, never above the distance where the field is convex); false outside the grid.
+// `Sdf::sample_trilinear` in src/geometry/sdf.rs, step by step.
+bool sdf_sample_trilinear(vec3 m, out float value, out vec3 gradient) {
+    vec3 g = (m - sim.sdf_origin.xyz) * sim.collision.z;
+    vec3 last = vec3(sim.sdf_dims.xyz - 1u);
+    if (!(all(greaterThanEqual(g, vec3(0.0))) && all(lessThanEqual(g, last)))) {
+        return false;
+    }
+    uvec3 base = min(uvec3(floor(g)), sim.sdf_dims.xyz - 2u);
+    vec3 f = g - vec3(base);
+    value = 0.0;
+    gradient = vec3(0.0);
+    for (uint corner = 0u; corner < 8u; ++corner) {
+        uvec3 offset = uvec3(corner & 1u, (corner >> 1u) & 1u, (corner >> 2u) & 1u);
+        vec3 w3 = mix(vec3(1.0) - f, f, bvec3(offset));
+        float w = w3.x * w3.y * w3.z;
+        uvec3 c = base + offset;
+        vec4 s = sdf[c.x + sim.sdf_dims.x * (c.y + sim.sdf_dims.y * c.z)];
+        // This grid point's first-order expansion at m.
+        vec3 o = (f - vec3(offset)) * sim.collision.w;
+        value = value + w * (s.x + (s.y * o.x + s.z * o.y + s.w * o.z));
+        gradient = gradient + s.yzw * w;
+    }
+    return true;
+}
+
 // Step 6, collision with the body: a vertex closer than the margin (a fraction of the
 // strand's own length, so short hairs on thin parts are not pushed past their own
 // segments) to the surface moves
@@ -218,13 +249,18 @@ bool sdf_sample(vec3 m, out float value, out vec3 gradient) {
 
 // The capsules a strand collides with in a substep: the NEAR_CAPSULES nearest to its
 // root within its reach (hair length and margin from the capsule's surface), never its
-// own bone's; nearest first, ties by index (src/sim/collide.rs: `near_capsules`).
+// own bone's; nearest first, ties by index. Each capsule's radius is scaled by how far
+// its bone moved relative to the strand's root pose, over CAPSULE_RAMP strand lengths,
+// up to 1: the
+// rest field carried by the root pose already holds what moved with the root
+// (src/sim/collide.rs: `near_capsules`).
 const uint NEAR_CAPSULES = 4u;
+const float CAPSULE_RAMP = 0.25;   // strand lengths of relative motion to the full radius
 vec4 near_a[NEAR_CAPSULES];    // a, radius
 vec4 near_ab[NEAR_CAPSULES];   // b − a, |b − a|²
 uint near_count;
 
-void select_capsules(vec3 root, uint k, uint own, float reach) {
+void select_capsules(uint k, uint own, float reach) {
     float near_d[NEAR_CAPSULES];
     near_count = 0u;
     uint count = sim.counts2.y;
@@ -232,12 +268,19 @@ void select_capsules(vec3 root, uint k, uint own, float reach) {
         if (c == own) {
             continue;
         }
-        vec4 ca = capsules[2u * (k * count + c)];
+        // The buffer holds the bind pose's capsules, then each substep's.
+        vec4 ca = capsules[2u * ((k + 1u) * count + c)];
         vec3 a = ca.xyz;
-        vec3 ab = capsules[2u * (k * count + c) + 1u].xyz - a;
+        vec3 b = capsules[2u * ((k + 1u) * count + c) + 1u].xyz;
+        vec3 ab = b - a;
         float len2 = dot(ab, ab);
-        float t = len2 > 0.0 ? clamp(dot(root - a, ab) / len2, 0.0, 1.0) : 0.0;
-        float d = length(root - (a + ab * t)) - ca.w;
+        float t = len2 > 0.0 ? clamp(dot(pose_root - a, ab) / len2, 0.0, 1.0) : 0.0;
+        vec3 ra = pose_rotation * (capsules[2u * c].xyz - rest_root) + pose_root;
+        vec3 rb = pose_rotation * (capsules[2u * c + 1u].xyz - rest_root) + pose_root;
+        float moved = max(length(a - ra), length(b - rb));
+        float ramp = CAPSULE_RAMP * strand_length;
+        float radius = ca.w * (moved < ramp ? moved / ramp : 1.0);
+        float d = length(pose_root - (a + ab * t)) - radius;
         if (!(d < reach)) {
             continue;
         }
@@ -257,7 +300,7 @@ void select_capsules(vec3 root, uint k, uint own, float reach) {
             j -= 1u;
         }
         near_d[j] = d;
-        near_a[j] = vec4(a, ca.w);
+        near_a[j] = vec4(a, radius);
         near_ab[j] = vec4(ab, len2);
     }
 }
@@ -273,7 +316,7 @@ bool push_out_skinned(inout vec3 m, float margin, out vec3 contact) {
         float d;
         vec3 g;
         vec3 r = transpose(pose_rotation) * (m - pose_root) + rest_root;
-        if (sdf_sample(r, d, g) && d < margin) {
+        if (sdf_sample_trilinear(r, d, g) && d < margin) {
             float len = length(g);
             if (len > MIN_LENGTH) {
                 vec3 n = pose_rotation * (g * (1.0 / len));
@@ -308,7 +351,7 @@ bool push_out_skinned(inout vec3 m, float margin, out vec3 contact) {
 
 void collide(Step st, uint k, float margin) {
     if ((STEPS & BODY_SKINNED) != 0u) {
-        select_capsules(pose_root, k, own_capsule[gl_GlobalInvocationID.x], strand_length + margin);
+        select_capsules(k, own_capsule[gl_GlobalInvocationID.x], strand_length + margin);
     }
     for (uint i = 1u; i < V; ++i) {
         vec3 velocity = x[i] - p[i];
@@ -382,8 +425,9 @@ void main() {
         x[i] = imageLoad(current_positions, t).xyz;
         p[i] = imageLoad(previous_positions, t).xyz;
     }
-    if ((STEPS & STEP_COLLISION) != 0u) {
-        // The collision margin is a fraction of this strand's own rest length.
+    if ((STEPS & (STEP_COLLISION | SLEEP)) != 0u) {
+        // The collision margin and the slow motion at rest are fractions of this
+        // strand's own rest length.
         strand_length = 0.0;
         for (uint i = 1u; i < V; ++i) {
             strand_length += imageLoad(rest_positions, strand_texel(strand, i, V, sim.counts.y)).w;
@@ -412,21 +456,33 @@ void main() {
             collide(st, push.step + s, sim.collision.x * strand_length);
         }
     }
-    // Sleep: a strand that moved by no more than rounding noise this frame (SLEEP_ULPS
-    // of its largest coordinate) goes back where it started, not moving; constant
-    // targets otherwise leave it dithering by an ulp forever (src/sim/cpu.rs: `sleep`).
+    // Sleep: a strand whose root did not move this frame and whose other vertices moved
+    // by no more than rounding noise (SLEEP_ULPS of its largest coordinate) or slow
+    // motion (REST_MOTION of its length, REST_GRAVITY of what gravity moves a free
+    // vertex in a frame from rest) goes back where it started, not moving. Constant
+    // targets otherwise leave it dithering by an ulp forever, and hair pressed into a
+    // crease by gravity creeping (src/sim/cpu.rs: `sleep`).
     bool asleep = false;
     if ((STEPS & SLEEP) != 0u) {
+        float root_moved = 0.0;
         float moved = 0.0;
         float extent = 0.0;
         for (uint i = 0u; i < V; ++i) {
             vec3 was = imageLoad(current_positions, strand_texel(strand, i, V, sim.counts.y)).xyz;
             vec3 d = abs(x[i] - was);
-            moved = max(moved, max(d.x, max(d.y, d.z)));
+            float m = max(d.x, max(d.y, d.z));
+            if (i == 0u) {
+                root_moved = m;
+            } else {
+                moved = max(moved, m);
+            }
             vec3 a = abs(was);
             extent = max(extent, max(a.x, max(a.y, a.z)));
         }
-        asleep = moved <= SLEEP_ULPS * 1.1920929e-7 * extent;
+        float noise = SLEEP_ULPS * 1.1920929e-7 * extent;
+        float frame_gravity = length(steps[push.step].gravity_h2.xyz) * float(push.count * push.count);
+        float slow = min(REST_MOTION * strand_length, REST_GRAVITY * frame_gravity);
+        asleep = root_moved <= noise && moved <= max(noise, slow);
 #ifdef FUR_TEST_NO_SLEEP
         asleep = false;   // test hook: the variant without sleep (tests/skinning.rs)
 #endif

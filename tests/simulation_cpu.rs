@@ -1324,14 +1324,30 @@ fn held_roots(strands: &Strands) -> Vec<RootPose> {
         .collect()
 }
 
-fn posed(roots: Vec<RootPose>, capsules: Vec<[glam::Vec4; 2]>) -> Posed {
+/// A posed body of `roots` and `capsules`, whose bind-pose capsules are `rest`.
+fn posed_from(
+    roots: Vec<RootPose>,
+    capsules: Vec<[glam::Vec4; 2]>,
+    rest: Vec<[glam::Vec4; 2]>,
+) -> Posed {
     Posed {
         positions: Vec::new(),
         normals: Vec::new(),
         own_capsule: vec![u32::MAX; roots.len()],
         roots,
         capsules,
+        rest_capsules: rest,
     }
+}
+
+/// A posed body of `roots` and `capsules` that moved far (10 units along z) from the
+/// bind pose, relative to every root: each capsule at its full radius.
+fn posed(roots: Vec<RootPose>, capsules: Vec<[glam::Vec4; 2]>) -> Posed {
+    let rest = capsules
+        .iter()
+        .map(|c| c.map(|p| p - glam::Vec4::new(0.0, 0.0, 10.0, 0.0)))
+        .collect();
+    posed_from(roots, capsules, rest)
 }
 
 /// Every strand turning about its own root at its own rate about a fixed axis while its
@@ -1649,6 +1665,57 @@ fn a_capsule_within_reach_of_the_root_pushes_vertices_out() {
             "vertex {i}: {got:?}, not {want:?}"
         );
     }
+}
+
+/// A capsule counts only as far as its bone moved relative to the strand's root pose
+/// (the rest field carried by that pose holds the rest): the capsule of
+/// `a_capsule_within_reach_of_the_root_pushes_vertices_out`, with its tip vertex inside
+/// it, leaves the strand alone where it sits at its bind-pose place, and pushes the tip
+/// out to 4/5 of its radius plus the margin when it moved by a fifth of the strand's
+/// length (4/5 of the way to its full radius, reached at a quarter).
+#[test]
+fn a_capsule_counts_as_far_as_its_bone_moved_relative_to_the_root() {
+    let strands = Strands {
+        vertices_per_strand: 5,
+        positions: upright_strands().positions[..5].to_vec(),
+    };
+    let capsule = [
+        glam::Vec4::new(0.65, 0.5, -1.0, 0.2),
+        glam::Vec4::new(0.65, 0.5, 1.0, 0.0),
+    ];
+    let length = f64::from(strands.hair_length());
+    // The bind-pose capsule, carried by the held roots (the identity), lies `shift` along
+    // +x of where the capsule is now (along its own axis would not move it).
+    let run = |shift: f32| {
+        let mut sim = CpuSim::<f64>::new(&strands, collision_only(0.25), DMat4::IDENTITY)
+            .with_sdf(Arc::new(floor_field()));
+        let rest = vec![capsule.map(|p| p + glam::Vec4::new(shift, 0.0, 0.0, 0.0))];
+        let held = posed_from(held_roots(&strands), vec![capsule], rest);
+        let placed = [
+            V3(-0.1, 0.5, 0.0),
+            V3(-0.2, 0.5, 0.0),
+            V3(-0.3, 0.5, 0.0),
+            V3(0.7, 0.5, 0.0),
+        ];
+        for (k, p) in placed.into_iter().enumerate() {
+            sim.current[1 + k] = p;
+            sim.previous[1 + k] = p;
+        }
+        sim.step_frame_posed(still, |_| held.clone());
+        sim.current[4]
+    };
+    let unmoved = run(0.0);
+    assert!(
+        (unmoved - V3(0.7, 0.5, 0.0)).length() < 1e-7,
+        "a capsule where the root pose carries it pushed the tip to {unmoved:?}"
+    );
+    let most = run(0.2 * length as f32);
+    // 4/5 of the radius plus the margin (0.25 × 0.4) off the axis at x = 0.65.
+    let want = f64::from(0.65f32) + 0.8 * f64::from(0.2f32) + 0.25 * length;
+    assert!(
+        (most.0 - want).abs() < 1e-6 && (most.1 - 0.5).abs() < 1e-7,
+        "capsule moved by a fifth of the length: tip at {most:?}, not x = {want}"
+    );
 }
 
 /// Parameters under which a substep moves nothing but by the local shape constraint,

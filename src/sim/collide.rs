@@ -29,6 +29,15 @@ fn less<T: Real>(a: T, b: T) -> bool {
     a.partial_cmp(&b) == Some(std::cmp::Ordering::Less)
 }
 
+/// GLSL's max: `b` when `a < b`, else `a`.
+fn max<T: Real>(a: T, b: T) -> T {
+    if less(a, b) {
+        b
+    } else {
+        a
+    }
+}
+
 /// clamp((m − a)·ab / |ab|², 0, 1) for `len2` = |ab|², as GLSL's clamp.
 fn segment_parameter<T: Real>(m: V3<T>, a: V3<T>, ab: V3<T>, len2: T) -> T {
     if greater(len2, T::ZERO) {
@@ -48,6 +57,12 @@ fn segment_parameter<T: Real>(m: V3<T>, a: V3<T>, ab: V3<T>, len2: T) -> T {
 /// Capsules a strand collides with in a substep, at most.
 const NEAR_CAPSULES: usize = 4;
 
+/// How far, in strand lengths, a capsule's bone must move relative to a strand's root
+/// for the capsule to reach its full radius ([`near_capsules`]). Measured on the walking
+/// critter (deepest vertex, in hair lengths): 1 let hair 12.5 % into the skin near
+/// joints; 0.25 and 0.1 both 8.1 %, as every capsule at its full radius does.
+const CAPSULE_RAMP: f32 = 0.25;
+
 /// A capsule as the collision loop reads it: `a`, radius, `b − a`, `|b − a|²`.
 #[derive(Clone, Copy, Debug)]
 pub(super) struct NearCapsule<T> {
@@ -57,25 +72,49 @@ pub(super) struct NearCapsule<T> {
     len2: T,
 }
 
-/// The capsules a strand whose root is at model-space point `root` collides with: the
-/// [`NEAR_CAPSULES`] nearest within `reach` of their surface, never its `own` bone's;
-/// nearest first, ties by index (`select_capsules` in `simulate.comp`).
+/// The capsules a strand with root `pose` and rest `length` collides with: the
+/// [`NEAR_CAPSULES`] nearest within `length + margin` of their surface, never its `own`
+/// bone's; nearest first, ties by index (`select_capsules` in `simulate.comp`).
+///
+/// The rest field carried by the root pose already holds every part of the body that
+/// moved with the root; a capsule stands only for how far its bone moved *relative* to
+/// it. Its radius is scaled by how far its posed ends lie from where the root pose
+/// carries its `rest` ends, over [`CAPSULE_RAMP`] strand lengths, up to 1: a leg
+/// swinging through the
+/// belly's fur has its whole radius, the thigh under the belly's hair at the pose the
+/// field was built in has none (two shapes of one thigh would push hair back and forth
+/// between them, and hair could never rest there).
 pub(super) fn near_capsules<T: Real>(
-    root: V3<T>,
-    capsules: &[[glam::Vec4; 2]],
-    reach: T,
+    pose: &Pose<T>,
+    (capsules, rest): (&[[glam::Vec4; 2]], &[[glam::Vec4; 2]]),
+    (length, margin): (T, T),
     own: u32,
 ) -> Vec<NearCapsule<T>> {
+    let (rotation, rest_root, root) = *pose;
+    let reach = length + margin;
     let mut near: Vec<(T, NearCapsule<T>)> = Vec::with_capacity(NEAR_CAPSULES);
     for (c, cap) in capsules.iter().enumerate() {
         if c as u32 == own {
             continue;
         }
         let a = V3::from_vec3(cap[0].truncate());
-        let ab = V3::from_vec3(cap[1].truncate()) - a;
+        let b = V3::from_vec3(cap[1].truncate());
+        let ab = b - a;
         let len2 = ab.dot(ab);
         let t = segment_parameter(root, a, ab, len2);
-        let radius = T::from_f32(cap[0].w);
+        let carried =
+            |p: glam::Vec4| rotation.mul_vec(V3::from_vec3(p.truncate()) - rest_root) + root;
+        let (ra, rb) = rest
+            .get(c)
+            .map_or((a, b), |r| (carried(r[0]), carried(r[1])));
+        let moved = max((a - ra).length(), (b - rb).length());
+        let ramp = T::from_f32(CAPSULE_RAMP) * length;
+        let scale = if less(moved, ramp) {
+            moved / ramp
+        } else {
+            T::ONE
+        };
+        let radius = T::from_f32(cap[0].w) * scale;
         let d = (root - (a + ab.scale(t))).length() - radius;
         if !less(d, reach) {
             continue;
@@ -143,8 +182,9 @@ impl<T: Real> Collider<'_, T> {
     }
 
     /// [`Collider::push_out`] on a skinned body: the rest pose's field carried by the
-    /// strand's root `pose`, and the bone capsules near it ([`near_capsules`]), each a
-    /// constraint projected in turn, in model space.
+    /// strand's root `pose` (sampled trilinearly: creases open and close as the body
+    /// moves, and the nearest-point sample jumps in them), and the bone capsules near it
+    /// ([`near_capsules`]), each a constraint projected in turn, in model space.
     pub fn push_out_skinned(
         &self,
         head: &Head<T>,
@@ -160,7 +200,7 @@ impl<T: Real> Collider<'_, T> {
         for _ in 0..PROJECTIONS {
             let mut moved = false;
             let rest = rotation.transpose_mul_vec(m - *root) + *rest_root;
-            if let Some((d, g)) = self.sdf.sample(rest) {
+            if let Some((d, g)) = self.sdf.sample_trilinear(rest) {
                 let len = g.length();
                 if less(d, margin) && greater(len, min_length::<T>()) {
                     let n = rotation.mul_vec(g.scale(T::ONE / len));

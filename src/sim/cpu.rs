@@ -13,13 +13,21 @@ use crate::scene::Strands;
 use crate::skinning::cpu::Posed;
 use crate::skinning::RootPose;
 
-/// A strand whose vertices all moved by at most this many ulps of its largest
-/// coordinate in a frame is at rest: it is put back where the frame started, with no
-/// velocity. Constant targets leave f32 hair dithering by an ulp or two a frame forever
-/// (the constraints' rounding never reaches a fixed point); sleeping stops that, and
-/// any real motion (a frame's gravity alone moves hair by 1e-3) wakes the strand. With
-/// wind, which never stops, nothing sleeps (and the kernel compiles the test out).
+/// A strand whose root did not move in a frame (to this many ulps of its largest
+/// coordinate) and whose other vertices moved by no more than that, or than slow motion
+/// ([`REST_MOTION`], [`REST_GRAVITY`]), is at rest: it is put back where the frame
+/// started, with no velocity. Constant targets leave f32 hair dithering by an ulp or two
+/// a frame forever (the constraints' rounding never reaches a fixed point), and hair
+/// that gravity presses into a crease of the body creeps there, contact switching on
+/// and off; sleeping stops both, like static friction. Any real motion wakes the
+/// strand: its root moving, or a frame from rest with an unbalanced force. With wind,
+/// which never stops, nothing sleeps (and the kernel compiles the test out).
 pub const SLEEP_ULPS: f32 = 16.0;
+/// Slow motion at rest, per frame, at most this fraction of the strand's own length…
+pub const REST_MOTION: f32 = 1e-3;
+/// …and at most this fraction of `|g| Δt²`, about what gravity moves a free vertex in a
+/// frame from rest, so a hair whose weight is not balanced always wakes.
+pub const REST_GRAVITY: f32 = 0.1;
 
 fn max<T: Real>(a: T, b: T) -> T {
     if b > a {
@@ -93,7 +101,7 @@ impl<T: Real> CpuSim<T> {
             self.substep(&constants);
         }
         if let Some(start) = start {
-            self.sleep(&start);
+            self.sleep(&start, &head_at);
         }
     }
 
@@ -113,24 +121,42 @@ impl<T: Real> CpuSim<T> {
             self.substep_posed(&constants, Some(&poses_at(self.time)));
         }
         if let Some(start) = start {
-            self.sleep(&start);
+            self.sleep(&start, &head_at);
         }
     }
 
-    /// Puts every strand that moved by no more than rounding noise this frame (from
-    /// `start`) back where it started, not moving (`sleep` in `shaders/simulate.comp`).
-    fn sleep(&mut self, start: &[V3<T>]) {
+    /// Puts every strand at rest this frame (see [`SLEEP_ULPS`]; from `start`) back
+    /// where it started, not moving (`sleep` in `shaders/simulate.comp`).
+    fn sleep(&mut self, start: &[V3<T>], head_at: &impl Fn(f64) -> DMat4) {
         let v = self.rest.vertices_per_strand;
-        let noise = T::from_f32(SLEEP_ULPS) * T::EPSILON;
+        let ulps = T::from_f32(SLEEP_ULPS) * T::EPSILON;
+        // |g h²| n², as the kernel computes it from the frame's first substep.
+        let first = StepConstants::new(&self.params, self.time, head_at(self.time));
+        let n = T::from_f32((self.params.substeps * self.params.substeps) as f32);
+        let frame_gravity = V3::<T>::from_vec3(first.gravity_h2).length() * n;
         for (s, was) in start.chunks_exact(v).enumerate() {
             let range = s * v..(s + 1) * v;
+            let root_moved = (self.current[s * v] - was[0]).max_abs();
             let mut moved = T::ZERO;
             let mut extent = T::ZERO;
-            for (x, w) in self.current[range.clone()].iter().zip(was) {
-                moved = max(moved, (*x - *w).max_abs());
+            for (i, (x, w)) in self.current[range.clone()].iter().zip(was).enumerate() {
+                if i > 0 {
+                    moved = max(moved, (*x - *w).max_abs());
+                }
                 extent = max(extent, w.max_abs());
             }
-            if moved <= noise * extent {
+            let length = self.rest.lengths[range.clone()]
+                .iter()
+                .skip(1)
+                .fold(T::ZERO, |sum, &l| sum + l);
+            let noise = ulps * extent;
+            let slow = T::from_f32(REST_MOTION) * length;
+            let slow = if slow < T::from_f32(REST_GRAVITY) * frame_gravity {
+                slow
+            } else {
+                T::from_f32(REST_GRAVITY) * frame_gravity
+            };
+            if root_moved <= noise && moved <= max(noise, slow) {
                 self.current[range.clone()].copy_from_slice(was);
                 self.previous[range].copy_from_slice(was);
             }
@@ -242,13 +268,15 @@ impl<T: Real> CpuSim<T> {
             }
             // Collision with the body.
             if let Some(collider) = &collider {
-                let capsules = posed.map_or(&[][..], |p| p.capsules.as_slice());
+                let capsules = posed.map_or((&[][..], &[][..]), |p| {
+                    (p.capsules.as_slice(), p.rest_capsules.as_slice())
+                });
                 // The margin is a fraction of this strand's own rest length.
                 let length = lengths[1..].iter().fold(T::ZERO, |sum, &l| sum + l);
                 let margin = collider.fraction * length;
                 let own = posed.map_or(u32::MAX, |p| p.own_capsule[s]);
-                let near = carrier.pose.as_ref().map_or(Vec::new(), |(_, _, root)| {
-                    super::collide::near_capsules(*root, capsules, length + margin, own)
+                let near = carrier.pose.as_ref().map_or(Vec::new(), |pose| {
+                    super::collide::near_capsules(pose, capsules, (length, margin), own)
                 });
                 for i in 1..v {
                     match &carrier.pose {

@@ -36,6 +36,8 @@ pub struct Posed {
     pub normals: Vec<Vec3>,
     pub roots: Vec<RootPose>,
     pub capsules: Vec<[Vec4; 2]>,
+    /// The same capsules at the bind pose, where the rest field was built.
+    pub rest_capsules: Vec<[Vec4; 2]>,
     /// Per strand, the capsule it does not collide with ([`SkinnedBody::own_capsule`]).
     pub own_capsule: Vec<u32>,
 }
@@ -60,6 +62,7 @@ pub fn pose(body: &SkinnedBody, matrices: &[Mat4]) -> Posed {
         normals,
         roots,
         capsules: super::capsules::pose(&body.capsules, matrices),
+        rest_capsules: super::capsules::pose(&body.capsules, &[]),
         own_capsule: body.own_capsule.clone(),
     }
 }

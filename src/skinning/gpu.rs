@@ -147,15 +147,20 @@ impl GpuSkin {
             storage,
             MemoryLocation::GpuOnly,
         )?;
+        // The bind pose's capsules lead each slot's buffer (the simulation scales each
+        // capsule by how far it moved from there relative to a strand's root).
+        let rest_capsules = super::capsules::pose(&body.capsules, &[]);
         let capsules = (0..frames_in_flight)
             .map(|slot| {
-                Buffer::new(
+                let mut buffer = Buffer::new(
                     device,
                     &format!("skin.capsules[{slot}]"),
-                    (step_capacity * capsule_count.max(1) as usize * 32) as u64,
+                    ((step_capacity + 1) * capsule_count.max(1) as usize * 32) as u64,
                     storage,
                     MemoryLocation::CpuToGpu,
-                )
+                )?;
+                buffer.write(0, bytemuck::cast_slice(&rest_capsules));
+                Ok(buffer)
             })
             .collect::<Result<Vec<_>>>()?;
         let bindings = bindings();
@@ -241,11 +246,13 @@ impl GpuSkin {
     }
 
     /// Writes slot `slot`'s posed capsules, every capsule of each substep of the coming
-    /// submission, substep after substep (see [`super::capsules::pose`]).
+    /// submission, substep after substep (see [`super::capsules::pose`]), after the
+    /// bind pose's, which lead the buffer.
     pub fn write_capsules(&mut self, slot: usize, capsules: &[[Vec4; 2]]) {
-        let capacity = self.capsules[slot].size() as usize / 32;
+        let lead = self.capsule_count as usize;
+        let capacity = (self.capsules[slot].size() as usize / 32).saturating_sub(lead);
         let n = capsules.len().min(capacity);
-        self.capsules[slot].write(0, bytemuck::cast_slice(&capsules[..n]));
+        self.capsules[slot].write(lead * 32, bytemuck::cast_slice(&capsules[..n]));
     }
 
     /// Records the skinning of substeps `first .. first + count` of the submission (the

@@ -362,7 +362,16 @@ void collide(Step st, uint k, float margin) {
             vec3 m = m0;
             vec3 normal;
             if (push_out_skinned(m, margin, normal)) {
-                x[i] = x[i] + mat3(st.head) * (m - m0);
+                // The contact's normal is the direction of the whole push: with the
+                // field and a capsule both touching, the first one's normal would leave
+                // the velocity into the other, and hair squeezed between them would
+                // creep (src/sim/collide.rs: `push_out_skinned`).
+                vec3 push = m - m0;
+                float len = length(push);
+                if (len > MIN_LENGTH) {
+                    normal = push * (1.0 / len);
+                }
+                x[i] = x[i] + mat3(st.head) * push;
                 contact = mat3(st.head) * normal;
                 touched = true;
             }

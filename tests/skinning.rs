@@ -485,9 +485,9 @@ fn walk_depths(collision: bool) -> (f64, f64) {
 /// Collision keeps the walking critter's hair out of its skin: measured against the
 /// same walk without collision. The target (max ≤ 1 % of the hair length) is
 /// not met yet (see docs/benchmark.md: the root-carried field is rigid where the skin
-/// bends at joints). Measured: collision divides the mean depth by 2.9 and the max by
-/// 3.2; the bounds ask for 1.7 (the square root of each), so a collision doing half its
-/// work, or none, fails them.
+/// bends at joints). Measured: collision divides the mean depth by 6.9 and the max by
+/// 3.2; the bounds ask for 2.6 and 1.7 (the square root of each), so a collision doing
+/// half its work, or none, fails them.
 #[test]
 fn collision_keeps_the_walking_hair_out_of_the_skin() {
     let (mean_on, max_on) = walk_depths(true);
@@ -501,7 +501,7 @@ fn collision_keeps_the_walking_hair_out_of_the_skin() {
         "the walk without collision hardly enters the skin"
     );
     assert!(
-        mean_on * 1.7 < mean_off,
+        mean_on * 2.6 < mean_off,
         "mean depth {mean_on} against {mean_off}"
     );
     assert!(
@@ -520,7 +520,11 @@ fn collision_keeps_the_walking_hair_out_of_the_skin() {
 ///   pose the field was built in, the thigh's capsule and the field's thigh were two
 ///   shapes of one thigh, and ~14 strands squeezed between them kept creeping by up to
 ///   1e-2 a frame;
-/// - slow motion sleeps (1e-3 of a strand's length a frame, with its root still).
+/// - where the field and a capsule both push a vertex, the contact's normal is the
+///   whole push's direction (the first one's left the velocity into the other: at held
+///   walk poses 3 to 13 strands crept by up to 9e-3 a frame);
+/// - slow motion sleeps (1e-3 of a strand's length a frame, with its root still; without
+///   it ~85 strands still move by up to 4e-4 a frame at the bind pose).
 #[test]
 fn a_still_pose_under_gravity_with_collision_comes_to_rest() {
     let device = common::device();
@@ -529,31 +533,41 @@ fn a_still_pose_under_gravity_with_collision_comes_to_rest() {
     let body = Arc::new(SkinnedBody::new(&mesh, rig));
     let params = SimParams::default();
     let (sdf, _) = fur::sim::Sdf::for_hair(&mesh, &params, strands.hair_length()).unwrap();
-    let mut textures = StrandTextures::new(&device, &strands, glam::Mat4::IDENTITY).unwrap();
-    let mut gpu = skinned_sim(
-        &device,
-        &textures,
-        params,
-        Some(&sdf),
-        (body, Playback::default()),
-    );
-    let head = |_: f64| DMat4::IDENTITY;
-    gpu.run_frames(&mut textures, 300, head).unwrap();
-    let limit = 1e-6 * strands.hair_length();
-    let mut before = textures.read_positions(textures.current).unwrap();
-    let mut worst = 0.0f32;
-    for _ in 0..5 {
-        gpu.run_frames(&mut textures, 1, head).unwrap();
-        let now = textures.read_positions(textures.current).unwrap();
-        worst = worst.max(max_error(&before, &now));
-        before = now;
+    // The bind pose, and the walk's bent pose at 0.4 s held (legs apart, where the
+    // thighs' capsules have moved relative to the belly's roots).
+    let held_walk = Playback {
+        speed: 0.0,
+        start: 0.4,
+        ..walk(&body.rig)
+    };
+    for (what, playback) in [
+        ("bind pose", Playback::default()),
+        ("walk at 0.4 s", held_walk),
+    ] {
+        let mut textures = StrandTextures::new(&device, &strands, glam::Mat4::IDENTITY).unwrap();
+        let mut gpu = skinned_sim(
+            &device,
+            &textures,
+            params.clone(),
+            Some(&sdf),
+            (body.clone(), playback),
+        );
+        let head = |_: f64| DMat4::IDENTITY;
+        gpu.run_frames(&mut textures, 300, head).unwrap();
+        let limit = 1e-6 * strands.hair_length();
+        let mut before = textures.read_positions(textures.current).unwrap();
+        let mut worst = 0.0f32;
+        for _ in 0..5 {
+            gpu.run_frames(&mut textures, 1, head).unwrap();
+            let now = textures.read_positions(textures.current).unwrap();
+            worst = worst.max(max_error(&before, &now));
+            before = now;
+        }
+        println!("{what}: largest move a frame after settling: {worst:e} (limit {limit:e})");
+        assert!(
+            worst <= limit,
+            "{what}: the still pose jitters by {worst} a frame (limit {limit})"
+        );
     }
-    println!("largest move a frame after settling: {worst:e} (limit {limit:e})");
-    assert!(
-        worst <= limit,
-        "the still pose jitters by {worst} a frame (limit {limit})"
-    );
-    drop(gpu);
-    drop(textures);
     common::assert_clean(&device);
 }

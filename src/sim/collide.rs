@@ -184,7 +184,8 @@ impl<T: Real> Collider<'_, T> {
     /// [`Collider::push_out`] on a skinned body: the rest pose's field carried by the
     /// strand's root `pose` (sampled trilinearly: creases open and close as the body
     /// moves, and the nearest-point sample jumps in them), and the bone capsules near it
-    /// ([`near_capsules`]), each a constraint projected in turn, in model space.
+    /// ([`near_capsules`]), each a constraint projected in turn, in model space; the
+    /// contact's normal is the direction of the whole push.
     pub fn push_out_skinned(
         &self,
         head: &Head<T>,
@@ -226,8 +227,18 @@ impl<T: Real> Collider<'_, T> {
                 break;
             }
         }
-        if let Some(n) = contact {
-            *x = *x + head.rotation.mul_vec(m - m0);
+        if let Some(first) = contact {
+            // The contact's normal is the direction of the whole push: with the field
+            // and a capsule both touching, the first one's normal would leave the
+            // velocity into the other, and hair squeezed between them would creep.
+            let push = m - m0;
+            let len = push.length();
+            let n = if greater(len, min_length::<T>()) {
+                push.scale(T::ONE / len)
+            } else {
+                first
+            };
+            *x = *x + head.rotation.mul_vec(push);
             self.respond(Some(head.rotation.mul_vec(n)), velocity, *x, previous);
         }
     }

@@ -54,20 +54,16 @@ layout(set = 0, binding = 8, std430) readonly buffer RootPoses {
     vec4 root_poses[];
 };
 
-// A skinned body's bone capsules for each substep of the submission: (a, radius), (b, 0)
-// in model space, sim.counts2.y of them (src/skinning/capsules.rs).
+// A skinned body's bone capsules at the bind pose, then for each substep of the
+// submission: (a, radius), (b, 0) in model space, sim.counts2.y of them per pose
+// (src/skinning/capsules.rs).
 layout(set = 0, binding = 9, std430) readonly buffer Capsules {
     vec4 capsules[];
 };
 
-// Per strand, the capsule it does not collide with (its own bone's; 0xffffffff: none).
-layout(set = 0, binding = 10, std430) readonly buffer OwnCapsule {
-    uint own_capsule[];
-};
-
 // Per strand, its root pose after the last substep simulated (R's columns, the root in
 // w), so the next substep can carry the strand along with the body.
-layout(set = 0, binding = 11, std430) buffer LastPoses {
+layout(set = 0, binding = 10, std430) buffer LastPoses {
     vec4 last_poses[];
 };
 

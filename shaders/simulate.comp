@@ -248,8 +248,8 @@ bool sdf_sample_trilinear(vec3 m, out float value, out vec3 gradient) {
 // constraint of its own, projected in turn (src/sim/cpu.rs: `Collider::push_out`).
 
 // The capsules a strand collides with in a substep: the NEAR_CAPSULES nearest to its
-// root within its reach (hair length and margin from the capsule's surface), never its
-// own bone's; nearest first, ties by index. Each capsule's radius is scaled by how far
+// root within its reach (hair length and margin from the capsule's surface); nearest
+// first, ties by index. Each capsule's radius is scaled by how far
 // its bone moved relative to the strand's root pose, over CAPSULE_RAMP strand lengths,
 // up to 1: the
 // rest field carried by the root pose already holds what moved with the root
@@ -260,14 +260,11 @@ vec4 near_a[NEAR_CAPSULES];    // a, radius
 vec4 near_ab[NEAR_CAPSULES];   // b − a, |b − a|²
 uint near_count;
 
-void select_capsules(uint k, uint own, float reach) {
+void select_capsules(uint k, float reach) {
     float near_d[NEAR_CAPSULES];
     near_count = 0u;
     uint count = sim.counts2.y;
     for (uint c = 0u; c < count; ++c) {
-        if (c == own) {
-            continue;
-        }
         // The buffer holds the bind pose's capsules, then each substep's.
         vec4 ca = capsules[2u * ((k + 1u) * count + c)];
         vec3 a = ca.xyz;
@@ -351,7 +348,7 @@ bool push_out_skinned(inout vec3 m, float margin, out vec3 contact) {
 
 void collide(Step st, uint k, float margin) {
     if ((STEPS & BODY_SKINNED) != 0u) {
-        select_capsules(k, own_capsule[gl_GlobalInvocationID.x], strand_length + margin);
+        select_capsules(k, strand_length + margin);
     }
     for (uint i = 1u; i < V; ++i) {
         vec3 velocity = x[i] - p[i];

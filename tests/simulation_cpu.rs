@@ -1313,7 +1313,6 @@ fn bent_strands() -> Strands {
     }
 }
 
-/// A skinned body's pose with the given root poses and capsules and no own capsules.
 /// Every strand's root pose at rest: no turn, the root where it grew.
 fn held_roots(strands: &Strands) -> Vec<RootPose> {
     (0..strands.count())
@@ -1333,7 +1332,6 @@ fn posed_from(
     Posed {
         positions: Vec::new(),
         normals: Vec::new(),
-        own_capsule: vec![u32::MAX; roots.len()],
         roots,
         capsules,
         rest_capsules: rest,

@@ -484,10 +484,11 @@ fn walk_depths(collision: bool) -> (f64, f64) {
 
 /// Collision keeps the walking critter's hair out of its skin: measured against the
 /// same walk without collision. The target (max ≤ 1 % of the hair length) is
-/// not met yet (see docs/benchmark.md: the root-carried field is rigid where the skin
-/// bends at joints). Measured: collision divides the mean depth by 6.9 and the max by
-/// 3.2; the bounds ask for 2.6 and 1.7 (the square root of each), so a collision doing
-/// half its work, or none, fails them.
+/// not met yet (see docs/benchmark.md: the deepest vertices are belly hair tips that the
+/// swinging thighs' capsules only approximate). Measured: collision divides the mean
+/// depth by 26 and the max by 10 (max 2.6 %); the bounds ask for 5 and 3.2 (the square
+/// root of each), and the max for at most 5 %, so a collision doing half its work, or
+/// the capsules of before (8.1 %), fail them.
 #[test]
 fn collision_keeps_the_walking_hair_out_of_the_skin() {
     let (mean_on, max_on) = walk_depths(true);
@@ -500,12 +501,13 @@ fn collision_keeps_the_walking_hair_out_of_the_skin() {
         mean_off > 1e-4,
         "the walk without collision hardly enters the skin"
     );
+    assert!(max_on <= 0.05, "max depth {max_on} of the hair length");
     assert!(
-        mean_on * 2.6 < mean_off,
+        mean_on * 5.0 < mean_off,
         "mean depth {mean_on} against {mean_off}"
     );
     assert!(
-        max_on * 1.7 < max_off,
+        max_on * 3.2 < max_off,
         "max depth {max_on} against {max_off}"
     );
 }

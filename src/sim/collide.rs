@@ -73,8 +73,8 @@ pub(super) struct NearCapsule<T> {
 }
 
 /// The capsules a strand with root `pose` and rest `length` collides with: the
-/// [`NEAR_CAPSULES`] nearest within `length + margin` of their surface, never its `own`
-/// bone's; nearest first, ties by index (`select_capsules` in `simulate.comp`).
+/// [`NEAR_CAPSULES`] nearest within `length + margin` of their surface; nearest first,
+/// ties by index (`select_capsules` in `simulate.comp`).
 ///
 /// The rest field carried by the root pose already holds every part of the body that
 /// moved with the root; a capsule stands only for how far its bone moved *relative* to
@@ -83,20 +83,17 @@ pub(super) struct NearCapsule<T> {
 /// swinging through the
 /// belly's fur has its whole radius, the thigh under the belly's hair at the pose the
 /// field was built in has none (two shapes of one thigh would push hair back and forth
-/// between them, and hair could never rest there).
+/// between them, and hair could never rest there), and the bone a strand is bound to
+/// counts as far as the root's blend of bones moved away from it.
 pub(super) fn near_capsules<T: Real>(
     pose: &Pose<T>,
     (capsules, rest): (&[[glam::Vec4; 2]], &[[glam::Vec4; 2]]),
     (length, margin): (T, T),
-    own: u32,
 ) -> Vec<NearCapsule<T>> {
     let (rotation, rest_root, root) = *pose;
     let reach = length + margin;
     let mut near: Vec<(T, NearCapsule<T>)> = Vec::with_capacity(NEAR_CAPSULES);
     for (c, cap) in capsules.iter().enumerate() {
-        if c as u32 == own {
-            continue;
-        }
         let a = V3::from_vec3(cap[0].truncate());
         let b = V3::from_vec3(cap[1].truncate());
         let ab = b - a;

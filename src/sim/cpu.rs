@@ -274,9 +274,8 @@ impl<T: Real> CpuSim<T> {
                 // The margin is a fraction of this strand's own rest length.
                 let length = lengths[1..].iter().fold(T::ZERO, |sum, &l| sum + l);
                 let margin = collider.fraction * length;
-                let own = posed.map_or(u32::MAX, |p| p.own_capsule[s]);
                 let near = carrier.pose.as_ref().map_or(Vec::new(), |pose| {
-                    super::collide::near_capsules(pose, capsules, (length, margin), own)
+                    super::collide::near_capsules(pose, capsules, (length, margin))
                 });
                 for i in 1..v {
                     match &carrier.pose {

@@ -200,9 +200,6 @@ impl GpuSim {
             &[0.0f32; 12],
         )?;
         let root_poses = skinned.as_ref().map_or(&no_poses, |s| &s.skin.root_poses);
-        let own = skinned
-            .as_ref()
-            .map_or(&no_poses, |s: &Skinned| &s.skin.own_capsule);
         let last = skinned
             .as_ref()
             .map_or(&no_poses, |s: &Skinned| &s.skin.last_poses);
@@ -229,7 +226,7 @@ impl GpuSim {
                     &statics,
                     &steps,
                     textures,
-                    (&body_buffer, root_poses, capsules(slot), own, last),
+                    (&body_buffer, root_poses, capsules(slot), last),
                 );
             }
             let timestamps = if device.info.timestamps {

@@ -42,7 +42,7 @@ impl From<&StepConstants> for GpuStep {
     }
 }
 
-pub(super) fn bindings() -> [(vk::DescriptorType, vk::ShaderStageFlags); 12] {
+pub(super) fn bindings() -> [(vk::DescriptorType, vk::ShaderStageFlags); 11] {
     let c = vk::ShaderStageFlags::COMPUTE;
     [
         (vk::DescriptorType::UNIFORM_BUFFER, c),
@@ -52,7 +52,6 @@ pub(super) fn bindings() -> [(vk::DescriptorType, vk::ShaderStageFlags); 12] {
         (vk::DescriptorType::STORAGE_BUFFER, c),
         (vk::DescriptorType::STORAGE_IMAGE, c),
         (vk::DescriptorType::STORAGE_IMAGE, c),
-        (vk::DescriptorType::STORAGE_BUFFER, c),
         (vk::DescriptorType::STORAGE_BUFFER, c),
         (vk::DescriptorType::STORAGE_BUFFER, c),
         (vk::DescriptorType::STORAGE_BUFFER, c),
@@ -83,7 +82,7 @@ pub(super) fn write_sim_set(
     statics: &Buffer,
     steps: &Buffer,
     textures: &StrandTextures,
-    (body, root_poses, capsules, own, last): (&Buffer, &Buffer, &Buffer, &Buffer, &Buffer),
+    (body, root_poses, capsules, last): (&Buffer, &Buffer, &Buffer, &Buffer),
 ) {
     let bindings = bindings();
     let buffer = |b: &Buffer| {
@@ -104,8 +103,7 @@ pub(super) fn write_sim_set(
         buffer(root_poses),
     );
     let b9 = buffer(capsules);
-    let b10 = buffer(own);
-    let b11 = buffer(last);
+    let b10 = buffer(last);
     let (i2, i3) = (image(&textures.rest), image(&textures.rest_local));
     let (i5, i6) = (
         image(&textures.positions[1 - k]),
@@ -129,7 +127,6 @@ pub(super) fn write_sim_set(
         write(8).buffer_info(&b8),
         write(9).buffer_info(&b9),
         write(10).buffer_info(&b10),
-        write(11).buffer_info(&b11),
     ];
     unsafe { device.raw.update_descriptor_sets(&writes, &[]) };
 }

@@ -38,8 +38,6 @@ pub struct Posed {
     pub capsules: Vec<[Vec4; 2]>,
     /// The same capsules at the bind pose, where the rest field was built.
     pub rest_capsules: Vec<[Vec4; 2]>,
-    /// Per strand, the capsule it does not collide with ([`SkinnedBody::own_capsule`]).
-    pub own_capsule: Vec<u32>,
 }
 
 /// Skins `body` with the joint `matrices` (see [`crate::scene::Rig::joint_matrices`]).
@@ -63,7 +61,6 @@ pub fn pose(body: &SkinnedBody, matrices: &[Mat4]) -> Posed {
         roots,
         capsules: super::capsules::pose(&body.capsules, matrices),
         rest_capsules: super::capsules::pose(&body.capsules, &[]),
-        own_capsule: body.own_capsule.clone(),
     }
 }
 

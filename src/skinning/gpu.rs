@@ -39,8 +39,6 @@ pub struct GpuSkin {
     /// (read by the simulation's collision step).
     pub capsules: Vec<Buffer>,
     pub capsule_count: u32,
-    /// Per strand, the capsule it does not collide with (its own bone's).
-    pub own_capsule: Buffer,
     /// Per strand, its root pose after the last simulated substep (the simulation's).
     pub last_poses: Buffer,
     joint_capacity: usize,
@@ -138,8 +136,6 @@ impl GpuSkin {
             })
             .collect::<Result<Vec<_>>>()?;
         let capsule_count = body.capsules.len() as u32;
-        let own_capsule =
-            Buffer::with_data(device, "skin.own_capsule", storage, &body.own_capsule)?;
         let last_poses = Buffer::new(
             device,
             "skin.last_poses",
@@ -219,7 +215,6 @@ impl GpuSkin {
             joints,
             capsules,
             capsule_count,
-            own_capsule,
             last_poses,
             joint_capacity: step_capacity,
             _set_layout: set_layout,
@@ -320,7 +315,6 @@ impl GpuSkin {
             + self.root_poses.size()
             + self.joints.iter().map(Buffer::size).sum::<u64>()
             + self.capsules.iter().map(Buffer::size).sum::<u64>()
-            + self.own_capsule.size()
             + self.last_poses.size()
     }
 }

@@ -82,12 +82,8 @@ pub struct SkinnedBody {
     pub bind_tangents: Vec<Vec3>,
     /// Per vertex, the rest frame's tangent and normal (`F_rest = [t, n × t, n]`).
     pub rest_frames: Vec<(Vec3, Vec3)>,
-    /// Inscribed capsules of the bones, for collision.
+    /// The bones' capsules, for collision.
     pub capsules: Vec<capsules::Capsule>,
-    /// Per vertex, the capsule of the bone it is bound to most ([`u32::MAX`]: none). A
-    /// strand does not collide with it: the rest field its root pose carries describes
-    /// that part of the body better.
-    pub own_capsule: Vec<u32>,
 }
 
 impl SkinnedBody {
@@ -113,13 +109,11 @@ impl SkinnedBody {
             })
             .collect();
         let capsules = capsules::fit(&rig);
-        let own_capsule = capsules::own(&rig, &capsules);
         Self {
             rig,
             bind_tangents,
             rest_frames,
             capsules,
-            own_capsule,
         }
     }
 

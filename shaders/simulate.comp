@@ -272,12 +272,18 @@ void select_capsules(uint k, float reach) {
         vec3 ab = b - a;
         float len2 = dot(ab, ab);
         float t = len2 > 0.0 ? clamp(dot(pose_root - a, ab) / len2, 0.0, 1.0) : 0.0;
+        float dist = length(pose_root - (a + ab * t));
+        // Out of reach at its full radius, out of reach at any (the scaling below only
+        // shrinks it).
+        if (!(dist - ca.w < reach)) {
+            continue;
+        }
         vec3 ra = pose_rotation * (capsules[2u * c].xyz - rest_root) + pose_root;
         vec3 rb = pose_rotation * (capsules[2u * c + 1u].xyz - rest_root) + pose_root;
         float moved = max(length(a - ra), length(b - rb));
         float ramp = CAPSULE_RAMP * strand_length;
         float radius = ca.w * (moved < ramp ? moved / ramp : 1.0);
-        float d = length(pose_root - (a + ab * t)) - radius;
+        float d = dist - radius;
         if (!(d < reach)) {
             continue;
         }

@@ -40,6 +40,14 @@ fn critter_strands() -> Result<(Mesh, Rig, Strands)> {
     Ok((mesh, rig, strands))
 }
 
+/// One simulation [`Bench::skinned_sims_ms`] times.
+struct SimRun<'a> {
+    params: SimParams,
+    skinned: Option<(Arc<SkinnedBody>, Playback)>,
+    field: Option<&'a Sdf>,
+    steps: Option<&'a [SimStep]>,
+}
+
 /// A way to collide with the deforming body.
 struct Way {
     name: &'static str,
@@ -78,29 +86,36 @@ const WAYS: [Way; 4] = [
 
 impl Bench<'_> {
     /// Wall-clock milliseconds per simulated frame (median of warm frames) of `strands`
-    /// on `body` (skinned when given), with only `steps` compiled in when given.
-    fn skinned_sim_ms(
-        &self,
-        strands: &Strands,
-        params: &SimParams,
-        skinned: Option<(Arc<SkinnedBody>, Playback)>,
-        field: Option<&Sdf>,
-        steps: Option<&[SimStep]>,
-    ) -> Result<f64> {
-        let mut textures = StrandTextures::new(self.device, strands, glam::Mat4::IDENTITY)?;
-        let mut gpu = GpuSim::build(self.device, &textures, params.clone(), 1, field, skinned)?;
-        gpu.force_steps(steps, &textures)?;
-        let (warm, measured) = if self.quick { (1, 3) } else { (5, 40) };
-        let mut wall = Vec::new();
+    /// under each of `runs`: its parameters, its body (skinned when given), its field,
+    /// and only its steps compiled in when given. The runs take turns frame by frame, so
+    /// a machine that slows down or speeds up meanwhile weighs on all of them alike.
+    fn skinned_sims_ms(&self, strands: &Strands, runs: &[SimRun<'_>]) -> Result<Vec<f64>> {
+        let mut sims = Vec::new();
+        for run in runs {
+            let textures = StrandTextures::new(self.device, strands, glam::Mat4::IDENTITY)?;
+            let mut gpu = GpuSim::build(
+                self.device,
+                &textures,
+                run.params.clone(),
+                1,
+                run.field,
+                run.skinned.clone(),
+            )?;
+            gpu.force_steps(run.steps, &textures)?;
+            sims.push((textures, gpu, Vec::new()));
+        }
+        let (warm, measured) = if self.quick { (1, 3) } else { (5, 60) };
         for frame in 0..warm + measured {
             crate::interrupt::check()?;
-            let start = Instant::now();
-            gpu.run_frames(&mut textures, 1, |_| glam::DMat4::IDENTITY)?;
-            if frame >= warm {
-                wall.push(start.elapsed().as_secs_f64() * 1e3);
+            for (textures, gpu, wall) in &mut sims {
+                let start = Instant::now();
+                gpu.run_frames(textures, 1, |_| glam::DMat4::IDENTITY)?;
+                if frame >= warm {
+                    wall.push(start.elapsed().as_secs_f64() * 1e3);
+                }
             }
         }
-        Ok(median(&wall))
+        Ok(sims.iter().map(|(_, _, wall)| median(wall)).collect())
     }
 
     /// (mean, max) depth of strand vertices inside the posed critter over the second
@@ -213,14 +228,24 @@ impl Bench<'_> {
             collision: false,
             ..params.clone()
         };
-        let skinned_ms = self.skinned_sim_ms(
+        let times = self.skinned_sims_ms(
             &strands,
-            &bare,
-            Some((body.clone(), playback.clone())),
-            None,
-            Some(&[]),
+            &[
+                SimRun {
+                    params: bare.clone(),
+                    skinned: Some((body.clone(), playback.clone())),
+                    field: None,
+                    steps: Some(&[]),
+                },
+                SimRun {
+                    params: bare.clone(),
+                    skinned: None,
+                    field: None,
+                    steps: Some(&[]),
+                },
+            ],
         )?;
-        let rigid_ms = self.skinned_sim_ms(&strands, &bare, None, None, Some(&[]))?;
+        let (skinned_ms, rigid_ms) = (times[0], times[1]);
         let per_vertex_us = (skinned_ms - rigid_ms) * 1e3 / vertices as f64;
         self.row(
             "animation",
@@ -301,13 +326,40 @@ impl Bench<'_> {
 
         // Collision: each way.
         let (field, _) = Sdf::for_hair(&mesh, &params, strands.hair_length())?;
-        let no_collision = self.skinned_sim_ms(
-            &strands,
-            &bare,
-            Some((body.clone(), playback.clone())),
-            Some(&field),
-            None,
-        )?;
+        let cells = Sdf::cells_for_hair(&mesh, &params, strands.hair_length());
+        let fine = Sdf::build(&mesh, (cells * 2).min(128), strands.hair_length())?.0;
+        // Per way: its field and its body (without capsules where the way has none).
+        let ways: Vec<(&Way, &Sdf, Arc<SkinnedBody>)> = WAYS
+            .iter()
+            .map(|way| {
+                let mut way_body = SkinnedBody::clone(&body);
+                if !way.capsules {
+                    way_body.capsules.clear();
+                }
+                let field = if way.cells == 1 { &field } else { &fine };
+                (way, field, Arc::new(way_body))
+            })
+            .collect();
+        // The step without collision first, then each way with it, taking turns.
+        let mut runs = vec![SimRun {
+            params: bare.clone(),
+            skinned: Some((body.clone(), playback.clone())),
+            field: Some(&field),
+            steps: None,
+        }];
+        for (way, field, way_body) in &ways {
+            runs.push(SimRun {
+                params: SimParams {
+                    collision: way.collision,
+                    ..params.clone()
+                },
+                skinned: Some((way_body.clone(), playback.clone())),
+                field: Some(*field),
+                steps: None,
+            });
+        }
+        let times = self.skinned_sims_ms(&strands, &runs)?;
+        let no_collision = times[0];
         let _ = writeln!(
             self.md,
             "**Collision with the deforming body.** Each way's update (per substep, on the CPU: \
@@ -320,20 +372,7 @@ impl Bench<'_> {
              | way | update µs (CPU) | sampling ms | share of the step | adds | device KiB | mean depth | max depth |\n\
              | --- | --- | --- | --- | --- | --- | --- | --- |"
         );
-        let cells = Sdf::cells_for_hair(&mesh, &params, strands.hair_length());
-        for way in &WAYS {
-            let fine;
-            let field = if way.cells == 1 {
-                &field
-            } else {
-                fine = Sdf::build(&mesh, (cells * way.cells).min(128), strands.hair_length())?.0;
-                &fine
-            };
-            let mut way_body = SkinnedBody::clone(&body);
-            if !way.capsules {
-                way_body.capsules.clear();
-            }
-            let way_body = Arc::new(way_body);
+        for (k, (way, field, way_body)) in ways.iter().enumerate() {
             let start = Instant::now();
             let rounds = 1000;
             for k in 0..rounds {
@@ -341,17 +380,7 @@ impl Bench<'_> {
                 std::hint::black_box(skinning::capsules::pose(&way_body.capsules, &m));
             }
             let update_us = start.elapsed().as_secs_f64() * 1e6 / f64::from(rounds);
-            let with = if way.collision {
-                self.skinned_sim_ms(
-                    &strands,
-                    &params,
-                    Some((way_body.clone(), playback.clone())),
-                    Some(field),
-                    None,
-                )?
-            } else {
-                no_collision
-            };
+            let with = times[k + 1];
             let sampling = with - no_collision;
             // Collision's part of the step that includes it, and what it adds to the
             // step without it.
@@ -363,7 +392,7 @@ impl Bench<'_> {
                 0.0
             };
             let (mean, max) =
-                self.walk_penetration((&mesh, &strands), &way_body, field, way.collision)?;
+                self.walk_penetration((&mesh, &strands), way_body, field, way.collision)?;
             for (metric, value, unit) in [
                 ("update_us", update_us, "µs"),
                 ("sampling_ms", sampling, "ms"),

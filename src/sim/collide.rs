@@ -80,11 +80,10 @@ pub(super) struct NearCapsule<T> {
 /// moved with the root; a capsule stands only for how far its bone moved *relative* to
 /// it. Its radius is scaled by how far its posed ends lie from where the root pose
 /// carries its `rest` ends, over [`CAPSULE_RAMP`] strand lengths, up to 1: a leg
-/// swinging through the
-/// belly's fur has its whole radius, the thigh under the belly's hair at the pose the
-/// field was built in has none (two shapes of one thigh would push hair back and forth
-/// between them, and hair could never rest there), and the bone a strand is bound to
-/// counts as far as the root's blend of bones moved away from it.
+/// swinging through the belly's fur has its whole radius, the thigh under the belly's
+/// hair at the pose the field was built in has none (two shapes of one thigh would push
+/// hair back and forth between them, and hair could never rest there), and the bone a
+/// strand is bound to counts as far as the root's blend of bones moved away from it.
 pub(super) fn near_capsules<T: Real>(
     pose: &Pose<T>,
     (capsules, rest): (&[[glam::Vec4; 2]], &[[glam::Vec4; 2]]),
@@ -99,6 +98,12 @@ pub(super) fn near_capsules<T: Real>(
         let ab = b - a;
         let len2 = ab.dot(ab);
         let t = segment_parameter(root, a, ab, len2);
+        let dist = (root - (a + ab.scale(t))).length();
+        // Out of reach at its full radius, out of reach at any (the scaling only shrinks
+        // it).
+        if !less(dist - T::from_f32(cap[0].w), reach) {
+            continue;
+        }
         let carried =
             |p: glam::Vec4| rotation.mul_vec(V3::from_vec3(p.truncate()) - rest_root) + root;
         let (ra, rb) = rest
@@ -112,7 +117,7 @@ pub(super) fn near_capsules<T: Real>(
             T::ONE
         };
         let radius = T::from_f32(cap[0].w) * scale;
-        let d = (root - (a + ab.scale(t))).length() - radius;
+        let d = dist - radius;
         if !less(d, reach) {
             continue;
         }

@@ -17,6 +17,10 @@ pub const SOURCES: &[(&str, &str)] = &[
         "sim_common.glsl",
         include_str!("../../shaders/sim_common.glsl"),
     ),
+    (
+        "sdf_sample.glsl",
+        include_str!("../../shaders/sdf_sample.glsl"),
+    ),
     ("mesh.vert", include_str!("../../shaders/mesh.vert")),
     ("mesh.frag", include_str!("../../shaders/mesh.frag")),
     ("fur.vert", include_str!("../../shaders/fur.vert")),

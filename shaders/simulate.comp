@@ -206,9 +206,8 @@ void wind(uint strand, Step st) {
 
 // The capsules a strand collides with in a substep: the NEAR_CAPSULES nearest to its
 // root within its reach (hair length and margin from the capsule's surface); nearest
-// first, ties by index. Each capsule's radius is scaled by how far
-// its bone moved relative to the strand's root pose, over CAPSULE_RAMP strand lengths,
-// up to 1: the
+// first, ties by index. Each capsule's radius is scaled by how far its bone moved
+// relative to the strand's root pose, over CAPSULE_RAMP strand lengths, up to 1: the
 // rest field carried by the root pose already holds what moved with the root
 // (src/sim/collide.rs: `near_capsules`).
 const uint NEAR_CAPSULES = 4u;

@@ -1616,29 +1616,25 @@ fn collision_pushes_vertices_to_a_margin_of_each_strands_own_length() {
     }
 }
 
-/// On a skinned body, a strand collides with a bone's capsule whose surface lies within
-/// its length plus its margin of its root: a capsule 0.45 from the root of a strand 0.4
-/// long with a margin of 0.1 pushes a vertex inside it out radially to 0.1 off its
-/// surface; the distance field (far below) moves nothing.
-#[test]
-fn a_capsule_within_reach_of_the_root_pushes_vertices_out() {
-    // The first upright strand alone.
+/// Axis along z through (0.65, 0.5), radius 0.2: its surface is 0.45 from the root of the
+/// first upright strand, between the strand's length less its margin and its length
+/// plus it.
+const CAPSULE: [glam::Vec4; 2] = [
+    glam::Vec4::new(0.65, 0.5, -1.0, 0.2),
+    glam::Vec4::new(0.65, 0.5, 1.0, 0.0),
+];
+
+/// The first upright strand alone (0.4 long), laid along −x but for its tip, 0.05 from
+/// [`CAPSULE`]'s axis, over a floor field far below, stepped one frame on the body
+/// `held` with only collision (margin 0.25 of the length): its positions before, and
+/// after.
+fn capsule_step(held: impl Fn(&Strands) -> Posed) -> (Vec<V3<f64>>, Vec<V3<f64>>) {
     let strands = Strands {
         vertices_per_strand: 5,
         positions: upright_strands().positions[..5].to_vec(),
     };
     let mut sim = CpuSim::<f64>::new(&strands, collision_only(0.25), DMat4::IDENTITY)
         .with_sdf(Arc::new(floor_field()));
-    let held = posed(
-        held_roots(&strands),
-        // Axis along z through (0.65, 0.5), radius 0.2: its surface is 0.45 from the
-        // root, between the strand's length less its margin and its length plus it.
-        vec![[
-            glam::Vec4::new(0.65, 0.5, -1.0, 0.2),
-            glam::Vec4::new(0.65, 0.5, 1.0, 0.0),
-        ]],
-    );
-    // The strand lies along −x but for its tip, 0.05 from the capsule's axis.
     let placed = [
         V3(-0.1, 0.5, 0.0),
         V3(-0.2, 0.5, 0.0),
@@ -1650,8 +1646,19 @@ fn a_capsule_within_reach_of_the_root_pushes_vertices_out() {
         sim.previous[1 + k] = p;
     }
     let before = sim.current.clone();
+    let held = held(&strands);
     sim.step_frame_posed(still, |_| held.clone());
-    for (i, (got, was)) in sim.current.iter().zip(&before).enumerate() {
+    (before, sim.current)
+}
+
+/// On a skinned body, a strand collides with a bone's capsule whose surface lies within
+/// its length plus its margin of its root: a capsule 0.45 from the root of a strand 0.4
+/// long with a margin of 0.1 pushes a vertex inside it out radially to 0.1 off its
+/// surface; the distance field (far below) moves nothing.
+#[test]
+fn a_capsule_within_reach_of_the_root_pushes_vertices_out() {
+    let (before, after) = capsule_step(|strands| posed(held_roots(strands), vec![CAPSULE]));
+    for (i, (got, was)) in after.iter().zip(&before).enumerate() {
         let want = if i == 4 {
             // Out along +x to the radius plus the margin (in f32, as the capsule is).
             V3(f64::from(0.65f32) + f64::from(0.2f32) + 0.1, 0.5, 0.0)
@@ -1666,48 +1673,25 @@ fn a_capsule_within_reach_of_the_root_pushes_vertices_out() {
 }
 
 /// A capsule counts only as far as its bone moved relative to the strand's root pose
-/// (the rest field carried by that pose holds the rest): the capsule of
-/// `a_capsule_within_reach_of_the_root_pushes_vertices_out`, with its tip vertex inside
-/// it, leaves the strand alone where it sits at its bind-pose place, and pushes the tip
-/// out to 4/5 of its radius plus the margin when it moved by a fifth of the strand's
-/// length (4/5 of the way to its full radius, reached at a quarter).
+/// (the rest field carried by that pose holds the rest): [`CAPSULE`], with the strand's
+/// tip vertex inside it, leaves the strand alone where it sits at its bind-pose place,
+/// and pushes the tip out to 4/5 of its radius plus the margin when it moved by a fifth
+/// of the strand's length (4/5 of the way to its full radius, reached at a quarter).
 #[test]
 fn a_capsule_counts_as_far_as_its_bone_moved_relative_to_the_root() {
-    let strands = Strands {
-        vertices_per_strand: 5,
-        positions: upright_strands().positions[..5].to_vec(),
-    };
-    let capsule = [
-        glam::Vec4::new(0.65, 0.5, -1.0, 0.2),
-        glam::Vec4::new(0.65, 0.5, 1.0, 0.0),
-    ];
-    let length = f64::from(strands.hair_length());
+    let length = 0.4;
     // The bind-pose capsule, carried by the held roots (the identity), lies `shift` along
     // +x of where the capsule is now (along its own axis would not move it).
-    let run = |shift: f32| {
-        let mut sim = CpuSim::<f64>::new(&strands, collision_only(0.25), DMat4::IDENTITY)
-            .with_sdf(Arc::new(floor_field()));
-        let rest = vec![capsule.map(|p| p + glam::Vec4::new(shift, 0.0, 0.0, 0.0))];
-        let held = posed_from(held_roots(&strands), vec![capsule], rest);
-        let placed = [
-            V3(-0.1, 0.5, 0.0),
-            V3(-0.2, 0.5, 0.0),
-            V3(-0.3, 0.5, 0.0),
-            V3(0.7, 0.5, 0.0),
-        ];
-        for (k, p) in placed.into_iter().enumerate() {
-            sim.current[1 + k] = p;
-            sim.previous[1 + k] = p;
-        }
-        sim.step_frame_posed(still, |_| held.clone());
-        sim.current[4]
+    let tip = |shift: f32| {
+        let rest = vec![CAPSULE.map(|p| p + glam::Vec4::new(shift, 0.0, 0.0, 0.0))];
+        capsule_step(|strands| posed_from(held_roots(strands), vec![CAPSULE], rest.clone())).1[4]
     };
-    let unmoved = run(0.0);
+    let unmoved = tip(0.0);
     assert!(
         (unmoved - V3(0.7, 0.5, 0.0)).length() < 1e-7,
         "a capsule where the root pose carries it pushed the tip to {unmoved:?}"
     );
-    let most = run(0.2 * length as f32);
+    let most = tip(0.2 * length as f32);
     // 4/5 of the radius plus the margin (0.25 × 0.4) off the axis at x = 0.65.
     let want = f64::from(0.65f32) + 0.8 * f64::from(0.2f32) + 0.25 * length;
     assert!(

@@ -47,6 +47,21 @@ fn max_error(a: &[Vec3], b: &[Vec3]) -> f32 {
         .fold(0.0, f32::max)
 }
 
+/// The largest move of any vertex in each of the next `frames` frames of `gpu` (the
+/// head still).
+fn largest_move(gpu: &mut GpuSim, textures: &mut StrandTextures, frames: usize) -> f32 {
+    let head = |_: f64| DMat4::IDENTITY;
+    let mut last = textures.read_positions(textures.current).unwrap();
+    let mut moved = 0.0f32;
+    for _ in 0..frames {
+        gpu.run_frames(textures, 1, head).unwrap();
+        let now = textures.read_positions(textures.current).unwrap();
+        moved = moved.max(max_error(&last, &now));
+        last = now;
+    }
+    moved
+}
+
 fn body() -> (Mesh, Arc<SkinnedBody>, Strands) {
     let (mesh, rig) = critter();
     let strands = Strands::grow(&mesh, &groom()).unwrap();
@@ -204,16 +219,8 @@ fn held_pose_motion(
     let head = |_: f64| DMat4::IDENTITY;
     let start = textures.read_positions(textures.current).unwrap();
     gpu.run_frames(&mut textures, 90, head).unwrap();
-    let mut last = textures.read_positions(textures.current).unwrap();
-    let sag = max_error(&start, &last);
-    let mut moved = 0.0f32;
-    for _ in 0..3 {
-        gpu.run_frames(&mut textures, 1, head).unwrap();
-        let now = textures.read_positions(textures.current).unwrap();
-        moved = moved.max(max_error(&last, &now));
-        last = now;
-    }
-    (moved, sag)
+    let sag = max_error(&start, &textures.read_positions(textures.current).unwrap());
+    (largest_move(&mut gpu, &mut textures, 3), sag)
 }
 
 /// A clip that holds a pose, looping, leaves the hair at rest: after settling under
@@ -554,17 +561,10 @@ fn a_still_pose_under_gravity_with_collision_comes_to_rest() {
             Some(&sdf),
             (body.clone(), playback),
         );
-        let head = |_: f64| DMat4::IDENTITY;
-        gpu.run_frames(&mut textures, 300, head).unwrap();
+        gpu.run_frames(&mut textures, 300, |_| DMat4::IDENTITY)
+            .unwrap();
         let limit = 1e-6 * strands.hair_length();
-        let mut before = textures.read_positions(textures.current).unwrap();
-        let mut worst = 0.0f32;
-        for _ in 0..5 {
-            gpu.run_frames(&mut textures, 1, head).unwrap();
-            let now = textures.read_positions(textures.current).unwrap();
-            worst = worst.max(max_error(&before, &now));
-            before = now;
-        }
+        let worst = largest_move(&mut gpu, &mut textures, 5);
         println!("{what}: largest move a frame after settling: {worst:e} (limit {limit:e})");
         assert!(
             worst <= limit,

@@ -254,34 +254,40 @@ impl Sdf {
             .collect()
     }
 
-    /// The distance at model-space point `p` to first order from its nearest grid
-    /// point, and the gradient there (not normalised); None outside the grid. The
-    /// arithmetic, step by step, is the shader's `sdf_sample`.
-    pub fn sample<T: Real>(&self, p: V3<T>) -> Option<(T, V3<T>)> {
+    /// `p`'s coordinates in grid cells from grid point (0, 0, 0), or None outside the
+    /// grid.
+    fn grid_coordinates<T: Real>(&self, p: V3<T>) -> Option<[T; 3]> {
         let inv = T::from_f32(1.0 / self.cell);
         let o = V3::<T>::from_vec3(self.origin);
         let g = [(p.0 - o.0) * inv, (p.1 - o.1) * inv, (p.2 - o.2) * inv];
-        let mut nearest = [0u32; 3];
-        let mut offset = [T::ZERO; 3];
-        let cell = T::from_f32(self.cell);
         for k in 0..3 {
             let last = T::from_f32((self.dims[k] - 1) as f32);
             if !(g[k] >= T::ZERO && g[k] <= last) {
                 return None;
             }
-            let i = (g[k] + T::HALF).to_f64().floor() as u32;
-            nearest[k] = i;
-            offset[k] = (g[k] - T::from_f32(i as f32)) * cell;
         }
-        let at = self.index(nearest[0], nearest[1], nearest[2]);
+        Some(g)
+    }
+
+    /// Grid point `at`'s first-order expansion `offset` away from it, and its gradient.
+    fn expansion<T: Real>(&self, at: usize, offset: [T; 3]) -> (T, V3<T>) {
         let grad = V3::<T>::from_vec3(self.gradients[at]);
         let value = T::from_f32(self.values[at])
             + (grad.0 * offset[0] + grad.1 * offset[1] + grad.2 * offset[2]);
-        Some((value, grad))
+        (value, grad)
     }
-}
 
-impl Sdf {
+    /// The distance at model-space point `p` to first order from its nearest grid
+    /// point, and the gradient there (not normalised); None outside the grid. The
+    /// arithmetic, step by step, is the shader's `sdf_sample`.
+    pub fn sample<T: Real>(&self, p: V3<T>) -> Option<(T, V3<T>)> {
+        let g = self.grid_coordinates(p)?;
+        let cell = T::from_f32(self.cell);
+        let nearest = g.map(|x| (x + T::HALF).to_f64().floor() as u32);
+        let offset = [0, 1, 2].map(|k| (g[k] - T::from_f32(nearest[k] as f32)) * cell);
+        Some(self.expansion(self.index(nearest[0], nearest[1], nearest[2]), offset))
+    }
+
     /// The distance and gradient at model-space point `p`: the trilinear blend of the
     /// eight grid points around it, each point's first-order expansion at `p` (as
     /// [`Sdf::sample`] takes from the nearest), and of their gradients. Continuous across
@@ -291,33 +297,21 @@ impl Sdf {
     /// None outside the grid. The arithmetic, step by step, is the shader's
     /// `sdf_sample_trilinear`.
     pub fn sample_trilinear<T: Real>(&self, p: V3<T>) -> Option<(T, V3<T>)> {
-        let inv = T::from_f32(1.0 / self.cell);
-        let o = V3::<T>::from_vec3(self.origin);
-        let g = [(p.0 - o.0) * inv, (p.1 - o.1) * inv, (p.2 - o.2) * inv];
-        let mut base = [0u32; 3];
-        let mut f = [T::ZERO; 3];
-        for k in 0..3 {
-            let last = T::from_f32((self.dims[k] - 1) as f32);
-            if !(g[k] >= T::ZERO && g[k] <= last) {
-                return None;
-            }
-            // The cell's lower corner; the far face of the grid belongs to the last cell.
-            base[k] = (g[k].to_f64().floor() as u32).min(self.dims[k] - 2);
-            f[k] = g[k] - T::from_f32(base[k] as f32);
-        }
+        let g = self.grid_coordinates(p)?;
+        // The cell's lower corner; the far face of the grid belongs to the last cell.
+        let base = [0, 1, 2].map(|k| (g[k].to_f64().floor() as u32).min(self.dims[k] - 2));
+        let f = [0, 1, 2].map(|k| g[k] - T::from_f32(base[k] as f32));
+        let cell = T::from_f32(self.cell);
         let mut value = T::ZERO;
         let mut gradient = V3::<T>(T::ZERO, T::ZERO, T::ZERO);
-        let cell = T::from_f32(self.cell);
         for corner in 0..8u32 {
             let step = [corner & 1, (corner >> 1) & 1, (corner >> 2) & 1];
             let weight = |k: usize| if step[k] == 1 { f[k] } else { T::ONE - f[k] };
             let w = weight(0) * weight(1) * weight(2);
             let at = self.index(base[0] + step[0], base[1] + step[1], base[2] + step[2]);
-            let grad = V3::<T>::from_vec3(self.gradients[at]);
             // This grid point's first-order expansion at p.
-            let offset = |k: usize| (f[k] - T::from_f32(step[k] as f32)) * cell;
-            let expansion = T::from_f32(self.values[at])
-                + (grad.0 * offset(0) + grad.1 * offset(1) + grad.2 * offset(2));
+            let offset = [0, 1, 2].map(|k| (f[k] - T::from_f32(step[k] as f32)) * cell);
+            let (expansion, grad) = self.expansion(at, offset);
             value = value + w * expansion;
             gradient = gradient + grad.scale(w);
         }

@@ -93,16 +93,7 @@ impl<T: Real> CpuSim<T> {
     /// Advances one frame (`params.substeps` substeps), with the head transform given as
     /// a function of time.
     pub fn step_frame(&mut self, head_at: impl Fn(f64) -> DMat4) {
-        let start = self.params.hair_can_rest().then(|| self.current.clone());
-        let h = self.params.substep_dt();
-        for _ in 0..self.params.substeps {
-            self.time += h;
-            let constants = StepConstants::new(&self.params, self.time, head_at(self.time));
-            self.substep(&constants);
-        }
-        if let Some(start) = start {
-            self.sleep(&start, &head_at);
-        }
+        self.advance(&head_at, None);
     }
 
     /// Advances one frame on a skinned body: `poses_at(t)` gives the body's pose at
@@ -113,27 +104,35 @@ impl<T: Real> CpuSim<T> {
         head_at: impl Fn(f64) -> DMat4,
         poses_at: impl Fn(f64) -> Posed,
     ) {
+        self.advance(&head_at, Some(&poses_at));
+    }
+
+    /// One frame: every substep, then sleep where hair can rest.
+    fn advance(&mut self, head_at: &dyn Fn(f64) -> DMat4, poses_at: Option<&dyn Fn(f64) -> Posed>) {
         let start = self.params.hair_can_rest().then(|| self.current.clone());
         let h = self.params.substep_dt();
+        let mut gravity_h2 = glam::Vec3::ZERO;
         for _ in 0..self.params.substeps {
             self.time += h;
             let constants = StepConstants::new(&self.params, self.time, head_at(self.time));
-            self.substep_posed(&constants, Some(&poses_at(self.time)));
+            gravity_h2 = constants.gravity_h2;
+            let posed = poses_at.map(|poses_at| poses_at(self.time));
+            self.substep_posed(&constants, posed.as_ref());
         }
         if let Some(start) = start {
-            self.sleep(&start, &head_at);
+            self.sleep(&start, gravity_h2);
         }
     }
 
     /// Puts every strand at rest this frame (see [`SLEEP_ULPS`]; from `start`) back
-    /// where it started, not moving (`sleep` in `shaders/simulate.comp`).
-    fn sleep(&mut self, start: &[V3<T>], head_at: &impl Fn(f64) -> DMat4) {
+    /// where it started, not moving (`sleep` in `shaders/simulate.comp`); `gravity_h2`
+    /// is the frame's substeps' g h².
+    fn sleep(&mut self, start: &[V3<T>], gravity_h2: glam::Vec3) {
         let v = self.rest.vertices_per_strand;
         let ulps = T::from_f32(SLEEP_ULPS) * T::EPSILON;
-        // |g h²| n², as the kernel computes it from the frame's first substep.
-        let first = StepConstants::new(&self.params, self.time, head_at(self.time));
+        // |g h²| n², as the kernel computes it.
         let n = T::from_f32((self.params.substeps * self.params.substeps) as f32);
-        let frame_gravity = V3::<T>::from_vec3(first.gravity_h2).length() * n;
+        let frame_gravity = V3::<T>::from_vec3(gravity_h2).length() * n;
         for (s, was) in start.chunks_exact(v).enumerate() {
             let range = s * v..(s + 1) * v;
             let root_moved = (self.current[s * v] - was[0]).max_abs();

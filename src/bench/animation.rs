@@ -327,17 +327,25 @@ impl Bench<'_> {
         // Collision: each way.
         let (field, _) = Sdf::for_hair(&mesh, &params, strands.hair_length())?;
         let cells = Sdf::cells_for_hair(&mesh, &params, strands.hair_length());
-        let fine = Sdf::build(&mesh, (cells * 2).min(128), strands.hair_length())?.0;
+        // Per way: a finer field where it asks for one.
+        let mut finer = Vec::new();
+        for way in &WAYS {
+            let resolution = (cells * way.cells).min(128);
+            let fine = (way.cells != 1)
+                .then(|| Sdf::build(&mesh, resolution, strands.hair_length()))
+                .transpose()?;
+            finer.push(fine.map(|(sdf, _)| sdf));
+        }
         // Per way: its field and its body (without capsules where the way has none).
         let ways: Vec<(&Way, &Sdf, Arc<SkinnedBody>)> = WAYS
             .iter()
-            .map(|way| {
+            .zip(&finer)
+            .map(|(way, fine)| {
                 let mut way_body = SkinnedBody::clone(&body);
                 if !way.capsules {
                     way_body.capsules.clear();
                 }
-                let field = if way.cells == 1 { &field } else { &fine };
-                (way, field, Arc::new(way_body))
+                (way, fine.as_ref().unwrap_or(&field), Arc::new(way_body))
             })
             .collect();
         // The step without collision first, then each way with it, taking turns.

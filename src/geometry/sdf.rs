@@ -260,13 +260,11 @@ impl Sdf {
         let inv = T::from_f32(1.0 / self.cell);
         let o = V3::<T>::from_vec3(self.origin);
         let g = [(p.0 - o.0) * inv, (p.1 - o.1) * inv, (p.2 - o.2) * inv];
-        for k in 0..3 {
-            let last = T::from_f32((self.dims[k] - 1) as f32);
-            if !(g[k] >= T::ZERO && g[k] <= last) {
-                return None;
-            }
-        }
-        Some(g)
+        let inside = g
+            .iter()
+            .zip(self.dims)
+            .all(|(&x, n)| x >= T::ZERO && x <= T::from_f32((n - 1) as f32));
+        inside.then_some(g)
     }
 
     /// Grid point `at`'s first-order expansion `offset` away from it, and its gradient.

@@ -1048,22 +1048,7 @@ fn the_command_line_refuses_a_broken_glb_by_name() {
         "{stderr}"
     );
     // An unknown clip names the clips there are.
-    let out = std::process::Command::new(env!("CARGO_BIN_EXE_fur"))
-        .args([
-            "render",
-            "--width",
-            "32",
-            "--height",
-            "24",
-            "--animation",
-            "gallop",
-            "--model",
-        ])
-        .arg(&good)
-        .arg("--out")
-        .arg(dir.join("out.png"))
-        .output()
-        .unwrap();
+    let out = render_animated(&good, "gallop", &dir.join("out.png"));
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert_eq!(out.status.code(), Some(1), "{stderr}");
     assert!(
@@ -1073,14 +1058,13 @@ fn the_command_line_refuses_a_broken_glb_by_name() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
-/// A skinned body whose mesh is open (one triangle on one bone) renders, with the same
-/// warning as an open OBJ: its distance field's sign is estimated near the holes.
-#[test]
-fn an_open_skinned_body_gets_the_open_mesh_warning() {
-    let dir = Scratch::new("open-skin");
-    let weights: Vec<f32> = [1.0, 0.0, 0.0, 0.0].repeat(3);
-    let path = dir.write("open.glb", one_bone(&[0; 12], &weights, &[0.0, 1.0]));
-    let out = std::process::Command::new(env!("CARGO_BIN_EXE_fur"))
+/// `fur render` of `model` playing clip `animation`, a 32×24 image to `out`.
+fn render_animated(
+    model: &std::path::Path,
+    animation: &str,
+    out: &std::path::Path,
+) -> std::process::Output {
+    std::process::Command::new(env!("CARGO_BIN_EXE_fur"))
         .args([
             "render",
             "--width",
@@ -1088,14 +1072,24 @@ fn an_open_skinned_body_gets_the_open_mesh_warning() {
             "--height",
             "24",
             "--animation",
-            "wave",
-            "--model",
+            animation,
         ])
-        .arg(&path)
+        .arg("--model")
+        .arg(model)
         .arg("--out")
-        .arg(dir.0.join("open.png"))
+        .arg(out)
         .output()
-        .unwrap();
+        .unwrap()
+}
+
+/// A skinned body whose mesh is open (one triangle on one bone) renders, with the same
+/// warning as an open OBJ: its distance field's sign is estimated near the holes.
+#[test]
+fn an_open_skinned_body_gets_the_open_mesh_warning() {
+    let dir = Scratch::new("open-skin");
+    let weights: Vec<f32> = [1.0, 0.0, 0.0, 0.0].repeat(3);
+    let path = dir.write("open.glb", one_bone(&[0; 12], &weights, &[0.0, 1.0]));
+    let out = render_animated(&path, "wave", &dir.0.join("open.png"));
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert!(out.status.success(), "{stderr}");
     assert!(

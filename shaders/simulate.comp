@@ -22,8 +22,10 @@ const uint STEP_COLLISION = 32u;
 const uint BODY_SKINNED = 64u;
 // Strands at rest sleep (see the end of main); compiled out with wind, which never stops.
 const uint SLEEP = 128u;
-// Projections onto the collision margin per vertex and substep, at most (src/sim/cpu.rs).
+// Projections onto the collision margin per vertex and substep, at most: on a rigid body,
+// and on a skinned one onto each of its constraints in turn (src/sim/collide.rs).
 const uint PROJECTIONS = 3u;
+const uint PROJECTIONS_SKINNED = 1u;
 // Rest: a strand whose root stayed put (to this many ulps of its coordinates) and whose
 // other vertices moved by no more than that, or than the slow motion below, in a frame
 // sleeps (src/sim/cpu.rs: SLEEP_ULPS, REST_MOTION, REST_GRAVITY).
@@ -264,13 +266,14 @@ void select_capsules(uint k, float reach) {
     }
 }
 
-// Keeps model-space point m at least the margin outside the skinned body (the rest
-// field carried by the root pose, then the selected capsules, in turn); returns the
-// first contact's normal (model space) in `contact`, or false without contact.
+// Moves model-space point m out to the margin of the skinned body (the rest field
+// carried by the root pose, then the selected capsules, in turn, PROJECTIONS_SKINNED
+// rounds at most); returns the first contact's normal (model space) in `contact`, or
+// false without contact.
 bool push_out_skinned(inout vec3 m, float margin, out vec3 contact) {
     bool touched = false;
     contact = vec3(0.0);
-    for (uint j = 0u; j < PROJECTIONS; ++j) {
+    for (uint j = 0u; j < PROJECTIONS_SKINNED; ++j) {
         bool moved = false;
         float d;
         vec3 g;

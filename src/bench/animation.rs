@@ -104,7 +104,9 @@ impl Bench<'_> {
             gpu.force_steps(run.steps, &textures)?;
             sims.push((textures, gpu, Vec::new()));
         }
-        let (warm, measured) = if self.quick { (1, 3) } else { (5, 60) };
+        // 300 frames: medians of 60 put one way's share of the step 10 points apart
+        // from one run to the next.
+        let (warm, measured) = if self.quick { (1, 3) } else { (5, 300) };
         for frame in 0..warm + measured {
             crate::interrupt::check()?;
             for (textures, gpu, wall) in &mut sims {

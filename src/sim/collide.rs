@@ -5,8 +5,12 @@
 use super::math::{min_length, Head, Real, M3, V3};
 use super::sdf::Sdf;
 
-/// Projections onto the margin per vertex and substep, at most.
+/// Projections onto the margin per vertex and substep, at most, on a rigid body.
 const PROJECTIONS: usize = 3;
+/// The same on a skinned body, onto each of its constraints in turn. A second and third
+/// round moved the walk's deepest vertex by 3e-4 hair lengths and took a tenth of the
+/// simulation step (docs/benchmark.md); what one leaves, the next substep takes up.
+const PROJECTIONS_SKINNED: usize = 1;
 
 /// A strand's root pose: rotation, rest root, skinned root (model space).
 pub(super) type Pose<T> = (M3<T>, V3<T>, V3<T>);
@@ -200,7 +204,7 @@ impl<T: Real> Collider<'_, T> {
         let m0 = self.to_model.point(*x);
         let mut m = m0;
         let mut contact = None;
-        for _ in 0..PROJECTIONS {
+        for _ in 0..PROJECTIONS_SKINNED {
             let mut moved = false;
             let rest = rotation.transpose_mul_vec(m - *root) + *rest_root;
             if let Some((d, g)) = self.sdf.sample_trilinear(rest) {

@@ -1,4 +1,5 @@
 #version 450
+#extension GL_EXT_control_flow_attributes : require
 // The simulation of one frame: every substep of Han & Harada for one master strand per
 // invocation. The strand lives in private arrays from the first load to the last store,
 // and the named steps run in the paper's order inside each substep, then collision:
@@ -245,24 +246,31 @@ void select_capsules(uint k, float reach) {
         if (!(d < reach)) {
             continue;
         }
-        uint j;
-        if (near_count < NEAR_CAPSULES) {
-            j = near_count;
-            near_count += 1u;
-        } else if (d < near_d[NEAR_CAPSULES - 1u]) {
-            j = NEAR_CAPSULES - 1u;
-        } else {
+        // Insertion at its rank among those kept (ties keep the index order), written
+        // with constant indices only: a private array indexed by a varying index costs
+        // a ladder of selects per access on a CPU driver.
+        uint rank = 0u;
+        [[unroll]] for (uint j = 0u; j < NEAR_CAPSULES; ++j) {
+            rank += j < near_count && !(d < near_d[j]) ? 1u : 0u;
+        }
+        if (rank == NEAR_CAPSULES) {
             continue;
         }
-        while (j > 0u && d < near_d[j - 1u]) {
-            near_d[j] = near_d[j - 1u];
-            near_a[j] = near_a[j - 1u];
-            near_ab[j] = near_ab[j - 1u];
-            j -= 1u;
+        [[unroll]] for (uint j = NEAR_CAPSULES - 1u; j > 0u; --j) {
+            if (j > rank) {
+                near_d[j] = near_d[j - 1u];
+                near_a[j] = near_a[j - 1u];
+                near_ab[j] = near_ab[j - 1u];
+            }
         }
-        near_d[j] = d;
-        near_a[j] = vec4(a, radius);
-        near_ab[j] = vec4(ab, len2);
+        [[unroll]] for (uint j = 0u; j < NEAR_CAPSULES; ++j) {
+            if (j == rank) {
+                near_d[j] = d;
+                near_a[j] = vec4(a, radius);
+                near_ab[j] = vec4(ab, len2);
+            }
+        }
+        near_count = min(near_count + 1u, NEAR_CAPSULES);
     }
 }
 
@@ -288,7 +296,10 @@ bool push_out_skinned(inout vec3 m, float margin, out vec3 contact) {
                 moved = true;
             }
         }
-        for (uint c = 0u; c < near_count; ++c) {
+        [[unroll]] for (uint c = 0u; c < NEAR_CAPSULES; ++c) {
+            if (c >= near_count) {
+                break;
+            }
             vec3 a = near_a[c].xyz;
             vec3 ab = near_ab[c].xyz;
             float len2 = near_ab[c].w;

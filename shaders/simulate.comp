@@ -327,11 +327,15 @@ void collide(Step st, uint k, float margin) {
         select_capsules(k, strand_length + margin);
     }
     for (uint i = 1u; i < V; ++i) {
-        vec3 velocity = x[i] - p[i];
+        // One read and one unconditional write of each array per vertex: a varying
+        // index into a private array is dear on a CPU driver, a masked write more so.
+        vec3 xi = x[i];
+        vec3 pi = p[i];
+        vec3 velocity = xi - pi;
         vec3 contact = vec3(0.0);
         bool touched = false;
         if ((STEPS & BODY_SKINNED) != 0u) {
-            vec3 m0 = (st.head_inverse * vec4(x[i], 1.0)).xyz;
+            vec3 m0 = (st.head_inverse * vec4(xi, 1.0)).xyz;
             vec3 m = m0;
             vec3 normal;
             if (push_out_skinned(m, margin, normal)) {
@@ -344,7 +348,7 @@ void collide(Step st, uint k, float margin) {
                 if (len > MIN_LENGTH) {
                     normal = push * (1.0 / len);
                 }
-                x[i] = x[i] + mat3(st.head) * push;
+                xi = xi + mat3(st.head) * push;
                 contact = mat3(st.head) * normal;
                 touched = true;
             }
@@ -355,7 +359,7 @@ void collide(Step st, uint k, float margin) {
             for (uint j = 0u; j < PROJECTIONS; ++j) {
                 float d;
                 vec3 gradient;
-                if (!sdf_sample((st.head_inverse * vec4(x[i], 1.0)).xyz, d, gradient) || !(d < margin)) {
+                if (!sdf_sample((st.head_inverse * vec4(xi, 1.0)).xyz, d, gradient) || !(d < margin)) {
                     break;
                 }
                 float len = length(gradient);
@@ -363,7 +367,7 @@ void collide(Step st, uint k, float margin) {
                     break;
                 }
                 vec3 n = mat3(st.head) * (gradient * (1.0 / len));
-                x[i] = x[i] + n * (margin - d);
+                xi = xi + n * (margin - d);
                 if (!touched) {
                     contact = n;
                     touched = true;
@@ -374,8 +378,10 @@ void collide(Step st, uint k, float margin) {
             float normal = dot(velocity, contact);
             vec3 tangential = velocity - contact * normal;
             vec3 kept = tangential * (1.0 - sim.collision.y) + contact * max(normal, 0.0);
-            p[i] = x[i] - kept;
+            pi = xi - kept;
         }
+        x[i] = xi;
+        p[i] = pi;
     }
 }
 

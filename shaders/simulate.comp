@@ -157,17 +157,19 @@ void edge_length(uint strand) {
         for (uint parity = 0u; parity < 2u; ++parity) {
             for (uint i = parity; i + 1u < V; i += 2u) {
                 float rest = imageLoad(rest_positions, strand_texel(strand, i + 1u, V, sim.counts.y)).w;
-                vec3 d = x[i] - x[i + 1u];
+                vec3 xi = x[i];
+                vec3 xj = x[i + 1u];
+                vec3 d = xi - xj;
                 float len = length(d);
-                if (len > MIN_LENGTH) {
-                    vec3 delta = d * (1.0 / len) * (len - rest);
-                    if (i == 0u) {
-                        x[1] = x[1] + delta;
-                    } else {
-                        x[i] = x[i] - delta * 0.5;
-                        x[i + 1u] = x[i + 1u] + delta * 0.5;
-                    }
+                vec3 delta = len > MIN_LENGTH ? d * (1.0 / len) * (len - rest) : vec3(0.0);
+                if (i == 0u) {
+                    xj = xj + delta;
+                } else {
+                    xi = xi - delta * 0.5;
+                    xj = xj + delta * 0.5;
                 }
+                x[i] = xi;
+                x[i + 1u] = xj;
             }
         }
     }

@@ -329,8 +329,10 @@ void collide(Step st, uint k, float margin) {
         select_capsules(k, strand_length + margin);
     }
     for (uint i = 1u; i < V; ++i) {
-        // One read and one unconditional write of each array per vertex: a varying
-        // index into a private array is dear on a CPU driver, a masked write more so.
+        // One read of each array per vertex, and on a skinned body one unconditional
+        // write: a varying index into a private array is dear on a CPU driver, a masked
+        // write more so (docs/design.md). The rigid body writes back only what it moved,
+        // which measured cheaper there.
         vec3 xi = x[i];
         vec3 pi = p[i];
         vec3 velocity = xi - pi;
@@ -382,8 +384,10 @@ void collide(Step st, uint k, float margin) {
             vec3 kept = tangential * (1.0 - sim.collision.y) + contact * max(normal, 0.0);
             pi = xi - kept;
         }
-        x[i] = xi;
-        p[i] = pi;
+        if ((STEPS & BODY_SKINNED) != 0u || touched) {
+            x[i] = xi;
+            p[i] = pi;
+        }
     }
 }
 

@@ -10,12 +10,12 @@ use std::time::Instant;
 
 use glam::Vec3;
 
-use super::metrics::median;
+use super::sim::SimRun;
 use super::Bench;
 use crate::error::Result;
 use crate::scene::{critter, Mesh, Rig, Strands};
 use crate::session::{FurSession, SceneOptions};
-use crate::sim::{GpuSim, Sdf, SimParams, SimStep};
+use crate::sim::{GpuSim, Sdf, SimParams};
 use crate::skinning::{self, Playback, SkinnedBody};
 use crate::strand_textures::StrandTextures;
 
@@ -38,14 +38,6 @@ fn critter_strands() -> Result<(Mesh, Rig, Strands)> {
     groom.comb_field = Some(skinning::fur_flow(&rig));
     let strands = Strands::grow(&mesh, &groom)?;
     Ok((mesh, rig, strands))
-}
-
-/// One simulation [`Bench::skinned_sims_ms`] times.
-struct SimRun<'a> {
-    params: SimParams,
-    skinned: Option<(Arc<SkinnedBody>, Playback)>,
-    field: Option<&'a Sdf>,
-    steps: Option<&'a [SimStep]>,
 }
 
 /// A way to collide with the deforming body.
@@ -85,41 +77,6 @@ const WAYS: [Way; 4] = [
 ];
 
 impl Bench<'_> {
-    /// Wall-clock milliseconds per simulated frame (median of warm frames) of `strands`
-    /// under each of `runs`: its parameters, its body (skinned when given), its field,
-    /// and only its steps compiled in when given. The runs take turns frame by frame, so
-    /// a machine that slows down or speeds up meanwhile weighs on all of them alike.
-    fn skinned_sims_ms(&self, strands: &Strands, runs: &[SimRun<'_>]) -> Result<Vec<f64>> {
-        let mut sims = Vec::new();
-        for run in runs {
-            let textures = StrandTextures::new(self.device, strands, glam::Mat4::IDENTITY)?;
-            let mut gpu = GpuSim::build(
-                self.device,
-                &textures,
-                run.params.clone(),
-                1,
-                run.field,
-                run.skinned.clone(),
-            )?;
-            gpu.force_steps(run.steps, &textures)?;
-            sims.push((textures, gpu, Vec::new()));
-        }
-        // 300 frames: medians of 60 put one way's share of the step 10 points apart
-        // from one run to the next.
-        let (warm, measured) = if self.quick { (1, 3) } else { (5, 300) };
-        for frame in 0..warm + measured {
-            crate::interrupt::check()?;
-            for (textures, gpu, wall) in &mut sims {
-                let start = Instant::now();
-                gpu.run_frames(textures, 1, |_| glam::DMat4::IDENTITY)?;
-                if frame >= warm {
-                    wall.push(start.elapsed().as_secs_f64() * 1e3);
-                }
-            }
-        }
-        Ok(sims.iter().map(|(_, _, wall)| median(wall)).collect())
-    }
-
     /// (mean, max) depth of strand vertices inside the posed critter over the second
     /// half of a walk cycle, fractions of the hair length, from exact distances.
     fn walk_penetration(
@@ -230,7 +187,7 @@ impl Bench<'_> {
             collision: false,
             ..params.clone()
         };
-        let times = self.skinned_sims_ms(
+        let times = self.sims_taking_turns_ms(
             &strands,
             &[
                 SimRun {
@@ -246,6 +203,7 @@ impl Bench<'_> {
                     steps: Some(&[]),
                 },
             ],
+            |_| glam::DMat4::IDENTITY,
         )?;
         let (skinned_ms, rigid_ms) = (times[0], times[1]);
         let per_vertex_us = (skinned_ms - rigid_ms) * 1e3 / vertices as f64;
@@ -368,7 +326,7 @@ impl Bench<'_> {
                 steps: None,
             });
         }
-        let times = self.skinned_sims_ms(&strands, &runs)?;
+        let times = self.sims_taking_turns_ms(&strands, &runs, |_| glam::DMat4::IDENTITY)?;
         let no_collision = times[0];
         let _ = writeln!(
             self.md,

@@ -4,7 +4,9 @@
 use std::fmt::Write as _;
 use std::time::Instant;
 
-use glam::DVec3;
+use std::sync::Arc;
+
+use glam::{DMat4, DVec3};
 
 use super::metrics::{max_stretch, median, pareto_front, position_error};
 use super::plot::{Plot, Series, PALETTE};
@@ -14,7 +16,16 @@ use crate::scene::{GroomParams, Mesh, Strands};
 use crate::scene_file::Scene;
 use crate::session::SceneOptions;
 use crate::sim::{CpuSim, GpuSim, Motion, MotionKind, Sdf, SimParams, SimStep};
+use crate::skinning::{Playback, SkinnedBody};
 use crate::strand_textures::StrandTextures;
+
+/// One simulation [`Bench::sims_taking_turns_ms`] times.
+pub(super) struct SimRun<'a> {
+    pub params: SimParams,
+    pub skinned: Option<(Arc<SkinnedBody>, Playback)>,
+    pub field: Option<&'a Sdf>,
+    pub steps: Option<&'a [SimStep]>,
+}
 
 /// The settings being measured for the simulation trade: iterations (local and length
 /// alike) and substeps.
@@ -255,6 +266,46 @@ impl Bench<'_> {
             }
         }
         Ok((median(&gpu_ms), median(&wall_ms)))
+    }
+
+    /// Wall-clock milliseconds per simulated frame (median of warm frames) of `strands`
+    /// under each of `runs` (its parameters, its body, only its steps compiled in when
+    /// given), the head moving by `head`. The runs take turns frame by frame, so a
+    /// machine that slows down or speeds up meanwhile weighs on all of them alike.
+    pub(super) fn sims_taking_turns_ms(
+        &self,
+        strands: &Strands,
+        runs: &[SimRun<'_>],
+        head: impl Fn(f64) -> DMat4 + Copy,
+    ) -> Result<Vec<f64>> {
+        let mut sims = Vec::new();
+        for run in runs {
+            let textures = StrandTextures::new(self.device, strands, glam::Mat4::IDENTITY)?;
+            let mut gpu = GpuSim::build(
+                self.device,
+                &textures,
+                run.params.clone(),
+                1,
+                run.field,
+                run.skinned.clone(),
+            )?;
+            gpu.force_steps(run.steps, &textures)?;
+            sims.push((textures, gpu, Vec::new()));
+        }
+        // 300 frames: medians of 60 put one way's share of the step 10 points apart
+        // from one run to the next.
+        let (warm, measured) = if self.quick { (1, 3) } else { (5, 300) };
+        for frame in 0..warm + measured {
+            crate::interrupt::check()?;
+            for (textures, gpu, wall) in &mut sims {
+                let start = Instant::now();
+                gpu.run_frames(textures, 1, head)?;
+                if frame >= warm {
+                    wall.push(start.elapsed().as_secs_f64() * 1e3);
+                }
+            }
+        }
+        Ok(sims.iter().map(|(_, _, wall)| median(wall)).collect())
     }
 
     /// The cost of each step: the kernel with the steps up to it compiled in, minus the

@@ -249,8 +249,8 @@ void select_capsules(uint k, float reach) {
             continue;
         }
         // Insertion at its rank among those kept (ties keep the index order), written
-        // with constant indices only: a private array indexed by a varying index costs
-        // a ladder of selects per access on a CPU driver.
+        // with constant indices only: access to a private array through a varying
+        // index is dear on a CPU driver (docs/design.md).
         uint rank = 0u;
         [[unroll]] for (uint j = 0u; j < NEAR_CAPSULES; ++j) {
             rank += j < near_count && !(d < near_d[j]) ? 1u : 0u;

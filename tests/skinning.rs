@@ -277,20 +277,26 @@ fn session_strands(mesh: &Mesh, rig: &Rig) -> (Strands, GroomParams) {
     (Strands::grow(mesh, &groom).unwrap(), groom)
 }
 
+/// The critter with the session's groom ([`session_strands`]), its skinned body and the
+/// rest pose's distance field for `params`.
+fn critter_with_field(params: &SimParams) -> (Strands, Arc<SkinnedBody>, fur::sim::Sdf) {
+    let (mesh, rig) = critter();
+    let (strands, _) = session_strands(&mesh, &rig);
+    let (sdf, _) = fur::sim::Sdf::for_hair(&mesh, params, strands.hair_length()).unwrap();
+    (strands, Arc::new(SkinnedBody::new(&mesh, rig)), sdf)
+}
+
 /// GPU/CPU parity on the walking critter with collision on: the rest field carried by
 /// each strand's root pose and the bones' capsules, within 1e-4 of the hair length.
 #[test]
 fn gpu_matches_cpu_on_a_walking_body_with_collision() {
     let device = common::device();
-    let (mesh, rig) = critter();
-    let (strands, _) = session_strands(&mesh, &rig);
-    let body = Arc::new(SkinnedBody::new(&mesh, rig));
-    let playback = walk(&body.rig);
     let params = SimParams {
         wind: Vec3::new(2.0, 0.0, 1.0),
         ..Default::default()
     };
-    let (sdf, _) = fur::sim::Sdf::for_hair(&mesh, &params, strands.hair_length()).unwrap();
+    let (strands, body, sdf) = critter_with_field(&params);
+    let playback = walk(&body.rig);
     let sdf = Arc::new(sdf);
     let head = |_: f64| DMat4::IDENTITY;
     let mut textures = StrandTextures::new(&device, &strands, glam::Mat4::IDENTITY).unwrap();
@@ -537,11 +543,8 @@ fn collision_keeps_the_walking_hair_out_of_the_skin() {
 #[test]
 fn a_still_pose_under_gravity_with_collision_comes_to_rest() {
     let device = common::device();
-    let (mesh, rig) = critter();
-    let (strands, _) = session_strands(&mesh, &rig);
-    let body = Arc::new(SkinnedBody::new(&mesh, rig));
     let params = SimParams::default();
-    let (sdf, _) = fur::sim::Sdf::for_hair(&mesh, &params, strands.hair_length()).unwrap();
+    let (strands, body, sdf) = critter_with_field(&params);
     // The bind pose, and the walk's bent pose at 0.4 s held (legs apart, where the
     // thighs' capsules have moved relative to the belly's roots).
     let held_walk = Playback {

@@ -6,11 +6,11 @@ use std::fmt::Write as _;
 
 use glam::Vec3;
 
-use super::sim::{blob_body, blob_strands, SimRun};
+use super::sim::{bench_shake, blob_body, blob_strands, SimRun};
 use super::Bench;
 use crate::error::Result;
 use crate::scene::{Mesh, Strands};
-use crate::sim::{GpuSim, Motion, MotionKind, Sdf, SimParams};
+use crate::sim::{GpuSim, Sdf, SimParams};
 use crate::strand_textures::StrandTextures;
 
 fn resolutions(quick: bool) -> &'static [u32] {
@@ -158,11 +158,7 @@ impl Bench<'_> {
         let strands = blob_strands()?;
         let body = blob_body(&strands, &SimParams::default())?;
         let params = crate::scene_file::Scene::default_sim();
-        let motion = Motion {
-            kind: MotionKind::Shake,
-            amplitude: 0.2,
-            rate: 1.0,
-        };
+        let motion = bench_shake();
         let run = |collision| SimRun {
             params: SimParams {
                 collision,

@@ -19,6 +19,16 @@ use crate::sim::{CpuSim, GpuSim, Motion, MotionKind, Sdf, SimParams, SimStep};
 use crate::skinning::{Playback, SkinnedBody};
 use crate::strand_textures::StrandTextures;
 
+/// The head's motion while the simulation's cost is timed: a shake, so hair moves and
+/// touches the body.
+pub(super) fn bench_shake() -> Motion {
+    Motion {
+        kind: MotionKind::Shake,
+        amplitude: 0.2,
+        rate: 1.0,
+    }
+}
+
 /// One simulation [`Bench::sims_taking_turns_ms`] times.
 pub(super) struct SimRun<'a> {
     pub params: SimParams,
@@ -248,11 +258,7 @@ impl Bench<'_> {
         let mut textures = StrandTextures::new(self.device, strands, glam::Mat4::IDENTITY)?;
         let mut gpu = GpuSim::with_body(self.device, &textures, params.clone(), 1, body)?;
         gpu.force_steps(steps, &textures)?;
-        let motion = Motion {
-            kind: MotionKind::Shake,
-            amplitude: 0.2,
-            rate: 1.0,
-        };
+        let motion = bench_shake();
         // A dispatch is cheap: many frames steady the medians.
         let (warm, measured) = if self.quick { (1, 3) } else { (5, 60) };
         let (mut gpu_ms, mut wall_ms) = (Vec::new(), Vec::new());

@@ -2,7 +2,7 @@
 //! same arithmetic): a rigid body's signed distance field, or on a skinned body the rest
 //! pose's field carried by each strand's root pose together with the bones' capsules.
 
-use super::math::{min_length, Head, Real, M3, V3};
+use super::math::{max, min_length, Head, Real, M3, V3};
 use super::sdf::Sdf;
 
 /// Projections onto the margin per vertex and substep, at most, on a rigid body.
@@ -31,15 +31,6 @@ fn greater<T: Real>(a: T, b: T) -> bool {
 
 fn less<T: Real>(a: T, b: T) -> bool {
     a.partial_cmp(&b) == Some(std::cmp::Ordering::Less)
-}
-
-/// GLSL's max: `b` when `a < b`, else `a`.
-fn max<T: Real>(a: T, b: T) -> T {
-    if less(a, b) {
-        b
-    } else {
-        a
-    }
 }
 
 /// clamp((m − a)·ab / |ab|², 0, 1) for `len2` = |ab|², as GLSL's clamp.

@@ -5,7 +5,7 @@ use std::sync::Arc;
 
 use glam::DMat4;
 
-use super::math::{min_length, Head, Real, M3, V3};
+use super::math::{max, min, min_length, Head, Real, M3, V3};
 use super::params::{SimParams, StepConstants};
 use super::rest::RestPose;
 use super::sdf::Sdf;
@@ -28,14 +28,6 @@ pub const REST_MOTION: f32 = 1e-3;
 /// …and at most this fraction of `|g| Δt²`, about what gravity moves a free vertex in a
 /// frame from rest, so a hair whose weight is not balanced always wakes.
 pub const REST_GRAVITY: f32 = 0.1;
-
-fn max<T: Real>(a: T, b: T) -> T {
-    if b > a {
-        b
-    } else {
-        a
-    }
-}
 
 /// The CPU reference simulator for one set of master hairs.
 #[derive(Clone, Debug)]
@@ -149,12 +141,10 @@ impl<T: Real> CpuSim<T> {
                 .skip(1)
                 .fold(T::ZERO, |sum, &l| sum + l);
             let noise = ulps * extent;
-            let slow = T::from_f32(REST_MOTION) * length;
-            let slow = if slow < T::from_f32(REST_GRAVITY) * frame_gravity {
-                slow
-            } else {
-                T::from_f32(REST_GRAVITY) * frame_gravity
-            };
+            let slow = min(
+                T::from_f32(REST_MOTION) * length,
+                T::from_f32(REST_GRAVITY) * frame_gravity,
+            );
             if root_moved <= noise && moved <= max(noise, slow) {
                 self.current[range.clone()].copy_from_slice(was);
                 self.previous[range].copy_from_slice(was);

@@ -49,6 +49,25 @@ impl<T: Real> M3<T> {
     }
 }
 
+/// GLSL's max: `b` when `a < b`, else `a` (the kernel's operand order, so the CPU
+/// reference picks the same value when one is NaN).
+pub fn max<T: Real>(a: T, b: T) -> T {
+    if a < b {
+        b
+    } else {
+        a
+    }
+}
+
+/// GLSL's min: `b` when `b < a`, else `a`.
+pub fn min<T: Real>(a: T, b: T) -> T {
+    if b < a {
+        b
+    } else {
+        a
+    }
+}
+
 /// Smallest segment length that still has a direction.
 pub fn min_length<T: Real>() -> T {
     T::from_f32(1e-20)

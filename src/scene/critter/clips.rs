@@ -87,10 +87,12 @@ pub(super) fn walk(bones: &[Bone]) -> Clip {
     channels.push(sway(b("tail.2"), Vec3::Y, 0.15, 0.7));
     channels.push(sway(b("tail.3"), Vec3::Y, 0.15, 1.4));
     // Per leg: phase, swing amplitude, and how far the lower leg and paw fold in the
-    // swing (positive folds the lower end backwards).
+    // swing (positive folds the lower end backwards). The front legs run 0.4 rad (6 % of
+    // the cycle) behind their diagonal hind legs: exactly in phase, the paws on each
+    // side met under the body and passed through each other.
     for (leg, phase, swing, fold_lower, fold_paw) in [
-        ("front_leg.L", 0.0, 0.4, 0.9, 0.8),
-        ("front_leg.R", PI, 0.4, 0.9, 0.8),
+        ("front_leg.L", -0.4, 0.4, 0.9, 0.8),
+        ("front_leg.R", PI - 0.4, 0.4, 0.9, 0.8),
         ("hind_leg.L", PI, 0.38, 0.5, -0.6),
         ("hind_leg.R", 0.0, 0.38, 0.5, -0.6),
     ] {

@@ -211,14 +211,16 @@ void wind(uint strand, Step st) {
 
 // The capsules a strand collides with in a substep: the NEAR_CAPSULES nearest to its
 // root within its reach (hair length and margin from the capsule's surface); nearest
-// first, ties by index. Each capsule's radius is scaled by how far its bone moved
-// relative to the strand's root pose, over CAPSULE_RAMP strand lengths, up to 1: the
-// rest field carried by the root pose already holds what moved with the root
+// first, ties by index. Each capsule's radius is scaled by how far its bone (or the
+// far end of its child bone, which the skin at its end bends with) moved relative to
+// the strand's root pose, over CAPSULE_RAMP strand lengths, up to 1: the rest field
+// carried by the root pose already holds what moved with the root
 // (src/sim/collide.rs: `near_capsules`).
 const uint NEAR_CAPSULES = 4u;
 const float CAPSULE_RAMP = 0.25;   // strand lengths of relative motion to the full radius
 vec4 near_a[NEAR_CAPSULES];    // a, radius
 vec4 near_ab[NEAR_CAPSULES];   // b − a, |b − a|²
+float near_root[NEAR_CAPSULES]; // the root's distance from the axis
 uint near_count;
 
 void select_capsules(uint k, float reach) {
@@ -242,6 +244,15 @@ void select_capsules(uint k, float reach) {
         vec3 ra = pose_rotation * (capsules[2u * c].xyz - rest_root) + pose_root;
         vec3 rb = pose_rotation * (capsules[2u * c + 1u].xyz - rest_root) + pose_root;
         float moved = max(length(a - ra), length(b - rb));
+        float child = capsules[2u * c + 1u].w;
+        if (child >= 0.0) {
+            // The skin at the capsule's far end bends with its child bone: the child's
+            // far end counts too.
+            uint j = uint(child);
+            vec3 kb = capsules[2u * ((k + 1u) * count + j) + 1u].xyz;
+            vec3 rk = pose_rotation * (capsules[2u * j + 1u].xyz - rest_root) + pose_root;
+            moved = max(moved, length(kb - rk));
+        }
         float ramp = CAPSULE_RAMP * strand_length;
         float radius = ca.w * (moved < ramp ? moved / ramp : 1.0);
         float d = dist - radius;
@@ -261,6 +272,7 @@ void select_capsules(uint k, float reach) {
         [[unroll]] for (uint j = NEAR_CAPSULES - 1u; j > 0u; --j) {
             if (j > rank) {
                 near_d[j] = near_d[j - 1u];
+                near_root[j] = near_root[j - 1u];
                 near_a[j] = near_a[j - 1u];
                 near_ab[j] = near_ab[j - 1u];
             }
@@ -268,6 +280,7 @@ void select_capsules(uint k, float reach) {
         [[unroll]] for (uint j = 0u; j < NEAR_CAPSULES; ++j) {
             if (j == rank) {
                 near_d[j] = d;
+                near_root[j] = dist;
                 near_a[j] = vec4(a, radius);
                 near_ab[j] = vec4(ab, len2);
             }
@@ -278,10 +291,14 @@ void select_capsules(uint k, float reach) {
 
 // Moves model-space point m out to the margin of the skinned body (the rest field
 // carried by the root pose, then the selected capsules, in turn, PROJECTIONS_SKINNED
-// rounds at most); returns the first contact's normal (model space) in `contact`, or
-// false without contact. The round stays a loop at one round: written straight, the
+// rounds at most), for a vertex `arc` along the hair from its root: a capsule pushes
+// it no farther from its axis than the root's distance plus `arc`, as far as the
+// vertex can get while attached (a root inside a capsule's radius, in a crease the
+// capsule overfills, would otherwise have its first vertices pushed into the skin
+// beside it). Returns the first contact's normal (model space) in `contact`, or false
+// without contact. The round stays a loop at one round: written straight, the
 // same arithmetic measured 4 points more of the step on lavapipe (docs/benchmark.md).
-bool push_out_skinned(inout vec3 m, float margin, out vec3 contact) {
+bool push_out_skinned(inout vec3 m, float arc, float margin, out vec3 contact) {
     bool touched = false;
     contact = vec3(0.0);
     for (uint j = 0u; j < PROJECTIONS_SKINNED; ++j) {
@@ -309,7 +326,8 @@ bool push_out_skinned(inout vec3 m, float margin, out vec3 contact) {
             float t = len2 > 0.0 ? clamp(dot(m - a, ab) / len2, 0.0, 1.0) : 0.0;
             vec3 off = m - (a + ab * t);
             float dist = length(off);
-            float dc = dist - near_a[c].w;
+            // No farther out than a vertex `arc` along the hair from its root can reach.
+            float dc = dist - min(near_a[c].w, near_root[c] + arc);
             if (dc < margin && dist > MIN_LENGTH) {
                 vec3 n = off * (1.0 / dist);
                 m = m + n * (margin - dc);
@@ -343,7 +361,8 @@ void collide(Step st, uint k, float margin) {
             vec3 m0 = (st.head_inverse * vec4(xi, 1.0)).xyz;
             vec3 m = m0;
             vec3 normal;
-            if (push_out_skinned(m, margin, normal)) {
+            float arc = float(i) * strand_length / float(V - 1u);
+            if (push_out_skinned(m, arc, margin, normal)) {
                 // The contact's normal is the direction of the whole push: with the
                 // field and a capsule both touching, the first one's normal would leave
                 // the velocity into the other, and hair squeezed between them would

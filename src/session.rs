@@ -421,7 +421,8 @@ impl FurSession {
         let head = motion.head(0.0).as_mat4();
         let textures = StrandTextures::new(device, &strands, head)?;
         let body = if sim_params.collision {
-            let (sdf, report) = Sdf::for_hair(&mesh, &sim_params, textures.hair_length)?;
+            let (sdf, report) =
+                Sdf::for_hair(&mesh, &sim_params, textures.hair_length, skinned.is_some())?;
             Some((Arc::new(sdf), report))
         } else {
             None

@@ -181,7 +181,7 @@ fn pressed(mesh: &Mesh, margin: Option<f32>, frames: usize) -> Pressed {
     let hair = strands.hair_length();
     let (sdf, _) = Sdf::build(
         mesh,
-        params.sdf_cells(2.0 * radius + 2.0 * hair, hair),
+        params.sdf_cells(2.0 * radius + 2.0 * hair, hair, false),
         hair,
     )
     .unwrap();

@@ -1147,20 +1147,32 @@ fn parameters_outside_their_ranges_are_refused() {
     };
     assert_eq!(p.substep_dt(), f64::from(0.02f32) / 4.0);
     assert_eq!(ok.substep_dt(), f64::from(1.0f32 / 60.0));
-    // Cells: as set, or ⌈3 × extent / hair⌉ clamped to 16..=128.
+    // Cells: as set, or on a rigid body ⌈3 × extent / hair⌉ clamped to 16..=128.
     assert_eq!(
         SimParams {
             sdf_resolution: 40,
             ..ok.clone()
         }
-        .sdf_cells(2.0, 0.1),
+        .sdf_cells(2.0, 0.1, false),
         40
     );
-    assert_eq!(ok.sdf_cells(2.0, 0.1), 60);
-    assert_eq!(ok.sdf_cells(2.0, 0.13), 47);
-    assert_eq!(ok.sdf_cells(2.0, 1.0), 16);
-    assert_eq!(ok.sdf_cells(2.0, 0.001), 128);
-    assert_eq!(ok.sdf_cells(2.0, 0.0), 128);
+    assert_eq!(ok.sdf_cells(2.0, 0.1, false), 60);
+    assert_eq!(ok.sdf_cells(2.0, 0.13, false), 47);
+    assert_eq!(ok.sdf_cells(2.0, 1.0, false), 16);
+    assert_eq!(ok.sdf_cells(2.0, 0.001, false), 128);
+    assert_eq!(ok.sdf_cells(2.0, 0.0, false), 128);
+    // A skinned body: ⌈6 × extent / hair⌉, the set resolution still first.
+    assert_eq!(ok.sdf_cells(2.0, 0.1, true), 120);
+    assert_eq!(ok.sdf_cells(2.0, 0.2, true), 60);
+    assert_eq!(ok.sdf_cells(2.0, 1.0, true), 16);
+    assert_eq!(
+        SimParams {
+            sdf_resolution: 40,
+            ..ok.clone()
+        }
+        .sdf_cells(2.0, 0.1, true),
+        40
+    );
     // Global cutoff: the first ⌊range × (V − 1)⌋ vertices after the root; none
     // without global stiffness.
     let cutoff = |stiffness: f32, range: f32, vertices: u32| {
@@ -1621,7 +1633,8 @@ fn collision_pushes_vertices_to_a_margin_of_each_strands_own_length() {
 /// plus it.
 const CAPSULE: [glam::Vec4; 2] = [
     glam::Vec4::new(0.65, 0.5, -1.0, 0.2),
-    glam::Vec4::new(0.65, 0.5, 1.0, 0.0),
+    // No child capsule.
+    glam::Vec4::new(0.65, 0.5, 1.0, -1.0),
 ];
 
 /// The first upright strand alone (0.4 long), laid along −x but for its tip, 0.05 from
@@ -1698,6 +1711,61 @@ fn a_capsule_counts_as_far_as_its_bone_moved_relative_to_the_root() {
         (most.0 - want).abs() < 1e-6 && (most.1 - 0.5).abs() < 1e-7,
         "capsule moved by a fifth of the length: tip at {most:?}, not x = {want}"
     );
+}
+
+/// The skin at a capsule's far end bends with its child bone, so the child's motion
+/// counts for it: [`CAPSULE`] where the root pose carries it, its tip vertex inside,
+/// pushes the tip out to its full radius plus the margin once its child (a capsule out
+/// of the strand's reach) moved by half the strand's length, and leaves it alone
+/// without that link.
+#[test]
+fn a_capsule_counts_as_far_as_its_child_bone_moved() {
+    let far = [
+        glam::Vec4::new(50.0, 0.5, -1.0, 0.2),
+        glam::Vec4::new(50.0, 0.5, 1.0, -1.0),
+    ];
+    let moved = far.map(|p| p + glam::Vec4::new(0.2, 0.0, 0.0, 0.0));
+    let tip = |child: f32| {
+        let mut capsule = CAPSULE;
+        capsule[1].w = child;
+        let (posed, rest) = (vec![capsule, moved], vec![capsule, far]);
+        capsule_step(|strands| posed_from(held_roots(strands), posed.clone(), rest.clone())).1[4]
+    };
+    let linked = tip(1.0);
+    let want = f64::from(0.65f32) + f64::from(0.2f32) + 0.1;
+    assert!(
+        (linked.0 - want).abs() < 1e-6 && (linked.1 - 0.5).abs() < 1e-7,
+        "the child moved: tip at {linked:?}, not x = {want}"
+    );
+    let alone = tip(-1.0);
+    assert!(
+        (alone - V3(0.7, 0.5, 0.0)).length() < 1e-7,
+        "without the child the tip moved to {alone:?}"
+    );
+}
+
+/// A capsule pushes a vertex `s` along the hair from its root no farther from its axis
+/// than the root's distance plus `s`, as far as the vertex can get while attached: with
+/// the root 0.15 inside a capsule of radius 0.3, the first vertex (0.1 along) goes out
+/// to 0.15 + 0.1 plus the margin, the second (0.2 along) to the full radius plus the
+/// margin, and the tip, out of reach, stays.
+#[test]
+fn a_capsule_holding_the_root_pushes_the_first_vertices_only_as_far_as_they_reach() {
+    let capsule = [
+        glam::Vec4::new(-0.15, 0.5, -1.0, 0.3),
+        glam::Vec4::new(-0.15, 0.5, 1.0, -1.0),
+    ];
+    let (before, after) = capsule_step(|strands| posed(held_roots(strands), vec![capsule]));
+    let axis = f64::from(-0.15f32);
+    let first = axis + (-axis + 0.1) + 0.1;
+    let full = axis - f64::from(0.3f32) - 0.1;
+    for (i, want) in [(1, first), (2, full), (3, full), (4, before[4].0)] {
+        assert!(
+            (after[i].0 - want).abs() < 1e-6 && (after[i].1 - 0.5).abs() < 1e-7,
+            "vertex {i} at {:?}, not x = {want}",
+            after[i]
+        );
+    }
 }
 
 /// Parameters under which a substep moves nothing but by the local shape constraint,

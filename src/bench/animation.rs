@@ -285,8 +285,8 @@ impl Bench<'_> {
         );
 
         // Collision: each way.
-        let (field, _) = Sdf::for_hair(&mesh, &params, strands.hair_length())?;
-        let cells = Sdf::cells_for_hair(&mesh, &params, strands.hair_length());
+        let (field, _) = Sdf::for_hair(&mesh, &params, strands.hair_length(), true)?;
+        let cells = Sdf::cells_for_hair(&mesh, &params, strands.hair_length(), true);
         // Per way: a finer field where it asks for one.
         let mut finer = Vec::new();
         for way in &WAYS {

@@ -69,7 +69,7 @@ impl Bench<'_> {
         let (groom, _, _) = crate::sim::sdf::pressing_case(radius, true);
         let pressed = Strands::grow(&blob, &groom)?;
         let hair = pressed.hair_length();
-        let default_cells = Sdf::cells_for_hair(&blob, &SimParams::default(), hair);
+        let default_cells = Sdf::cells_for_hair(&blob, &SimParams::default(), hair, false);
         let _ = writeln!(
             self.md,
             "## Collision\n\nThe blob's distance field at each resolution (cells along the longest \

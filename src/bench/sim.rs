@@ -67,7 +67,7 @@ pub(super) fn blob_strands() -> Result<Strands> {
 
 /// The default scene's body at `params`' resolution (as a session builds it).
 pub(super) fn blob_body(strands: &Strands, params: &SimParams) -> Result<Sdf> {
-    Ok(Sdf::for_hair(&Mesh::blob(), params, strands.hair_length())?.0)
+    Ok(Sdf::for_hair(&Mesh::blob(), params, strands.hair_length(), false)?.0)
 }
 
 impl Bench<'_> {

@@ -2,7 +2,7 @@
 //! same arithmetic): a rigid body's signed distance field, or on a skinned body the rest
 //! pose's field carried by each strand's root pose together with the bones' capsules.
 
-use super::math::{max, min_length, Head, Real, M3, V3};
+use super::math::{max, min, min_length, Head, Real, M3, V3};
 use super::sdf::Sdf;
 
 /// Projections onto the margin per vertex and substep, at most, on a rigid body.
@@ -58,13 +58,15 @@ const NEAR_CAPSULES: usize = 4;
 /// joints; 0.25 and 0.1 both 8.1 %, as every capsule at its full radius does.
 const CAPSULE_RAMP: f32 = 0.25;
 
-/// A capsule as the collision loop reads it: `a`, radius, `b − a`, `|b − a|²`.
+/// A capsule as the collision loop reads it: `a`, radius, `b − a`, `|b − a|²`, and the
+/// strand's root's distance from its axis.
 #[derive(Clone, Copy, Debug)]
 pub(super) struct NearCapsule<T> {
     a: V3<T>,
     radius: T,
     ab: V3<T>,
     len2: T,
+    root: T,
 }
 
 /// The capsules a strand with root `pose` and rest `length` collides with: the
@@ -104,7 +106,17 @@ pub(super) fn near_capsules<T: Real>(
         let (ra, rb) = rest
             .get(c)
             .map_or((a, b), |r| (carried(r[0]), carried(r[1])));
-        let moved = max((a - ra).length(), (b - rb).length());
+        let mut moved = max((a - ra).length(), (b - rb).length());
+        // The skin at the capsule's far end bends with its child bone: the child's far
+        // end counts too.
+        let child = rest.get(c).map_or(-1.0, |r| r[1].w);
+        if child >= 0.0 {
+            let j = child as usize;
+            if let (Some(posed), Some(r)) = (capsules.get(j), rest.get(j)) {
+                let kb = V3::from_vec3(posed[1].truncate());
+                moved = max(moved, (kb - carried(r[1])).length());
+            }
+        }
         let ramp = T::from_f32(CAPSULE_RAMP) * length;
         let scale = if less(moved, ramp) {
             moved / ramp
@@ -124,6 +136,7 @@ pub(super) fn near_capsules<T: Real>(
                     radius,
                     ab,
                     len2,
+                    root: dist,
                 },
             ));
             near.len() - 1
@@ -143,6 +156,7 @@ pub(super) fn near_capsules<T: Real>(
                 radius,
                 ab,
                 len2,
+                root: dist,
             },
         );
     }
@@ -182,11 +196,15 @@ impl<T: Real> Collider<'_, T> {
     /// strand's root `pose` (sampled trilinearly: creases open and close as the body
     /// moves, and the nearest-point sample jumps in them), and the bone capsules near it
     /// ([`near_capsules`]), each a constraint projected in turn, in model space; the
-    /// contact's normal is the direction of the whole push.
+    /// contact's normal is the direction of the whole push. For a vertex `arc` along
+    /// the hair from its root, a capsule reaches no farther from its axis than the root's
+    /// distance plus `arc`: as far as the vertex can get while attached. A root inside
+    /// a capsule's radius, in a crease the capsule overfills (the armpit), would
+    /// otherwise have its first vertices pushed into the skin beside it.
     pub fn push_out_skinned(
         &self,
         head: &Head<T>,
-        (pose, capsules, margin): (&Pose<T>, &[NearCapsule<T>], T),
+        (pose, capsules, arc, margin): (&Pose<T>, &[NearCapsule<T>], T, T),
         x: &mut V3<T>,
         previous: &mut V3<T>,
     ) {
@@ -212,7 +230,7 @@ impl<T: Real> Collider<'_, T> {
                 let t = segment_parameter(m, a, ab, c.len2);
                 let off = m - (a + ab.scale(t));
                 let dist = off.length();
-                let d = dist - c.radius;
+                let d = dist - min(c.radius, c.root + arc);
                 if less(d, margin) && greater(dist, min_length::<T>()) {
                     let n = off.scale(T::ONE / dist);
                     m = m + n.scale(margin - d);

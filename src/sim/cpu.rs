@@ -266,11 +266,17 @@ impl<T: Real> CpuSim<T> {
                 let near = carrier.pose.as_ref().map_or(Vec::new(), |pose| {
                     super::collide::near_capsules(pose, capsules, (length, margin))
                 });
+                let segments = T::from_f32((v - 1) as f32);
                 for i in 1..v {
                     match &carrier.pose {
                         Some(pose) => collider.push_out_skinned(
                             &head,
-                            (pose, &near, margin),
+                            (
+                                pose,
+                                &near,
+                                T::from_f32(i as f32) * length / segments,
+                                margin,
+                            ),
                             &mut x[i],
                             &mut prev[i],
                         ),

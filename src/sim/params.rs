@@ -9,6 +9,15 @@ use crate::error::{Error, Result};
 /// Cells along the longest axis a body's distance field may have, at least and at most.
 pub use crate::geometry::sdf::RESOLUTION_RANGE as SDF_RESOLUTION_RANGE;
 
+/// The distance field's cells per hair length on a rigid body: the deepest vertex of the
+/// benchmark's pressing case stays within half a percent of the hair length.
+pub const CELLS_PER_HAIR: f32 = 3.0;
+/// The same on a skinned body, whose thin parts (ears, paws) the field carried by each
+/// root pose must resolve: on the walking critter (63 cells), ear hair no longer ends up
+/// inside the ear (2.1 % of its length at 3 cells per hair) and the mean depth falls
+/// about 5× (docs/benchmark.md).
+pub const CELLS_PER_HAIR_SKINNED: f32 = 6.0;
+
 /// Han & Harada strand simulation parameters. Units: metres, seconds.
 #[derive(Clone, Debug, PartialEq)]
 pub struct SimParams {
@@ -131,12 +140,19 @@ impl SimParams {
     }
 
     /// The distance field's resolution for hairs of `hair_length` on a model whose
-    /// padded bounding box is `extent` long on its longest axis.
-    pub fn sdf_cells(&self, extent: f32, hair_length: f32) -> u32 {
+    /// padded bounding box is `extent` long on its longest axis: [`CELLS_PER_HAIR`]
+    /// cells per hair length on a rigid body, [`CELLS_PER_HAIR_SKINNED`] on a skinned
+    /// one.
+    pub fn sdf_cells(&self, extent: f32, hair_length: f32, skinned: bool) -> u32 {
         if self.sdf_resolution > 0 {
             return self.sdf_resolution;
         }
-        let cells = (3.0 * extent / hair_length.max(1e-12)).ceil();
+        let per_hair = if skinned {
+            CELLS_PER_HAIR_SKINNED
+        } else {
+            CELLS_PER_HAIR
+        };
+        let cells = (per_hair * extent / hair_length.max(1e-12)).ceil();
         (cells.min(1e6) as u32).clamp(16, 128)
     }
 

@@ -10,23 +10,29 @@ pub use crate::geometry::sdf::*;
 use crate::scene::Mesh;
 
 impl Sdf {
-    /// The field a simulation with `params` uses for hairs of `hair_length` on `mesh`:
-    /// padded by the hair length, at `params`' resolution.
+    /// The field a simulation with `params` uses for hairs of `hair_length` on `mesh`
+    /// (`skinned` or rigid): padded by the hair length, at `params`' resolution.
     pub fn for_hair(
         mesh: &Mesh,
         params: &super::params::SimParams,
         hair_length: f32,
+        skinned: bool,
     ) -> Result<(Self, SdfReport)> {
-        let cells = Self::cells_for_hair(mesh, params, hair_length);
+        let cells = Self::cells_for_hair(mesh, params, hair_length, skinned);
         Self::build(mesh, cells, hair_length)
     }
 
     /// The resolution [`Sdf::for_hair`] builds at: `params`' cells along the longest
     /// axis of `mesh`'s box padded by the hair length.
-    pub fn cells_for_hair(mesh: &Mesh, params: &super::params::SimParams, hair_length: f32) -> u32 {
+    pub fn cells_for_hair(
+        mesh: &Mesh,
+        params: &super::params::SimParams,
+        hair_length: f32,
+        skinned: bool,
+    ) -> u32 {
         let (min, max) = mesh.aabb();
         let extent = (max - min).max_element() + 2.0 * hair_length;
-        params.sdf_cells(extent, hair_length)
+        params.sdf_cells(extent, hair_length, skinned)
     }
 }
 

@@ -9,7 +9,9 @@
 //! vertices' distances to that segment: it follows the skin, about half of it outside.
 //! It need not be inscribed: the simulation scales each capsule by how far its bone
 //! moved relative to a strand's root (`near_capsules` in `crate::sim::collide`), so a
-//! capsule pushes only hair its bone moved against, its own bone's included.
+//! capsule pushes only hair its bone moved against, its own bone's included. The skin at
+//! a capsule's far end bends with the next bone, so the next bone's motion counts for it
+//! too: a knee bending under a thigh that stays put relative to the rump's hair.
 //!
 //! Measured on the walking critter, the deepest strand vertex inside the skin (hair
 //! lengths, CPU reference): inscribed capsules (10th percentile; a leaf from its joint
@@ -32,6 +34,9 @@ const RADIUS_PERCENTILE: f32 = 0.5;
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Capsule {
     pub joint: usize,
+    /// The capsule of this bone's first child joint, if that has one: the skin at this
+    /// capsule's far end bends with it.
+    pub child: Option<usize>,
     pub a: Vec3,
     pub b: Vec3,
     pub radius: f32,
@@ -121,17 +126,26 @@ pub fn fit(rig: &Rig) -> Vec<Capsule> {
         if radius > 0.0 && radius.is_finite() {
             capsules.push(Capsule {
                 joint: j,
+                child,
                 a,
                 b,
                 radius,
             });
         }
     }
+    // The child joint's capsule, where it has one.
+    let index: Vec<Option<usize>> = (0..rig.joints.len())
+        .map(|j| capsules.iter().position(|c| c.joint == j))
+        .collect();
+    for c in &mut capsules {
+        c.child = c.child.and_then(|j| index[j]);
+    }
     capsules
 }
 
 /// The capsules posed by the joint `matrices`, as the simulation reads them: per capsule
-/// `(a, radius)` and `(b, 0)` in model space. A joint's scale scales its radius.
+/// `(a, radius)` and `(b, child)` in model space, `child` the index of the child bone's
+/// capsule or −1. A joint's scale scales its radius.
 pub fn pose(capsules: &[Capsule], matrices: &[Mat4]) -> Vec<[Vec4; 2]> {
     capsules
         .iter()
@@ -140,7 +154,8 @@ pub fn pose(capsules: &[Capsule], matrices: &[Mat4]) -> Vec<[Vec4; 2]> {
             let scale = m.determinant().abs().cbrt();
             [
                 m.transform_point3(c.a).extend(c.radius * scale),
-                m.transform_point3(c.b).extend(0.0),
+                m.transform_point3(c.b)
+                    .extend(c.child.map_or(-1.0, |k| k as f32)),
             ]
         })
         .collect()

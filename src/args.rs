@@ -241,7 +241,7 @@ pub struct SimArgs {
     #[arg(long, allow_negative_numbers = true)]
     pub friction: Option<f32>,
     /// Distance-field cells along the model's longest axis (8..=128); 0 chooses from the
-    /// hair length (cells about a third of it, 16..=128) [0].
+    /// hair length (cells about a third of it, a sixth on a skinned body, 16..=128) [0].
     #[arg(long, allow_negative_numbers = true)]
     pub sdf_resolution: Option<u32>,
 }

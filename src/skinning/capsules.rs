@@ -104,6 +104,8 @@ pub fn fit(rig: &Rig) -> Vec<Capsule> {
         }
     }
     let mut capsules = Vec::new();
+    // Each capsule's child joint, made a capsule index below.
+    let mut child_joints = Vec::new();
     for (j, joint) in rig.joints.iter().enumerate() {
         let points = &owned[j];
         if points.len() < MIN_VERTICES {
@@ -124,21 +126,19 @@ pub fn fit(rig: &Rig) -> Vec<Capsule> {
         distances.sort_by(f32::total_cmp);
         let radius = distances[((distances.len() - 1) as f32 * RADIUS_PERCENTILE) as usize];
         if radius > 0.0 && radius.is_finite() {
+            child_joints.push(child);
             capsules.push(Capsule {
                 joint: j,
-                child,
+                child: None,
                 a,
                 b,
                 radius,
             });
         }
     }
-    // The child joint's capsule, where it has one.
-    let index: Vec<Option<usize>> = (0..rig.joints.len())
-        .map(|j| capsules.iter().position(|c| c.joint == j))
-        .collect();
-    for c in &mut capsules {
-        c.child = c.child.and_then(|j| index[j]);
+    let joints: Vec<usize> = capsules.iter().map(|c| c.joint).collect();
+    for (capsule, child) in capsules.iter_mut().zip(child_joints) {
+        capsule.child = child.and_then(|j| joints.iter().position(|&k| k == j));
     }
     capsules
 }
@@ -203,6 +203,27 @@ mod tests {
             count * 10 > mesh.vertex_count() * 9,
             "{count} vertices with a capsule"
         );
+    }
+
+    /// Each capsule names its child bone's capsule: an upper leg its lower leg, a lower
+    /// leg its paw; a paw, a leaf, none. The posed capsules carry the index in `b.w`.
+    #[test]
+    fn capsules_name_their_child_bones_capsule() {
+        let (_, rig) = crate::scene::critter();
+        let capsules = fit(&rig);
+        let name = |c: &Capsule| rig.nodes[rig.joints[c.joint].node].name.as_str();
+        let find = |n: &str| capsules.iter().position(|c| name(c) == n).unwrap();
+        for leg in ["front_leg.L", "front_leg.R", "hind_leg.L", "hind_leg.R"] {
+            let [upper, lower, paw] =
+                ["upper", "lower", "paw"].map(|p| find(&format!("{leg}.{p}")));
+            assert_eq!(capsules[upper].child, Some(lower), "{leg}");
+            assert_eq!(capsules[lower].child, Some(paw), "{leg}");
+            assert_eq!(capsules[paw].child, None, "{leg}");
+        }
+        let posed = pose(&capsules, &[]);
+        for (c, p) in capsules.iter().zip(&posed) {
+            assert_eq!(p[1].w, c.child.map_or(-1.0, |k| k as f32));
+        }
     }
 
     #[test]

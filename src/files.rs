@@ -258,8 +258,9 @@ pub fn check_output_file(path: &Path) -> Result<()> {
     }
 }
 
-/// Checks, before any work, that files can be written into the folder `dir`, making it
-/// if needed.
+/// Checks, before any work, that files can be written into the folder `dir`. Folders
+/// it has to make for the check it takes away again (only while empty), so a run that
+/// fails later leaves none behind; writing a file makes its folder ([`write_output`]).
 pub fn check_output_dir(dir: &Path) -> Result<()> {
     if let Ok(m) = std::fs::metadata(dir) {
         if !m.is_dir() {
@@ -270,11 +271,23 @@ pub fn check_output_dir(dir: &Path) -> Result<()> {
             });
         }
     }
-    std::fs::create_dir_all(dir).map_err(|e| Error::io("create the folder", dir, e))?;
+    // The folders that do not exist yet, deepest first.
+    let missing: Vec<&Path> = dir
+        .ancestors()
+        .filter(|a| !a.as_os_str().is_empty())
+        .take_while(|a| std::fs::symlink_metadata(a).is_err())
+        .collect();
+    let made = std::fs::create_dir_all(dir).map_err(|e| Error::io("create the folder", dir, e));
     let probe = dir.join(format!(".fur-write-check-{}", std::process::id()));
-    File::create(&probe).map_err(|e| Error::io("write into the folder", dir, e))?;
+    let written = made.and_then(|()| {
+        File::create(&probe).map_err(|e| Error::io("write into the folder", dir, e))
+    });
     let _ = std::fs::remove_file(&probe);
-    Ok(())
+    for folder in missing {
+        // Fails, harmlessly, on a folder something else has put a file into meanwhile.
+        let _ = std::fs::remove_dir(folder);
+    }
+    written.map(drop)
 }
 
 #[cfg(test)]
@@ -307,6 +320,26 @@ mod tests {
             .filter(|e| e.file_name().to_string_lossy().contains("partial"))
             .collect();
         assert!(leftovers.is_empty(), "temporary files left: {leftovers:?}");
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+
+    /// The check makes no folder that outlives it (a run failing after the check leaves
+    /// none behind); writing a file makes the folders it needs.
+    #[test]
+    fn the_folder_check_leaves_no_folder_and_a_write_makes_it() {
+        let dir = temp_dir("made");
+        let nested = dir.join("a").join("b");
+        check_output_dir(&nested).unwrap();
+        assert!(!dir.join("a").exists(), "the check left {}", dir.display());
+        let existing = dir.join("kept");
+        std::fs::create_dir(&existing).unwrap();
+        check_output_dir(&existing).unwrap();
+        assert!(
+            existing.is_dir(),
+            "the check took away a folder it did not make"
+        );
+        write_output(&nested.join("x.txt"), b"x", "test output").unwrap();
+        assert_eq!(std::fs::read(nested.join("x.txt")).unwrap(), b"x");
         let _ = std::fs::remove_dir_all(&dir);
     }
 

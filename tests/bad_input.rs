@@ -414,6 +414,29 @@ fn impossible_flags_fail_cleanly() {
     }
 }
 
+/// A run that fails after its output folder was checked leaves no folder behind.
+#[test]
+fn a_failed_run_leaves_no_output_folder() {
+    let folder = scratch().join("never_made").join("frames");
+    let _ = std::fs::remove_dir_all(scratch().join("never_made"));
+    let out = folder.to_str().unwrap();
+    let o = run(&[
+        "render",
+        "--frames",
+        "3",
+        "--amplitude",
+        "nan",
+        "--out-dir",
+        out,
+    ]);
+    fails(&o, "amplitude", "render --amplitude nan --out-dir");
+    assert!(
+        !scratch().join("never_made").exists(),
+        "the failed run left {}",
+        folder.display()
+    );
+}
+
 #[test]
 fn bad_output_paths_fail_before_any_work() {
     let dir = scratch();

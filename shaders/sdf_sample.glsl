@@ -14,7 +14,7 @@ bool sdf_sample(vec3 m, out float value, out vec3 gradient) {
     }
     uvec3 c = uvec3(floor(g + 0.5));
     vec3 offset = (g - vec3(c)) * sim.collision.w;
-    vec4 s = sdf[c.x + sim.sdf_dims.x * (c.y + sim.sdf_dims.y * c.z)];
+    vec4 s = imageLoad(sdf, ivec3(c));
     gradient = s.yzw;
     value = s.x + (s.y * offset.x + s.z * offset.y + s.w * offset.z);
     return true;
@@ -39,7 +39,7 @@ bool sdf_sample_trilinear(vec3 m, out float value, out vec3 gradient) {
         vec3 w3 = mix(vec3(1.0) - f, f, bvec3(offset));
         float w = w3.x * w3.y * w3.z;
         uvec3 c = base + offset;
-        vec4 s = sdf[c.x + sim.sdf_dims.x * (c.y + sim.sdf_dims.y * c.z)];
+        vec4 s = imageLoad(sdf, ivec3(c));
         // This grid point's first-order expansion at m.
         vec3 o = (f - vec3(offset)) * sim.collision.w;
         value = value + w * (s.x + (s.y * o.x + s.z * o.y + s.w * o.z));

@@ -42,11 +42,10 @@ layout(set = 0, binding = 4, std430) REST_ACCESS buffer RootFrames {
 };
 layout(set = 0, binding = 5, rgba32f) uniform image2D previous_positions;
 layout(set = 0, binding = 6, rgba32f) uniform image2D current_positions;
-// The body's signed distance field (src/sim/sdf.rs): per grid point, x fastest, the
-// distance and the field's gradient there.
-layout(set = 0, binding = 7, std430) readonly buffer Sdf {
-    vec4 sdf[];
-};
+// The body's signed distance field (src/sim/sdf.rs, on the device src/sim/field.rs):
+// per grid point, the distance and the field's gradient there. An image, not a buffer:
+// a CPU driver reads an image at lane-varying points in one gather.
+layout(set = 0, binding = 7, rgba32f) uniform readonly image3D sdf;
 
 // A skinned body's root pose of every strand for each substep of this dispatch
 // (shaders/skin.comp): R's columns, with the skinned root in their w.
@@ -55,11 +54,14 @@ layout(set = 0, binding = 8, std430) readonly buffer RootPoses {
 };
 
 // A skinned body's bone capsules at the bind pose, then for each substep of the
-// submission: (a, radius), (b, 0) in model space, sim.counts2.y of them per pose
-// (src/skinning/capsules.rs).
-layout(set = 0, binding = 9, std430) readonly buffer Capsules {
-    vec4 capsules[];
-};
+// submission: (a, radius), (b, the child bone's capsule or −1) in model space,
+// sim.counts2.y of them per pose (src/skinning/capsules.rs). A texel buffer, not a
+// storage buffer: a CPU driver reads it in one gather (src/gpu/buffer.rs).
+layout(set = 0, binding = 9, rgba32f) uniform readonly imageBuffer capsules;
+
+vec4 capsule(uint i) {
+    return imageLoad(capsules, int(i));
+}
 
 // Per strand, its root pose after the last substep simulated (R's columns, the root in
 // w), so the next substep can carry the strand along with the body.

@@ -229,9 +229,9 @@ void select_capsules(uint k, float reach) {
     uint count = sim.counts2.y;
     for (uint c = 0u; c < count; ++c) {
         // The buffer holds the bind pose's capsules, then each substep's.
-        vec4 ca = capsules[2u * ((k + 1u) * count + c)];
+        vec4 ca = capsule(2u * ((k + 1u) * count + c));
         vec3 a = ca.xyz;
-        vec3 b = capsules[2u * ((k + 1u) * count + c) + 1u].xyz;
+        vec3 b = capsule(2u * ((k + 1u) * count + c) + 1u).xyz;
         vec3 ab = b - a;
         float len2 = dot(ab, ab);
         float t = len2 > 0.0 ? clamp(dot(pose_root - a, ab) / len2, 0.0, 1.0) : 0.0;
@@ -241,16 +241,16 @@ void select_capsules(uint k, float reach) {
         if (!(dist - ca.w < reach)) {
             continue;
         }
-        vec3 ra = pose_rotation * (capsules[2u * c].xyz - rest_root) + pose_root;
-        vec3 rb = pose_rotation * (capsules[2u * c + 1u].xyz - rest_root) + pose_root;
+        vec3 ra = pose_rotation * (capsule(2u * c).xyz - rest_root) + pose_root;
+        vec3 rb = pose_rotation * (capsule(2u * c + 1u).xyz - rest_root) + pose_root;
         float moved = max(length(a - ra), length(b - rb));
-        float child = capsules[2u * c + 1u].w;
+        float child = capsule(2u * c + 1u).w;
         if (child >= 0.0) {
             // The skin at the capsule's far end bends with its child bone: the child's
             // far end counts too.
             uint j = uint(child);
-            vec3 kb = capsules[2u * ((k + 1u) * count + j) + 1u].xyz;
-            vec3 rk = pose_rotation * (capsules[2u * j + 1u].xyz - rest_root) + pose_root;
+            vec3 kb = capsule(2u * ((k + 1u) * count + j) + 1u).xyz;
+            vec3 rk = pose_rotation * (capsule(2u * j + 1u).xyz - rest_root) + pose_root;
             moved = max(moved, length(kb - rk));
         }
         float ramp = CAPSULE_RAMP * strand_length;

@@ -119,3 +119,57 @@ impl Drop for Buffer {
         unsafe { self.device.raw.destroy_buffer(self.raw, None) };
     }
 }
+
+/// A host-visible buffer that shaders read through a texel view (`imageBuffer`, a
+/// storage texel buffer). On a CPU driver a texel read at lane-varying or
+/// loop-varying indices is one gather, where a storage-buffer read loops over the lanes.
+pub struct TexelBuffer {
+    view: vk::BufferView,
+    pub buffer: Buffer,
+}
+
+impl TexelBuffer {
+    /// A host-visible buffer of `texels` texels of `format` (`texel_bytes` each), usable
+    /// as a storage texel buffer; refused, naming the limit, past the device's largest.
+    pub fn new(
+        device: &Arc<Device>,
+        name: &str,
+        texels: u64,
+        (format, texel_bytes): (vk::Format, u64),
+    ) -> Result<Self> {
+        let limit = u64::from(device.info.limits.max_texel_buffer_elements);
+        if texels > limit {
+            return Err(Error::Parameter(format!(
+                "{name} needs {texels} texels, more than this device's largest texel buffer \
+                 ({limit})"
+            )));
+        }
+        let buffer = Buffer::new(
+            device,
+            name,
+            texels.max(1) * texel_bytes,
+            vk::BufferUsageFlags::STORAGE_TEXEL_BUFFER,
+            MemoryLocation::CpuToGpu,
+        )?;
+        let info = vk::BufferViewCreateInfo::default()
+            .buffer(buffer.raw)
+            .format(format)
+            .offset(0)
+            .range(vk::WHOLE_SIZE);
+        let view =
+            unsafe { device.raw.create_buffer_view(&info, None) }.vk("vkCreateBufferView")?;
+        device.set_name(view, name);
+        Ok(Self { view, buffer })
+    }
+
+    pub fn view(&self) -> vk::BufferView {
+        self.view
+    }
+}
+
+impl Drop for TexelBuffer {
+    fn drop(&mut self) {
+        // The view goes first; the buffer is dropped after this.
+        unsafe { self.buffer.device.raw.destroy_buffer_view(self.view, None) };
+    }
+}

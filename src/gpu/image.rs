@@ -1,4 +1,4 @@
-//! 2D images with one view each, allocated through `gpu-allocator`.
+//! Images (2D, and 3D volumes) with one view each, allocated through `gpu-allocator`.
 
 use std::sync::Arc;
 
@@ -40,13 +40,34 @@ impl Image {
         desc: ImageDesc,
         mip_levels: u32,
     ) -> Result<Self> {
+        Self::create(device, name, desc, mip_levels, None)
+    }
+
+    /// A 3D image `depth` slices deep of `desc.extent` each, one level, single-sampled
+    /// (a volume such as a distance field, read as a storage image).
+    pub fn volume(device: &Arc<Device>, name: &str, desc: ImageDesc, depth: u32) -> Result<Self> {
+        Self::create(device, name, desc, 1, Some(depth))
+    }
+
+    /// A 2D image (`depth` None) or a 3D one.
+    fn create(
+        device: &Arc<Device>,
+        name: &str,
+        desc: ImageDesc,
+        mip_levels: u32,
+        depth: Option<u32>,
+    ) -> Result<Self> {
+        let (image_type, view_type) = match depth {
+            Some(_) => (vk::ImageType::TYPE_3D, vk::ImageViewType::TYPE_3D),
+            None => (vk::ImageType::TYPE_2D, vk::ImageViewType::TYPE_2D),
+        };
         let info = vk::ImageCreateInfo::default()
-            .image_type(vk::ImageType::TYPE_2D)
+            .image_type(image_type)
             .format(desc.format)
             .extent(vk::Extent3D {
                 width: desc.extent.width,
                 height: desc.extent.height,
-                depth: 1,
+                depth: depth.unwrap_or(1),
             })
             .mip_levels(mip_levels)
             .array_layers(1)
@@ -87,7 +108,7 @@ impl Image {
             .vk("vkBindImageMemory")?;
         let view_info = vk::ImageViewCreateInfo::default()
             .image(raw)
-            .view_type(vk::ImageViewType::TYPE_2D)
+            .view_type(view_type)
             .format(desc.format)
             .subresource_range(subresource_range(desc.aspect));
         image.view =

@@ -12,7 +12,7 @@ mod swapchain;
 
 use std::sync::Arc;
 
-pub use buffer::Buffer;
+pub use buffer::{Buffer, TexelBuffer};
 pub use device::{Device, DeviceInfo, PresentTarget};
 pub use image::{
     image_barrier, image_barriers, memory_barrier, subresource_range, whole_image_copy, Image,

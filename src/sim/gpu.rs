@@ -20,7 +20,7 @@ pub use super::steps::SimStep;
 use crate::error::{Error, Result};
 use crate::gpu::{
     memory_barrier, Buffer, DescriptorPool, DescriptorSetLayout, Device, Pipeline, PipelineLayout,
-    QueryPool, Specialization,
+    QueryPool, Specialization, TexelBuffer,
 };
 use crate::skinning::{GpuSkin, Playback, SkinnedBody};
 use crate::strand_textures::StrandTextures;
@@ -63,14 +63,15 @@ pub struct GpuSim {
     /// Steps to compile in even when the parameters do not need them (the benchmark
     /// measures steps alone this way); `None`: exactly the needed ones.
     forced_steps: Option<u32>,
-    /// The body's distance field (per grid point its value and gradient, a `vec4`; a
+    /// The body's distance field (a 3D image, per grid point its value and gradient; a
     /// placeholder without a body) and its grid.
-    _body: Buffer,
+    _body: crate::gpu::Image,
     grid: Option<BodyGrid>,
     /// The skinned body, if the strands grow on one.
     pub skinned: Option<Skinned>,
-    /// Stands in for the root poses of a rigid body.
+    /// Stand in for the root poses and capsules of a rigid body.
     _no_poses: Buffer,
+    _no_capsules: TexelBuffer,
     /// Per frame in flight: step constants, timestamps, descriptor sets.
     slots: Vec<SimSlot>,
     /// Simulated time in seconds.
@@ -153,20 +154,7 @@ impl GpuSim {
             vk::BufferUsageFlags::UNIFORM_BUFFER,
             MemoryLocation::CpuToGpu,
         )?;
-        let body_buffer = match body {
-            Some(sdf) => Buffer::with_data(
-                device,
-                "sim.body_sdf",
-                vk::BufferUsageFlags::STORAGE_BUFFER,
-                &sdf.texels(),
-            )?,
-            None => Buffer::with_data(
-                device,
-                "sim.no_body",
-                vk::BufferUsageFlags::STORAGE_BUFFER,
-                &[0.0f32; 4],
-            )?,
-        };
+        let body_field = super::field::upload(device, body)?;
         let skinned = match skinned {
             Some((body, playback)) => {
                 if body.vertex_count() != textures.layout.strand_count as usize {
@@ -203,10 +191,16 @@ impl GpuSim {
         let last = skinned
             .as_ref()
             .map_or(&no_poses, |s: &Skinned| &s.skin.last_poses);
+        let no_capsules = TexelBuffer::new(
+            device,
+            "sim.no_capsules",
+            2,
+            (vk::Format::R32G32B32A32_SFLOAT, 16),
+        )?;
         let capsules = |slot: usize| {
             skinned
                 .as_ref()
-                .map_or(&no_poses, |s: &Skinned| &s.skin.capsules[slot])
+                .map_or(&no_capsules, |s: &Skinned| &s.skin.capsules[slot])
         };
         let mut slots = Vec::new();
         for slot in 0..frames_in_flight {
@@ -226,7 +220,7 @@ impl GpuSim {
                     &statics,
                     &steps,
                     textures,
-                    (&body_buffer, root_poses, capsules(slot), last),
+                    (&body_field, root_poses, capsules(slot), last),
                 );
             }
             let timestamps = if device.info.timestamps {
@@ -256,7 +250,7 @@ impl GpuSim {
             statics,
             pipeline: None,
             forced_steps: None,
-            _body: body_buffer,
+            _body: body_field,
             grid: body.map(|sdf| BodyGrid {
                 origin: sdf.origin,
                 cell: sdf.cell,
@@ -264,6 +258,7 @@ impl GpuSim {
             }),
             skinned,
             _no_poses: no_poses,
+            _no_capsules: no_capsules,
             slots,
             time: 0.0,
         };

@@ -6,7 +6,7 @@ use ash::vk;
 use glam::{Mat4, UVec4, Vec4};
 
 use super::params::StepConstants;
-use crate::gpu::{memory_barrier, Buffer, Device};
+use crate::gpu::{memory_barrier, Buffer, Device, TexelBuffer};
 use crate::strand_textures::StrandTextures;
 
 /// `SimStatic` in `shaders/sim_common.glsl` (std140).
@@ -52,9 +52,9 @@ pub(super) fn bindings() -> [(vk::DescriptorType, vk::ShaderStageFlags); 11] {
         (vk::DescriptorType::STORAGE_BUFFER, c),
         (vk::DescriptorType::STORAGE_IMAGE, c),
         (vk::DescriptorType::STORAGE_IMAGE, c),
+        (vk::DescriptorType::STORAGE_IMAGE, c), // the body's distance field
         (vk::DescriptorType::STORAGE_BUFFER, c),
-        (vk::DescriptorType::STORAGE_BUFFER, c),
-        (vk::DescriptorType::STORAGE_BUFFER, c),
+        (vk::DescriptorType::STORAGE_TEXEL_BUFFER, c), // the bones' capsules
         (vk::DescriptorType::STORAGE_BUFFER, c),
     ]
 }
@@ -82,7 +82,7 @@ pub(super) fn write_sim_set(
     statics: &Buffer,
     steps: &Buffer,
     textures: &StrandTextures,
-    (body, root_poses, capsules, last): (&Buffer, &Buffer, &Buffer, &Buffer),
+    (body, root_poses, capsules, last): (&crate::gpu::Image, &Buffer, &TexelBuffer, &Buffer),
 ) {
     let bindings = bindings();
     let buffer = |b: &Buffer| {
@@ -95,16 +95,19 @@ pub(super) fn write_sim_set(
             .image_view(i.view())
             .image_layout(vk::ImageLayout::GENERAL)]
     };
-    let (b0, b1, b4, b7, b8) = (
+    let (b0, b1, b4, b8) = (
         buffer(statics),
         buffer(steps),
         buffer(&textures.root_frames),
-        buffer(body),
         buffer(root_poses),
     );
-    let b9 = buffer(capsules);
+    let t9 = [capsules.view()];
     let b10 = buffer(last);
-    let (i2, i3) = (image(&textures.rest), image(&textures.rest_local));
+    let (i2, i3, i7) = (
+        image(&textures.rest),
+        image(&textures.rest_local),
+        image(body),
+    );
     let (i5, i6) = (
         image(&textures.positions[1 - k]),
         image(&textures.positions[k]),
@@ -123,9 +126,9 @@ pub(super) fn write_sim_set(
         write(4).buffer_info(&b4),
         write(5).image_info(&i5),
         write(6).image_info(&i6),
-        write(7).buffer_info(&b7),
+        write(7).image_info(&i7),
         write(8).buffer_info(&b8),
-        write(9).buffer_info(&b9),
+        write(9).texel_buffer_view(&t9),
         write(10).buffer_info(&b10),
     ];
     unsafe { device.raw.update_descriptor_sets(&writes, &[]) };

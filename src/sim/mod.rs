@@ -3,6 +3,7 @@
 
 mod collide;
 pub mod cpu;
+mod field;
 mod math;
 mod motion;
 mod params;

@@ -13,7 +13,7 @@ use super::SkinnedBody;
 use crate::error::{Error, Result};
 use crate::gpu::{
     memory_barrier, Buffer, DescriptorPool, DescriptorSetLayout, Device, Pipeline, PipelineLayout,
-    Specialization,
+    Specialization, TexelBuffer,
 };
 
 /// Vertices per workgroup (`local_size_x` in `skin.comp`).
@@ -37,7 +37,7 @@ pub struct GpuSkin {
     joints: Vec<Buffer>,
     /// Per frame in flight: the bones' posed capsules of every substep of a submission
     /// (read by the simulation's collision step).
-    pub capsules: Vec<Buffer>,
+    pub capsules: Vec<TexelBuffer>,
     pub capsule_count: u32,
     /// Per strand, its root pose after the last simulated substep (the simulation's).
     pub last_poses: Buffer,
@@ -148,15 +148,16 @@ impl GpuSkin {
         let rest_capsules = super::capsules::pose(&body.capsules, &[]);
         let capsules = (0..frames_in_flight)
             .map(|slot| {
-                let mut buffer = Buffer::new(
+                let mut capsules = TexelBuffer::new(
                     device,
                     &format!("skin.capsules[{slot}]"),
-                    ((step_capacity + 1) * capsule_count.max(1) as usize * 32) as u64,
-                    storage,
-                    MemoryLocation::CpuToGpu,
+                    ((step_capacity + 1) * capsule_count.max(1) as usize * 2) as u64,
+                    (vk::Format::R32G32B32A32_SFLOAT, 16),
                 )?;
-                buffer.write(0, bytemuck::cast_slice(&rest_capsules));
-                Ok(buffer)
+                capsules
+                    .buffer
+                    .write(0, bytemuck::cast_slice(&rest_capsules));
+                Ok(capsules)
             })
             .collect::<Result<Vec<_>>>()?;
         let bindings = bindings();
@@ -245,9 +246,10 @@ impl GpuSkin {
     /// bind pose's, which lead the buffer.
     pub fn write_capsules(&mut self, slot: usize, capsules: &[[Vec4; 2]]) {
         let lead = self.capsule_count as usize;
-        let capacity = (self.capsules[slot].size() as usize / 32).saturating_sub(lead);
+        let buffer = &mut self.capsules[slot].buffer;
+        let capacity = (buffer.size() as usize / 32).saturating_sub(lead);
         let n = capsules.len().min(capacity);
-        self.capsules[slot].write(lead * 32, bytemuck::cast_slice(&capsules[..n]));
+        buffer.write(lead * 32, bytemuck::cast_slice(&capsules[..n]));
     }
 
     /// Records the skinning of substeps `first .. first + count` of the submission (the
@@ -314,7 +316,7 @@ impl GpuSkin {
             + self.posed.size()
             + self.root_poses.size()
             + self.joints.iter().map(Buffer::size).sum::<u64>()
-            + self.capsules.iter().map(Buffer::size).sum::<u64>()
+            + self.capsules.iter().map(|c| c.buffer.size()).sum::<u64>()
             + self.last_poses.size()
     }
 }

@@ -1,0 +1,105 @@
+//! The body's distance field on the device: a 3D storage image (`rgba32f`, per grid
+//! point the distance and the gradient there), which the kernel reads with `imageLoad`.
+//!
+//! An image, not a storage buffer: on a CPU driver a buffer read at an index that
+//! differs from lane to lane is a loop over the lanes, while an image read is one
+//! gather; the skinned body's sampler reads eight grid points per vertex, and as a
+//! buffer they were most of its collision's cost (docs/benchmark.md). The values are
+//! the same bits either way, so the kernel's arithmetic is unchanged.
+
+use std::sync::Arc;
+
+use ash::vk;
+use glam::Vec4;
+use gpu_allocator::MemoryLocation;
+
+use super::sdf::Sdf;
+use crate::error::{Error, Result};
+use crate::gpu::{image_barriers, Buffer, Device, Image, ImageDesc};
+
+/// The image holding `sdf` (a single grid point, zero, without a body), left in
+/// `GENERAL` layout for the kernel to read.
+pub(super) fn upload(device: &Arc<Device>, sdf: Option<&Sdf>) -> Result<Image> {
+    let (dims, texels) = match sdf {
+        Some(sdf) => (sdf.dims, sdf.texels()),
+        None => ([1, 1, 1], vec![[0.0; 4]]),
+    };
+    let limit = device.info.limits.max_image_dimension3_d;
+    if dims.iter().any(|&n| n > limit) {
+        return Err(Error::Parameter(format!(
+            "the distance field's grid ({}×{}×{} points) exceeds this device's largest 3D \
+             image ({limit} per side); lower --sdf-resolution",
+            dims[0], dims[1], dims[2]
+        )));
+    }
+    let format = vk::Format::R32G32B32A32_SFLOAT;
+    let image = Image::volume(
+        device,
+        if sdf.is_some() {
+            "sim.body_sdf"
+        } else {
+            "sim.no_body"
+        },
+        ImageDesc {
+            extent: vk::Extent2D {
+                width: dims[0],
+                height: dims[1],
+            },
+            format,
+            usage: vk::ImageUsageFlags::STORAGE | vk::ImageUsageFlags::TRANSFER_DST,
+            samples: vk::SampleCountFlags::TYPE_1,
+            aspect: vk::ImageAspectFlags::COLOR,
+        },
+        dims[2],
+    )?;
+    let texels: Vec<Vec4> = texels.iter().map(|t| Vec4::from_array(*t)).collect();
+    let mut staging = Buffer::new(
+        device,
+        "sim.body_sdf.staging",
+        std::mem::size_of_val(texels.as_slice()) as u64,
+        vk::BufferUsageFlags::TRANSFER_SRC,
+        MemoryLocation::CpuToGpu,
+    )?;
+    staging.write(0, bytemuck::cast_slice(texels.as_slice()));
+    let none = (vk::PipelineStageFlags2::NONE, vk::AccessFlags2::NONE);
+    let copy_write = (
+        vk::PipelineStageFlags2::COPY,
+        vk::AccessFlags2::TRANSFER_WRITE,
+    );
+    let read = (
+        vk::PipelineStageFlags2::COMPUTE_SHADER,
+        vk::AccessFlags2::SHADER_STORAGE_READ,
+    );
+    let dst = vk::ImageLayout::TRANSFER_DST_OPTIMAL;
+    let region = vk::BufferImageCopy::default()
+        .image_subresource(vk::ImageSubresourceLayers {
+            aspect_mask: vk::ImageAspectFlags::COLOR,
+            mip_level: 0,
+            base_array_layer: 0,
+            layer_count: 1,
+        })
+        .image_extent(vk::Extent3D {
+            width: dims[0],
+            height: dims[1],
+            depth: dims[2],
+        });
+    device.submit_once(|cmd| {
+        image_barriers(
+            device,
+            cmd,
+            &[image.barrier(none, copy_write, vk::ImageLayout::UNDEFINED, dst)],
+        );
+        unsafe {
+            device
+                .raw
+                .cmd_copy_buffer_to_image(cmd, staging.raw(), image.raw(), dst, &[region])
+        };
+        image_barriers(
+            device,
+            cmd,
+            &[image.barrier(copy_write, read, dst, vk::ImageLayout::GENERAL)],
+        );
+        Ok(())
+    })?;
+    Ok(image)
+}

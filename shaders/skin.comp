@@ -25,9 +25,9 @@ layout(set = 0, binding = 2, std430) readonly buffer Weights {
 layout(set = 0, binding = 3, std430) readonly buffer RestFrames {
     vec4 rest_frames[];     // per vertex: rest tangent, rest normal
 };
-layout(set = 0, binding = 4, std430) readonly buffer Joints {
-    mat4 joints[];          // per substep of the submission, every joint
-};
+// Per substep of the submission, every joint's matrix, column after column. A texel
+// buffer: a CPU driver reads it at each lane's own joints in one gather.
+layout(set = 0, binding = 4, rgba32f) uniform readonly imageBuffer joints;
 layout(set = 0, binding = 5, std430) writeonly buffer Posed {
     vec4 posed[];           // per vertex: position, normal (the last substep)
 };
@@ -41,6 +41,12 @@ layout(push_constant) uniform Push {
     uint vertex_count;
     uint joint_count;
 } push;
+
+mat4 joint(uint i) {
+    int c = 4 * int(i);
+    return mat4(imageLoad(joints, c), imageLoad(joints, c + 1), imageLoad(joints, c + 2),
+                imageLoad(joints, c + 3));
+}
 
 void main() {
     uint v = gl_GlobalInvocationID.x;
@@ -57,8 +63,8 @@ void main() {
     mat3 rest = mat3(rt, cross(rn, rt), rn);
     for (uint k = 0u; k < push.count; ++k) {
         uint base = (push.first_step + k) * push.joint_count;
-        mat4 m = joints[base + j.x] * w.x + joints[base + j.y] * w.y + joints[base + j.z] * w.z
-               + joints[base + j.w] * w.w;
+        mat4 m = joint(base + j.x) * w.x + joint(base + j.y) * w.y + joint(base + j.z) * w.z
+               + joint(base + j.w) * w.w;
         vec3 p = (m * vec4(bind_p, 1.0)).xyz;
         vec3 n = normalize(mat3(m) * bind_n);
         vec3 t = normalize(mat3(m) * bind_t);

@@ -34,7 +34,7 @@ pub struct GpuSkin {
     pub root_poses: Buffer,
     _statics: [Buffer; 4],
     /// Per frame in flight: joint matrices of every substep of a submission.
-    joints: Vec<Buffer>,
+    joints: Vec<TexelBuffer>,
     /// Per frame in flight: the bones' posed capsules of every substep of a submission
     /// (read by the simulation's collision step).
     pub capsules: Vec<TexelBuffer>,
@@ -49,11 +49,19 @@ pub struct GpuSkin {
     pipeline: Pipeline,
 }
 
+/// The joint matrices' binding: a storage texel buffer (a CPU driver reads it at each
+/// vertex's own joints in one gather; src/gpu/buffer.rs), the rest storage buffers.
+const JOINTS_BINDING: u32 = 4;
+
 fn bindings() -> [(vk::DescriptorType, vk::ShaderStageFlags); 7] {
-    [(
-        vk::DescriptorType::STORAGE_BUFFER,
-        vk::ShaderStageFlags::COMPUTE,
-    ); 7]
+    std::array::from_fn(|binding| {
+        let kind = if binding as u32 == JOINTS_BINDING {
+            vk::DescriptorType::STORAGE_TEXEL_BUFFER
+        } else {
+            vk::DescriptorType::STORAGE_BUFFER
+        };
+        (kind, vk::ShaderStageFlags::COMPUTE)
+    })
 }
 
 impl GpuSkin {
@@ -126,12 +134,12 @@ impl GpuSkin {
         let frames_in_flight = frames_in_flight.max(1);
         let joints = (0..frames_in_flight)
             .map(|slot| {
-                Buffer::new(
+                // Four texels (columns) per matrix.
+                TexelBuffer::new(
                     device,
                     &format!("skin.joints[{slot}]"),
-                    (step_capacity * joint_count as usize * 64) as u64,
-                    storage,
-                    MemoryLocation::CpuToGpu,
+                    (step_capacity * joint_count as usize * 4) as u64,
+                    (vk::Format::R32G32B32A32_SFLOAT, 16),
                 )
             })
             .collect::<Result<Vec<_>>>()?;
@@ -175,33 +183,40 @@ impl GpuSkin {
         let sets = pool.allocate(&set_layout, frames_in_flight)?;
         for (set, joint_buffer) in sets.iter().zip(&joints) {
             let buffers = [
-                &statics[0],
-                &statics[1],
-                &statics[2],
-                &statics[3],
-                joint_buffer,
-                &posed,
-                &root_poses,
+                (0, &statics[0]),
+                (1, &statics[1]),
+                (2, &statics[2]),
+                (3, &statics[3]),
+                (5, &posed),
+                (6, &root_poses),
             ];
             let infos: Vec<[vk::DescriptorBufferInfo; 1]> = buffers
                 .iter()
-                .map(|b| {
+                .map(|(_, b)| {
                     [vk::DescriptorBufferInfo::default()
                         .buffer(b.raw())
                         .range(vk::WHOLE_SIZE)]
                 })
                 .collect();
-            let writes: Vec<vk::WriteDescriptorSet> = infos
+            let joint_view = [joint_buffer.view()];
+            let mut writes: Vec<vk::WriteDescriptorSet> = infos
                 .iter()
-                .enumerate()
-                .map(|(binding, info)| {
+                .zip(&buffers)
+                .map(|(info, (binding, _))| {
                     vk::WriteDescriptorSet::default()
                         .dst_set(*set)
-                        .dst_binding(binding as u32)
+                        .dst_binding(*binding)
                         .descriptor_type(vk::DescriptorType::STORAGE_BUFFER)
                         .buffer_info(info)
                 })
                 .collect();
+            writes.push(
+                vk::WriteDescriptorSet::default()
+                    .dst_set(*set)
+                    .dst_binding(JOINTS_BINDING)
+                    .descriptor_type(vk::DescriptorType::STORAGE_TEXEL_BUFFER)
+                    .texel_buffer_view(&joint_view),
+            );
             unsafe { device.raw.update_descriptor_sets(&writes, &[]) };
         }
         let pipeline = Pipeline::compute(device, "skin.comp", &layout, &Specialization::new(&[]))?;
@@ -237,7 +252,9 @@ impl GpuSkin {
                 self.joint_capacity
             )));
         }
-        self.joints[slot].write(0, bytemuck::cast_slice(matrices));
+        self.joints[slot]
+            .buffer
+            .write(0, bytemuck::cast_slice(matrices));
         Ok(())
     }
 
@@ -315,7 +332,7 @@ impl GpuSkin {
         self._statics.iter().map(Buffer::size).sum::<u64>()
             + self.posed.size()
             + self.root_poses.size()
-            + self.joints.iter().map(Buffer::size).sum::<u64>()
+            + self.joints.iter().map(|j| j.buffer.size()).sum::<u64>()
             + self.capsules.iter().map(|c| c.buffer.size()).sum::<u64>()
             + self.last_poses.size()
     }

@@ -49,9 +49,7 @@ layout(set = 0, binding = 7, rgba32f) uniform readonly image3D sdf;
 
 // A skinned body's root pose of every strand for each substep of this dispatch
 // (shaders/skin.comp): R's columns, with the skinned root in their w.
-layout(set = 0, binding = 8, std430) readonly buffer RootPoses {
-    vec4 root_poses[];
-};
+layout(set = 0, binding = 8, rgba32f) uniform readonly imageBuffer root_poses;
 
 // A skinned body's bone capsules at the bind pose, then for each substep of the
 // submission: (a, radius), (b, the child bone's capsule or −1) in model space,
@@ -65,9 +63,7 @@ vec4 capsule(uint i) {
 
 // Per strand, its root pose after the last substep simulated (R's columns, the root in
 // w), so the next substep can carry the strand along with the body.
-layout(set = 0, binding = 10, std430) buffer LastPoses {
-    vec4 last_poses[];
-};
+layout(set = 0, binding = 10, rgba32f) uniform imageBuffer last_poses;
 
 layout(push_constant) uniform Push {
     uint step;          // index into steps[] of the first substep

@@ -51,7 +51,9 @@ float strand_length;   // this strand's rest length (collision and sleep only)
 // propagation at full strength). src/sim/cpu.rs: `ride`.
 void ride(uint strand, Step st) {
     uint o = 3u * strand;
-    vec4 c0 = last_poses[o], c1 = last_poses[o + 1u], c2 = last_poses[o + 2u];
+    vec4 c0 = imageLoad(last_poses, int(o));
+    vec4 c1 = imageLoad(last_poses, int(o + 1u));
+    vec4 c2 = imageLoad(last_poses, int(o + 2u));
     mat3 last_rotation = mat3(c0.xyz, c1.xyz, c2.xyz);
     vec3 last_root = vec3(c0.w, c1.w, c2.w);
     // An unchanged pose carries nothing: skipping keeps a held pose exactly at rest
@@ -66,15 +68,17 @@ void ride(uint strand, Step st) {
         vec3 mp = (st.head_inverse * vec4(p[i], 1.0)).xyz;
         p[i] = (st.head * vec4(turn * (mp - last_root) + pose_root, 1.0)).xyz;
     }
-    last_poses[o] = vec4(pose_rotation[0], pose_root.x);
-    last_poses[o + 1u] = vec4(pose_rotation[1], pose_root.y);
-    last_poses[o + 2u] = vec4(pose_rotation[2], pose_root.z);
+    imageStore(last_poses, int(o), vec4(pose_rotation[0], pose_root.x));
+    imageStore(last_poses, int(o + 1u), vec4(pose_rotation[1], pose_root.y));
+    imageStore(last_poses, int(o + 2u), vec4(pose_rotation[2], pose_root.z));
 }
 
 void load_pose(uint strand, uint k) {
     if ((STEPS & BODY_SKINNED) != 0u) {
         uint o = 3u * (k * sim.counts.x + strand);
-        vec4 c0 = root_poses[o], c1 = root_poses[o + 1u], c2 = root_poses[o + 2u];
+        vec4 c0 = imageLoad(root_poses, int(o));
+        vec4 c1 = imageLoad(root_poses, int(o + 1u));
+        vec4 c2 = imageLoad(root_poses, int(o + 2u));
         pose_rotation = mat3(c0.xyz, c1.xyz, c2.xyz);
         pose_root = vec3(c0.w, c1.w, c2.w);
     }
@@ -422,9 +426,9 @@ void main() {
         Step st = steps[push.step];
         load_pose(strand, 0u);
         if ((STEPS & BODY_SKINNED) != 0u) {
-            last_poses[3u * strand] = vec4(pose_rotation[0], pose_root.x);
-            last_poses[3u * strand + 1u] = vec4(pose_rotation[1], pose_root.y);
-            last_poses[3u * strand + 2u] = vec4(pose_rotation[2], pose_root.z);
+            imageStore(last_poses, int(3u * strand), vec4(pose_rotation[0], pose_root.x));
+            imageStore(last_poses, int(3u * strand + 1u), vec4(pose_rotation[1], pose_root.y));
+            imageStore(last_poses, int(3u * strand + 2u), vec4(pose_rotation[2], pose_root.z));
         }
         for (uint i = 0u; i < V; ++i) {
             ivec2 t = strand_texel(strand, i, V, sim.counts.y);

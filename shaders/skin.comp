@@ -13,27 +13,19 @@
 
 layout(local_size_x = 64) in;
 
-layout(set = 0, binding = 0, std430) readonly buffer BindVertices {
-    vec4 bind_vertices[];   // per vertex: position, normal, tangent
-};
-layout(set = 0, binding = 1, std430) readonly buffer Influences {
-    uvec4 influences[];
-};
-layout(set = 0, binding = 2, std430) readonly buffer Weights {
-    vec4 weights[];
-};
-layout(set = 0, binding = 3, std430) readonly buffer RestFrames {
-    vec4 rest_frames[];     // per vertex: rest tangent, rest normal
-};
-// Per substep of the submission, every joint's matrix, column after column. A texel
-// buffer: a CPU driver reads it at each lane's own joints in one gather.
+// Every table but the posed body is a texel buffer: a CPU driver reads and writes one
+// at lane-varying indices in one gather or scatter, a storage buffer lane by lane.
+layout(set = 0, binding = 0, rgba32f) uniform readonly imageBuffer bind_vertices;  // per vertex: position, normal, tangent
+layout(set = 0, binding = 1, rgba32ui) uniform readonly uimageBuffer influences;
+layout(set = 0, binding = 2, rgba32f) uniform readonly imageBuffer weights;
+layout(set = 0, binding = 3, rgba32f) uniform readonly imageBuffer rest_frames;    // per vertex: rest tangent, rest normal
+// Per substep of the submission, every joint's matrix, column after column.
 layout(set = 0, binding = 4, rgba32f) uniform readonly imageBuffer joints;
 layout(set = 0, binding = 5, std430) writeonly buffer Posed {
     vec4 posed[];           // per vertex: position, normal (the last substep)
 };
-layout(set = 0, binding = 6, std430) writeonly buffer RootPoses {
-    vec4 root_poses[];      // per substep of the dispatch and strand: R's columns, p in w
-};
+// Per substep of the dispatch and strand: R's columns, p in w.
+layout(set = 0, binding = 6, rgba32f) uniform writeonly imageBuffer root_poses;
 
 layout(push_constant) uniform Push {
     uint first_step;    // the submission's substep of this dispatch's first substep
@@ -53,13 +45,14 @@ void main() {
     if (v >= push.vertex_count) {
         return;
     }
-    vec3 bind_p = bind_vertices[3u * v].xyz;
-    vec3 bind_n = bind_vertices[3u * v + 1u].xyz;
-    vec3 bind_t = bind_vertices[3u * v + 2u].xyz;
-    uvec4 j = influences[v];
-    vec4 w = weights[v];
-    vec3 rt = rest_frames[2u * v].xyz;
-    vec3 rn = rest_frames[2u * v + 1u].xyz;
+    int b = 3 * int(v);
+    vec3 bind_p = imageLoad(bind_vertices, b).xyz;
+    vec3 bind_n = imageLoad(bind_vertices, b + 1).xyz;
+    vec3 bind_t = imageLoad(bind_vertices, b + 2).xyz;
+    uvec4 j = imageLoad(influences, int(v));
+    vec4 w = imageLoad(weights, int(v));
+    vec3 rt = imageLoad(rest_frames, 2 * int(v)).xyz;
+    vec3 rn = imageLoad(rest_frames, 2 * int(v) + 1).xyz;
     mat3 rest = mat3(rt, cross(rn, rt), rn);
     for (uint k = 0u; k < push.count; ++k) {
         uint base = (push.first_step + k) * push.joint_count;
@@ -71,9 +64,9 @@ void main() {
         vec3 tp = normalize(t - n * dot(n, t));
         mat3 r = mat3(tp, cross(n, tp), n) * transpose(rest);
         uint o = 3u * (k * push.vertex_count + v);
-        root_poses[o] = vec4(r[0], p.x);
-        root_poses[o + 1u] = vec4(r[1], p.y);
-        root_poses[o + 2u] = vec4(r[2], p.z);
+        imageStore(root_poses, int(o), vec4(r[0], p.x));
+        imageStore(root_poses, int(o + 1u), vec4(r[1], p.y));
+        imageStore(root_poses, int(o + 2u), vec4(r[2], p.z));
         if (k + 1u == push.count) {
             posed[2u * v] = vec4(p, 1.0);
             posed[2u * v + 1u] = vec4(n, 0.0);

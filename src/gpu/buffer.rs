@@ -120,7 +120,7 @@ impl Drop for Buffer {
     }
 }
 
-/// A host-visible buffer that shaders read through a texel view (`imageBuffer`, a
+/// A buffer that shaders read (and write) through a texel view (`imageBuffer`, a
 /// storage texel buffer). On a CPU driver a texel read at lane-varying or
 /// loop-varying indices is one gather, where a storage-buffer read loops over the lanes.
 pub struct TexelBuffer {
@@ -129,13 +129,15 @@ pub struct TexelBuffer {
 }
 
 impl TexelBuffer {
-    /// A host-visible buffer of `texels` texels of `format` (`texel_bytes` each), usable
-    /// as a storage texel buffer; refused, naming the limit, past the device's largest.
+    /// A buffer of `texels` texels of `format` (`texel_bytes` each) in `location`,
+    /// usable as a storage texel buffer; refused, naming the limit, past the device's
+    /// largest.
     pub fn new(
         device: &Arc<Device>,
         name: &str,
         texels: u64,
         (format, texel_bytes): (vk::Format, u64),
+        location: MemoryLocation,
     ) -> Result<Self> {
         let limit = u64::from(device.info.limits.max_texel_buffer_elements);
         if texels > limit {
@@ -149,7 +151,7 @@ impl TexelBuffer {
             name,
             texels.max(1) * texel_bytes,
             vk::BufferUsageFlags::STORAGE_TEXEL_BUFFER,
-            MemoryLocation::CpuToGpu,
+            location,
         )?;
         let info = vk::BufferViewCreateInfo::default()
             .buffer(buffer.raw)
@@ -160,6 +162,25 @@ impl TexelBuffer {
             unsafe { device.raw.create_buffer_view(&info, None) }.vk("vkCreateBufferView")?;
         device.set_name(view, name);
         Ok(Self { view, buffer })
+    }
+
+    /// A host-visible texel buffer of 16-byte texels of `format` holding `data`.
+    pub fn with_data<T: bytemuck::Pod>(
+        device: &Arc<Device>,
+        name: &str,
+        format: vk::Format,
+        data: &[T],
+    ) -> Result<Self> {
+        let bytes: &[u8] = bytemuck::cast_slice(data);
+        let mut texels = Self::new(
+            device,
+            name,
+            bytes.len().div_ceil(16) as u64,
+            (format, 16),
+            MemoryLocation::CpuToGpu,
+        )?;
+        texels.buffer.write(0, bytes);
+        Ok(texels)
     }
 
     pub fn view(&self) -> vk::BufferView {

@@ -70,7 +70,7 @@ pub struct GpuSim {
     /// The skinned body, if the strands grow on one.
     pub skinned: Option<Skinned>,
     /// Stand in for the root poses and capsules of a rigid body.
-    _no_poses: Buffer,
+    _no_poses: TexelBuffer,
     _no_capsules: TexelBuffer,
     /// Per frame in flight: step constants, timestamps, descriptor sets.
     slots: Vec<SimSlot>,
@@ -181,10 +181,10 @@ impl GpuSim {
             }
             None => None,
         };
-        let no_poses = Buffer::with_data(
+        let no_poses = TexelBuffer::with_data(
             device,
             "sim.no_root_poses",
-            vk::BufferUsageFlags::STORAGE_BUFFER,
+            vk::Format::R32G32B32A32_SFLOAT,
             &[0.0f32; 12],
         )?;
         let root_poses = skinned.as_ref().map_or(&no_poses, |s| &s.skin.root_poses);
@@ -196,6 +196,7 @@ impl GpuSim {
             "sim.no_capsules",
             2,
             (vk::Format::R32G32B32A32_SFLOAT, 16),
+            MemoryLocation::CpuToGpu,
         )?;
         let capsules = |slot: usize| {
             skinned

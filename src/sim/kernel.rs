@@ -53,9 +53,9 @@ pub(super) fn bindings() -> [(vk::DescriptorType, vk::ShaderStageFlags); 11] {
         (vk::DescriptorType::STORAGE_IMAGE, c),
         (vk::DescriptorType::STORAGE_IMAGE, c),
         (vk::DescriptorType::STORAGE_IMAGE, c), // the body's distance field
-        (vk::DescriptorType::STORAGE_BUFFER, c),
+        (vk::DescriptorType::STORAGE_TEXEL_BUFFER, c), // root poses
         (vk::DescriptorType::STORAGE_TEXEL_BUFFER, c), // the bones' capsules
-        (vk::DescriptorType::STORAGE_BUFFER, c),
+        (vk::DescriptorType::STORAGE_TEXEL_BUFFER, c), // last root poses
     ]
 }
 
@@ -82,7 +82,12 @@ pub(super) fn write_sim_set(
     statics: &Buffer,
     steps: &Buffer,
     textures: &StrandTextures,
-    (body, root_poses, capsules, last): (&crate::gpu::Image, &Buffer, &TexelBuffer, &Buffer),
+    (body, root_poses, capsules, last): (
+        &crate::gpu::Image,
+        &TexelBuffer,
+        &TexelBuffer,
+        &TexelBuffer,
+    ),
 ) {
     let bindings = bindings();
     let buffer = |b: &Buffer| {
@@ -95,14 +100,12 @@ pub(super) fn write_sim_set(
             .image_view(i.view())
             .image_layout(vk::ImageLayout::GENERAL)]
     };
-    let (b0, b1, b4, b8) = (
+    let (b0, b1, b4) = (
         buffer(statics),
         buffer(steps),
         buffer(&textures.root_frames),
-        buffer(root_poses),
     );
-    let t9 = [capsules.view()];
-    let b10 = buffer(last);
+    let (t8, t9, t10) = ([root_poses.view()], [capsules.view()], [last.view()]);
     let (i2, i3, i7) = (
         image(&textures.rest),
         image(&textures.rest_local),
@@ -127,9 +130,9 @@ pub(super) fn write_sim_set(
         write(5).image_info(&i5),
         write(6).image_info(&i6),
         write(7).image_info(&i7),
-        write(8).buffer_info(&b8),
+        write(8).texel_buffer_view(&t8),
         write(9).texel_buffer_view(&t9),
-        write(10).buffer_info(&b10),
+        write(10).texel_buffer_view(&t10),
     ];
     unsafe { device.raw.update_descriptor_sets(&writes, &[]) };
 }

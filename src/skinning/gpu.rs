@@ -31,8 +31,8 @@ pub struct GpuSkin {
     /// Per vertex: position and normal of the last posed substep.
     pub posed: Buffer,
     /// Per substep of a dispatch and strand: 3 × vec4 (R's columns, the root in w).
-    pub root_poses: Buffer,
-    _statics: [Buffer; 4],
+    pub root_poses: TexelBuffer,
+    _statics: [TexelBuffer; 4],
     /// Per frame in flight: joint matrices of every substep of a submission.
     joints: Vec<TexelBuffer>,
     /// Per frame in flight: the bones' posed capsules of every substep of a submission
@@ -40,7 +40,7 @@ pub struct GpuSkin {
     pub capsules: Vec<TexelBuffer>,
     pub capsule_count: u32,
     /// Per strand, its root pose after the last simulated substep (the simulation's).
-    pub last_poses: Buffer,
+    pub last_poses: TexelBuffer,
     joint_capacity: usize,
     _set_layout: DescriptorSetLayout,
     layout: PipelineLayout,
@@ -49,16 +49,20 @@ pub struct GpuSkin {
     pipeline: Pipeline,
 }
 
-/// The joint matrices' binding: a storage texel buffer (a CPU driver reads it at each
-/// vertex's own joints in one gather; src/gpu/buffer.rs), the rest storage buffers.
+/// The joint matrices' binding.
 const JOINTS_BINDING: u32 = 4;
+/// The posed body's binding: a storage buffer (the mesh pass reads it too). Every other
+/// table is a storage texel buffer: a CPU driver reads and writes those at lane-varying
+/// indices in one gather or scatter, a storage buffer one lane at a time
+/// (src/gpu/buffer.rs).
+const POSED_BINDING: u32 = 5;
 
 fn bindings() -> [(vk::DescriptorType, vk::ShaderStageFlags); 7] {
     std::array::from_fn(|binding| {
-        let kind = if binding as u32 == JOINTS_BINDING {
-            vk::DescriptorType::STORAGE_TEXEL_BUFFER
-        } else {
+        let kind = if binding as u32 == POSED_BINDING {
             vk::DescriptorType::STORAGE_BUFFER
+        } else {
+            vk::DescriptorType::STORAGE_TEXEL_BUFFER
         };
         (kind, vk::ShaderStageFlags::COMPUTE)
     })
@@ -111,11 +115,17 @@ impl GpuSkin {
             .iter()
             .flat_map(|(t, n)| [t.extend(0.0), n.extend(0.0)])
             .collect();
+        let float = vk::Format::R32G32B32A32_SFLOAT;
         let statics = [
-            Buffer::with_data(device, "skin.bind_vertices", storage, &bind)?,
-            Buffer::with_data(device, "skin.influences", storage, &influences)?,
-            Buffer::with_data(device, "skin.weights", storage, &weights)?,
-            Buffer::with_data(device, "skin.rest_frames", storage, &frames)?,
+            TexelBuffer::with_data(device, "skin.bind_vertices", float, &bind)?,
+            TexelBuffer::with_data(
+                device,
+                "skin.influences",
+                vk::Format::R32G32B32A32_UINT,
+                &influences,
+            )?,
+            TexelBuffer::with_data(device, "skin.weights", float, &weights)?,
+            TexelBuffer::with_data(device, "skin.rest_frames", float, &frames)?,
         ];
         let posed = Buffer::new(
             device,
@@ -124,11 +134,11 @@ impl GpuSkin {
             storage,
             MemoryLocation::GpuOnly,
         )?;
-        let root_poses = Buffer::new(
+        let root_poses = TexelBuffer::new(
             device,
             "skin.root_poses",
-            per_substep * u64::from(max_substeps),
-            storage,
+            per_substep / 16 * u64::from(max_substeps),
+            (float, 16),
             MemoryLocation::GpuOnly,
         )?;
         let frames_in_flight = frames_in_flight.max(1);
@@ -140,15 +150,16 @@ impl GpuSkin {
                     &format!("skin.joints[{slot}]"),
                     (step_capacity * joint_count as usize * 4) as u64,
                     (vk::Format::R32G32B32A32_SFLOAT, 16),
+                    MemoryLocation::CpuToGpu,
                 )
             })
             .collect::<Result<Vec<_>>>()?;
         let capsule_count = body.capsules.len() as u32;
-        let last_poses = Buffer::new(
+        let last_poses = TexelBuffer::new(
             device,
             "skin.last_poses",
-            48 * u64::from(vertex_count),
-            storage,
+            3 * u64::from(vertex_count),
+            (float, 16),
             MemoryLocation::GpuOnly,
         )?;
         // The bind pose's capsules lead each slot's buffer (the simulation scales each
@@ -161,6 +172,7 @@ impl GpuSkin {
                     &format!("skin.capsules[{slot}]"),
                     ((step_capacity + 1) * capsule_count.max(1) as usize * 2) as u64,
                     (vk::Format::R32G32B32A32_SFLOAT, 16),
+                    MemoryLocation::CpuToGpu,
                 )?;
                 capsules
                     .buffer
@@ -182,40 +194,36 @@ impl GpuSkin {
         )?;
         let sets = pool.allocate(&set_layout, frames_in_flight)?;
         for (set, joint_buffer) in sets.iter().zip(&joints) {
-            let buffers = [
+            let posed_info = [vk::DescriptorBufferInfo::default()
+                .buffer(posed.raw())
+                .range(vk::WHOLE_SIZE)];
+            let views: Vec<(u32, [vk::BufferView; 1])> = [
                 (0, &statics[0]),
                 (1, &statics[1]),
                 (2, &statics[2]),
                 (3, &statics[3]),
-                (5, &posed),
+                (JOINTS_BINDING, joint_buffer),
                 (6, &root_poses),
-            ];
-            let infos: Vec<[vk::DescriptorBufferInfo; 1]> = buffers
+            ]
+            .iter()
+            .map(|(binding, texels)| (*binding, [texels.view()]))
+            .collect();
+            let mut writes: Vec<vk::WriteDescriptorSet> = views
                 .iter()
-                .map(|(_, b)| {
-                    [vk::DescriptorBufferInfo::default()
-                        .buffer(b.raw())
-                        .range(vk::WHOLE_SIZE)]
-                })
-                .collect();
-            let joint_view = [joint_buffer.view()];
-            let mut writes: Vec<vk::WriteDescriptorSet> = infos
-                .iter()
-                .zip(&buffers)
-                .map(|(info, (binding, _))| {
+                .map(|(binding, view)| {
                     vk::WriteDescriptorSet::default()
                         .dst_set(*set)
                         .dst_binding(*binding)
-                        .descriptor_type(vk::DescriptorType::STORAGE_BUFFER)
-                        .buffer_info(info)
+                        .descriptor_type(vk::DescriptorType::STORAGE_TEXEL_BUFFER)
+                        .texel_buffer_view(view)
                 })
                 .collect();
             writes.push(
                 vk::WriteDescriptorSet::default()
                     .dst_set(*set)
-                    .dst_binding(JOINTS_BINDING)
-                    .descriptor_type(vk::DescriptorType::STORAGE_TEXEL_BUFFER)
-                    .texel_buffer_view(&joint_view),
+                    .dst_binding(POSED_BINDING)
+                    .descriptor_type(vk::DescriptorType::STORAGE_BUFFER)
+                    .buffer_info(&posed_info),
             );
             unsafe { device.raw.update_descriptor_sets(&writes, &[]) };
         }
@@ -329,11 +337,11 @@ impl GpuSkin {
 
     /// Device memory the pass takes, in bytes.
     pub fn memory_bytes(&self) -> u64 {
-        self._statics.iter().map(Buffer::size).sum::<u64>()
+        self._statics.iter().map(|t| t.buffer.size()).sum::<u64>()
             + self.posed.size()
-            + self.root_poses.size()
+            + self.root_poses.buffer.size()
             + self.joints.iter().map(|j| j.buffer.size()).sum::<u64>()
             + self.capsules.iter().map(|c| c.buffer.size()).sum::<u64>()
-            + self.last_poses.size()
+            + self.last_poses.buffer.size()
     }
 }

@@ -1,0 +1,248 @@
+//! `fur render`: one frame, or a sequence of frames, of a scene to image files, with
+//! the scene's report.
+
+use super::*;
+
+/// What a frame without any hair means.
+const NO_FUR: &str = "no hair was drawn: every furred triangle is off-screen, facing away \
+    (culled) or too small for the density; move the camera (--yaw, --pitch, --distance) or \
+    raise --density-scale";
+
+/// Frames measured before this many are warm-up (lazy shader compilation, caches).
+const WARM_UP_FRAMES: usize = 2;
+
+pub(super) fn render(args: &RenderArgs) -> anyhow::Result<()> {
+    if args.frames == 0 {
+        bail!("--frames must be at least 1");
+    }
+    if let Some(ms) = args.budget_ms {
+        if !(ms.is_finite() && ms > 0.0) {
+            bail!("--budget-ms must be a positive number of milliseconds, got {ms}");
+        }
+        if args.frames < 2 {
+            bail!("--budget-ms needs a sequence (--frames 2 or more) to observe frame times");
+        }
+    }
+    args.scene.check()?;
+    let mut scene = args::scene(args.scene_file.as_deref(), &args.scene, &args.sim)?;
+    args::set(&mut scene.width, args.width);
+    args::set(&mut scene.height, args.height);
+    args::set(&mut scene.motion.kind, args.motion);
+    args::set(&mut scene.motion.amplitude, args.amplitude);
+    args::set(&mut scene.motion.rate, args.rate);
+    let simulate = args.frames > 1 || args.out_dir.is_some();
+    // Every output path is checked before any work starts.
+    let frames_dir = args
+        .out_dir
+        .clone()
+        .unwrap_or_else(|| PathBuf::from("frames"));
+    if simulate {
+        fur::files::check_output_dir(&frames_dir)?;
+    } else {
+        fur::files::check_output_file(&args.out)?;
+    }
+    let (mesh, rig, warnings) = scene.model.prepare_body(scene.options.texture.as_ref())?;
+    for warning in warnings {
+        eprintln!("warning: {warning}");
+    }
+    args.animation.apply(&mut scene.animation);
+    let rig = scene.animation.resolve(rig, &scene.model.name())?;
+    if rig.is_some() && args.motion.is_none() && scene.motion == Default::default() {
+        // A character moves by its clip; the head stays put unless asked.
+        scene.motion.kind = MotionKind::Still;
+    }
+    let (_, radius) = mesh.bounds();
+    let (groom, mut settings) = scene.options.resolve(&mesh)?;
+    if let Some((rig, playback)) = &rig {
+        if scene.options.distance.is_none() {
+            // The camera frames every pose of the clip, not only the rest pose.
+            let frames = if simulate { args.frames } else { 1 };
+            scene
+                .options
+                .frame_poses(&mut settings, &mesh, rig, playback, frames);
+        }
+        if let Some(clip) = playback.clip {
+            eprintln!(
+                "animation: {} ({:.2} s) at {}×, from {} s{}",
+                rig.clips[clip].name,
+                rig.clips[clip].duration(),
+                playback.speed,
+                playback.start,
+                if playback.in_place { ", in place" } else { "" }
+            );
+        }
+    }
+    settings.count_hairs = !simulate;
+    let mut motion = scene.motion.motion(radius);
+    if !simulate {
+        motion.kind = MotionKind::Still;
+    }
+    let extent = vk::Extent2D {
+        width: scene.width,
+        height: scene.height,
+    };
+
+    let device = fur::gpu::headless(args.validate)?;
+    let masters = mesh.vertex_count();
+    if masters > 100_000 {
+        eprintln!(
+            "building the scene: {masters} master hairs of {} vertices…",
+            groom.vertices_per_strand()
+        );
+    }
+    let mut session = FurSession::with_rig(
+        &device,
+        (mesh, rig),
+        &groom,
+        scene.sim.clone(),
+        motion,
+        settings,
+        extent,
+        1,
+    )
+    .with_context(|| {
+        format!(
+            "building the scene ({masters} master hairs of {} vertices, {}×{} image)",
+            groom.vertices_per_strand(),
+            scene.width,
+            scene.height
+        )
+    })?;
+    if let Some(warning) = session
+        .body
+        .as_ref()
+        .and_then(|(_, report)| report.warning(&scene.model.name()))
+    {
+        eprintln!("warning: {warning}");
+    }
+    for warning in &session.warnings {
+        eprintln!("warning: {warning}");
+    }
+    let masters = session.strands.count();
+    if simulate {
+        render_sequence(args, &frames_dir, &mut session)?;
+    } else {
+        let start = Instant::now();
+        let (image, report) = session
+            .render()
+            .with_context(|| format!("drawing the frame ({}×{})", scene.width, scene.height))?;
+        let elapsed = start.elapsed();
+        image.write_png(&args.out)?;
+        if report.counts.is_some_and(|c| c.hairs == 0) {
+            eprintln!("warning: {NO_FUR}");
+        }
+        let points = report
+            .statistics
+            .map(|s| format!(", {} tessellated points", s.tess_eval_invocations))
+            .unwrap_or_default();
+        let hairs = report
+            .counts
+            .map(|c| {
+                format!(
+                    ", {} hairs drawn in {} segments (points shared by two triangles are drawn once)",
+                    c.hairs, c.segments
+                )
+            })
+            .unwrap_or_default();
+        // With the image on standard output (`--out -`), the summary goes to stderr.
+        let summary = format!(
+            "wrote {} ({}×{}): {masters} master hairs{points}{hairs}; one cold frame {:.1} ms \
+             (use --frames N for warm timings)",
+            args.out.display(),
+            scene.width,
+            scene.height,
+            elapsed.as_secs_f64() * 1e3,
+        );
+        if args.out.as_os_str() == fur::files::STDOUT {
+            eprintln!("{summary}");
+        } else {
+            println!("{summary}");
+        }
+    }
+    drop(session);
+    fur::gpu::shut_down(device)?;
+    Ok(())
+}
+
+/// Simulates and renders `args.frames` frames into PNGs; ends with the median frame
+/// time of the warm frames.
+fn render_sequence(args: &RenderArgs, dir: &Path, session: &mut FurSession) -> anyhow::Result<()> {
+    let bar = indicatif::ProgressBar::new(u64::from(args.frames)).with_style(
+        indicatif::ProgressStyle::with_template(
+            "{bar:40} {pos}/{len} frames {elapsed} (eta {eta}) {msg}",
+        )
+        .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
+    );
+    let mut frame_ms = Vec::new();
+    let mut budget = args.budget_ms.map(fur::render::budget::Budget::new);
+    let base = session.settings.style.clone();
+    for frame in 0..args.frames {
+        fur::interrupt::check()?;
+        if let (Some(budget), Some(&last)) = (&mut budget, frame_ms.last()) {
+            // A sequence is always in motion: the budget never refines.
+            let before = budget.rung;
+            let rung = budget.observe(last, last / 1e3, true);
+            if rung != before {
+                bar.suspend(|| {
+                    eprintln!(
+                        "frame {frame}: quality rung {rung} ({})",
+                        fur::render::budget::LADDER[rung].name
+                    )
+                });
+            }
+            session.settings.style = fur::render::budget::LADDER[rung].apply(&base);
+        }
+        // The first frame (a warm-up frame, not timed) counts what it draws.
+        session.settings.count_hairs = frame == 0;
+        let start = Instant::now();
+        let (image, timings) = session
+            .step_and_render()
+            .with_context(|| format!("simulating and drawing frame {frame}"))?;
+        if timings.render.counts.is_some_and(|c| c.hairs == 0) {
+            eprintln!("warning: {NO_FUR}");
+        }
+        frame_ms.push(start.elapsed().as_secs_f64() * 1e3);
+        image.write_png(&dir.join(format!("frame_{frame:04}.png")))?;
+        bar.set_message(format!("{:.1} ms", frame_ms[frame_ms.len() - 1]));
+        bar.inc(1);
+    }
+    bar.finish();
+    println!(
+        "wrote {} frames to {}: {} master hairs",
+        args.frames,
+        dir.display(),
+        session.strands.count()
+    );
+    let warm = if frame_ms.len() > WARM_UP_FRAMES {
+        &frame_ms[WARM_UP_FRAMES..]
+    } else {
+        &frame_ms[..]
+    };
+    let note = if frame_ms.len() > WARM_UP_FRAMES {
+        format!(
+            "over {} warm frames: simulation, both passes and the image copy",
+            warm.len()
+        )
+    } else {
+        "over cold frames only (use more than 2 frames for warm timings)".to_string()
+    };
+    println!(
+        "median frame {:.1} ms ({note})",
+        fur::bench::metrics::median(warm)
+    );
+    if let Some(budget) = &budget {
+        let rung = &fur::render::budget::LADDER[budget.rung];
+        println!(
+            "budget {:.1} ms: the last frame was drawn at quality rung {} ({}){}",
+            budget.target_ms,
+            budget.rung,
+            rung.name,
+            if budget.missed {
+                "; even the cheapest rung misses the budget"
+            } else {
+                ""
+            }
+        );
+    }
+    Ok(())
+}

@@ -13,7 +13,7 @@ layout(local_size_x_id = 0) in;
 layout(set = 0, binding = 0, std140) uniform SimStatic {
     vec4 stiffness;     // S_G, S_L
     uvec4 counts;       // strand count, strands per row, global cutoff vertex, local iterations
-    uvec4 counts2;      // length iterations, bone capsules
+    uvec4 counts2;      // length iterations, bone capsules, joints
     vec4 collision;     // margin (a fraction of each strand's length), friction, 1 / cell, cell
     vec4 sdf_origin;    // model-space position of grid point (0, 0, 0)
     uvec4 sdf_dims;     // grid points along x, y, z
@@ -64,6 +64,15 @@ vec4 capsule(uint i) {
 // Per strand, its root pose after the last substep simulated (R's columns, the root in
 // w), so the next substep can carry the strand along with the body.
 layout(set = 0, binding = 10, rgba32f) uniform imageBuffer last_poses;
+
+// A skinned body's blend of bones at each grid point of the field (src/skinning/blend.rs):
+// four joint indices, two 16-bit halves per word, then four weights as 16-bit fractions;
+// all zero where no skin is near.
+layout(set = 0, binding = 11, rgba32ui) uniform readonly uimage3D blend;
+
+// Per substep of the submission and joint, the joint's motion from the rest pose: the
+// first three rows of K = J · J_rest⁻¹; sim.counts2.z joints per substep.
+layout(set = 0, binding = 12, rgba32f) uniform readonly imageBuffer bones;
 
 layout(push_constant) uniform Push {
     uint step;          // index into steps[] of the first substep

@@ -23,6 +23,9 @@ const uint STEP_COLLISION = 32u;
 const uint BODY_SKINNED = 64u;
 // Strands at rest sleep (see the end of main); compiled out with wind, which never stops.
 const uint SLEEP = 128u;
+// A skinned body's collision carries vertices back through the skin's blend of bones
+// (blend_back), not the root pose alone.
+const uint BODY_BLEND = 256u;
 // Projections onto the collision margin per vertex and substep, at most: on a rigid body,
 // and on a skinned one onto each of its constraints in turn (src/sim/collide.rs).
 const uint PROJECTIONS = 3u;
@@ -293,6 +296,60 @@ void select_capsules(uint k, float reach) {
     }
 }
 
+// Blend grid points per field cell along each axis (src/skinning/blend.rs: REFINE).
+const uint BLEND_REFINE = 2u;
+
+// A blended matrix's determinant below which it is taken as degenerate.
+const float MIN_DETERMINANT = 1e-6;
+
+// Where model-space point m lies at the rest pose (returned), with the map taking the
+// rest field's gradient there to model space (`back`). The root pose carries m back
+// first; where the field's grid point nearest to that holds a blend of bones, the
+// inverse of the skin's blended matrix Σ wₖ Kₖ of substep k carries m back instead,
+// and its inverse transpose carries the gradient (src/sim/collide.rs: `carry_back`).
+vec3 blend_back(vec3 m, uint k, out mat3 back) {
+    vec3 rest = transpose(pose_rotation) * (m - pose_root) + rest_root;
+    back = pose_rotation;
+    if ((STEPS & BODY_BLEND) == 0u) {
+        return rest;
+    }
+    vec3 g = (rest - sim.sdf_origin.xyz) * (sim.collision.z * float(BLEND_REFINE));
+    vec3 last = vec3((sim.sdf_dims.xyz - 1u) * BLEND_REFINE);
+    if (!(all(greaterThanEqual(g, vec3(0.0))) && all(lessThanEqual(g, last)))) {
+        return rest;
+    }
+    uvec4 b = imageLoad(blend, ivec3(uvec3(floor(g + 0.5))));
+    const float unit = 1.0 / 65535.0;
+    vec4 w = vec4(float(b.z & 0xffffu) * unit, float(b.z >> 16u) * unit,
+                  float(b.w & 0xffffu) * unit, float(b.w >> 16u) * unit);
+    if (!(w.x > 0.0)) {
+        return rest;
+    }
+    uvec4 j = uvec4(b.x & 0xffffu, b.x >> 16u, b.y & 0xffffu, b.y >> 16u);
+    uint base = 3u * k * sim.counts2.z;
+    uvec4 at = uvec4(base) + 3u * j;
+    vec4 r0 = imageLoad(bones, int(at.x)) * w.x + imageLoad(bones, int(at.y)) * w.y
+            + imageLoad(bones, int(at.z)) * w.z + imageLoad(bones, int(at.w)) * w.w;
+    vec4 r1 = imageLoad(bones, int(at.x + 1u)) * w.x + imageLoad(bones, int(at.y + 1u)) * w.y
+            + imageLoad(bones, int(at.z + 1u)) * w.z + imageLoad(bones, int(at.w + 1u)) * w.w;
+    vec4 r2 = imageLoad(bones, int(at.x + 2u)) * w.x + imageLoad(bones, int(at.y + 2u)) * w.y
+            + imageLoad(bones, int(at.z + 2u)) * w.z + imageLoad(bones, int(at.w + 2u)) * w.w;
+    vec3 a0 = vec3(r0.x, r1.x, r2.x);
+    vec3 a1 = vec3(r0.y, r1.y, r2.y);
+    vec3 a2 = vec3(r0.z, r1.z, r2.z);
+    vec3 t = vec3(r0.w, r1.w, r2.w);
+    vec3 x0 = cross(a1, a2);
+    vec3 x1 = cross(a2, a0);
+    vec3 x2 = cross(a0, a1);
+    float det = dot(a0, x0);
+    if (!(det > MIN_DETERMINANT)) {
+        return rest;
+    }
+    float inv = 1.0 / det;
+    back = mat3(x0 * inv, x1 * inv, x2 * inv);
+    return transpose(back) * (m - t);
+}
+
 // Moves model-space point m out to the margin of the skinned body (the rest field
 // carried by the root pose, then the selected capsules, in turn, PROJECTIONS_SKINNED
 // rounds at most), for a vertex `arc` along the hair from its root: a capsule pushes
@@ -302,18 +359,23 @@ void select_capsules(uint k, float reach) {
 // beside it). Returns the first contact's normal (model space) in `contact`, or false
 // without contact. The round stays a loop at one round: written straight, the
 // same arithmetic measured 4 points more of the step on lavapipe (docs/benchmark.md).
-bool push_out_skinned(inout vec3 m, float arc, float margin, out vec3 contact) {
+bool push_out_skinned(inout vec3 m, uint k, float arc, float margin, out vec3 contact) {
     bool touched = false;
     contact = vec3(0.0);
     for (uint j = 0u; j < PROJECTIONS_SKINNED; ++j) {
         bool moved = false;
         float d;
         vec3 g;
-        vec3 r = transpose(pose_rotation) * (m - pose_root) + rest_root;
+        mat3 back;
+        vec3 r = blend_back(m, k, back);
         if (sdf_sample_trilinear(r, d, g) && d < margin) {
             float len = length(g);
             if (len > MIN_LENGTH) {
-                vec3 n = pose_rotation * (g * (1.0 / len));
+                vec3 n = back * (g * (1.0 / len));
+                if ((STEPS & BODY_BLEND) != 0u) {
+                    // The blend's inverse transpose is not a rotation.
+                    n = n * (1.0 / length(n));
+                }
                 m = m + n * (margin - d);
                 contact = touched ? contact : n;
                 touched = true;
@@ -366,7 +428,7 @@ void collide(Step st, uint k, float margin) {
             vec3 m = m0;
             vec3 normal;
             float arc = float(i) * strand_length / float(V - 1u);
-            if (push_out_skinned(m, arc, margin, normal)) {
+            if (push_out_skinned(m, k, arc, margin, normal)) {
                 // The contact's normal is the direction of the whole push: with the
                 // field and a capsule both touching, the first one's normal would leave
                 // the velocity into the other, and hair squeezed between them would

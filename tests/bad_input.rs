@@ -384,6 +384,19 @@ fn impossible_flags_fail_cleanly() {
         (&["render", "--friction", "2"], "friction"),
         (&["render", "--collision-margin", "5"], "collision margin"),
         (&["render", "--sdf-resolution", "4"], "resolution"),
+        (&["render", "--skin-blend", "perhaps"], "skin-blend"),
+        (
+            &[
+                "render",
+                "--model",
+                "critter",
+                "--skin-blend",
+                "on",
+                "--sdf-resolution",
+                "128",
+            ],
+            "64 MiB",
+        ),
         (&["render", "--vertex-lod=-1"], "vertex LOD"),
         (&["render", "--primitive", "cones"], "cones"),
         (

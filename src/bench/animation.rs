@@ -47,32 +47,45 @@ struct Way {
     collision: bool,
     /// The field's cells along the longest axis, as a multiple of the default's.
     cells: u32,
+    /// Carry vertices back through the skin's blend of bones ([`SimParams::skin_blend`]).
+    skin_blend: bool,
 }
 
-const WAYS: [Way; 4] = [
+const WAYS: [Way; 5] = [
     Way {
         name: "rest field carried by each root pose + bone capsules (default)",
         capsules: true,
         collision: true,
         cells: 1,
+        skin_blend: false,
+    },
+    Way {
+        name: "the same, carried back through the skin's blend of bones (`--skin-blend on`)",
+        capsules: true,
+        collision: true,
+        cells: 1,
+        skin_blend: true,
     },
     Way {
         name: "the same with twice the field's cells",
         capsules: true,
         collision: true,
         cells: 2,
+        skin_blend: false,
     },
     Way {
         name: "rest field carried by each root pose alone",
         capsules: false,
         collision: true,
         cells: 1,
+        skin_blend: false,
     },
     Way {
         name: "collision off",
         capsules: false,
         collision: false,
         cells: 1,
+        skin_blend: false,
     },
 ];
 
@@ -84,11 +97,12 @@ impl Bench<'_> {
         (mesh, strands): (&Mesh, &Strands),
         body: &Arc<SkinnedBody>,
         field: &Sdf,
-        collision: bool,
+        (collision, skin_blend): (bool, bool),
     ) -> Result<(f64, f64)> {
         let playback = walk(&body.rig);
         let params = SimParams {
             collision,
+            skin_blend,
             ..crate::scene_file::Scene::default_sim()
         };
         let mut textures = StrandTextures::new(self.device, strands, glam::Mat4::IDENTITY)?;
@@ -319,6 +333,7 @@ impl Bench<'_> {
             runs.push(SimRun {
                 params: SimParams {
                     collision: way.collision,
+                    skin_blend: way.skin_blend,
                     ..params.clone()
                 },
                 skinned: Some((way_body.clone(), playback.clone())),
@@ -346,6 +361,9 @@ impl Bench<'_> {
             for k in 0..rounds {
                 let m = playback.joint_matrices(&rig, f64::from(k) / 60.0);
                 std::hint::black_box(skinning::capsules::pose(&way_body.capsules, &m));
+                if way.skin_blend {
+                    std::hint::black_box(skinning::blend::bone_rows(&m, &way_body.rest_inverse));
+                }
             }
             let update_us = start.elapsed().as_secs_f64() * 1e6 / f64::from(rounds);
             let with = times[k + 1];
@@ -355,12 +373,21 @@ impl Bench<'_> {
             let share = sampling / with;
             let adds = sampling / no_collision;
             let memory = if way.collision {
-                (field.bytes() + way_body.capsules.len() * 32 * 1024) as f64 / 1024.0
+                let blend = if way.skin_blend {
+                    skinning::blend::bytes(field) + rig.joints.len() * 48 * 1024
+                } else {
+                    0
+                };
+                (field.bytes() + way_body.capsules.len() * 32 * 1024 + blend) as f64 / 1024.0
             } else {
                 0.0
             };
-            let (mean, max) =
-                self.walk_penetration((&mesh, &strands), way_body, field, way.collision)?;
+            let (mean, max) = self.walk_penetration(
+                (&mesh, &strands),
+                way_body,
+                field,
+                (way.collision, way.skin_blend),
+            )?;
             for (metric, value, unit) in [
                 ("update_us", update_us, "µs"),
                 ("sampling_ms", sampling, "ms"),

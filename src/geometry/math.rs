@@ -96,6 +96,15 @@ impl<T: Real> V3<T> {
         self.dot(self).sqrt()
     }
 
+    /// `self × o`, as GLSL's `cross`.
+    pub fn cross(self, o: Self) -> Self {
+        Self(
+            self.1 * o.2 - self.2 * o.1,
+            self.2 * o.0 - self.0 * o.2,
+            self.0 * o.1 - self.1 * o.0,
+        )
+    }
+
     pub fn scale(self, s: T) -> Self {
         Self(self.0 * s, self.1 * s, self.2 * s)
     }

@@ -128,6 +128,7 @@ pub struct CollisionSection {
     pub margin: Option<f32>,
     pub friction: Option<f32>,
     pub sdf_resolution: Option<u32>,
+    pub skin_blend: Option<bool>,
 }
 
 /// `kind`: still, shake, spin or nod.

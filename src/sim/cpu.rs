@@ -47,6 +47,9 @@ pub struct CpuSim<T: Real> {
     /// On a skinned body, every strand's root pose after the last substep (empty until
     /// the first posed substep or placement).
     pub last_poses: Vec<RootPose>,
+    /// On a skinned body, the skin's blend of bones at each of the field's grid points
+    /// (see [`crate::skinning::blend`]); empty: the root pose carries every vertex back.
+    pub blend: Vec<crate::skinning::blend::Packed>,
 }
 
 impl<T: Real> CpuSim<T> {
@@ -68,6 +71,7 @@ impl<T: Real> CpuSim<T> {
             sdf: None,
             hair_length: strands.hair_length(),
             last_poses: Vec::new(),
+            blend: Vec::new(),
         }
     }
 
@@ -75,6 +79,14 @@ impl<T: Real> CpuSim<T> {
     /// `params.collision` is on).
     pub fn with_sdf(mut self, sdf: Arc<Sdf>) -> Self {
         self.sdf = Some(sdf);
+        self
+    }
+
+    /// Carries a skinned body's strand vertices back to the rest field through the
+    /// skin's blend of bones (`blend`: per grid point of the field, see
+    /// [`crate::skinning::blend::grid`]).
+    pub fn with_blend(mut self, blend: Vec<crate::skinning::blend::Packed>) -> Self {
+        self.blend = blend;
         self
     }
 
@@ -200,6 +212,11 @@ impl<T: Real> CpuSim<T> {
             .filter(|_| self.params.collision)
             .map(|sdf| super::collide::Collider {
                 sdf,
+                blend: if self.params.skin_blend {
+                    &self.blend
+                } else {
+                    &[]
+                },
                 to_model: Head::new(c.head_inverse),
                 fraction: T::from_f32(self.params.collision_margin),
                 friction: T::from_f32(self.params.friction),
@@ -271,12 +288,8 @@ impl<T: Real> CpuSim<T> {
                     match &carrier.pose {
                         Some(pose) => collider.push_out_skinned(
                             &head,
-                            (
-                                pose,
-                                &near,
-                                T::from_f32(i as f32) * length / segments,
-                                margin,
-                            ),
+                            (pose, posed.map_or(&[][..], |p| p.bones.as_slice()), &near),
+                            (T::from_f32(i as f32) * length / segments, margin),
                             &mut x[i],
                             &mut prev[i],
                         ),

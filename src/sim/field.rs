@@ -32,14 +32,73 @@ pub(super) fn upload(device: &Arc<Device>, sdf: Option<&Sdf>) -> Result<Image> {
             dims[0], dims[1], dims[2]
         )));
     }
-    let format = vk::Format::R32G32B32A32_SFLOAT;
+    let texels: Vec<Vec4> = texels.iter().map(|t| Vec4::from_array(*t)).collect();
+    let name = if sdf.is_some() {
+        "sim.body_sdf"
+    } else {
+        "sim.no_body"
+    };
+    volume(
+        device,
+        name,
+        dims,
+        vk::Format::R32G32B32A32_SFLOAT,
+        bytemuck::cast_slice(&texels),
+    )
+}
+
+/// The image holding a skinned body's blend of bones at each grid point of `sdf` (see
+/// [`crate::skinning::blend`]; `rgba32ui`, the same grid as the field's), or a single
+/// grid point of zeros (no blend: the root pose carries every vertex), left in
+/// `GENERAL` layout for the kernel to read.
+pub(super) fn upload_blend(
+    device: &Arc<Device>,
+    blend: Option<(&Sdf, &[crate::skinning::blend::Packed])>,
+) -> Result<Image> {
+    match blend {
+        Some((sdf, packed))
+            if packed.len()
+                == crate::skinning::blend::dims(sdf).iter().product::<u32>() as usize =>
+        {
+            let dims = crate::skinning::blend::dims(sdf);
+            let limit = device.info.limits.max_image_dimension3_d;
+            if dims.iter().any(|&n| n > limit) {
+                return Err(Error::Parameter(format!(
+                    "the skin's blend grid ({}×{}×{} points) exceeds this device's largest \
+                     3D image ({limit} per side); lower --sdf-resolution or turn --skin-blend off",
+                    dims[0], dims[1], dims[2]
+                )));
+            }
+            volume(
+                device,
+                "sim.body_blend",
+                dims,
+                vk::Format::R32G32B32A32_UINT,
+                bytemuck::cast_slice(packed),
+            )
+        }
+        _ => volume(
+            device,
+            "sim.no_blend",
+            [1, 1, 1],
+            vk::Format::R32G32B32A32_UINT,
+            &[0u8; 16],
+        ),
+    }
+}
+
+/// A 3D storage image of `dims` 16-byte texels of `format` holding `bytes`, in
+/// `GENERAL` layout.
+fn volume(
+    device: &Arc<Device>,
+    name: &str,
+    dims: [u32; 3],
+    format: vk::Format,
+    bytes: &[u8],
+) -> Result<Image> {
     let image = Image::volume(
         device,
-        if sdf.is_some() {
-            "sim.body_sdf"
-        } else {
-            "sim.no_body"
-        },
+        name,
         ImageDesc {
             extent: vk::Extent2D {
                 width: dims[0],
@@ -52,15 +111,14 @@ pub(super) fn upload(device: &Arc<Device>, sdf: Option<&Sdf>) -> Result<Image> {
         },
         dims[2],
     )?;
-    let texels: Vec<Vec4> = texels.iter().map(|t| Vec4::from_array(*t)).collect();
     let mut staging = Buffer::new(
         device,
-        "sim.body_sdf.staging",
-        std::mem::size_of_val(texels.as_slice()) as u64,
+        &format!("{name}.staging"),
+        bytes.len() as u64,
         vk::BufferUsageFlags::TRANSFER_SRC,
         MemoryLocation::CpuToGpu,
     )?;
-    staging.write(0, bytemuck::cast_slice(texels.as_slice()));
+    staging.write(0, bytes);
     let none = (vk::PipelineStageFlags2::NONE, vk::AccessFlags2::NONE);
     let copy_write = (
         vk::PipelineStageFlags2::COPY,

@@ -15,7 +15,7 @@ use ash::vk;
 use glam::{DMat4, UVec4, Vec3, Vec4};
 use gpu_allocator::MemoryLocation;
 
-use super::kernel::{after_dispatch, bindings, write_sim_set, GpuStep, SimStatic};
+use super::kernel::{after_dispatch, bindings, write_sim_set, BodyViews, GpuStep, SimStatic};
 use super::params::{SimParams, StepConstants};
 use super::sdf::Sdf;
 pub use super::steps::SimStep;
@@ -38,6 +38,9 @@ const BODY_SKINNED: u32 = 64;
 /// The kernel's `STEPS` bit for sleep (`SLEEP` in `simulate.comp`): only where hair can
 /// come to rest ([`SimParams::hair_can_rest`]).
 const SLEEP: u32 = 128;
+/// The kernel's `STEPS` bit for carrying vertices back through the skin's blend of
+/// bones (`BODY_BLEND` in `simulate.comp`, [`SimParams::skin_blend`]).
+const BODY_BLEND: u32 = 256;
 
 /// A skinned body's part of the simulation: the skinning pass, the body, which clip
 /// plays, and the joint matrices of the substeps not yet recorded.
@@ -47,6 +50,7 @@ pub struct Skinned {
     pub playback: Playback,
     pending: Vec<glam::Mat4>,
     pending_capsules: Vec<[Vec4; 2]>,
+    pending_bones: Vec<[Vec4; 3]>,
 }
 
 /// GPU simulation state for one set of strand textures.
@@ -68,6 +72,11 @@ pub struct GpuSim {
     /// The body's distance field (a 3D image, per grid point its value and gradient; a
     /// placeholder without a body) and its grid.
     _body: crate::gpu::Image,
+    /// A skinned body's blend of bones at each of the field's grid points (see
+    /// [`crate::skinning::blend`]; a placeholder otherwise).
+    _blend: crate::gpu::Image,
+    /// Whether `_blend` holds a body's blend (built when the simulation is).
+    has_blend: bool,
     grid: Option<BodyGrid>,
     /// The skinned body, if the strands grow on one.
     pub skinned: Option<Skinned>,
@@ -157,6 +166,7 @@ impl GpuSim {
             MemoryLocation::CpuToGpu,
         )?;
         let body_field = super::field::upload(device, body)?;
+        let blend_wanted = params.skin_blend && body.is_some();
         let skinned = match skinned {
             Some((body, playback)) => {
                 if body.vertex_count() != textures.layout.strand_count as usize {
@@ -171,7 +181,7 @@ impl GpuSim {
                     &body,
                     params.substeps,
                     STEP_CAPACITY,
-                    frames_in_flight,
+                    (frames_in_flight, blend_wanted),
                 )?;
                 Some(Skinned {
                     skin,
@@ -179,6 +189,7 @@ impl GpuSim {
                     playback,
                     pending: Vec::new(),
                     pending_capsules: Vec::new(),
+                    pending_bones: Vec::new(),
                 })
             }
             None => None,
@@ -205,6 +216,19 @@ impl GpuSim {
                 .as_ref()
                 .map_or(&no_capsules, |s: &Skinned| &s.skin.capsules[slot])
         };
+        let blend =
+            match (&skinned, body) {
+                (Some(s), Some(sdf)) if params.skin_blend => Some(
+                    crate::skinning::blend::for_body(&s.body, sdf, textures.hair_length)?,
+                ),
+                _ => None,
+            };
+        let blend_field = super::field::upload_blend(device, body.zip(blend.as_deref()))?;
+        let bones = |slot: usize| {
+            skinned
+                .as_ref()
+                .map_or(&no_capsules, |s: &Skinned| &s.skin.bones[slot])
+        };
         let mut slots = Vec::new();
         for slot in 0..frames_in_flight {
             let steps = Buffer::new(
@@ -216,15 +240,15 @@ impl GpuSim {
             )?;
             let sets = pool.allocate(&set_layout, 2)?;
             for (k, set) in sets.iter().enumerate() {
-                write_sim_set(
-                    device,
-                    *set,
-                    k,
-                    &statics,
-                    &steps,
-                    textures,
-                    (&body_field, root_poses, capsules(slot), last),
-                );
+                let views = BodyViews {
+                    field: &body_field,
+                    root_poses,
+                    capsules: capsules(slot),
+                    last,
+                    blend: &blend_field,
+                    bones: bones(slot),
+                };
+                write_sim_set(device, *set, k, (&statics, &steps), textures, &views);
             }
             let timestamps = if device.info.timestamps {
                 Some(QueryPool::timestamps(
@@ -254,6 +278,8 @@ impl GpuSim {
             pipeline: None,
             forced_steps: None,
             _body: body_field,
+            _blend: blend_field,
+            has_blend: blend.is_some(),
             grid: body.map(|sdf| BodyGrid {
                 origin: sdf.origin,
                 cell: sdf.cell,
@@ -330,7 +356,7 @@ impl GpuSim {
             counts2: UVec4::new(
                 params.length_iterations,
                 self.skinned.as_ref().map_or(0, |s| s.skin.capsule_count),
-                0,
+                self.skinned.as_ref().map_or(0, |s| s.skin.joint_count()),
                 0,
             ),
             collision: self.grid.map_or(Vec4::ZERO, |g| {
@@ -371,6 +397,16 @@ impl GpuSim {
                 )));
             }
             mask |= BODY_SKINNED;
+            if params.skin_blend && self.grid.is_some() {
+                if !self.has_blend {
+                    return Err(Error::Parameter(
+                        "the skin's blend for collision is chosen when the simulation is built, \
+                         not changed while it runs"
+                            .into(),
+                    ));
+                }
+                mask |= BODY_BLEND;
+            }
         }
         if self.pipeline.as_ref().map(|(m, _)| *m) != Some(mask) {
             let spec = self.specialization(mask);

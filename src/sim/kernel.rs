@@ -42,7 +42,7 @@ impl From<&StepConstants> for GpuStep {
     }
 }
 
-pub(super) fn bindings() -> [(vk::DescriptorType, vk::ShaderStageFlags); 11] {
+pub(super) fn bindings() -> [(vk::DescriptorType, vk::ShaderStageFlags); 13] {
     let c = vk::ShaderStageFlags::COMPUTE;
     [
         (vk::DescriptorType::UNIFORM_BUFFER, c),
@@ -56,6 +56,8 @@ pub(super) fn bindings() -> [(vk::DescriptorType, vk::ShaderStageFlags); 11] {
         (vk::DescriptorType::STORAGE_TEXEL_BUFFER, c), // root poses
         (vk::DescriptorType::STORAGE_TEXEL_BUFFER, c), // the bones' capsules
         (vk::DescriptorType::STORAGE_TEXEL_BUFFER, c), // last root poses
+        (vk::DescriptorType::STORAGE_IMAGE, c), // the skin's blend of bones
+        (vk::DescriptorType::STORAGE_TEXEL_BUFFER, c), // the bones' motions
     ]
 }
 
@@ -74,20 +76,26 @@ pub(super) fn after_dispatch(device: &Device, cmd: vk::CommandBuffer) {
     );
 }
 
+/// A skinned body's resources as the kernel reads them (placeholders on a rigid body):
+/// the field, the root poses, the capsules, the last root poses, the skin's blend of
+/// bones at the field's grid points and the bones' motions.
+pub(super) struct BodyViews<'a> {
+    pub(super) field: &'a crate::gpu::Image,
+    pub(super) root_poses: &'a TexelBuffer,
+    pub(super) capsules: &'a TexelBuffer,
+    pub(super) last: &'a TexelBuffer,
+    pub(super) blend: &'a crate::gpu::Image,
+    pub(super) bones: &'a TexelBuffer,
+}
+
 /// Points simulation descriptor set `k` (current = `positions[k]`) at its resources.
 pub(super) fn write_sim_set(
     device: &Device,
     set: vk::DescriptorSet,
     k: usize,
-    statics: &Buffer,
-    steps: &Buffer,
+    (statics, steps): (&Buffer, &Buffer),
     textures: &StrandTextures,
-    (body, root_poses, capsules, last): (
-        &crate::gpu::Image,
-        &TexelBuffer,
-        &TexelBuffer,
-        &TexelBuffer,
-    ),
+    body: &BodyViews,
 ) {
     let bindings = bindings();
     let buffer = |b: &Buffer| {
@@ -105,11 +113,17 @@ pub(super) fn write_sim_set(
         buffer(steps),
         buffer(&textures.root_frames),
     );
-    let (t8, t9, t10) = ([root_poses.view()], [capsules.view()], [last.view()]);
-    let (i2, i3, i7) = (
+    let (t8, t9, t10, t12) = (
+        [body.root_poses.view()],
+        [body.capsules.view()],
+        [body.last.view()],
+        [body.bones.view()],
+    );
+    let (i2, i3, i7, i11) = (
         image(&textures.rest),
         image(&textures.rest_local),
-        image(body),
+        image(body.field),
+        image(body.blend),
     );
     let (i5, i6) = (
         image(&textures.positions[1 - k]),
@@ -133,6 +147,8 @@ pub(super) fn write_sim_set(
         write(8).texel_buffer_view(&t8),
         write(9).texel_buffer_view(&t9),
         write(10).texel_buffer_view(&t10),
+        write(11).image_info(&i11),
+        write(12).texel_buffer_view(&t12),
     ];
     unsafe { device.raw.update_descriptor_sets(&writes, &[]) };
 }

@@ -53,6 +53,11 @@ pub struct SimParams {
     /// Distance-field cells along the model's longest axis; 0 chooses from the hair
     /// length (a cell about a third of it, 16..=128 cells).
     pub sdf_resolution: u32,
+    /// On a skinned body, carry each strand vertex back to the rest field through the
+    /// skin's own blend of bones near it (see [`crate::skinning::blend`]) instead of its
+    /// root pose alone: hair stays farther out where the skin bends between bones, at
+    /// more cost per vertex (docs/benchmark.md).
+    pub skin_blend: bool,
 }
 
 impl Default for SimParams {
@@ -73,6 +78,7 @@ impl Default for SimParams {
             collision_margin: 0.02,
             friction: 0.1,
             sdf_resolution: 0,
+            skin_blend: false,
         }
     }
 }

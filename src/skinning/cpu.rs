@@ -38,6 +38,9 @@ pub struct Posed {
     pub capsules: Vec<[Vec4; 2]>,
     /// The same capsules at the bind pose, where the rest field was built.
     pub rest_capsules: Vec<[Vec4; 2]>,
+    /// Per joint, the first three rows of its motion from the rest pose (see
+    /// [`super::blend::bone_rows`]).
+    pub bones: Vec<[Vec4; 3]>,
 }
 
 /// Skins `body` with the joint `matrices` (see [`crate::scene::Rig::joint_matrices`]).
@@ -61,6 +64,7 @@ pub fn pose(body: &SkinnedBody, matrices: &[Mat4]) -> Posed {
         roots,
         capsules: super::capsules::pose(&body.capsules, matrices),
         rest_capsules: super::capsules::pose(&body.capsules, &[]),
+        bones: super::blend::bone_rows(matrices, &body.rest_inverse),
     }
 }
 

@@ -39,6 +39,10 @@ pub struct GpuSkin {
     /// (read by the simulation's collision step).
     pub capsules: Vec<TexelBuffer>,
     pub capsule_count: u32,
+    /// Per frame in flight: every joint's motion from the rest pose (three rows, see
+    /// [`super::blend::bone_rows`]) for each substep of a submission (read by the
+    /// simulation's collision step).
+    pub bones: Vec<TexelBuffer>,
     /// Per strand, its root pose after the last simulated substep (the simulation's).
     pub last_poses: TexelBuffer,
     joint_capacity: usize,
@@ -77,7 +81,7 @@ impl GpuSkin {
         body: &SkinnedBody,
         substeps: u32,
         step_capacity: usize,
-        frames_in_flight: usize,
+        (frames_in_flight, with_bones): (usize, bool),
     ) -> Result<Self> {
         let rig = &body.rig;
         let n = body.vertex_count();
@@ -180,6 +184,21 @@ impl GpuSkin {
                 Ok(capsules)
             })
             .collect::<Result<Vec<_>>>()?;
+        let bones = (0..frames_in_flight)
+            .map(|slot| {
+                TexelBuffer::new(
+                    device,
+                    &format!("skin.bones[{slot}]"),
+                    if with_bones {
+                        (step_capacity * joint_count as usize * 3) as u64
+                    } else {
+                        1
+                    },
+                    (vk::Format::R32G32B32A32_SFLOAT, 16),
+                    MemoryLocation::CpuToGpu,
+                )
+            })
+            .collect::<Result<Vec<_>>>()?;
         let bindings = bindings();
         let set_layout = DescriptorSetLayout::new(device, "skin.set_layout", &bindings)?;
         let push = [vk::PushConstantRange::default()
@@ -239,6 +258,7 @@ impl GpuSkin {
             joints,
             capsules,
             capsule_count,
+            bones,
             last_poses,
             joint_capacity: step_capacity,
             _set_layout: set_layout,
@@ -275,6 +295,19 @@ impl GpuSkin {
         let capacity = (buffer.size() as usize / 32).saturating_sub(lead);
         let n = capsules.len().min(capacity);
         buffer.write(lead * 32, bytemuck::cast_slice(&capsules[..n]));
+    }
+
+    /// Writes slot `slot`'s bone motions, every joint's three rows of each substep of
+    /// the coming submission, substep after substep (see [`super::blend::bone_rows`]).
+    pub fn write_bones(&mut self, slot: usize, rows: &[[Vec4; 3]]) {
+        let buffer = &mut self.bones[slot].buffer;
+        let n = rows.len().min(buffer.size() as usize / 48);
+        buffer.write(0, bytemuck::cast_slice(&rows[..n]));
+    }
+
+    /// Joints per pose.
+    pub fn joint_count(&self) -> u32 {
+        self.joint_count
     }
 
     /// Records the skinning of substeps `first .. first + count` of the submission (the
@@ -342,6 +375,7 @@ impl GpuSkin {
             + self.root_poses.buffer.size()
             + self.joints.iter().map(|j| j.buffer.size()).sum::<u64>()
             + self.capsules.iter().map(|c| c.buffer.size()).sum::<u64>()
+            + self.bones.iter().map(|b| b.buffer.size()).sum::<u64>()
             + self.last_poses.buffer.size()
     }
 }

@@ -9,6 +9,7 @@
 //! scale of the blended skinning matrix never reach the strand's shape. A rigid body's
 //! head transform `H` is the case where every `S_s` is the identity.
 
+pub mod blend;
 pub mod capsules;
 pub mod cpu;
 pub mod dual_quaternion;
@@ -84,6 +85,10 @@ pub struct SkinnedBody {
     pub rest_frames: Vec<(Vec3, Vec3)>,
     /// The bones' capsules, for collision.
     pub capsules: Vec<capsules::Capsule>,
+    /// Per vertex, its position at the rest pose (where the rest field is built).
+    pub rest_positions: Vec<Vec3>,
+    /// Per joint, the inverse of its skinning matrix at the rest pose.
+    pub rest_inverse: Vec<glam::Mat4>,
 }
 
 impl SkinnedBody {
@@ -99,7 +104,7 @@ impl SkinnedBody {
             .collect();
         debug_assert_eq!(bind_tangents.len(), mesh.vertex_count());
         let rest = rig.rest_matrices();
-        let (_, normals, tangents) = rig.skin(&rest, &bind_tangents);
+        let (rest_positions, normals, tangents) = rig.skin(&rest, &bind_tangents);
         let rest_frames = normals
             .iter()
             .zip(&tangents)
@@ -109,11 +114,14 @@ impl SkinnedBody {
             })
             .collect();
         let capsules = capsules::fit(&rig);
+        let rest_inverse = rest.iter().map(|m| m.inverse()).collect();
         Self {
             rig,
             bind_tangents,
             rest_frames,
             capsules,
+            rest_positions,
+            rest_inverse,
         }
     }
 

@@ -103,6 +103,7 @@ fn posed_from(
         roots,
         capsules,
         rest_capsules: rest,
+        bones: Vec::new(),
     }
 }
 

@@ -69,6 +69,10 @@ impl GpuSim {
             skinned.skin.write_joints(slot, &joints)?;
             let capsules = std::mem::take(&mut skinned.pending_capsules);
             skinned.skin.write_capsules(slot, &capsules);
+            let bones = std::mem::take(&mut skinned.pending_bones);
+            if !bones.is_empty() {
+                skinned.skin.write_bones(slot, &bones);
+            }
         }
         let frame = &self.slots[slot];
         let d = &*self.device;
@@ -143,6 +147,10 @@ impl GpuSim {
             if let Some(s) = &mut self.skinned {
                 let matrices = s.playback.joint_matrices(&s.body.rig, self.time);
                 let capsules = crate::skinning::capsules::pose(&s.body.capsules, &matrices);
+                if self.params.skin_blend {
+                    let rows = crate::skinning::blend::bone_rows(&matrices, &s.body.rest_inverse);
+                    s.pending_bones.extend(rows);
+                }
                 s.pending.extend(matrices);
                 s.pending_capsules.extend(capsules);
             }
@@ -164,6 +172,7 @@ impl GpuSim {
             let matrices = s.playback.joint_matrices(&s.body.rig, self.time);
             s.pending.clear();
             s.pending_capsules.clear();
+            s.pending_bones.clear();
             s.skin.write_joints(0, &matrices)?;
         }
         let d = self.device.clone();

@@ -1,0 +1,221 @@
+//! The skin's blend of bones around the rest body, for collision: which bones, with
+//! which weights, move the skin nearest each grid point of the rest field, so a strand
+//! vertex can be carried back to the rest pose through the same blend that moved the
+//! skin beside it (`Collider::push_out_skinned` in src/sim/collide.rs, `blend_back` in
+//! `shaders/simulate.comp`).
+//!
+//! A strand's root pose is rigid; where the skin bends between two bones (a paw folding
+//! against its leg), the skin near a hair's tip moves with a different blend than its
+//! root, and the rest field carried by the root pose misplaces it. Linear blend
+//! skinning maps a rest point `r` with the skin's weights `w` to `Σ wₖ Kₖ r`; a strand
+//! vertex near that skin is carried back by the inverse of the same blended matrix.
+
+use glam::{Mat4, Vec3, Vec4};
+
+use crate::error::{Error, Result};
+use crate::geometry::{Real, Sdf, V3};
+use crate::scene::Rig;
+
+/// One grid point's blend, packed as the kernel reads it (a `uvec4`): four joint
+/// indices, two 16-bit halves per word, then four weights as 16-bit fractions of one.
+/// All zero: no skin within reach, the root pose carries the vertex.
+pub type Packed = [u32; 4];
+
+/// The joint indices and weights of a packed blend; the weights are `n / 65535` in f32,
+/// as the kernel decodes them.
+pub fn unpack(p: Packed) -> ([u32; 4], [f32; 4]) {
+    let half = |w: u32| [w & 0xffff, w >> 16];
+    let [j0, j1] = half(p[0]);
+    let [j2, j3] = half(p[1]);
+    let [w0, w1] = half(p[2]);
+    let [w2, w3] = half(p[3]);
+    let unit = 1.0f32 / 65535.0;
+    ([j0, j1, j2, j3], [w0, w1, w2, w3].map(|w| w as f32 * unit))
+}
+
+/// How far from the rest surface a grid point's blend is kept, for hair of
+/// `hair_length`: a strand vertex lies within a hair's length of its root, and the root
+/// pose carries it back within about that of the rest surface.
+pub fn band(hair_length: f32) -> f32 {
+    0.5 * hair_length
+}
+
+fn pack(joints: [u16; 4], weights: [f32; 4]) -> Packed {
+    let q = weights.map(|w| (w.clamp(0.0, 1.0) * 65535.0).round() as u32);
+    [
+        u32::from(joints[0]) | u32::from(joints[1]) << 16,
+        u32::from(joints[2]) | u32::from(joints[3]) << 16,
+        q[0] | q[1] << 16,
+        q[2] | q[3] << 16,
+    ]
+}
+
+/// Blend grid points per field cell along each axis: the skin's weights change within a
+/// field cell where the skin bends (a paw's edge).
+pub const REFINE: u32 = 2;
+
+/// The blend grid's points along x, y, z over `field`'s box: [`REFINE`] per field cell.
+pub fn dims(field: &Sdf) -> [u32; 3] {
+    field.dims.map(|n| (n - 1) * REFINE + 1)
+}
+
+/// Bytes the blend grid over `field` takes on the device (16 per point).
+pub fn bytes(field: &Sdf) -> usize {
+    dims(field).iter().map(|&n| n as usize).product::<usize>() * 16
+}
+
+/// The index of the blend grid point nearest to `p` (x fastest, then y, then z); None
+/// outside the grid. The kernel's `blend_back` picks it with the same arithmetic.
+pub fn nearest<T: Real>(field: &Sdf, p: V3<T>) -> Option<usize> {
+    let inv = T::from_f32(1.0 / field.cell) * T::from_f32(REFINE as f32);
+    let o = V3::<T>::from_vec3(field.origin);
+    let g = [(p.0 - o.0) * inv, (p.1 - o.1) * inv, (p.2 - o.2) * inv];
+    let [nx, ny, nz] = dims(field);
+    let inside = g
+        .iter()
+        .zip([nx, ny, nz])
+        .all(|(&x, n)| x >= T::ZERO && x <= T::from_f32((n - 1) as f32));
+    if !inside {
+        return None;
+    }
+    let c = g.map(|x| (x + T::HALF).to_f64().floor() as u32);
+    Some((c[0] + nx * (c[1] + ny * c[2])) as usize)
+}
+
+/// Per blend grid point over `field` (see [`dims`]), the blend of the rest-posed skin
+/// vertex (`rest`, vertex-aligned with `rig`) nearest to it, for the points within
+/// `band` of the surface; zero elsewhere. A bucket grid of the vertices keeps this to
+/// the points near each.
+pub fn grid(rig: &Rig, rest: &[Vec3], field: &Sdf, band: f32) -> Vec<Packed> {
+    let step = field.cell / REFINE as f32;
+    let bucket = (2.0 * field.cell).max(f32::MIN_POSITIVE);
+    let key = |p: Vec3| ((p - field.origin) / bucket).floor().as_ivec3();
+    let mut buckets: std::collections::HashMap<glam::IVec3, Vec<u32>> = Default::default();
+    for (i, &p) in rest.iter().enumerate() {
+        buckets.entry(key(p)).or_default().push(i as u32);
+    }
+    let [nx, ny, nz] = dims(field);
+    let mut out = vec![[0u32; 4]; (nx * ny * nz) as usize];
+    // Rings of buckets beyond which no vertex can be nearer than the band.
+    let max_ring = (band / bucket).ceil() as i32 + 1;
+    for z in 0..nz {
+        for y in 0..ny {
+            for x in 0..nx {
+                let at = (x + nx * (y + ny * z)) as usize;
+                let p = field.origin + Vec3::new(x as f32, y as f32, z as f32) * step;
+                let near = field
+                    .sample::<f32>(V3::from_vec3(p))
+                    .is_some_and(|(d, _)| d.abs() <= band);
+                if !near {
+                    continue;
+                }
+                let centre = key(p);
+                let mut best: Option<(f32, u32)> = None;
+                for ring in 0..=max_ring {
+                    // A vertex in ring r lies at least (r − 1) buckets away.
+                    if let Some((d, _)) = best {
+                        if d < (ring - 1) as f32 * bucket {
+                            break;
+                        }
+                    }
+                    for_ring(centre, ring, |k| {
+                        for &i in buckets.get(&k).map_or(&[][..], |v| v.as_slice()) {
+                            let d = rest[i as usize].distance(p);
+                            if best.is_none_or(|(b, j)| d < b || (d == b && i < j)) {
+                                best = Some((d, i));
+                            }
+                        }
+                    });
+                }
+                if let Some((_, i)) = best {
+                    let i = i as usize;
+                    out[at] = pack(rig.influences[i], rig.weights[i]);
+                }
+            }
+        }
+    }
+    out
+}
+
+/// The most device memory the blend grid may take.
+pub const MAX_BYTES: usize = 64 << 20;
+
+/// [`grid`] for `body` and its rest `field`, for hair of `hair_length` (see [`band`]):
+/// what the simulation uses. A grid over [`MAX_BYTES`] is refused, naming the limit.
+pub fn for_body(body: &super::SkinnedBody, field: &Sdf, hair_length: f32) -> Result<Vec<Packed>> {
+    let bytes = self::bytes(field);
+    if bytes > MAX_BYTES {
+        return Err(Error::Parameter(format!(
+            "the skin's blend over a {}×{}×{} field needs {} MiB of device memory, more than \
+             the {} MiB it may take; lower --sdf-resolution or turn --skin-blend off",
+            field.dims[0],
+            field.dims[1],
+            field.dims[2],
+            bytes >> 20,
+            MAX_BYTES >> 20
+        )));
+    }
+    Ok(grid(
+        &body.rig,
+        &body.rest_positions,
+        field,
+        band(hair_length),
+    ))
+}
+
+/// Calls `f` with every bucket on the shell of Chebyshev radius `ring` around `c`.
+fn for_ring(c: glam::IVec3, ring: i32, mut f: impl FnMut(glam::IVec3)) {
+    for dz in -ring..=ring {
+        for dy in -ring..=ring {
+            for dx in -ring..=ring {
+                if dx.abs().max(dy.abs()).max(dz.abs()) == ring {
+                    f(c + glam::IVec3::new(dx, dy, dz));
+                }
+            }
+        }
+    }
+}
+
+/// Per joint, the first three rows of `Kₖ = Jₖ · Jₖ,rest⁻¹`: the joint's motion from the
+/// rest pose the field was built in (`rest_inverse`) to the pose of `matrices`.
+pub fn bone_rows(matrices: &[Mat4], rest_inverse: &[Mat4]) -> Vec<[Vec4; 3]> {
+    matrices
+        .iter()
+        .zip(rest_inverse)
+        .map(|(m, r)| {
+            let k = *m * *r;
+            [k.row(0), k.row(1), k.row(2)]
+        })
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_packed_blend_unpacks_to_its_joints_and_weights() {
+        let p = pack([3, 65535, 0, 7], [0.5, 0.25, 0.25, 0.0]);
+        let (j, w) = unpack(p);
+        assert_eq!(j, [3, 65535, 0, 7]);
+        for (got, want) in w.iter().zip([0.5, 0.25, 0.25, 0.0]) {
+            assert!((got - want).abs() < 1e-5, "{got} against {want}");
+        }
+    }
+
+    #[test]
+    fn the_rows_of_a_joint_at_its_rest_pose_are_the_identity() {
+        let m = Mat4::from_rotation_translation(
+            glam::Quat::from_rotation_z(0.7),
+            Vec3::new(1.0, 2.0, 3.0),
+        );
+        let rows = bone_rows(&[m], &[m.inverse()]);
+        for (k, row) in rows[0].iter().enumerate() {
+            let want = Mat4::IDENTITY.row(k);
+            assert!(
+                (*row - want).abs().max_element() < 1e-6,
+                "{row} against {want}"
+            );
+        }
+    }
+}

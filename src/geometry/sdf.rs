@@ -275,14 +275,6 @@ impl Sdf {
         (value, grad)
     }
 
-    /// The index of the grid point nearest to `p` (as [`Sdf::sample`] picks it), x
-    /// fastest, then y, then z; None outside the grid.
-    pub fn nearest_point<T: Real>(&self, p: V3<T>) -> Option<usize> {
-        let g = self.grid_coordinates(p)?;
-        let nearest = g.map(|x| (x + T::HALF).to_f64().floor() as u32);
-        Some(self.index(nearest[0], nearest[1], nearest[2]))
-    }
-
     /// The distance at model-space point `p` to first order from its nearest grid
     /// point, and the gradient there (not normalised); None outside the grid. The
     /// arithmetic, step by step, is the shader's `sdf_sample`.

@@ -21,6 +21,7 @@ pub const SOURCES: &[(&str, &str)] = &[
         "sdf_sample.glsl",
         include_str!("../../shaders/sdf_sample.glsl"),
     ),
+    ("collide.glsl", include_str!("../../shaders/collide.glsl")),
     ("mesh.vert", include_str!("../../shaders/mesh.vert")),
     ("mesh.frag", include_str!("../../shaders/mesh.frag")),
     ("fur.vert", include_str!("../../shaders/fur.vert")),

@@ -405,7 +405,7 @@ impl FurSession {
         motion.validate()?;
         sim_params.validate()?;
         check_work(&mesh, groom, &settings, extent)?;
-        let warnings = Vec::new();
+        let mut warnings = Vec::new();
         let mut groom = groom.clone();
         let skinned = match rig {
             Some((rig, playback)) => {
@@ -416,6 +416,16 @@ impl FurSession {
             }
             None => None,
         };
+        if sim_params.skin_blend && (skinned.is_none() || !sim_params.collision) {
+            warnings.push(format!(
+                "the skin's blend changes nothing here: {}",
+                if skinned.is_none() {
+                    "the model has no skin (a rigid body keeps its field built once)"
+                } else {
+                    "collision is off"
+                }
+            ));
+        }
         let groom = &groom;
         let strands = Strands::grow(&mesh, groom)?;
         let head = motion.head(0.0).as_mat4();

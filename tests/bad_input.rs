@@ -298,6 +298,13 @@ fn awkward_but_valid_models_render() {
         Some("inside out"),
         "normals pointing inwards",
     );
+    // Asking for the skin's blend on a body with no skin: it renders, and says the
+    // flag changes nothing.
+    succeeds(
+        &render_model("sphere", &["--skin-blend", "on"]),
+        Some("changes nothing"),
+        "the skin's blend on a rigid body",
+    );
 }
 
 #[test]

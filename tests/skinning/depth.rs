@@ -1,0 +1,224 @@
+//! How deep hair gets into the walking critter's skin, with collision and without.
+
+use super::*;
+
+/// Depth of strand vertices inside the posed critter over the second half of a walk
+/// cycle (exact point-to-mesh distances), fractions of the longest hair: (mean, max).
+fn walk_depths((collision, skin_blend): (bool, bool)) -> (f64, f64) {
+    let device = common::device();
+    let (mesh, rig) = critter();
+    let (mut groom, _) = fur::session::SceneOptions::default()
+        .resolve(&mesh)
+        .unwrap();
+    groom.comb_field = Some(skinning::fur_flow(&rig));
+    let strands = Strands::grow(&mesh, &groom).unwrap();
+    let body = Arc::new(SkinnedBody::new(&mesh, rig));
+    let playback = walk(&body.rig);
+    let params = SimParams {
+        collision,
+        skin_blend,
+        ..fur::scene_file::Scene::default_sim()
+    };
+    let (field, _) = fur::sim::Sdf::for_hair(&mesh, &params, strands.hair_length(), true).unwrap();
+    let mut textures = StrandTextures::new(&device, &strands, glam::Mat4::IDENTITY).unwrap();
+    let mut gpu = skinned_sim(
+        &device,
+        &textures,
+        params,
+        Some(&field),
+        (body.clone(), playback.clone()),
+    );
+    let v = strands.vertices_per_strand as usize;
+    let head = |_: f64| DMat4::IDENTITY;
+    gpu.run_frames(&mut textures, 30, head).unwrap();
+    let (mut sum, mut count, mut max) = (0.0f64, 0usize, 0.0f64);
+    for _ in 0..3 {
+        gpu.run_frames(&mut textures, 10, head).unwrap();
+        let posed = skinning::cpu::pose(&body, &playback.joint_matrices(&body.rig, gpu.time));
+        let surface = Mesh {
+            positions: posed.positions,
+            ..mesh.clone()
+        };
+        let points: Vec<Vec3> = textures
+            .read_positions(textures.current)
+            .unwrap()
+            .into_iter()
+            .enumerate()
+            .filter(|(i, _)| i % v != 0)
+            .map(|(_, p)| p)
+            .collect();
+        for d in fur::sim::sdf::exact_distances(&surface, &points) {
+            let depth = f64::from((-d).max(0.0));
+            sum += depth;
+            count += 1;
+            max = max.max(depth);
+        }
+    }
+    drop(gpu);
+    drop(textures);
+    common::assert_clean(&device);
+    let hair = f64::from(strands.hair_length());
+    (sum / count as f64 / hair, max / hair)
+}
+
+/// Collision keeps the walking critter's hair out of its skin: measured against the
+/// same walk without collision. The issue's target (max ≤ 1 % of the hair length) is
+/// not met everywhere yet (docs/benchmark.md: a paw tip and the armpit's first
+/// vertices). Measured here (3 frames): collision divides the mean depth by 120 and
+/// the max by 24 (max 1.1 %); the bounds ask for 5 and 3.2, and the max for at most
+/// 2.5 %, so a collision doing half its work, or the previous release's (3.0 %), fail.
+#[test]
+fn collision_keeps_the_walking_hair_out_of_the_skin() {
+    let (mean_on, max_on) = walk_depths((true, false));
+    let (mean_off, max_off) = walk_depths((false, false));
+    println!(
+        "depth inside the skin, fractions of the hair length: with collision mean {mean_on:.2e} \
+         max {max_on:.3}; without mean {mean_off:.2e} max {max_off:.3}"
+    );
+    assert!(
+        mean_off > 1e-4,
+        "the walk without collision hardly enters the skin"
+    );
+    assert!(max_on <= 0.025, "max depth {max_on} of the hair length");
+    assert!(
+        mean_on * 5.0 < mean_off,
+        "mean depth {mean_on} against {mean_off}"
+    );
+    assert!(
+        max_on * 3.2 < max_off,
+        "max depth {max_on} against {max_off}"
+    );
+}
+
+/// With the rest field carried back through the skin's blend of bones (`--skin-blend
+/// on`), hair stays farther out of the walking critter than by its root poses alone:
+/// the tips of hair rooted where a paw meets its leg, which the root pose carries with
+/// the blend of the two bones while the paw's skin turns with the paw, are no longer
+/// the deepest (measured over these frames: max 1.14 % by the root poses, 0.90 % by the
+/// skin's blend; mean 3.40e-6 and 2.75e-6).
+#[test]
+fn the_skins_blend_keeps_hair_out_where_the_skin_bends() {
+    // Below the root poses' own max over these frames (0.0114).
+    const BLEND_MAX: f64 = 0.011;
+    let (mean_root, max_root) = walk_depths((true, false));
+    let (mean_blend, max_blend) = walk_depths((true, true));
+    println!(
+        "depth inside the skin, fractions of the hair length: root poses mean \
+         {mean_root:.2e} max {max_root:.4}; the skin's blend mean {mean_blend:.2e} max {max_blend:.4}"
+    );
+    assert!(
+        max_blend <= BLEND_MAX,
+        "max depth {max_blend} of the hair length"
+    );
+    assert!(
+        max_blend < max_root,
+        "max depth {max_blend} against {max_root}"
+    );
+    assert!(
+        mean_blend < mean_root,
+        "mean depth {mean_blend} against {mean_root}"
+    );
+}
+
+/// A still pose under gravity with collision on (the product's defaults, the session's
+/// groom): once the hair has settled onto the body, no vertex moves more than 1e-6 of the
+/// hair length a frame. Three things make it so (each measured on the CPU twin):
+/// - the carried field is sampled trilinearly: the nearest-point sample jumps in the
+///   crease between belly and thighs, and ~80 strands hung there in period-2 cycles of
+///   0.15 hair lengths a frame;
+/// - a bone's capsule counts only as far as it moved relative to a strand's root: at the
+///   pose the field was built in, the thigh's capsule and the field's thigh were two
+///   shapes of one thigh, and ~14 strands squeezed between them kept creeping by up to
+///   1e-2 a frame;
+/// - where the field and a capsule both push a vertex, the contact's normal is the
+///   whole push's direction (the first one's left the velocity into the other: at held
+///   walk poses 3 to 13 strands crept by up to 9e-3 a frame);
+/// - slow motion sleeps (1e-3 of a strand's length a frame, with its root still; without
+///   it ~85 strands still move by up to 4e-4 a frame at the bind pose).
+#[test]
+fn a_still_pose_under_gravity_with_collision_comes_to_rest() {
+    for skin_blend in [false, true] {
+        still_pose_comes_to_rest(SimParams {
+            skin_blend,
+            ..Default::default()
+        });
+    }
+}
+
+fn still_pose_comes_to_rest(params: SimParams) {
+    let device = common::device();
+    let (strands, body, sdf) = critter_with_field(&params);
+    // The bind pose, and the walk's bent pose at 0.4 s held (legs apart, where the
+    // thighs' capsules have moved relative to the belly's roots).
+    let held_walk = Playback {
+        speed: 0.0,
+        start: 0.4,
+        ..walk(&body.rig)
+    };
+    for (what, playback) in [
+        ("bind pose", Playback::default()),
+        ("walk at 0.4 s", held_walk),
+    ] {
+        let mut textures = StrandTextures::new(&device, &strands, glam::Mat4::IDENTITY).unwrap();
+        let mut gpu = skinned_sim(
+            &device,
+            &textures,
+            params.clone(),
+            Some(&sdf),
+            (body.clone(), playback),
+        );
+        gpu.run_frames(&mut textures, 300, |_| DMat4::IDENTITY)
+            .unwrap();
+        let limit = 1e-6 * strands.hair_length();
+        let worst = largest_move(&mut gpu, &mut textures, 5);
+        println!(
+            "{what} (skin's blend {}): largest move a frame after settling: {worst:e} (limit {limit:e})",
+            params.skin_blend
+        );
+        assert!(
+            worst <= limit,
+            "{what}: the still pose jitters by {worst} a frame (limit {limit})"
+        );
+    }
+    common::assert_clean(&device);
+}
+
+/// The built-in walk never puts one part of the skin inside another (a paw through the
+/// other paw on its side): no hair rooted there could be outside both. Points 1 mm under
+/// the skin, at 120 poses over the cycle, all read as inside the posed body; where two
+/// parts overlap, the ray-cast sign counts two surfaces and reads them as outside.
+/// Before the front legs led their diagonal pair by 0.4 rad, 5 to 25 such points showed
+/// at 10 % of the cycle (the paws meeting under the body).
+#[test]
+fn the_walk_keeps_the_skin_out_of_itself() {
+    let (mesh, rig) = critter();
+    let body = SkinnedBody::new(&mesh, rig);
+    let playback = walk(&body.rig);
+    let mut worst = (0usize, 0.0f64);
+    for k in 0..120 {
+        let t = f64::from(k) / 120.0;
+        let posed = skinning::cpu::pose(&body, &playback.joint_matrices(&body.rig, t));
+        let under: Vec<Vec3> = posed
+            .positions
+            .iter()
+            .zip(&posed.normals)
+            .map(|(p, n)| *p - n.normalize() * 1e-3)
+            .collect();
+        let surface = Mesh {
+            positions: posed.positions,
+            ..mesh.clone()
+        };
+        let outside = fur::sim::sdf::exact_distances(&surface, &under)
+            .iter()
+            .filter(|&&d| d > 0.0)
+            .count();
+        if outside > worst.0 {
+            worst = (outside, t);
+        }
+    }
+    assert_eq!(
+        worst.0, 0,
+        "{} skin points inside another part of the body at t = {}",
+        worst.0, worst.1
+    );
+}

@@ -101,18 +101,25 @@ void select_capsules(uint k, float reach) {
 // Blend grid points per field cell along each axis (src/skinning/blend.rs: REFINE).
 const uint BLEND_REFINE = 2u;
 
+// The first vertex carried back through the skin's blend: from seven eighths of the hair
+// out. The root pose is exact at the root and drifts from the skin with distance along
+// the hair; the blend's reads are dear on a CPU driver, and vertices nearer the root
+// measured the same depths with it and without (src/sim/collide.rs: BLEND_FROM).
+const uint BLEND_FROM = (7u * (V - 1u)) / 8u;
+
 // A blended matrix's determinant below which it is taken as degenerate.
 const float MIN_DETERMINANT = 1e-6;
 
 // Where model-space point m lies at the rest pose (returned), with the map taking the
 // rest field's gradient there to model space (`back`). The root pose carries m back
-// first; where the field's grid point nearest to that holds a blend of bones, the
-// inverse of the skin's blended matrix Σ wₖ Kₖ of substep k carries m back instead,
-// and its inverse transpose carries the gradient (src/sim/collide.rs: `carry_back`).
-vec3 blend_back(vec3 m, uint k, out mat3 back) {
+// first; for an `outer` vertex (BLEND_FROM on), where the blend grid point nearest to
+// that holds a blend of bones, the inverse of the skin's blended matrix
+// w K_a + (1 − w) K_b of substep k carries m back instead, and its inverse transpose
+// carries the gradient (src/sim/collide.rs: `carry_back`).
+vec3 blend_back(vec3 m, uint k, bool outer, out mat3 back) {
     vec3 rest = transpose(pose_rotation) * (m - pose_root) + rest_root;
     back = pose_rotation;
-    if ((STEPS & BODY_BLEND) == 0u) {
+    if ((STEPS & BODY_BLEND) == 0u || !outer) {
         return rest;
     }
     vec3 g = (rest - sim.sdf_origin.xyz) * (sim.collision.z * float(BLEND_REFINE));
@@ -120,22 +127,20 @@ vec3 blend_back(vec3 m, uint k, out mat3 back) {
     if (!(all(greaterThanEqual(g, vec3(0.0))) && all(lessThanEqual(g, last)))) {
         return rest;
     }
-    uvec4 b = imageLoad(blend, ivec3(uvec3(floor(g + 0.5))));
-    const float unit = 1.0 / 65535.0;
-    vec4 w = vec4(float(b.z & 0xffffu) * unit, float(b.z >> 16u) * unit,
-                  float(b.w & 0xffffu) * unit, float(b.w >> 16u) * unit);
-    if (!(w.x > 0.0)) {
+    uvec3 at = uvec3(floor(g + 0.5));
+    uvec4 texel = imageLoad(blend, ivec3(at.x >> 1u, at.yz));
+    uvec2 b = (at.x & 1u) != 0u ? texel.zw : texel.xy;
+    float w = uintBitsToFloat(b.y);
+    if (!(w > 0.0)) {
         return rest;
     }
-    uvec4 j = uvec4(b.x & 0xffffu, b.x >> 16u, b.y & 0xffffu, b.y >> 16u);
+    float v = 1.0 - w;
     uint base = 3u * k * sim.counts2.z;
-    uvec4 at = uvec4(base) + 3u * j;
-    vec4 r0 = imageLoad(bones, int(at.x)) * w.x + imageLoad(bones, int(at.y)) * w.y
-            + imageLoad(bones, int(at.z)) * w.z + imageLoad(bones, int(at.w)) * w.w;
-    vec4 r1 = imageLoad(bones, int(at.x + 1u)) * w.x + imageLoad(bones, int(at.y + 1u)) * w.y
-            + imageLoad(bones, int(at.z + 1u)) * w.z + imageLoad(bones, int(at.w + 1u)) * w.w;
-    vec4 r2 = imageLoad(bones, int(at.x + 2u)) * w.x + imageLoad(bones, int(at.y + 2u)) * w.y
-            + imageLoad(bones, int(at.z + 2u)) * w.z + imageLoad(bones, int(at.w + 2u)) * w.w;
+    uint ja = base + 3u * (b.x & 0xffffu);
+    uint jb = base + 3u * (b.x >> 16u);
+    vec4 r0 = imageLoad(bones, int(ja)) * w + imageLoad(bones, int(jb)) * v;
+    vec4 r1 = imageLoad(bones, int(ja + 1u)) * w + imageLoad(bones, int(jb + 1u)) * v;
+    vec4 r2 = imageLoad(bones, int(ja + 2u)) * w + imageLoad(bones, int(jb + 2u)) * v;
     vec3 a0 = vec3(r0.x, r1.x, r2.x);
     vec3 a1 = vec3(r0.y, r1.y, r2.y);
     vec3 a2 = vec3(r0.z, r1.z, r2.z);
@@ -161,7 +166,7 @@ vec3 blend_back(vec3 m, uint k, out mat3 back) {
 // beside it). Returns the first contact's normal (model space) in `contact`, or false
 // without contact. The round stays a loop at one round: written straight, the
 // same arithmetic measured 4 points more of the step on lavapipe (docs/benchmark.md).
-bool push_out_skinned(inout vec3 m, uint k, float arc, float margin, out vec3 contact) {
+bool push_out_skinned(inout vec3 m, uint k, float arc, float margin, bool outer, out vec3 contact) {
     bool touched = false;
     contact = vec3(0.0);
     for (uint j = 0u; j < PROJECTIONS_SKINNED; ++j) {
@@ -169,12 +174,12 @@ bool push_out_skinned(inout vec3 m, uint k, float arc, float margin, out vec3 co
         float d;
         vec3 g;
         mat3 back;
-        vec3 r = blend_back(m, k, back);
+        vec3 r = blend_back(m, k, outer, back);
         if (sdf_sample_trilinear(r, d, g) && d < margin) {
             float len = length(g);
             if (len > MIN_LENGTH) {
                 vec3 n = back * (g * (1.0 / len));
-                if ((STEPS & BODY_BLEND) != 0u) {
+                if ((STEPS & BODY_BLEND) != 0u && outer) {
                     // The blend's inverse transpose is not a rotation.
                     n = n * (1.0 / length(n));
                 }
@@ -211,71 +216,83 @@ bool push_out_skinned(inout vec3 m, uint k, float arc, float margin, out vec3 co
     return touched;
 }
 
+// Collision of vertex i with the body (an `outer` vertex through the skin's blend, see
+// BLEND_FROM).
+void collide_vertex(Step st, uint k, float margin, uint i, bool outer) {
+    // One read of each array per vertex, and on a skinned body one unconditional
+    // write: a varying index into a private array is dear on a CPU driver, a masked
+    // write more so (docs/design.md). The rigid body writes back only what it moved,
+    // which measured cheaper there.
+    vec3 xi = x[i];
+    vec3 pi = p[i];
+    vec3 velocity = xi - pi;
+    vec3 contact = vec3(0.0);
+    bool touched = false;
+    if ((STEPS & BODY_SKINNED) != 0u) {
+        vec3 m0 = (st.head_inverse * vec4(xi, 1.0)).xyz;
+        vec3 m = m0;
+        vec3 normal;
+        float arc = float(i) * strand_length / float(V - 1u);
+        if (push_out_skinned(m, k, arc, margin, outer, normal)) {
+            // The contact's normal is the direction of the whole push: with the
+            // field and a capsule both touching, the first one's normal would leave
+            // the velocity into the other, and hair squeezed between them would
+            // creep (src/sim/collide.rs: `push_out_skinned`).
+            vec3 push = m - m0;
+            float len = length(push);
+            if (len > MIN_LENGTH) {
+                normal = push * (1.0 / len);
+            }
+            xi = xi + mat3(st.head) * push;
+            contact = mat3(st.head) * normal;
+            touched = true;
+        }
+    } else {
+        // The first contact's normal splits the velocity; a few more projections
+        // settle a vertex that one step along a curved field leaves short of the
+        // margin.
+        for (uint j = 0u; j < PROJECTIONS; ++j) {
+            float d;
+            vec3 gradient;
+            if (!sdf_sample((st.head_inverse * vec4(xi, 1.0)).xyz, d, gradient) || !(d < margin)) {
+                break;
+            }
+            float len = length(gradient);
+            if (!(len > MIN_LENGTH)) {
+                break;
+            }
+            vec3 n = mat3(st.head) * (gradient * (1.0 / len));
+            xi = xi + n * (margin - d);
+            if (!touched) {
+                contact = n;
+                touched = true;
+            }
+        }
+    }
+    if (touched) {
+        float normal = dot(velocity, contact);
+        vec3 tangential = velocity - contact * normal;
+        vec3 kept = tangential * (1.0 - sim.collision.y) + contact * max(normal, 0.0);
+        pi = xi - kept;
+    }
+    if ((STEPS & BODY_SKINNED) != 0u || touched) {
+        x[i] = xi;
+        p[i] = pi;
+    }
+}
+
 void collide(Step st, uint k, float margin) {
     if ((STEPS & BODY_SKINNED) != 0u) {
         select_capsules(k, strand_length + margin);
     }
-    for (uint i = 1u; i < V; ++i) {
-        // One read of each array per vertex, and on a skinned body one unconditional
-        // write: a varying index into a private array is dear on a CPU driver, a masked
-        // write more so (docs/design.md). The rigid body writes back only what it moved,
-        // which measured cheaper there.
-        vec3 xi = x[i];
-        vec3 pi = p[i];
-        vec3 velocity = xi - pi;
-        vec3 contact = vec3(0.0);
-        bool touched = false;
-        if ((STEPS & BODY_SKINNED) != 0u) {
-            vec3 m0 = (st.head_inverse * vec4(xi, 1.0)).xyz;
-            vec3 m = m0;
-            vec3 normal;
-            float arc = float(i) * strand_length / float(V - 1u);
-            if (push_out_skinned(m, k, arc, margin, normal)) {
-                // The contact's normal is the direction of the whole push: with the
-                // field and a capsule both touching, the first one's normal would leave
-                // the velocity into the other, and hair squeezed between them would
-                // creep (src/sim/collide.rs: `push_out_skinned`).
-                vec3 push = m - m0;
-                float len = length(push);
-                if (len > MIN_LENGTH) {
-                    normal = push * (1.0 / len);
-                }
-                xi = xi + mat3(st.head) * push;
-                contact = mat3(st.head) * normal;
-                touched = true;
-            }
-        } else {
-            // The first contact's normal splits the velocity; a few more projections
-            // settle a vertex that one step along a curved field leaves short of the
-            // margin.
-            for (uint j = 0u; j < PROJECTIONS; ++j) {
-                float d;
-                vec3 gradient;
-                if (!sdf_sample((st.head_inverse * vec4(xi, 1.0)).xyz, d, gradient) || !(d < margin)) {
-                    break;
-                }
-                float len = length(gradient);
-                if (!(len > MIN_LENGTH)) {
-                    break;
-                }
-                vec3 n = mat3(st.head) * (gradient * (1.0 / len));
-                xi = xi + n * (margin - d);
-                if (!touched) {
-                    contact = n;
-                    touched = true;
-                }
-            }
-        }
-        if (touched) {
-            float normal = dot(velocity, contact);
-            vec3 tangential = velocity - contact * normal;
-            vec3 kept = tangential * (1.0 - sim.collision.y) + contact * max(normal, 0.0);
-            pi = xi - kept;
-        }
-        if ((STEPS & BODY_SKINNED) != 0u || touched) {
-            x[i] = xi;
-            p[i] = pi;
-        }
+    // Two loops, so that the inner vertices' code holds no blend at all: a branch is no
+    // saving on a CPU driver, which runs both sides of it under a mask.
+    uint from = (STEPS & BODY_BLEND) != 0u ? max(BLEND_FROM, 1u) : V;
+    for (uint i = 1u; i < from; ++i) {
+        collide_vertex(st, k, margin, i, false);
+    }
+    for (uint i = from; i < V; ++i) {
+        collide_vertex(st, k, margin, i, true);
     }
 }
 

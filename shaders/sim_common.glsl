@@ -66,8 +66,9 @@ vec4 capsule(uint i) {
 layout(set = 0, binding = 10, rgba32f) uniform imageBuffer last_poses;
 
 // A skinned body's blend of bones at each grid point of the field (src/skinning/blend.rs):
-// four joint indices, two 16-bit halves per word, then four weights as 16-bit fractions;
-// all zero where no skin is near.
+// two grid points along x per texel, each the heaviest and second heaviest joint's
+// indices (16-bit halves of one word) and the heaviest's share of their weights (f32
+// bits); all zero where no skin is near.
 layout(set = 0, binding = 11, rgba32ui) uniform readonly uimage3D blend;
 
 // Per substep of the submission and joint, the joint's motion from the rest pose: the

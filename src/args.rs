@@ -244,9 +244,9 @@ pub struct SimArgs {
     /// hair length (cells about a third of it, a sixth on a skinned body, 16..=128) [0].
     #[arg(long, allow_negative_numbers = true)]
     pub sdf_resolution: Option<u32>,
-    /// On a skinned body, carry the hair back to the rest pose's field through the
-    /// skin's own blend of bones: hair stays farther out where the skin bends between
-    /// bones, at more cost per vertex (docs/benchmark.md): on or off [off].
+    /// On a skinned body, carry the outer hair back to the rest pose's field through the
+    /// skin's own blend of bones: hair stays out where the skin bends between bones
+    /// (docs/benchmark.md): on or off [on where its grid fits the device].
     #[arg(long, value_parser = clap::builder::BoolishValueParser::new())]
     pub skin_blend: Option<bool>,
 }
@@ -285,7 +285,7 @@ impl SimArgs {
         set(&mut p.collision_margin, self.collision_margin);
         set(&mut p.friction, self.friction);
         set(&mut p.sdf_resolution, self.sdf_resolution);
-        set(&mut p.skin_blend, self.skin_blend);
+        set(&mut p.skin_blend, self.skin_blend.map(Some));
     }
 }
 

@@ -99,7 +99,7 @@ impl FurSession {
             }
             None => None,
         };
-        if sim_params.skin_blend && (skinned.is_none() || !sim_params.collision) {
+        if sim_params.skin_blend == Some(true) && (skinned.is_none() || !sim_params.collision) {
             warnings.push(format!(
                 "the skin's blend changes nothing here: {}",
                 if skinned.is_none() {
@@ -120,6 +120,20 @@ impl FurSession {
         } else {
             None
         };
+        let mut sim_params = sim_params;
+        if let (Some(_), Some((sdf, _)), None) = (&skinned, &body, sim_params.skin_blend) {
+            // The default blend stands down where its grid does not fit; asked for, it is
+            // refused there, naming the limit.
+            let limit = device.info.limits.max_image_dimension3_d;
+            let misfit = crate::skinning::blend::misfit(sdf, limit);
+            if let Some(why) = &misfit {
+                warnings.push(format!(
+                    "{why}: collision goes without it (hair may sink into skin that bends \
+                     between bones); lower --sdf-resolution to keep it"
+                ));
+            }
+            sim_params.skin_blend = Some(misfit.is_none());
+        }
         let sim = GpuSim::build(
             device,
             &textures,

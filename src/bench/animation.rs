@@ -54,21 +54,22 @@ struct Way {
 
 const WAYS: [Way; 5] = [
     Way {
-        name: "rest field carried by each root pose + bone capsules (default)",
-        capsules: true,
-        collision: true,
-        cells: 1,
-        skin_blend: false,
-    },
-    Way {
-        name: "the same, carried back through the skin's blend of bones (`--skin-blend on`)",
+        name: "rest field carried by each root pose + bone capsules, the hair's outer eighth \
+               through the skin's blend of bones (default)",
         capsules: true,
         collision: true,
         cells: 1,
         skin_blend: true,
     },
     Way {
-        name: "the same with twice the field's cells",
+        name: "the same without the skin's blend (`--skin-blend off`)",
+        capsules: true,
+        collision: true,
+        cells: 1,
+        skin_blend: false,
+    },
+    Way {
+        name: "the same without the skin's blend, with twice the field's cells",
         capsules: true,
         collision: true,
         cells: 2,
@@ -103,7 +104,7 @@ impl Bench<'_> {
         let playback = walk(&body.rig);
         let params = SimParams {
             collision,
-            skin_blend,
+            skin_blend: Some(skin_blend),
             ..crate::scene_file::Scene::default_sim()
         };
         let mut textures = StrandTextures::new(self.device, strands, glam::Mat4::IDENTITY)?;
@@ -334,7 +335,7 @@ impl Bench<'_> {
             runs.push(SimRun {
                 params: SimParams {
                     collision: way.collision,
-                    skin_blend: way.skin_blend,
+                    skin_blend: Some(way.skin_blend),
                     ..params.clone()
                 },
                 skinned: Some((way_body.clone(), playback.clone())),

@@ -190,7 +190,7 @@ impl Scene {
                 margin: Some(s.collision_margin),
                 friction: Some(s.friction),
                 sdf_resolution: Some(s.sdf_resolution),
-                skin_blend: Some(s.skin_blend),
+                skin_blend: s.skin_blend,
             }),
             motion: Some(MotionSection {
                 kind: Some(self.motion.kind.name().into()),
@@ -429,7 +429,7 @@ impl SceneFile {
             set(&mut p.collision_margin, s.margin);
             set(&mut p.friction, s.friction);
             set(&mut p.sdf_resolution, s.sdf_resolution);
-            set(&mut p.skin_blend, s.skin_blend);
+            set(&mut p.skin_blend, s.skin_blend.map(Some));
         }
         if let Some(s) = &self.motion {
             if let Some(k) = &s.kind {

@@ -12,6 +12,15 @@ const PROJECTIONS: usize = 3;
 /// simulation step (docs/benchmark.md); what one leaves, the next substep takes up.
 const PROJECTIONS_SKINNED: usize = 1;
 
+/// The first vertex of a strand of `vertices` that the skin's blend carries back: from
+/// seven eighths of the hair out (`BLEND_FROM` in `shaders/collide.glsl`). The root
+/// pose is exact at the root and drifts from the skin with distance along the hair; the
+/// blend's reads are dear on a CPU driver, and the vertices nearer the root measured the
+/// same depths with it as without (docs/benchmark.md).
+pub fn blend_from(vertices: usize) -> usize {
+    (7 * vertices.saturating_sub(1) / 8).max(1)
+}
+
 /// A strand's root pose: rotation, rest root, skinned root (model space).
 pub(super) type Pose<T> = (M3<T>, V3<T>, V3<T>);
 
@@ -173,38 +182,43 @@ const MIN_DETERMINANT: f32 = 1e-6;
 impl<T: Real> Collider<'_, T> {
     /// Where model-space point `m` lies at the rest pose, and the map taking the rest
     /// field's gradient there to model space. The root `pose` carries `m` back first;
-    /// where the field's grid point nearest to that holds a blend of bones, the inverse
-    /// of the skin's blended matrix `Σ wₖ Kₖ` of this substep (`bones`) carries `m`
-    /// back instead, and its inverse transpose carries the gradient (`blend_back` in
-    /// `simulate.comp`, the same arithmetic).
-    fn carry_back(&self, m: V3<T>, pose: &Pose<T>, bones: &[[glam::Vec4; 3]]) -> (V3<T>, M3<T>) {
+    /// for an `outer` vertex (see [`blend_from`]), where the blend grid point nearest to
+    /// that holds a blend of bones, the inverse of the skin's blended matrix
+    /// `w Kₐ + (1 − w) K_b` of this substep (`bones`) carries `m` back instead, and its
+    /// inverse transpose carries the gradient (`blend_back` in `shaders/collide.glsl`,
+    /// the same arithmetic).
+    fn carry_back(
+        &self,
+        m: V3<T>,
+        pose: &Pose<T>,
+        bones: &[[glam::Vec4; 3]],
+        outer: bool,
+    ) -> (V3<T>, M3<T>) {
         let (rotation, rest_root, root) = *pose;
         let rest = rotation.transpose_mul_vec(m - root) + rest_root;
+        if !outer {
+            return (rest, rotation);
+        }
         let Some(&packed) =
             crate::skinning::blend::nearest(self.sdf, rest).and_then(|at| self.blend.get(at))
         else {
             return (rest, rotation);
         };
-        let (joints, weights) = crate::skinning::blend::unpack(packed);
-        if !greater(T::from_f32(weights[0]), T::ZERO) {
+        let (joints, share) = crate::skinning::blend::unpack(packed);
+        let w = T::from_f32(share);
+        if !greater(w, T::ZERO) {
             return (rest, rotation);
         }
+        let v = T::ONE - w;
         let row = |i: usize| {
-            let part = |k: usize| {
+            let part = |k: usize, weight: T| {
                 let r = bones
                     .get(joints[k] as usize)
                     .map_or(glam::Vec4::ZERO, |b| b[i]);
-                let w = T::from_f32(weights[k]);
-                [r.x, r.y, r.z, r.w].map(|c| T::from_f32(c) * w)
+                [r.x, r.y, r.z, r.w].map(|c| T::from_f32(c) * weight)
             };
-            let mut sum = part(0);
-            for k in 1..4 {
-                let p = part(k);
-                for c in 0..4 {
-                    sum[c] = sum[c] + p[c];
-                }
-            }
-            sum
+            let (a, b) = (part(0, w), part(1, v));
+            [0, 1, 2, 3].map(|c| a[c] + b[c])
         };
         let (r0, r1, r2) = (row(0), row(1), row(2));
         let a0 = V3(r0[0], r1[0], r2[0]);
@@ -262,7 +276,7 @@ impl<T: Real> Collider<'_, T> {
         &self,
         head: &Head<T>,
         (pose, bones, capsules): (&Pose<T>, &[[glam::Vec4; 3]], &[NearCapsule<T>]),
-        (arc, margin): (T, T),
+        (arc, margin, outer): (T, T, bool),
         x: &mut V3<T>,
         previous: &mut V3<T>,
     ) {
@@ -272,12 +286,12 @@ impl<T: Real> Collider<'_, T> {
         let mut contact = None;
         for _ in 0..PROJECTIONS_SKINNED {
             let mut moved = false;
-            let (rest, back) = self.carry_back(m, pose, bones);
+            let (rest, back) = self.carry_back(m, pose, bones, outer);
             if let Some((d, g)) = self.sdf.sample_trilinear(rest) {
                 let len = g.length();
                 if less(d, margin) && greater(len, min_length::<T>()) {
                     let mut n = back.mul_vec(g.scale(T::ONE / len));
-                    if !self.blend.is_empty() {
+                    if outer && !self.blend.is_empty() {
                         // The blend's inverse transpose is not a rotation.
                         n = n.scale(T::ONE / n.length());
                     }
@@ -400,7 +414,13 @@ mod tests {
                         .to_cols_array_2d()
                         .map(|c| V3(c[0], c[1], c[2]));
                     let pose = (M3(c), V3::from_vec3(rest_root), V3::from_vec3(root.root));
-                    let (rest, _) = collider.carry_back(V3::from_vec3(p), &pose, &posed.bones);
+                    let (rest, _) =
+                        collider.carry_back(V3::from_vec3(p), &pose, &posed.bones, true);
+                    // A vertex nearer the root than `blend_from` keeps the root pose.
+                    let (inner, _) =
+                        collider.carry_back(V3::from_vec3(p), &pose, &posed.bones, false);
+                    let by_root = pose.0.transpose_mul_vec(V3::from_vec3(p) - pose.2) + pose.1;
+                    assert_eq!(inner, by_root);
                     let Some((read, _)) = sdf.sample_trilinear(rest) else {
                         continue;
                     };

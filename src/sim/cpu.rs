@@ -212,7 +212,7 @@ impl<T: Real> CpuSim<T> {
             .filter(|_| self.params.collision)
             .map(|sdf| super::collide::Collider {
                 sdf,
-                blend: if self.params.skin_blend {
+                blend: if self.params.blends() {
                     &self.blend
                 } else {
                     &[]
@@ -284,12 +284,17 @@ impl<T: Real> CpuSim<T> {
                     super::collide::near_capsules(pose, capsules, (length, margin))
                 });
                 let segments = T::from_f32((v - 1) as f32);
+                let outer = super::collide::blend_from(v);
                 for i in 1..v {
                     match &carrier.pose {
                         Some(pose) => collider.push_out_skinned(
                             &head,
                             (pose, posed.map_or(&[][..], |p| p.bones.as_slice()), &near),
-                            (T::from_f32(i as f32) * length / segments, margin),
+                            (
+                                T::from_f32(i as f32) * length / segments,
+                                margin,
+                                i >= outer,
+                            ),
                             &mut x[i],
                             &mut prev[i],
                         ),

@@ -48,9 +48,10 @@ pub(super) fn upload(device: &Arc<Device>, sdf: Option<&Sdf>) -> Result<Image> {
 }
 
 /// The image holding a skinned body's blend of bones at each grid point of `sdf` (see
-/// [`crate::skinning::blend`]; `rgba32ui`, the same grid as the field's), or a single
-/// grid point of zeros (no blend: the root pose carries every vertex), left in
-/// `GENERAL` layout for the kernel to read.
+/// [`crate::skinning::blend`]; `rgba32ui`, two grid points along x per texel, the same
+/// grid as the field's), or a single texel of zeros (no blend: the root pose carries
+/// every vertex), left in `GENERAL` layout for the kernel to read. Two points to a
+/// texel keep to the formats every device can store (`rg32ui` needs a feature).
 pub(super) fn upload_blend(
     device: &Arc<Device>,
     blend: Option<(&Sdf, &[crate::skinning::blend::Packed])>,
@@ -60,21 +61,30 @@ pub(super) fn upload_blend(
             if packed.len()
                 == crate::skinning::blend::dims(sdf).iter().product::<u32>() as usize =>
         {
-            let dims = crate::skinning::blend::dims(sdf);
+            let [nx, ny, nz] = crate::skinning::blend::dims(sdf);
+            let dims = [nx.div_ceil(2), ny, nz];
             let limit = device.info.limits.max_image_dimension3_d;
-            if dims.iter().any(|&n| n > limit) {
+            if let Some(why) = crate::skinning::blend::misfit(sdf, limit) {
                 return Err(Error::Parameter(format!(
-                    "the skin's blend grid ({}×{}×{} points) exceeds this device's largest \
-                     3D image ({limit} per side); lower --sdf-resolution or turn --skin-blend off",
-                    dims[0], dims[1], dims[2]
+                    "{why}; lower --sdf-resolution or turn --skin-blend off"
                 )));
+            }
+            let mut texels = vec![[0u32; 4]; (dims[0] * ny * nz) as usize];
+            for (row, points) in texels
+                .chunks_exact_mut(dims[0] as usize)
+                .zip(packed.chunks_exact(nx as usize))
+            {
+                for (x, point) in points.iter().enumerate() {
+                    let half = 2 * (x % 2);
+                    row[x / 2][half..half + 2].copy_from_slice(point);
+                }
             }
             volume(
                 device,
                 "sim.body_blend",
                 dims,
                 vk::Format::R32G32B32A32_UINT,
-                bytemuck::cast_slice(packed),
+                bytemuck::cast_slice(&texels),
             )
         }
         _ => volume(

@@ -166,7 +166,7 @@ impl GpuSim {
             MemoryLocation::CpuToGpu,
         )?;
         let body_field = super::field::upload(device, body)?;
-        let blend_wanted = params.skin_blend && body.is_some();
+        let blend_wanted = params.blends() && body.is_some();
         let skinned = match skinned {
             Some((body, playback)) => {
                 if body.vertex_count() != textures.layout.strand_count as usize {
@@ -216,13 +216,14 @@ impl GpuSim {
                 .as_ref()
                 .map_or(&no_capsules, |s: &Skinned| &s.skin.capsules[slot])
         };
-        let blend =
-            match (&skinned, body) {
-                (Some(s), Some(sdf)) if params.skin_blend => Some(
-                    crate::skinning::blend::for_body(&s.body, sdf, textures.hair_length)?,
-                ),
-                _ => None,
-            };
+        let blend = match (&skinned, body) {
+            (Some(s), Some(sdf)) if params.blends() => Some(crate::skinning::blend::for_body(
+                &s.body,
+                sdf,
+                textures.hair_length,
+            )?),
+            _ => None,
+        };
         let blend_field = super::field::upload_blend(device, body.zip(blend.as_deref()))?;
         let bones = |slot: usize| {
             skinned
@@ -397,7 +398,7 @@ impl GpuSim {
                 )));
             }
             mask |= BODY_SKINNED;
-            if params.skin_blend && self.grid.is_some() {
+            if params.blends() && self.grid.is_some() {
                 if !self.has_blend {
                     return Err(Error::Parameter(
                         "the skin's blend for collision is chosen when the simulation is built, \

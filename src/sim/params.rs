@@ -53,11 +53,13 @@ pub struct SimParams {
     /// Distance-field cells along the model's longest axis; 0 chooses from the hair
     /// length (a cell about a third of it, 16..=128 cells).
     pub sdf_resolution: u32,
-    /// On a skinned body, carry each strand vertex back to the rest field through the
-    /// skin's own blend of bones near it (see [`crate::skinning::blend`]) instead of its
-    /// root pose alone: hair stays farther out where the skin bends between bones, at
-    /// more cost per vertex (docs/benchmark.md).
-    pub skin_blend: bool,
+    /// On a skinned body, carry the outer strand vertices back to the rest field through
+    /// the skin's own blend of bones near them (see [`crate::skinning::blend`]) instead
+    /// of their root pose alone: hair stays out where the skin bends between bones
+    /// (docs/benchmark.md). `None` (the default): on where its grid fits the device
+    /// (see [`crate::skinning::blend::misfit`]; the session turns it off with a warning
+    /// where not); `Some(true)`: on, refused where it does not fit; `Some(false)`: off.
+    pub skin_blend: Option<bool>,
 }
 
 impl Default for SimParams {
@@ -78,12 +80,18 @@ impl Default for SimParams {
             collision_margin: 0.02,
             friction: 0.1,
             sdf_resolution: 0,
-            skin_blend: false,
+            skin_blend: None,
         }
     }
 }
 
 impl SimParams {
+    /// Whether a skinned body's collision goes through the skin's blend (see
+    /// [`SimParams::skin_blend`]).
+    pub fn blends(&self) -> bool {
+        self.skin_blend != Some(false)
+    }
+
     /// Parameters under which nothing moves: no gravity, no wind.
     pub fn at_rest() -> Self {
         Self {

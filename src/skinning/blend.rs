@@ -9,6 +9,10 @@
 //! root, and the rest field carried by the root pose misplaces it. Linear blend
 //! skinning maps a rest point `r` with the skin's weights `w` to `Σ wₖ Kₖ r`; a strand
 //! vertex near that skin is carried back by the inverse of the same blended matrix.
+//! Each grid point keeps the two heaviest bones of its skin, their weights scaled to
+//! sum to one: where skin bends, it bends between two bones, and each bone read costs
+//! the kernel three gathers (docs/benchmark.md measured the same depths with two as
+//! with four, at less cost).
 
 use glam::{Mat4, Vec3, Vec4};
 
@@ -16,21 +20,15 @@ use crate::error::{Error, Result};
 use crate::geometry::{Real, Sdf, V3};
 use crate::scene::Rig;
 
-/// One grid point's blend, packed as the kernel reads it (a `uvec4`): four joint
-/// indices, two 16-bit halves per word, then four weights as 16-bit fractions of one.
-/// All zero: no skin within reach, the root pose carries the vertex.
-pub type Packed = [u32; 4];
+/// One grid point's blend, packed as the kernel reads it (a `uvec2`): the heaviest and
+/// the second heaviest joint's indices (16 bits each), then the heaviest's share of
+/// their two weights as f32 bits (the second's is one minus it). All zero: no skin
+/// within reach, the root pose carries the vertex.
+pub type Packed = [u32; 2];
 
-/// The joint indices and weights of a packed blend; the weights are `n / 65535` in f32,
-/// as the kernel decodes them.
-pub fn unpack(p: Packed) -> ([u32; 4], [f32; 4]) {
-    let half = |w: u32| [w & 0xffff, w >> 16];
-    let [j0, j1] = half(p[0]);
-    let [j2, j3] = half(p[1]);
-    let [w0, w1] = half(p[2]);
-    let [w2, w3] = half(p[3]);
-    let unit = 1.0f32 / 65535.0;
-    ([j0, j1, j2, j3], [w0, w1, w2, w3].map(|w| w as f32 * unit))
+/// The two joint indices and the heaviest's share of a packed blend.
+pub fn unpack(p: Packed) -> ([u32; 2], f32) {
+    ([p[0] & 0xffff, p[0] >> 16], f32::from_bits(p[1]))
 }
 
 /// How far from the rest surface a grid point's blend is kept, for hair of
@@ -40,13 +38,25 @@ pub fn band(hair_length: f32) -> f32 {
     0.5 * hair_length
 }
 
+/// Packs the two heaviest of a vertex's four influences (ties: the earlier), the
+/// heaviest's weight as its share of the two. A vertex with no weight packs as zero.
 fn pack(joints: [u16; 4], weights: [f32; 4]) -> Packed {
-    let q = weights.map(|w| (w.clamp(0.0, 1.0) * 65535.0).round() as u32);
+    let mut order = [0usize, 1, 2, 3];
+    order.sort_by(|&a, &b| weights[b].total_cmp(&weights[a]).then(a.cmp(&b)));
+    let [first, second] = [order[0], order[1]];
+    let (w0, w1) = (weights[first].max(0.0), weights[second].max(0.0));
+    if w0 <= 0.0 {
+        return [0, 0];
+    }
+    let share = w0 / (w0 + w1);
+    let second = if w1 > 0.0 {
+        joints[second]
+    } else {
+        joints[first]
+    };
     [
-        u32::from(joints[0]) | u32::from(joints[1]) << 16,
-        u32::from(joints[2]) | u32::from(joints[3]) << 16,
-        q[0] | q[1] << 16,
-        q[2] | q[3] << 16,
+        u32::from(joints[first]) | u32::from(second) << 16,
+        share.to_bits(),
     ]
 }
 
@@ -59,9 +69,11 @@ pub fn dims(field: &Sdf) -> [u32; 3] {
     field.dims.map(|n| (n - 1) * REFINE + 1)
 }
 
-/// Bytes the blend grid over `field` takes on the device (16 per point).
+/// Bytes the blend grid over `field` takes on the device: 8 per point, two points along
+/// x to a 16-byte texel.
 pub fn bytes(field: &Sdf) -> usize {
-    dims(field).iter().map(|&n| n as usize).product::<usize>() * 16
+    let [nx, ny, nz] = dims(field);
+    nx.div_ceil(2) as usize * ny as usize * nz as usize * 16
 }
 
 /// The index of the blend grid point nearest to `p` (x fastest, then y, then z); None
@@ -95,7 +107,7 @@ pub fn grid(rig: &Rig, rest: &[Vec3], field: &Sdf, band: f32) -> Vec<Packed> {
         buckets.entry(key(p)).or_default().push(i as u32);
     }
     let [nx, ny, nz] = dims(field);
-    let mut out = vec![[0u32; 4]; (nx * ny * nz) as usize];
+    let mut out = vec![[0u32; 2]; (nx * ny * nz) as usize];
     // Rings of buckets beyond which no vertex can be nearer than the band.
     let max_ring = (band / bucket).ceil() as i32 + 1;
     for z in 0..nz {
@@ -138,21 +150,39 @@ pub fn grid(rig: &Rig, rest: &[Vec3], field: &Sdf, band: f32) -> Vec<Packed> {
 }
 
 /// The most device memory the blend grid may take.
-pub const MAX_BYTES: usize = 64 << 20;
+pub const MAX_BYTES: usize = 32 << 20;
 
-/// [`grid`] for `body` and its rest `field`, for hair of `hair_length` (see [`band`]):
-/// what the simulation uses. A grid over [`MAX_BYTES`] is refused, naming the limit.
-pub fn for_body(body: &super::SkinnedBody, field: &Sdf, hair_length: f32) -> Result<Vec<Packed>> {
+/// Why the blend grid over `field` does not fit a device whose 3D images reach `max_3d`
+/// texels a side (more than [`MAX_BYTES`], or a side too long), or None where it fits.
+pub fn misfit(field: &Sdf, max_3d: u32) -> Option<String> {
     let bytes = self::bytes(field);
+    let [nx, ny, nz] = dims(field);
     if bytes > MAX_BYTES {
-        return Err(Error::Parameter(format!(
+        Some(format!(
             "the skin's blend over a {}×{}×{} field needs {} MiB of device memory, more than \
-             the {} MiB it may take; lower --sdf-resolution or turn --skin-blend off",
+             the {} MiB it may take",
             field.dims[0],
             field.dims[1],
             field.dims[2],
             bytes >> 20,
             MAX_BYTES >> 20
+        ))
+    } else if [nx.div_ceil(2), ny, nz].iter().any(|&n| n > max_3d) {
+        Some(format!(
+            "the skin's blend grid ({nx}×{ny}×{nz} points, two to a texel along x) exceeds \
+             this device's largest 3D image ({max_3d} texels a side)"
+        ))
+    } else {
+        None
+    }
+}
+
+/// [`grid`] for `body` and its rest `field`, for hair of `hair_length` (see [`band`]):
+/// what the simulation uses. A grid over [`MAX_BYTES`] is refused, naming the limit.
+pub fn for_body(body: &super::SkinnedBody, field: &Sdf, hair_length: f32) -> Result<Vec<Packed>> {
+    if let Some(why) = misfit(field, u32::MAX) {
+        return Err(Error::Parameter(format!(
+            "{why}; lower --sdf-resolution or turn --skin-blend off"
         )));
     }
     Ok(grid(
@@ -194,13 +224,18 @@ mod tests {
     use super::*;
 
     #[test]
-    fn a_packed_blend_unpacks_to_its_joints_and_weights() {
-        let p = pack([3, 65535, 0, 7], [0.5, 0.25, 0.25, 0.0]);
-        let (j, w) = unpack(p);
-        assert_eq!(j, [3, 65535, 0, 7]);
-        for (got, want) in w.iter().zip([0.5, 0.25, 0.25, 0.0]) {
-            assert!((got - want).abs() < 1e-5, "{got} against {want}");
-        }
+    fn a_packed_blend_keeps_the_two_heaviest_bones_scaled_to_one() {
+        let (j, share) = unpack(pack([3, 65535, 9, 7], [0.2, 0.5, 0.3, 0.0]));
+        assert_eq!(j, [65535, 9]);
+        assert!((share - 0.625).abs() < 1e-6, "{share}");
+        // One bone: both halves name it, with all the weight.
+        let (j, share) = unpack(pack([4, 5, 6, 7], [0.0, 0.0, 1.0, 0.0]));
+        assert_eq!((j, share), ([6, 6], 1.0));
+        // Ties keep the earlier influence first.
+        let (j, share) = unpack(pack([1, 2, 3, 4], [0.25; 4]));
+        assert_eq!((j, share), ([1, 2], 0.5));
+        // No weight: no blend.
+        assert_eq!(pack([1, 2, 3, 4], [0.0; 4]), [0, 0]);
     }
 
     #[test]

@@ -97,7 +97,7 @@ fn impossible_flags_fail_cleanly() {
                 "--sdf-resolution",
                 "128",
             ],
-            "64 MiB",
+            "32 MiB",
         ),
         (&["render", "--vertex-lod=-1"], "vertex LOD"),
         (&["render", "--primitive", "cones"], "cones"),

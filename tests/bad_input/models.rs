@@ -155,6 +155,13 @@ fn awkward_but_valid_models_render() {
         Some("changes nothing"),
         "the skin's blend on a rigid body",
     );
+    // The skin's blend by default, where its grid would not fit (33 MiB over the
+    // critter's field at 128 cells, the limit 32): it renders without it, and says so.
+    succeeds(
+        &render_model("critter", &["--sdf-resolution", "128"]),
+        Some("collision goes without it"),
+        "the default skin's blend over too fine a field",
+    );
 }
 
 #[test]

@@ -16,7 +16,7 @@ fn walk_depths((collision, skin_blend): (bool, bool)) -> (f64, f64) {
     let playback = walk(&body.rig);
     let params = SimParams {
         collision,
-        skin_blend,
+        skin_blend: Some(skin_blend),
         ..fur::scene_file::Scene::default_sim()
     };
     let (field, _) = fur::sim::Sdf::for_hair(&mesh, &params, strands.hair_length(), true).unwrap();
@@ -69,7 +69,7 @@ fn walk_depths((collision, skin_blend): (bool, bool)) -> (f64, f64) {
 /// 2.5 %, so a collision doing half its work, or the previous release's (3.0 %), fail.
 #[test]
 fn collision_keeps_the_walking_hair_out_of_the_skin() {
-    let (mean_on, max_on) = walk_depths((true, false));
+    let (mean_on, max_on) = walk_depths((true, true));
     let (mean_off, max_off) = walk_depths((false, false));
     println!(
         "depth inside the skin, fractions of the hair length: with collision mean {mean_on:.2e} \
@@ -139,7 +139,7 @@ fn the_skins_blend_keeps_hair_out_where_the_skin_bends() {
 fn a_still_pose_under_gravity_with_collision_comes_to_rest() {
     for skin_blend in [false, true] {
         still_pose_comes_to_rest(SimParams {
-            skin_blend,
+            skin_blend: Some(skin_blend),
             ..Default::default()
         });
     }
@@ -173,7 +173,7 @@ fn still_pose_comes_to_rest(params: SimParams) {
         let worst = largest_move(&mut gpu, &mut textures, 5);
         println!(
             "{what} (skin's blend {}): largest move a frame after settling: {worst:e} (limit {limit:e})",
-            params.skin_blend
+            params.blends()
         );
         assert!(
             worst <= limit,

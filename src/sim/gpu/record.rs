@@ -147,7 +147,7 @@ impl GpuSim {
             if let Some(s) = &mut self.skinned {
                 let matrices = s.playback.joint_matrices(&s.body.rig, self.time);
                 let capsules = crate::skinning::capsules::pose(&s.body.capsules, &matrices);
-                if self.params.skin_blend {
+                if self.params.blends() {
                     let rows = crate::skinning::blend::bone_rows(&matrices, &s.body.rest_inverse);
                     s.pending_bones.extend(rows);
                 }

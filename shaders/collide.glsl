@@ -285,14 +285,20 @@ void collide(Step st, uint k, float margin) {
     if ((STEPS & BODY_SKINNED) != 0u) {
         select_capsules(k, strand_length + margin);
     }
-    // Two loops, so that the inner vertices' code holds no blend at all: a branch is no
-    // saving on a CPU driver, which runs both sides of it under a mask.
-    uint from = (STEPS & BODY_BLEND) != 0u ? max(BLEND_FROM, 1u) : V;
-    for (uint i = 1u; i < from; ++i) {
-        collide_vertex(st, k, margin, i, false);
-    }
-    for (uint i = from; i < V; ++i) {
-        collide_vertex(st, k, margin, i, true);
+    if ((STEPS & BODY_BLEND) == 0u) {
+        for (uint i = 1u; i < V; ++i) {
+            collide_vertex(st, k, margin, i, false);
+        }
+    } else {
+        // Two loops, so that the inner vertices' code holds no blend at all: a branch
+        // is no saving on a CPU driver, which runs both sides of it under a mask.
+        uint from = max(BLEND_FROM, 1u);
+        for (uint i = 1u; i < from; ++i) {
+            collide_vertex(st, k, margin, i, false);
+        }
+        for (uint i = from; i < V; ++i) {
+            collide_vertex(st, k, margin, i, true);
+        }
     }
 }
 

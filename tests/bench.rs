@@ -179,12 +179,14 @@ fn quick_bench_writes_every_expected_measurement() {
         "mean_penetration",
         "max_penetration",
     ] {
-        expect(
-            "animation",
-            "rest field carried by each root pose + bone capsules (default)",
-            metric,
-        );
-        expect("animation", "collision off", metric);
+        for way in [
+            "rest field carried by each root pose + bone capsules, the hair's outer eighth \
+             through the skin's blend of bones (default)",
+            "the same without the skin's blend (`--skin-blend off`)",
+            "collision off",
+        ] {
+            expect("animation", way, metric);
+        }
     }
     let md = std::fs::read_to_string(dir.join("results.md")).unwrap();
     assert!(md.contains("| iterations | substeps |"));

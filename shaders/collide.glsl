@@ -15,8 +15,10 @@
 // part. The root is never moved.
 //
 // A rigid body's surface is its field. A skinned body's is the rest pose's field
-// carried by this strand's root pose, and the bones' capsules of substep k; each is a
-// constraint of its own, projected in turn (src/sim/cpu.rs: `Collider::push_out`).
+// carried by this strand's root pose (with the skin's blend: the hair's first eighth by
+// its root's bone, its outer eighth by the blend), and the bones' capsules of substep
+// k; each is a constraint of its own, projected in turn (src/sim/collide.rs:
+// `Collider::push_out_skinned`).
 
 // The capsules a strand collides with in a substep: the NEAR_CAPSULES nearest to its
 // root within its reach (hair length and margin from the capsule's surface); nearest
@@ -110,51 +112,125 @@ const uint BLEND_FROM = (7u * (V - 1u)) / 8u;
 // A blended matrix's determinant below which it is taken as degenerate.
 const float MIN_DETERMINANT = 1e-6;
 
-// Where model-space point m lies at the rest pose (returned), with the map taking the
-// rest field's gradient there to model space (`back`). The root pose carries m back
-// first; for an `outer` vertex (BLEND_FROM on), where the blend grid point nearest to
-// that holds a blend of bones, the inverse of the skin's blended matrix
-// w K_a + (1 − w) K_b of substep k carries m back instead, and its inverse transpose
-// carries the gradient (src/sim/collide.rs: `carry_back`).
-vec3 blend_back(vec3 m, uint k, bool outer, out mat3 back) {
-    vec3 rest = transpose(pose_rotation) * (m - pose_root) + rest_root;
-    back = pose_rotation;
-    if ((STEPS & BODY_BLEND) == 0u || !outer) {
-        return rest;
-    }
-    vec3 g = (rest - sim.sdf_origin.xyz) * (sim.collision.z * float(BLEND_REFINE));
-    vec3 last = vec3((sim.sdf_dims.xyz - 1u) * BLEND_REFINE);
-    if (!(all(greaterThanEqual(g, vec3(0.0))) && all(lessThanEqual(g, last)))) {
-        return rest;
-    }
-    uvec3 at = uvec3(floor(g + 0.5));
-    uvec4 texel = imageLoad(blend, ivec3(at.x >> 1u, at.yz));
-    uvec2 b = (at.x & 1u) != 0u ? texel.zw : texel.xy;
-    float w = uintBitsToFloat(b.y);
-    if (!(w > 0.0)) {
-        return rest;
-    }
+// How a vertex is carried back to the rest pose (`collide`'s loops).
+const uint CARRY_ROOT = 0u;  // by the strand's root pose
+const uint CARRY_BONE = 1u;  // by the root's bone alone (select_root_bone)
+const uint CARRY_BLEND = 2u; // by the skin's blend at the root pose's point
+
+// The last vertex carried back by the root's bone: the hair's first eighth. Where the
+// skin folds over a crease (an armpit, as the leg swings back), the blend of the root's
+// bones (the root pose) carries a vertex there back to the sheet the hair grew from,
+// outside, while the skin folded over it moves with one bone; the vertices beyond it
+// measured the same depths either way (src/sim/collide.rs: BONE_TO).
+const uint BONE_TO = (V - 1u) / 8u;
+
+// Substep k's blended matrix w K_a + (1 − w) K_b of the bones in blend grid texel `b`
+// (K_a alone where `heaviest`), inverted: false where degenerate; otherwise `back`, its
+// inverse transpose (which carries the rest field's gradient to model space), and `t`,
+// its translation, so that rest = transpose(back) · (m − t).
+bool blend_inverse(uvec2 b, uint k, bool heaviest, out mat3 back, out vec3 t) {
+    float w = heaviest ? 1.0 : uintBitsToFloat(b.y);
     float v = 1.0 - w;
     uint base = 3u * k * sim.counts2.z;
     uint ja = base + 3u * (b.x & 0xffffu);
-    uint jb = base + 3u * (b.x >> 16u);
-    vec4 r0 = imageLoad(bones, int(ja)) * w + imageLoad(bones, int(jb)) * v;
-    vec4 r1 = imageLoad(bones, int(ja + 1u)) * w + imageLoad(bones, int(jb + 1u)) * v;
-    vec4 r2 = imageLoad(bones, int(ja + 2u)) * w + imageLoad(bones, int(jb + 2u)) * v;
+    vec4 r0 = imageLoad(bones, int(ja)) * w;
+    vec4 r1 = imageLoad(bones, int(ja + 1u)) * w;
+    vec4 r2 = imageLoad(bones, int(ja + 2u)) * w;
+    if (!heaviest) {
+        uint jb = base + 3u * (b.x >> 16u);
+        r0 += imageLoad(bones, int(jb)) * v;
+        r1 += imageLoad(bones, int(jb + 1u)) * v;
+        r2 += imageLoad(bones, int(jb + 2u)) * v;
+    }
     vec3 a0 = vec3(r0.x, r1.x, r2.x);
     vec3 a1 = vec3(r0.y, r1.y, r2.y);
     vec3 a2 = vec3(r0.z, r1.z, r2.z);
-    vec3 t = vec3(r0.w, r1.w, r2.w);
+    t = vec3(r0.w, r1.w, r2.w);
     vec3 x0 = cross(a1, a2);
     vec3 x1 = cross(a2, a0);
     vec3 x2 = cross(a0, a1);
     float det = dot(a0, x0);
+    back = mat3(1.0);
     if (!(det > MIN_DETERMINANT)) {
-        return rest;
+        return false;
     }
     float inv = 1.0 / det;
     back = mat3(x0 * inv, x1 * inv, x2 * inv);
-    return transpose(back) * (m - t);
+    return true;
+}
+
+// The blend grid texel nearest to rest-pose point `rest`: false where it lies outside
+// the grid or holds no bones.
+bool blend_texel(vec3 rest, out uvec2 b) {
+    b = uvec2(0u);
+    vec3 g = (rest - sim.sdf_origin.xyz) * (sim.collision.z * float(BLEND_REFINE));
+    vec3 last = vec3((sim.sdf_dims.xyz - 1u) * BLEND_REFINE);
+    if (!(all(greaterThanEqual(g, vec3(0.0))) && all(lessThanEqual(g, last)))) {
+        return false;
+    }
+    uvec3 at = uvec3(floor(g + 0.5));
+    uvec4 texel = imageLoad(blend, ivec3(at.x >> 1u, at.yz));
+    b = (at.x & 1u) != 0u ? texel.zw : texel.xy;
+    return uintBitsToFloat(b.y) > 0.0;
+}
+
+// The root's bone in substep k: the heaviest bone of the skin at the strand's rest root
+// (its blend grid point), as the map rest = transpose(bone_back) · (m − bone_t); where
+// there is none, the root pose as the same map (src/sim/collide.rs: `root_bone`).
+mat3 bone_back;
+vec3 bone_t;
+void select_root_bone(uint k) {
+    uvec2 b;
+    if (!(blend_texel(rest_root, b) && blend_inverse(b, k, true, bone_back, bone_t))) {
+        bone_back = pose_rotation;
+        bone_t = pose_root - pose_rotation * rest_root;
+    }
+}
+
+// Where model-space point m lies at the rest pose (returned), with the map taking the
+// rest field's gradient there to model space (`back`), carried as `carry` says
+// (src/sim/collide.rs: `carry_back`): by the root pose; by the root's bone; or, where
+// the blend grid point nearest to the root pose's point holds a blend of bones, by the
+// inverse of the skin's blended matrix of substep k.
+vec3 blend_back(vec3 m, uint k, uint carry, out mat3 back) {
+    if ((STEPS & BODY_BLEND) != 0u && carry == CARRY_BONE) {
+        back = bone_back;
+        return transpose(bone_back) * (m - bone_t);
+    }
+    vec3 rest = transpose(pose_rotation) * (m - pose_root) + rest_root;
+    back = pose_rotation;
+    uvec2 b;
+    mat3 blended;
+    vec3 t;
+    if ((STEPS & BODY_BLEND) == 0u || carry == CARRY_ROOT || !blend_texel(rest, b)
+        || !blend_inverse(b, k, false, blended, t)) {
+        return rest;
+    }
+    back = blended;
+    return transpose(blended) * (m - t);
+}
+
+// The rest field's constraint on m, carried as `carry` says.
+void push_field(inout vec3 m, uint k, float margin, uint carry, inout bool touched,
+                inout vec3 contact, inout bool moved) {
+    float d;
+    vec3 g;
+    mat3 back;
+    vec3 r = blend_back(m, k, carry, back);
+    if (sdf_sample_trilinear(r, d, g) && d < margin) {
+        float len = length(g);
+        if (len > MIN_LENGTH) {
+            vec3 n = back * (g * (1.0 / len));
+            if ((STEPS & BODY_BLEND) != 0u && carry != CARRY_ROOT) {
+                // The blend's inverse transpose is not a rotation.
+                n = n * (1.0 / length(n));
+            }
+            m = m + n * (margin - d);
+            contact = touched ? contact : n;
+            touched = true;
+            moved = true;
+        }
+    }
 }
 
 // Moves model-space point m out to the margin of the skinned body (the rest field
@@ -166,29 +242,12 @@ vec3 blend_back(vec3 m, uint k, bool outer, out mat3 back) {
 // beside it). Returns the first contact's normal (model space) in `contact`, or false
 // without contact. The round stays a loop at one round: written straight, the
 // same arithmetic measured 4 points more of the step on lavapipe (docs/benchmark.md).
-bool push_out_skinned(inout vec3 m, uint k, float arc, float margin, bool outer, out vec3 contact) {
+bool push_out_skinned(inout vec3 m, uint k, float arc, float margin, uint carry, out vec3 contact) {
     bool touched = false;
     contact = vec3(0.0);
     for (uint j = 0u; j < PROJECTIONS_SKINNED; ++j) {
         bool moved = false;
-        float d;
-        vec3 g;
-        mat3 back;
-        vec3 r = blend_back(m, k, outer, back);
-        if (sdf_sample_trilinear(r, d, g) && d < margin) {
-            float len = length(g);
-            if (len > MIN_LENGTH) {
-                vec3 n = back * (g * (1.0 / len));
-                if ((STEPS & BODY_BLEND) != 0u && outer) {
-                    // The blend's inverse transpose is not a rotation.
-                    n = n * (1.0 / length(n));
-                }
-                m = m + n * (margin - d);
-                contact = touched ? contact : n;
-                touched = true;
-                moved = true;
-            }
-        }
+        push_field(m, k, margin, carry, touched, contact, moved);
         [[unroll]] for (uint c = 0u; c < NEAR_CAPSULES; ++c) {
             if (c >= near_count) {
                 break;
@@ -216,9 +275,9 @@ bool push_out_skinned(inout vec3 m, uint k, float arc, float margin, bool outer,
     return touched;
 }
 
-// Collision of vertex i with the body (an `outer` vertex through the skin's blend, see
-// BLEND_FROM).
-void collide_vertex(Step st, uint k, float margin, uint i, bool outer) {
+// Collision of vertex i with the body, carried back to the rest pose as `carry` says
+// (see BONE_TO and BLEND_FROM).
+void collide_vertex(Step st, uint k, float margin, uint i, uint carry) {
     // One read of each array per vertex, and on a skinned body one unconditional
     // write: a varying index into a private array is dear on a CPU driver, a masked
     // write more so (docs/design.md). The rigid body writes back only what it moved,
@@ -233,7 +292,7 @@ void collide_vertex(Step st, uint k, float margin, uint i, bool outer) {
         vec3 m = m0;
         vec3 normal;
         float arc = float(i) * strand_length / float(V - 1u);
-        if (push_out_skinned(m, k, arc, margin, outer, normal)) {
+        if (push_out_skinned(m, k, arc, margin, carry, normal)) {
             // The contact's normal is the direction of the whole push: with the
             // field and a capsule both touching, the first one's normal would leave
             // the velocity into the other, and hair squeezed between them would
@@ -287,17 +346,22 @@ void collide(Step st, uint k, float margin) {
     }
     if ((STEPS & BODY_BLEND) == 0u) {
         for (uint i = 1u; i < V; ++i) {
-            collide_vertex(st, k, margin, i, false);
+            collide_vertex(st, k, margin, i, CARRY_ROOT);
         }
     } else {
-        // Two loops, so that the inner vertices' code holds no blend at all: a branch
-        // is no saving on a CPU driver, which runs both sides of it under a mask.
+        // A loop for each way of carrying, so that each vertex's code holds only its
+        // own: a branch is no saving on a CPU driver, which runs both sides of it
+        // under a mask.
         uint from = max(BLEND_FROM, 1u);
-        for (uint i = 1u; i < from; ++i) {
-            collide_vertex(st, k, margin, i, false);
+        select_root_bone(k);
+        for (uint i = 1u; i <= BONE_TO; ++i) {
+            collide_vertex(st, k, margin, i, CARRY_BONE);
+        }
+        for (uint i = BONE_TO + 1u; i < from; ++i) {
+            collide_vertex(st, k, margin, i, CARRY_ROOT);
         }
         for (uint i = from; i < V; ++i) {
-            collide_vertex(st, k, margin, i, true);
+            collide_vertex(st, k, margin, i, CARRY_BLEND);
         }
     }
 }

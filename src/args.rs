@@ -245,8 +245,9 @@ pub struct SimArgs {
     #[arg(long, allow_negative_numbers = true)]
     pub sdf_resolution: Option<u32>,
     /// On a skinned body, carry the outer hair back to the rest pose's field through the
-    /// skin's own blend of bones: hair stays out where the skin bends between bones
-    /// (docs/benchmark.md): on or off [on where its grid fits the device].
+    /// skin's own blend of bones, and the hair nearest the root by the root's heaviest
+    /// bone: hair stays out where the skin bends between bones and where it folds over a
+    /// crease (docs/benchmark.md): on or off [on where its grid fits the device].
     #[arg(long, value_parser = clap::builder::BoolishValueParser::new())]
     pub skin_blend: Option<bool>,
 }

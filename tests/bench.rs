@@ -180,8 +180,8 @@ fn quick_bench_writes_every_expected_measurement() {
         "max_penetration",
     ] {
         for way in [
-            "rest field carried by each root pose + bone capsules, the hair's outer eighth \
-             through the skin's blend of bones (default)",
+            "rest field carried by each root pose + bone capsules, the hair's first eighth by \
+             its root's bone and its outer eighth through the skin's blend of bones (default)",
             "the same without the skin's blend (`--skin-blend off`)",
             "collision off",
         ] {

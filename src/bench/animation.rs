@@ -54,8 +54,8 @@ struct Way {
 
 const WAYS: [Way; 5] = [
     Way {
-        name: "rest field carried by each root pose + bone capsules, the hair's outer eighth \
-               through the skin's blend of bones (default)",
+        name: "rest field carried by each root pose + bone capsules, the hair's first eighth by \
+               its root's bone and its outer eighth through the skin's blend of bones (default)",
         capsules: true,
         collision: true,
         cells: 1,

@@ -1,6 +1,8 @@
 //! The collision step of the CPU reference (`collide` in `shaders/simulate.comp`, the
 //! same arithmetic): a rigid body's signed distance field, or on a skinned body the rest
-//! pose's field carried by each strand's root pose together with the bones' capsules.
+//! pose's field carried by each strand's root pose (with the skin's blend: the hair's
+//! first eighth by its root's bone, its outer eighth by the blend) together with the
+//! bones' capsules.
 
 use super::math::{max, min, min_length, Head, Real, M3, V3};
 use super::sdf::Sdf;
@@ -19,6 +21,28 @@ const PROJECTIONS_SKINNED: usize = 1;
 /// same depths with it as without (docs/benchmark.md).
 pub fn blend_from(vertices: usize) -> usize {
     (7 * vertices.saturating_sub(1) / 8).max(1)
+}
+
+/// The last vertex of a strand of `vertices` that the root's bone carries back
+/// ([`Collider::root_bone`]; `BONE_TO` in `shaders/collide.glsl`): the hair's first
+/// eighth. Where the skin folds over a crease (an armpit, as the leg swings back), the
+/// root pose, a blend of the root's bones, carries a vertex there back to the sheet the
+/// hair grew from, outside, while the skin folded over it moves with one bone.
+pub fn bone_to(vertices: usize) -> usize {
+    vertices.saturating_sub(1) / 8
+}
+
+/// How a strand vertex is carried back to the rest pose (`CARRY_*` in
+/// `shaders/collide.glsl`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(super) enum Carry<T> {
+    /// By the strand's root pose.
+    Root,
+    /// By the root's bone ([`Collider::root_bone`]): rest = backᵀ (m − t), `back` the
+    /// inverse transpose of the bone's matrix, `t` its translation.
+    Bone(M3<T>, V3<T>),
+    /// By the skin's blend at the blend grid point nearest to the root pose's point.
+    Blend,
 }
 
 /// A strand's root pose: rotation, rest root, skinned root (model space).
@@ -179,60 +203,98 @@ pub(super) fn near_capsules<T: Real>(
 /// carries the vertex instead).
 const MIN_DETERMINANT: f32 = 1e-6;
 
+/// Substep `bones`' blended matrix `w Kₐ + (1 − w) K_b` of grid point `packed` (`Kₐ`
+/// alone where `heaviest`), inverted: its inverse transpose (which carries the rest
+/// field's gradient to model space) and its translation `t`, so that rest =
+/// backᵀ (m − t); none where degenerate (`blend_inverse` in `shaders/collide.glsl`).
+fn blend_inverse<T: Real>(
+    bones: &[[glam::Vec4; 3]],
+    packed: crate::skinning::blend::Packed,
+    heaviest: bool,
+) -> Option<(M3<T>, V3<T>)> {
+    let (joints, share) = crate::skinning::blend::unpack(packed);
+    let w = if heaviest { T::ONE } else { T::from_f32(share) };
+    let v = T::ONE - w;
+    let row = |i: usize| {
+        let part = |k: usize, weight: T| {
+            let r = bones
+                .get(joints[k] as usize)
+                .map_or(glam::Vec4::ZERO, |b| b[i]);
+            [r.x, r.y, r.z, r.w].map(|c| T::from_f32(c) * weight)
+        };
+        let a = part(0, w);
+        if heaviest {
+            return a;
+        }
+        let b = part(1, v);
+        [0, 1, 2, 3].map(|c| a[c] + b[c])
+    };
+    let (r0, r1, r2) = (row(0), row(1), row(2));
+    let a0 = V3(r0[0], r1[0], r2[0]);
+    let a1 = V3(r0[1], r1[1], r2[1]);
+    let a2 = V3(r0[2], r1[2], r2[2]);
+    let t = V3(r0[3], r1[3], r2[3]);
+    let (x0, x1, x2) = (a1.cross(a2), a2.cross(a0), a0.cross(a1));
+    let det = a0.dot(x0);
+    if !greater(det, T::from_f32(MIN_DETERMINANT)) {
+        return None;
+    }
+    let inv = T::ONE / det;
+    Some((M3([x0.scale(inv), x1.scale(inv), x2.scale(inv)]), t))
+}
+
 impl<T: Real> Collider<'_, T> {
+    /// The blend grid point nearest to rest-pose point `rest`, where it holds bones.
+    fn texel(&self, rest: V3<T>) -> Option<crate::skinning::blend::Packed> {
+        let packed =
+            *crate::skinning::blend::nearest(self.sdf, rest).and_then(|at| self.blend.get(at))?;
+        let (_, share) = crate::skinning::blend::unpack(packed);
+        greater(T::from_f32(share), T::ZERO).then_some(packed)
+    }
+
+    /// The root's bone in a substep: the heaviest bone of the skin at the strand's rest
+    /// root (its blend grid point), as the map [`Carry::Bone`]; where there is none, the
+    /// root pose as the same map (`select_root_bone` in `shaders/collide.glsl`).
+    pub fn root_bone(&self, pose: &Pose<T>, bones: &[[glam::Vec4; 3]]) -> Carry<T> {
+        let (rotation, rest_root, root) = *pose;
+        match self
+            .texel(rest_root)
+            .and_then(|packed| blend_inverse(bones, packed, true))
+        {
+            Some((back, t)) => Carry::Bone(back, t),
+            None => Carry::Bone(rotation, root - rotation.mul_vec(rest_root)),
+        }
+    }
+
     /// Where model-space point `m` lies at the rest pose, and the map taking the rest
-    /// field's gradient there to model space. The root `pose` carries `m` back first;
-    /// for an `outer` vertex (see [`blend_from`]), where the blend grid point nearest to
-    /// that holds a blend of bones, the inverse of the skin's blended matrix
-    /// `w Kₐ + (1 − w) K_b` of this substep (`bones`) carries `m` back instead, and its
-    /// inverse transpose carries the gradient (`blend_back` in `shaders/collide.glsl`,
-    /// the same arithmetic).
+    /// field's gradient there to model space, carried as `carry` says: by the root
+    /// `pose`; by the root's bone; or, where the blend grid point nearest to the root
+    /// pose's point holds a blend of bones, by the inverse of the skin's blended matrix
+    /// of this substep (`bones`), its inverse transpose carrying the gradient
+    /// (`blend_back` in `shaders/collide.glsl`, the same arithmetic). Without a blend
+    /// grid the root pose carries every vertex.
     fn carry_back(
         &self,
         m: V3<T>,
         pose: &Pose<T>,
         bones: &[[glam::Vec4; 3]],
-        outer: bool,
+        carry: Carry<T>,
     ) -> (V3<T>, M3<T>) {
+        if let (Carry::Bone(back, t), false) = (carry, self.blend.is_empty()) {
+            return (back.transpose_mul_vec(m - t), back);
+        }
         let (rotation, rest_root, root) = *pose;
         let rest = rotation.transpose_mul_vec(m - root) + rest_root;
-        if !outer {
+        if carry != Carry::Blend {
             return (rest, rotation);
         }
-        let Some(&packed) =
-            crate::skinning::blend::nearest(self.sdf, rest).and_then(|at| self.blend.get(at))
-        else {
-            return (rest, rotation);
-        };
-        let (joints, share) = crate::skinning::blend::unpack(packed);
-        let w = T::from_f32(share);
-        if !greater(w, T::ZERO) {
-            return (rest, rotation);
+        match self
+            .texel(rest)
+            .and_then(|packed| blend_inverse(bones, packed, false))
+        {
+            Some((back, t)) => (back.transpose_mul_vec(m - t), back),
+            None => (rest, rotation),
         }
-        let v = T::ONE - w;
-        let row = |i: usize| {
-            let part = |k: usize, weight: T| {
-                let r = bones
-                    .get(joints[k] as usize)
-                    .map_or(glam::Vec4::ZERO, |b| b[i]);
-                [r.x, r.y, r.z, r.w].map(|c| T::from_f32(c) * weight)
-            };
-            let (a, b) = (part(0, w), part(1, v));
-            [0, 1, 2, 3].map(|c| a[c] + b[c])
-        };
-        let (r0, r1, r2) = (row(0), row(1), row(2));
-        let a0 = V3(r0[0], r1[0], r2[0]);
-        let a1 = V3(r0[1], r1[1], r2[1]);
-        let a2 = V3(r0[2], r1[2], r2[2]);
-        let t = V3(r0[3], r1[3], r2[3]);
-        let (x0, x1, x2) = (a1.cross(a2), a2.cross(a0), a0.cross(a1));
-        let det = a0.dot(x0);
-        if !greater(det, T::from_f32(MIN_DETERMINANT)) {
-            return (rest, rotation);
-        }
-        let inv = T::ONE / det;
-        let back = M3([x0.scale(inv), x1.scale(inv), x2.scale(inv)]);
-        (back.transpose_mul_vec(m - t), back)
     }
 
     /// Moves a vertex closer than the margin to a rigid body's surface out along the
@@ -276,7 +338,7 @@ impl<T: Real> Collider<'_, T> {
         &self,
         head: &Head<T>,
         (pose, bones, capsules): (&Pose<T>, &[[glam::Vec4; 3]], &[NearCapsule<T>]),
-        (arc, margin, outer): (T, T, bool),
+        (arc, margin, carry): (T, T, Carry<T>),
         x: &mut V3<T>,
         previous: &mut V3<T>,
     ) {
@@ -286,12 +348,12 @@ impl<T: Real> Collider<'_, T> {
         let mut contact = None;
         for _ in 0..PROJECTIONS_SKINNED {
             let mut moved = false;
-            let (rest, back) = self.carry_back(m, pose, bones, outer);
+            let (rest, back) = self.carry_back(m, pose, bones, carry);
             if let Some((d, g)) = self.sdf.sample_trilinear(rest) {
                 let len = g.length();
                 if less(d, margin) && greater(len, min_length::<T>()) {
                     let mut n = back.mul_vec(g.scale(T::ONE / len));
-                    if outer && !self.blend.is_empty() {
+                    if carry != Carry::Root && !self.blend.is_empty() {
                         // The blend's inverse transpose is not a rotation.
                         n = n.scale(T::ONE / n.length());
                     }
@@ -347,113 +409,4 @@ impl<T: Real> Collider<'_, T> {
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::geometry::sdf::exact_distances;
-    use crate::scene::{critter, Mesh};
-    use crate::skinning::{blend, cpu, Playback, SkinnedBody};
-
-    /// Hair standing straight out of the walking critter's skin, each carried rigidly by
-    /// its root pose (where the shape constraints pull it): of its points that lie
-    /// inside the posed skin (a paw folding over hair rooted on its leg), how many each
-    /// way of carrying them back to the rest field reads as within the margin, and how
-    /// many points outside the skin by more than twice the margin it reads as inside.
-    /// The root pose carries such a point back to where it grew, outside the rest body,
-    /// and reads it as inside only where another part of the rest body lies there; the
-    /// skin's blend carries it back with the skin that folded over it. Measured (328
-    /// points inside at two poses): the root pose saw 166 and read 172 far points as
-    /// inside, the skin's blend saw 310 and read 12.
-    #[test]
-    fn the_skins_blend_sees_hair_the_bending_skin_folded_over() {
-        let (mesh, rig) = critter();
-        let hair = 0.1 * {
-            let (lo, hi) = mesh.aabb();
-            (hi - lo).max_element()
-        };
-        let params = crate::sim::SimParams::default();
-        let (sdf, _) = Sdf::for_hair(&mesh, &params, hair, true).unwrap();
-        let body = SkinnedBody::new(&mesh, rig);
-        let packed = blend::for_body(&body, &sdf, hair).unwrap();
-        let playback = Playback {
-            clip: body.rig.clip_index("walk").ok(),
-            ..Default::default()
-        };
-        let margin = params.collision_margin * hair;
-        // [way] = (inside points read within the margin, far points read inside).
-        let mut seen = [(0usize, 0usize); 2];
-        let mut inside = 0usize;
-        for t in [0.3, 0.8] {
-            let posed = cpu::pose(&body, &playback.joint_matrices(&body.rig, t));
-            let mut points = Vec::new();
-            let mut poses = Vec::new();
-            for (v, root) in posed.roots.iter().enumerate() {
-                let rest_root = mesh.positions[v];
-                let normal = body.rest_frames[v].1;
-                for k in 1..=4 {
-                    let rest = rest_root + normal * (0.25 * k as f32 * hair);
-                    points.push(root.point(rest, rest_root));
-                    poses.push((*root, rest_root));
-                }
-            }
-            let posed_mesh = Mesh {
-                positions: posed.positions.clone(),
-                ..mesh.clone()
-            };
-            let exact = exact_distances(&posed_mesh, &points);
-            for (way, packed) in [&[][..], &packed[..]].into_iter().enumerate() {
-                let collider = Collider::<f32> {
-                    sdf: &sdf,
-                    blend: packed,
-                    to_model: Head::new(glam::Mat4::IDENTITY),
-                    fraction: 0.0,
-                    friction: 0.0,
-                };
-                for ((&p, &(root, rest_root)), &d) in points.iter().zip(&poses).zip(&exact) {
-                    let c = root
-                        .rotation
-                        .to_cols_array_2d()
-                        .map(|c| V3(c[0], c[1], c[2]));
-                    let pose = (M3(c), V3::from_vec3(rest_root), V3::from_vec3(root.root));
-                    let (rest, _) =
-                        collider.carry_back(V3::from_vec3(p), &pose, &posed.bones, true);
-                    // A vertex nearer the root than `blend_from` keeps the root pose.
-                    let (inner, _) =
-                        collider.carry_back(V3::from_vec3(p), &pose, &posed.bones, false);
-                    let by_root = pose.0.transpose_mul_vec(V3::from_vec3(p) - pose.2) + pose.1;
-                    assert_eq!(inner, by_root);
-                    let Some((read, _)) = sdf.sample_trilinear(rest) else {
-                        continue;
-                    };
-                    if d < -0.005 * hair {
-                        inside += usize::from(way == 0);
-                        seen[way].0 += usize::from(read < margin);
-                    } else if d > 2.0 * margin && read < 0.0 {
-                        seen[way].1 += 1;
-                    }
-                }
-            }
-        }
-        println!(
-            "{inside} points inside the skin; root pose {:?}, skin's blend {:?}",
-            seen[0], seen[1]
-        );
-        assert!(inside > 20, "only {inside} points inside the posed skin");
-        assert!(
-            seen[1].0 * 10 >= inside * 9,
-            "the blend saw {} of {inside}",
-            seen[1].0
-        );
-        assert!(
-            seen[1].0 > seen[0].0 + inside / 4,
-            "the blend saw {} of {inside}, the root pose {}",
-            seen[1].0,
-            seen[0].0
-        );
-        assert!(
-            seen[1].1 * 10 <= seen[0].1,
-            "far points read inside: the blend {}, the root pose {}",
-            seen[1].1,
-            seen[0].1
-        );
-    }
-}
+mod tests;

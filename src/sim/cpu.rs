@@ -5,6 +5,7 @@ use std::sync::Arc;
 
 use glam::DMat4;
 
+use super::collide::{self, Carry};
 use super::math::{max, min, min_length, Head, Real, M3, V3};
 use super::params::{SimParams, StepConstants};
 use super::rest::RestPose;
@@ -210,7 +211,7 @@ impl<T: Real> CpuSim<T> {
             .sdf
             .as_deref()
             .filter(|_| self.params.collision)
-            .map(|sdf| super::collide::Collider {
+            .map(|sdf| collide::Collider {
                 sdf,
                 blend: if self.params.blends() {
                     &self.blend
@@ -281,20 +282,28 @@ impl<T: Real> CpuSim<T> {
                 let length = lengths[1..].iter().fold(T::ZERO, |sum, &l| sum + l);
                 let margin = collider.fraction * length;
                 let near = carrier.pose.as_ref().map_or(Vec::new(), |pose| {
-                    super::collide::near_capsules(pose, capsules, (length, margin))
+                    collide::near_capsules(pose, capsules, (length, margin))
                 });
                 let segments = T::from_f32((v - 1) as f32);
-                let outer = super::collide::blend_from(v);
+                let bones = posed.map_or(&[][..], |p| p.bones.as_slice());
+                let (bone_to, outer) = (collide::bone_to(v), collide::blend_from(v));
+                let bone = match &carrier.pose {
+                    Some(pose) if !collider.blend.is_empty() => collider.root_bone(pose, bones),
+                    _ => Carry::Root,
+                };
                 for i in 1..v {
+                    let carry = if i <= bone_to {
+                        bone
+                    } else if i >= outer {
+                        Carry::Blend
+                    } else {
+                        Carry::Root
+                    };
                     match &carrier.pose {
                         Some(pose) => collider.push_out_skinned(
                             &head,
-                            (pose, posed.map_or(&[][..], |p| p.bones.as_slice()), &near),
-                            (
-                                T::from_f32(i as f32) * length / segments,
-                                margin,
-                                i >= outer,
-                            ),
+                            (pose, bones, &near),
+                            (T::from_f32(i as f32) * length / segments, margin, carry),
                             &mut x[i],
                             &mut prev[i],
                         ),

@@ -54,9 +54,10 @@ pub struct SimParams {
     /// length (a cell about a third of it, 16..=128 cells).
     pub sdf_resolution: u32,
     /// On a skinned body, carry the outer strand vertices back to the rest field through
-    /// the skin's own blend of bones near them (see [`crate::skinning::blend`]) instead
-    /// of their root pose alone: hair stays out where the skin bends between bones
-    /// (docs/benchmark.md). `None` (the default): on where its grid fits the device
+    /// the skin's own blend of bones near them (see [`crate::skinning::blend`]), and
+    /// the first ones by the heaviest bone of the skin at their root, instead of their
+    /// root pose alone: hair stays out where the skin bends between bones and where it
+    /// folds over a crease (docs/benchmark.md). `None` (the default): on where its grid fits the device
     /// (see [`crate::skinning::blend::misfit`]; the session turns it off with a warning
     /// where not); `Some(true)`: on, refused where it does not fit; `Some(false)`: off.
     pub skin_blend: Option<bool>,

@@ -188,12 +188,13 @@ void select_root_bone(uint k) {
 }
 
 // Where model-space point m lies at the rest pose (returned), with the map taking the
-// rest field's gradient there to model space (`back`), carried as `carry` says
+// rest field's gradient there to model space (`back`), carried as `carry` says (each
+// of `collide`'s loops passes one constant: CARRY_ROOT alone without BODY_BLEND)
 // (src/sim/collide.rs: `carry_back`): by the root pose; by the root's bone; or, where
 // the blend grid point nearest to the root pose's point holds a blend of bones, by the
 // inverse of the skin's blended matrix of substep k.
 vec3 blend_back(vec3 m, uint k, uint carry, out mat3 back) {
-    if ((STEPS & BODY_BLEND) != 0u && carry == CARRY_BONE) {
+    if (carry == CARRY_BONE) {
         back = bone_back;
         return transpose(bone_back) * (m - bone_t);
     }
@@ -202,8 +203,7 @@ vec3 blend_back(vec3 m, uint k, uint carry, out mat3 back) {
     uvec2 b;
     mat3 blended;
     vec3 t;
-    if ((STEPS & BODY_BLEND) == 0u || carry == CARRY_ROOT || !blend_texel(rest, b)
-        || !blend_inverse(b, k, false, blended, t)) {
+    if (carry == CARRY_ROOT || !blend_texel(rest, b) || !blend_inverse(b, k, false, blended, t)) {
         return rest;
     }
     back = blended;
@@ -221,7 +221,7 @@ void push_field(inout vec3 m, uint k, float margin, uint carry, inout bool touch
         float len = length(g);
         if (len > MIN_LENGTH) {
             vec3 n = back * (g * (1.0 / len));
-            if ((STEPS & BODY_BLEND) != 0u && carry != CARRY_ROOT) {
+            if (carry != CARRY_ROOT) {
                 // The blend's inverse transpose is not a rotation.
                 n = n * (1.0 / length(n));
             }
@@ -353,7 +353,9 @@ void collide(Step st, uint k, float margin) {
         // own: a branch is no saving on a CPU driver, which runs both sides of it
         // under a mask.
         uint from = max(BLEND_FROM, 1u);
-        select_root_bone(k);
+        if (BONE_TO > 0u) {
+            select_root_bone(k);
+        }
         for (uint i = 1u; i <= BONE_TO; ++i) {
             collide_vertex(st, k, margin, i, CARRY_BONE);
         }

@@ -108,14 +108,7 @@ pub(super) fn render(args: &RenderArgs) -> anyhow::Result<()> {
             scene.height
         )
     })?;
-    if let Some(warning) = session
-        .body
-        .as_ref()
-        .and_then(|(_, report)| report.warning(&scene.model.name()))
-    {
-        eprintln!("warning: {warning}");
-    }
-    for warning in &session.warnings {
+    for warning in session.all_warnings(&scene.model.name()) {
         eprintln!("warning: {warning}");
     }
     let masters = session.strands.count();

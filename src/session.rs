@@ -45,6 +45,19 @@ pub struct FurSession {
 }
 
 impl FurSession {
+    /// Everything building the scene warned about, for model `name`: the body's field
+    /// (an open or inconsistently oriented surface), then the rest.
+    pub fn all_warnings(&self, name: &str) -> Vec<String> {
+        let field = self
+            .body
+            .as_ref()
+            .and_then(|(_, report)| report.warning(name));
+        field
+            .into_iter()
+            .chain(self.warnings.iter().cloned())
+            .collect()
+    }
+
     /// Builds the scene; `frames_in_flight` is 1 for headless use, 2 for the viewer.
     #[allow(clippy::too_many_arguments)]
     pub fn new(

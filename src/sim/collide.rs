@@ -271,8 +271,7 @@ impl<T: Real> Collider<'_, T> {
     /// `pose`; by the root's bone; or, where the blend grid point nearest to the root
     /// pose's point holds a blend of bones, by the inverse of the skin's blended matrix
     /// of this substep (`bones`), its inverse transpose carrying the gradient
-    /// (`blend_back` in `shaders/collide.glsl`, the same arithmetic). Without a blend
-    /// grid the root pose carries every vertex.
+    /// (`blend_back` in `shaders/collide.glsl`, the same arithmetic).
     fn carry_back(
         &self,
         m: V3<T>,
@@ -280,12 +279,12 @@ impl<T: Real> Collider<'_, T> {
         bones: &[[glam::Vec4; 3]],
         carry: Carry<T>,
     ) -> (V3<T>, M3<T>) {
-        if let (Carry::Bone(back, t), false) = (carry, self.blend.is_empty()) {
+        if let Carry::Bone(back, t) = carry {
             return (back.transpose_mul_vec(m - t), back);
         }
         let (rotation, rest_root, root) = *pose;
         let rest = rotation.transpose_mul_vec(m - root) + rest_root;
-        if carry != Carry::Blend {
+        if carry == Carry::Root {
             return (rest, rotation);
         }
         match self
@@ -353,7 +352,7 @@ impl<T: Real> Collider<'_, T> {
                 let len = g.length();
                 if less(d, margin) && greater(len, min_length::<T>()) {
                     let mut n = back.mul_vec(g.scale(T::ONE / len));
-                    if carry != Carry::Root && !self.blend.is_empty() {
+                    if carry != Carry::Root {
                         // The blend's inverse transpose is not a rotation.
                         n = n.scale(T::ONE / n.length());
                     }

@@ -286,13 +286,19 @@ impl<T: Real> CpuSim<T> {
                 });
                 let segments = T::from_f32((v - 1) as f32);
                 let bones = posed.map_or(&[][..], |p| p.bones.as_slice());
+                // As the kernel's loops: without the skin's blend the root pose carries
+                // every vertex; with it, the first eighth goes by the root's bone and
+                // the outer eighth through the blend.
+                let blends = !collider.blend.is_empty();
                 let (bone_to, outer) = (collide::bone_to(v), collide::blend_from(v));
                 let bone = match &carrier.pose {
-                    Some(pose) if !collider.blend.is_empty() => collider.root_bone(pose, bones),
+                    Some(pose) if blends && bone_to > 0 => collider.root_bone(pose, bones),
                     _ => Carry::Root,
                 };
                 for i in 1..v {
-                    let carry = if i <= bone_to {
+                    let carry = if !blends {
+                        Carry::Root
+                    } else if i <= bone_to {
                         bone
                     } else if i >= outer {
                         Carry::Blend

@@ -55,14 +55,7 @@ impl Viewer {
             swapchain.extent,
             FRAMES_IN_FLIGHT,
         )?;
-        if let Some(warning) = session
-            .body
-            .as_ref()
-            .and_then(|(_, report)| report.warning(&options.model.name()))
-        {
-            eprintln!("warning: {warning}");
-        }
-        for warning in &session.warnings {
+        for warning in session.all_warnings(&options.model.name()) {
             eprintln!("warning: {warning}");
         }
         let raw = &device.raw;

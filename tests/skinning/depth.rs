@@ -64,7 +64,7 @@ fn walk_depths((collision, skin_blend): (bool, bool)) -> (f64, f64) {
 /// Collision keeps the walking critter's hair out of its skin, the deepest vertex within
 /// 1 % of the hair length: measured against the same walk without collision. Measured
 /// here (3 frames, the default collision with the skin's blend and the root's bone):
-/// max 0.96 %, collision dividing the mean depth by 159 and the max by 27; the bounds
+/// max 0.96 %, collision dividing the mean depth by 154 and the max by 27; the bounds
 /// ask for 5 and 3.2, so a collision doing half its work fails, and so does the previous
 /// release's (0.97 % here, but 1.37 % in the benchmark's frames, where the armpit's
 /// first vertices show).
@@ -97,7 +97,7 @@ fn collision_keeps_the_walking_hair_out_of_the_skin() {
 /// where a paw meets its leg, which the root pose carries with the blend of the two
 /// bones while the paw's skin turns with the paw, are no longer the deepest (measured
 /// over these frames: max 1.14 % by the root poses, 0.96 % with the skin's blend; mean
-/// 3.48e-6 and 2.73e-6).
+/// 3.48e-6 and 2.82e-6).
 #[test]
 fn the_skins_blend_keeps_hair_out_where_the_skin_bends() {
     // Below the root poses' own max over these frames (0.0114).

@@ -100,10 +100,16 @@ bool skippable(uint a, uint c, float tolerance) {
     return true;
 }
 
-void emit_vertex(uint k, vec3 t) {
+#if !SHADOW_CASTER && VERTEX_SHADING
+vec4 lit_along;                // the lit vertex, computed once for both ribbon sides
+#endif
+
+// Writes every output of vertex k. GLSL leaves outputs undefined after EmitVertex, so
+// this runs before each one, the ribbon's second side included.
+void write_outputs(uint k, vec3 t) {
 #if !SHADOW_CASTER
 #if VERTEX_SHADING
-    g_lit_along = vec4(kajiya_kay(t, P[k], light_through_fur(P[k])), along(k));
+    g_lit_along = lit_along;
 #else
     g_tangent_along = vec4(t, along(k));
     g_world = P[k];
@@ -116,15 +122,24 @@ void emit_vertex(uint k, vec3 t) {
     g_seed = hair_seed;
 #endif
 #endif
+}
+
+void emit_vertex(uint k, vec3 t) {
+#if !SHADOW_CASTER && VERTEX_SHADING
+    lit_along = vec4(kajiya_kay(t, P[k], light_through_fur(P[k])), along(k));
+#endif
 #if LINES
+    write_outputs(k, t);
     gl_Position = frame.view_proj * vec4(P[k], 1.0);
     EmitVertex();
 #else
     vec3 side = cross(t, frame.eye.xyz - P[k]);
     float side_len = length(side);
     side = side_len > 1e-12 ? side * (0.5 * W[k] / side_len) : vec3(0.5 * W[k], 0.0, 0.0);
+    write_outputs(k, t);
     gl_Position = frame.view_proj * vec4(P[k] - side, 1.0);
     EmitVertex();
+    write_outputs(k, t);
     gl_Position = frame.view_proj * vec4(P[k] + side, 1.0);
     EmitVertex();
 #endif

@@ -155,8 +155,8 @@ impl SimParams {
     }
 
     /// The distance field's resolution for hairs of `hair_length` on a model whose
-    /// padded bounding box is `extent` long on its longest axis: [`CELLS_PER_HAIR`]
-    /// cells per hair length on a rigid body, [`CELLS_PER_HAIR_SKINNED`] on a skinned
+    /// padded bounding box is `extent` long on its longest axis: `CELLS_PER_HAIR`
+    /// cells per hair length on a rigid body, `CELLS_PER_HAIR_SKINNED` on a skinned
     /// one.
     pub fn sdf_cells(&self, extent: f32, hair_length: f32, skinned: bool) -> u32 {
         if self.sdf_resolution > 0 {

@@ -1,62 +1,79 @@
-//! Checks that the system's shaderc is there before the `shaderc-sys` crate looks for it.
+//! Links the system's shaderc with the glslang and SPIRV-Tools libraries it needs.
 //!
-//! `fur` links the system's shared `libshaderc` (Debian's `libshaderc-dev`; the library is
-//! self-contained on Debian 12 and 13 alike, so no glslang or SPIRV-Tools libraries are
-//! named here and their versions do not matter). Without it, `shaderc-sys` would quietly
-//! fall back to building shaderc from source and fail much later with a CMake error, so this
-//! script stops first with the package to install. With the `shaderc-from-source` feature,
-//! or with `SHADERC_LIB_DIR` / `VULKAN_SDK` set, it leaves the search to `shaderc-sys`.
+//! `fur` links Debian's static `libshaderc_combined.a`, which leaves glslang's and
+//! SPIRV-Tools' symbols undefined, so this script adds those static libraries: the ones
+//! every glslang has, and the ones only some versions ship (glslang 14 dropped
+//! `OGLCompiler`; Debian 12 has glslang 12, Debian 13 glslang 15), each probed in the
+//! library directory. (Linking the shared `libshaderc.so` instead is no simpler: Debian
+//! 12's leaves 36 glslang symbols undefined without naming a library that has them.)
+//! A missing library stops the build with its name and the package that ships it. With
+//! the `shaderc-from-source` feature the `shaderc-sys` crate builds everything itself and
+//! this script does nothing.
 
 use std::env;
-use std::path::{Path, PathBuf};
+use std::path::Path;
+
+/// A static library the link needs, and the Debian/Ubuntu package that ships it.
+struct Lib {
+    name: &'static str,
+    package: &'static str,
+    /// Only some versions ship it; linked where it exists.
+    optional: bool,
+}
+
+const fn lib(name: &'static str, package: &'static str, optional: bool) -> Lib {
+    Lib {
+        name,
+        package,
+        optional,
+    }
+}
+
+/// In link order: dependents first.
+const SYSTEM_LIBS: &[Lib] = &[
+    lib("shaderc_combined", "libshaderc-dev", false),
+    lib("glslang", "glslang-dev", false),
+    lib("MachineIndependent", "glslang-dev", true),
+    lib("GenericCodeGen", "glslang-dev", true),
+    lib("OSDependent", "glslang-dev", true),
+    lib("OGLCompiler", "glslang-dev", true),
+    lib("SPIRV", "glslang-dev", true),
+    lib("glslang-default-resource-limits", "glslang-dev", false),
+    lib("SPIRV-Tools-opt", "spirv-tools", false),
+    lib("SPIRV-Tools", "spirv-tools", false),
+];
 
 fn main() {
     println!("cargo:rerun-if-changed=build.rs");
-    for var in ["SHADERC_LIB_DIR", "VULKAN_SDK"] {
-        println!("cargo:rerun-if-env-changed={var}");
+    println!("cargo:rerun-if-env-changed=SHADERC_LIB_DIR");
+    if env::var_os("CARGO_FEATURE_SHADERC_FROM_SOURCE").is_some() {
+        return;
     }
-    if env::var_os("CARGO_FEATURE_SHADERC_FROM_SOURCE").is_some()
-        || env::var_os("SHADERC_LIB_DIR").is_some()
-        || env::var_os("VULKAN_SDK").is_some()
-        || env::var("CARGO_CFG_TARGET_OS").as_deref() != Ok("linux")
-    {
+    if env::var("CARGO_CFG_TARGET_OS").as_deref() != Ok("linux") {
         return;
     }
     let arch = env::var("CARGO_CFG_TARGET_ARCH").unwrap_or_default();
     let debian_arch = if arch == "x86" { "i386" } else { arch.as_str() };
-    let dirs: Vec<PathBuf> = [
-        format!("/usr/lib/{debian_arch}-linux-gnu"),
-        "/usr/lib64".into(),
-        "/usr/lib".into(),
-    ]
-    .into_iter()
-    .map(PathBuf::from)
-    .collect();
-    let found = dirs.iter().any(|dir| {
-        ["libshaderc.so", "libshaderc_shared.so"]
-            .iter()
-            .any(|f| dir.join(f).exists())
-    });
-    if !found && !pkg_config_knows("shaderc") {
-        let looked: Vec<String> = dirs.iter().map(|d| d.display().to_string()).collect();
+    let dir = env::var("SHADERC_LIB_DIR").unwrap_or_else(|_| format!("/usr/lib/{debian_arch}-linux-gnu"));
+    let present = |lib: &Lib| Path::new(&dir).join(format!("lib{}.a", lib.name)).exists();
+    let missing: Vec<&Lib> = SYSTEM_LIBS.iter().filter(|l| !l.optional && !present(l)).collect();
+    if !missing.is_empty() {
+        let names: Vec<String> = missing.iter().map(|l| format!("lib{}.a", l.name)).collect();
+        let mut packages: Vec<&str> = missing.iter().map(|l| l.package).collect();
+        packages.dedup();
         panic!(
-            "\n\nshaderc's shared library (libshaderc.so) is missing: looked in {} and asked \
-             pkg-config for `shaderc`.\n\
-             Install it: Debian/Ubuntu `apt-get install libshaderc-dev`, Fedora `dnf install \
-             libshaderc-devel`, Arch `pacman -S shaderc`;\n\
-             or point SHADERC_LIB_DIR at a directory holding it, or build shaderc from source \
-             with `cargo build --features shaderc-from-source` (needs cmake, python3, a C++ \
-             compiler).\n",
-            looked.join(", ")
+            "\n\nshaderc's static libraries are missing from {dir}: {}.\n\
+             On Debian or Ubuntu: `apt-get install {}` (or run `.ci/install-deps`).\n\
+             Elsewhere, point SHADERC_LIB_DIR at a directory holding them, or build shaderc \
+             from source with `cargo build --features shaderc-from-source` (needs cmake, \
+             python3 and a C++ compiler).\n",
+            names.join(", "),
+            packages.join(" ")
         );
     }
-}
-
-/// Whether `pkg-config` finds a package (false when pkg-config itself is absent).
-fn pkg_config_knows(package: &str) -> bool {
-    let pkg_config = env::var("PKG_CONFIG").unwrap_or_else(|_| "pkg-config".into());
-    std::process::Command::new(Path::new(&pkg_config))
-        .args(["--exists", package])
-        .status()
-        .is_ok_and(|status| status.success())
+    println!("cargo:rustc-link-search=native={dir}");
+    // shaderc-sys links shaderc_combined itself; the rest follow it.
+    for lib in SYSTEM_LIBS.iter().skip(1).filter(|l| present(l)) {
+        println!("cargo:rustc-link-lib=static={}", lib.name);
+    }
 }

@@ -1,5 +1,5 @@
 //! Command-line options shared by `fur render` and `fur view`: the scene (model, camera,
-//! groom), how the fur is drawn, and the simulation.
+//! groom), how the fur is drawn, and the simulation; and the device (with `fur bench`).
 
 use clap::Args;
 use fur::render::{Primitive, Shading};
@@ -338,5 +338,35 @@ impl AnimationArgs {
         if self.root_motion {
             spec.in_place = false;
         }
+    }
+}
+
+/// Which Vulkan device runs the work (`fur devices` lists them).
+#[derive(Args, Clone, Default)]
+pub struct DeviceArgs {
+    /// The Vulkan device: its index in `fur devices`, or a case-insensitive part of its
+    /// name that only one usable device has (e.g. `rtx`) [default: $FUR_DEVICE if set,
+    /// else the first usable device of the best kind: discrete, integrated, virtual,
+    /// cpu].
+    #[arg(long, value_name = "INDEX|NAME", allow_hyphen_values = true)]
+    pub device: Option<String>,
+}
+
+/// The environment variable that chooses the device when `--device` is not given.
+pub const DEVICE_ENV: &str = "FUR_DEVICE";
+
+impl DeviceArgs {
+    /// The choice: `--device`, else `FUR_DEVICE` (empty counts as unset), else none.
+    pub fn choice(&self) -> Option<String> {
+        self.device.clone().or_else(|| {
+            std::env::var(DEVICE_ENV)
+                .ok()
+                .filter(|v| !v.trim().is_empty())
+        })
+    }
+
+    /// A headless device: the chosen one, with the validation layer if `validate`.
+    pub fn headless(&self, validate: bool) -> anyhow::Result<std::sync::Arc<fur::gpu::Device>> {
+        Ok(fur::gpu::headless_on(validate, self.choice().as_deref())?)
     }
 }

@@ -25,6 +25,10 @@ pub enum Error {
     #[error("no usable Vulkan device:\n{0}")]
     NoSuitableDevice(String),
 
+    /// `--device` named no device, several, or one fur cannot run on; with the list.
+    #[error("{0}")]
+    DeviceChoice(String),
+
     #[error("allocating {} of GPU memory for `{name}` failed (out of device memory?): {source}", size_text(*.bytes))]
     Allocation {
         name: String,

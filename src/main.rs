@@ -9,7 +9,7 @@ mod args;
 mod render_command;
 
 use anyhow::{bail, Context as _};
-use args::{SceneArgs, SimArgs};
+use args::{DeviceArgs, SceneArgs, SimArgs};
 use ash::vk;
 use clap::{Args, Parser, Subcommand};
 use fur::scene::ModelSpec;
@@ -39,6 +39,8 @@ enum Command {
     /// Measure stage costs, the speed/accuracy trade, scaling and savings on this device;
     /// writes results.csv, results.md and SVG charts.
     Bench {
+        #[command(flatten)]
+        device: DeviceArgs,
         /// A small suite that finishes in seconds (for CI).
         #[arg(long)]
         quick: bool,
@@ -52,6 +54,14 @@ enum Command {
         /// the blob and the original's sphere.
         #[arg(long, allow_hyphen_values = true)]
         scene: Option<PathBuf>,
+        /// Image width of the frame and quality measurements in pixels [1280; quick
+        /// suite: 160].
+        #[arg(long, allow_negative_numbers = true)]
+        width: Option<u32>,
+        /// Image height of the frame and quality measurements in pixels [720; quick
+        /// suite: 90].
+        #[arg(long, allow_negative_numbers = true)]
+        height: Option<u32>,
         /// Output folder.
         #[arg(long, default_value = "bench", allow_hyphen_values = true)]
         out_dir: PathBuf,
@@ -63,6 +73,13 @@ enum Command {
         /// docs/benchmark.md.
         #[arg(long, allow_hyphen_values = true)]
         write_docs: Option<PathBuf>,
+    },
+    /// List the Vulkan devices (index, type, Vulkan version, name, driver, whether fur
+    /// can use it) and mark the one fur uses by default; `--device` chooses another.
+    Devices {
+        /// Mark the device this choice names instead of the default (or refuse it).
+        #[command(flatten)]
+        device: DeviceArgs,
     },
     /// Write a built-in model as an OBJ file, or as binary glTF (`.glb`: with its
     /// skeleton, skin and clips for the critter).
@@ -116,6 +133,8 @@ struct ViewArgs {
     /// Enable the Khronos validation layer; any validation message fails the run.
     #[arg(long)]
     validate: bool,
+    #[command(flatten)]
+    device: DeviceArgs,
 }
 
 #[derive(Args, Clone)]
@@ -162,6 +181,8 @@ struct RenderArgs {
     /// Enable the Khronos validation layer; any validation message fails the run.
     #[arg(long)]
     validate: bool,
+    #[command(flatten)]
+    device: DeviceArgs,
 }
 
 fn main() -> ExitCode {
@@ -172,17 +193,22 @@ fn main() -> ExitCode {
         Some(Command::Render(args)) => render_command::render(&args),
         Some(Command::View(args)) => view(args),
         Some(Command::ExportModel { out, model }) => export_model(&out, &model),
+        Some(Command::Devices { device }) => devices(&device),
         Some(Command::Bench {
+            device,
             quick,
             only,
             list,
             scene,
+            width,
+            height,
             out_dir,
             validate,
             write_docs,
         }) => bench(
+            &device,
             (quick, &only, list),
-            scene.as_deref(),
+            (scene.as_deref(), width, height),
             &out_dir,
             validate,
             write_docs.as_deref(),
@@ -198,14 +224,22 @@ fn main() -> ExitCode {
         }
         Err(e) => {
             eprintln!("error: {e:#}");
+            let chosen_by_env = std::env::var(args::DEVICE_ENV).is_ok_and(|v| !v.trim().is_empty());
+            if chosen_by_env && matches!(e.downcast_ref(), Some(fur::Error::DeviceChoice(_))) {
+                eprintln!(
+                    "note: {} chooses the device where --device is not given",
+                    args::DEVICE_ENV
+                );
+            }
             ExitCode::FAILURE
         }
     }
 }
 
 fn bench(
+    device: &DeviceArgs,
     (quick, only, list): (bool, &[String], bool),
-    scene: Option<&Path>,
+    (scene, width, height): (Option<&Path>, Option<u32>, Option<u32>),
     out_dir: &Path,
     validate: bool,
     write_docs: Option<&Path>,
@@ -218,17 +252,23 @@ fn bench(
     }
     let sections = fur::bench::Section::parse_list(only)?;
     if let Some(docs) = write_docs {
-        if quick || !only.is_empty() || scene.is_some() {
+        if quick || !only.is_empty() || scene.is_some() || width.or(height).is_some() {
             bail!(
-                "--write-docs {} takes a full run only (no --quick, --only or --scene): the \
-                 document's figures all come from one run",
+                "--write-docs {} takes a full run only (no --quick, --only, --scene, --width or \
+                 --height): the document's figures all come from one run",
                 docs.display()
             );
         }
         fur::bench::check_docs(docs)?;
     }
+    let size = match (width, height) {
+        (None, None) => None,
+        (Some(w), Some(h)) if (1..=16384).contains(&w) && (1..=16384).contains(&h) => Some((w, h)),
+        (Some(_), Some(_)) => bail!("--width and --height must be 1..=16384 pixels"),
+        _ => bail!("--width and --height go together"),
+    };
     fur::files::check_output_dir(out_dir)?;
-    let device = fur::gpu::headless(validate)?;
+    let device = device.headless(validate)?;
     let scene = match scene {
         Some(path) => {
             let name = path
@@ -242,6 +282,7 @@ fn bench(
         quick,
         sections,
         scene,
+        size,
     };
     let bar = indicatif::ProgressBar::new(fur::bench::task_count(&options)).with_style(
         indicatif::ProgressStyle::with_template("{bar:40} {pos}/{len} {elapsed} {msg}")
@@ -299,6 +340,7 @@ fn view(args: ViewArgs) -> anyhow::Result<()> {
         vsync: !args.no_vsync,
         frames: args.frames,
         validate: args.validate,
+        device: args.device.choice(),
         width: scene.width,
         height: scene.height,
         script,
@@ -306,6 +348,14 @@ fn view(args: ViewArgs) -> anyhow::Result<()> {
         save_scene: args.save_scene,
     };
     fur::viewer::run(options)?;
+    Ok(())
+}
+
+fn devices(device: &DeviceArgs) -> anyhow::Result<()> {
+    let list = fur::gpu::list_devices()?
+        .with_choice(device.choice().as_deref())
+        .map_err(fur::Error::DeviceChoice)?;
+    println!("{list}");
     Ok(())
 }
 

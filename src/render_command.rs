@@ -82,7 +82,7 @@ pub(super) fn render(args: &RenderArgs) -> anyhow::Result<()> {
         height: scene.height,
     };
 
-    let device = fur::gpu::headless(args.validate)?;
+    let device = args.device.headless(args.validate)?;
     let masters = mesh.vertex_count();
     if masters > 100_000 {
         eprintln!(

@@ -42,6 +42,9 @@ pub struct BenchOptions {
     /// A scene (`fur bench --scene`) measured by the frame and render-quality sections
     /// instead of the blob and the original's sphere.
     pub scene: Option<(String, Scene)>,
+    /// The image size (width, height) of the frame and quality measurements, instead
+    /// of 1280×720 (160×90 in the quick suite).
+    pub size: Option<(u32, u32)>,
 }
 
 /// A scene the frame and render-quality sections measure.
@@ -205,6 +208,7 @@ fn csv_field(text: &str) -> String {
 struct Bench<'a> {
     device: &'a Arc<Device>,
     quick: bool,
+    size: Option<(u32, u32)>,
     scenes: Vec<BenchScene>,
     rows: Vec<Row>,
     md: String,
@@ -241,6 +245,7 @@ pub fn run(
     let mut bench = Bench {
         device,
         quick: options.quick,
+        size: options.size,
         scenes: options.scenes(),
         rows: Vec::new(),
         md: String::new(),
@@ -250,7 +255,9 @@ pub fn run(
     let name = &device.info().name;
     let _ = writeln!(
         bench.md,
-        "# fur bench\n\nDevice: {name}. Medians over repeated frames after warm-up.{}\n",
+        "# fur bench\n\nDevice: {name}, driver {}. Medians over repeated frames after \
+         warm-up.{}\n",
+        device.info().driver,
         if options.quick { " Quick suite." } else { "" }
     );
     for section in &options.sections {
@@ -295,7 +302,9 @@ impl Bench<'_> {
 
     /// The image size of the frame and quality measurements.
     fn frame_extent(&self) -> vk::Extent2D {
-        if self.quick {
+        if let Some((width, height)) = self.size {
+            vk::Extent2D { width, height }
+        } else if self.quick {
             vk::Extent2D {
                 width: 160,
                 height: 90,
@@ -401,6 +410,7 @@ mod tests {
             quick: true,
             sections: vec![Section::Frame],
             scene: Some(("mine".into(), scene.clone())),
+            size: None,
         };
         let scenes = options.scenes();
         assert_eq!(scenes.len(), 1);

@@ -9,6 +9,7 @@ use ash::{ext, vk};
 use gpu_allocator::vulkan::{Allocator, AllocatorCreateDesc};
 
 use super::instance::Instance;
+use super::physical::select_physical_device;
 use crate::error::{Error, Result, VkContext};
 
 /// How long a single submission may run before it counts as hung.
@@ -18,6 +19,8 @@ const SUBMIT_TIMEOUT_S: u64 = 600;
 #[derive(Clone, Debug)]
 pub struct DeviceInfo {
     pub name: String,
+    /// The driver's name and information, e.g. `llvmpipe: Mesa 22.3.6 (LLVM 15.0.6)`.
+    pub driver: String,
     pub device_type: vk::PhysicalDeviceType,
     pub limits: vk::PhysicalDeviceLimits,
     /// Nanoseconds per timestamp tick.
@@ -49,15 +52,23 @@ pub struct PresentTarget<'a> {
 }
 
 impl Device {
-    /// Picks the best device that supports everything the fur pipeline needs and
-    /// creates it. `extensions` are extra device extensions (the swapchain's).
+    /// Creates the device `choice` names (an index or part of a name, as `--device`
+    /// takes; `None`: the best device that supports everything the fur pipeline
+    /// needs). `extensions` are extra device extensions (the swapchain's).
     pub fn new(
         instance: Arc<Instance>,
         present: Option<PresentTarget<'_>>,
         extensions: &[&'static CStr],
+        choice: Option<&str>,
     ) -> Result<Arc<Self>> {
-        let (physical, queue_family, info) = select_physical_device(&instance, present.as_ref())?;
-        log::info!("using {} ({:?})", info.name, info.device_type);
+        let (physical, queue_family, info) =
+            select_physical_device(&instance, present.as_ref(), choice)?;
+        log::info!(
+            "using {} ({:?}; driver {})",
+            info.name,
+            info.device_type,
+            info.driver
+        );
 
         let priorities = [1.0];
         let queue_infos = [vk::DeviceQueueCreateInfo::default()
@@ -263,158 +274,5 @@ impl Drop for Device {
             ManuallyDrop::drop(&mut self.allocator);
             self.raw.destroy_device(None);
         }
-    }
-}
-
-/// The features the renderer needs that a device lacks, by their Vulkan names.
-fn missing_features(
-    supports_13: bool,
-    features: &vk::PhysicalDeviceFeatures,
-    f12: &vk::PhysicalDeviceVulkan12Features,
-    f13: &vk::PhysicalDeviceVulkan13Features,
-) -> Vec<String> {
-    let mut missing = Vec::new();
-    if !supports_13 {
-        missing.push("Vulkan 1.3".to_string());
-    } else {
-        for (name, supported) in [
-            ("dynamicRendering", f13.dynamic_rendering),
-            ("synchronization2", f13.synchronization2),
-            ("hostQueryReset", f12.host_query_reset),
-        ] {
-            if supported == vk::FALSE {
-                missing.push(name.to_string());
-            }
-        }
-    }
-    for (name, supported) in [
-        ("tessellationShader", features.tessellation_shader),
-        ("geometryShader", features.geometry_shader),
-    ] {
-        if supported == vk::FALSE {
-            missing.push(name.to_string());
-        }
-    }
-    missing
-}
-
-/// Scores every physical device and returns the best usable one, or an error listing
-/// why each device was rejected.
-fn select_physical_device(
-    instance: &Instance,
-    present: Option<&PresentTarget<'_>>,
-) -> Result<(vk::PhysicalDevice, u32, DeviceInfo)> {
-    let devices =
-        unsafe { instance.raw.enumerate_physical_devices() }.vk("vkEnumeratePhysicalDevices")?;
-    if devices.is_empty() {
-        return Err(Error::NoSuitableDevice(
-            "  the Vulkan loader reports no devices (is a driver such as mesa-vulkan-drivers installed?)"
-                .into(),
-        ));
-    }
-    let mut rejections = Vec::new();
-    let mut best: Option<(u32, vk::PhysicalDevice, u32, DeviceInfo)> = None;
-    for physical in devices {
-        let props = unsafe { instance.raw.get_physical_device_properties(physical) };
-        let name = props
-            .device_name_as_c_str()
-            .map(|n| n.to_string_lossy().into_owned())
-            .unwrap_or_else(|_| "unnamed device".into());
-        let features = unsafe { instance.raw.get_physical_device_features(physical) };
-        let mut f13 = vk::PhysicalDeviceVulkan13Features::default();
-        let mut f12 = vk::PhysicalDeviceVulkan12Features::default();
-        let mut features2 = vk::PhysicalDeviceFeatures2::default()
-            .push_next(&mut f13)
-            .push_next(&mut f12);
-        let supports_13 = !(vk::api_version_major(props.api_version) == 1
-            && vk::api_version_minor(props.api_version) < 3);
-        if supports_13 {
-            unsafe {
-                instance
-                    .raw
-                    .get_physical_device_features2(physical, &mut features2)
-            };
-        }
-        let mut missing = missing_features(supports_13, &features, &f12, &f13);
-        let families = unsafe {
-            instance
-                .raw
-                .get_physical_device_queue_family_properties(physical)
-        };
-        let family = families.iter().enumerate().find_map(|(i, f)| {
-            let i = i as u32;
-            let flags = vk::QueueFlags::GRAPHICS | vk::QueueFlags::COMPUTE;
-            let presents = present.is_none_or(|p| unsafe {
-                p.surface_fn
-                    .get_physical_device_surface_support(physical, i, p.surface)
-                    .unwrap_or(false)
-            });
-            (f.queue_flags.contains(flags) && presents).then_some((i, f.timestamp_valid_bits))
-        });
-        if family.is_none() {
-            missing.push(if present.is_some() {
-                "a graphics+compute queue that can present to the window".into()
-            } else {
-                "a graphics+compute queue".into()
-            });
-        }
-        if !missing.is_empty() {
-            rejections.push(format!("  {name}: lacks {}", missing.join(", ")));
-            continue;
-        }
-        let (family, timestamp_bits) = family.unwrap_or_default();
-        let score = match props.device_type {
-            vk::PhysicalDeviceType::DISCRETE_GPU => 4,
-            vk::PhysicalDeviceType::INTEGRATED_GPU => 3,
-            vk::PhysicalDeviceType::VIRTUAL_GPU => 2,
-            _ => 1,
-        };
-        let info = DeviceInfo {
-            name,
-            device_type: props.device_type,
-            limits: props.limits,
-            timestamp_period: props.limits.timestamp_period,
-            timestamps: timestamp_bits > 0,
-            pipeline_statistics: features.pipeline_statistics_query == vk::TRUE,
-            vertex_pipeline_stores: features.vertex_pipeline_stores_and_atomics == vk::TRUE,
-        };
-        if best.as_ref().is_none_or(|b| score > b.0) {
-            best = Some((score, physical, family, info));
-        }
-    }
-    best.map(|(_, physical, family, info)| (physical, family, info))
-        .ok_or_else(|| Error::NoSuitableDevice(rejections.join("\n")))
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn a_device_without_tessellation_or_geometry_shaders_is_named_as_lacking_them() {
-        let f12 = vk::PhysicalDeviceVulkan12Features::default().host_query_reset(true);
-        let f13 = vk::PhysicalDeviceVulkan13Features::default()
-            .dynamic_rendering(true)
-            .synchronization2(true);
-        let full = vk::PhysicalDeviceFeatures::default()
-            .tessellation_shader(true)
-            .geometry_shader(true);
-        assert!(missing_features(true, &full, &f12, &f13).is_empty());
-        let none = vk::PhysicalDeviceFeatures::default();
-        assert_eq!(
-            missing_features(true, &none, &f12, &f13),
-            ["tessellationShader", "geometryShader"]
-        );
-        let no_geometry = full.geometry_shader(false);
-        assert_eq!(
-            missing_features(true, &no_geometry, &f12, &f13),
-            ["geometryShader"]
-        );
-        assert_eq!(missing_features(false, &full, &f12, &f13), ["Vulkan 1.3"]);
-        let old13 = vk::PhysicalDeviceVulkan13Features::default();
-        assert_eq!(
-            missing_features(true, &full, &f12, &old13),
-            ["dynamicRendering", "synchronization2"]
-        );
     }
 }

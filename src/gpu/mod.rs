@@ -1,9 +1,11 @@
 //! The Vulkan layer: one module per Vulkan concept, every handle owned by one value.
 
 mod buffer;
+mod choice;
 mod device;
 mod image;
 mod instance;
+mod physical;
 mod pipeline;
 mod query;
 mod sampler;
@@ -13,12 +15,14 @@ mod swapchain;
 use std::sync::Arc;
 
 pub use buffer::{Buffer, TexelBuffer};
+pub use choice::{choose, Candidate, DeviceEntry, DeviceKind, DeviceList};
 pub use device::{Device, DeviceInfo, PresentTarget};
 pub use image::{
     image_barrier, image_barriers, memory_barrier, subresource_range, whole_image_copy, Image,
     ImageDesc,
 };
 pub use instance::{Instance, InstanceDesc, ValidationLog};
+pub use physical::list_devices;
 pub use pipeline::{DescriptorPool, DescriptorSetLayout, Pipeline, PipelineLayout, Specialization};
 pub use query::{FurStatistics, QueryPool, FUR_STATISTICS};
 pub use sampler::Sampler;
@@ -43,19 +47,29 @@ pub fn shut_down(device: Arc<Device>) -> Result<()> {
     instance.check_validation()
 }
 
-/// A headless context: instance plus device, ready for offscreen work.
+/// A headless context: instance plus device, ready for offscreen work, on the default
+/// device (see [`headless_on`]).
 pub fn headless(validation: bool) -> Result<Arc<Device>> {
+    headless_on(validation, None)
+}
+
+/// A headless context on the device `choice` names: an index into [`list_devices`] or
+/// a case-insensitive part of one usable device's name (`--device`); `None` takes the
+/// best usable device (discrete, integrated, virtual, then CPU drivers).
+pub fn headless_on(validation: bool, choice: Option<&str>) -> Result<Arc<Device>> {
     let instance = Arc::new(Instance::new(&InstanceDesc {
         validation,
         extensions: Vec::new(),
     })?);
-    Device::new(instance, None, &[])
+    Device::new(instance, None, &[], choice)
 }
 
 /// A context for a window: instance with the window system's surface extensions, the
-/// surface, and a device whose queue can present to it.
+/// surface, and a device whose queue can present to it (the one `choice` names, as for
+/// [`headless_on`]).
 pub fn windowed(
     validation: bool,
+    choice: Option<&str>,
     window: &(impl raw_window_handle::HasDisplayHandle + raw_window_handle::HasWindowHandle),
 ) -> Result<(Arc<Device>, Surface)> {
     let display = window
@@ -85,6 +99,7 @@ pub fn windowed(
             surface: surface.raw(),
         }),
         &[ash::khr::swapchain::NAME],
+        choice,
     )?;
     Ok((device, surface))
 }

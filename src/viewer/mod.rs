@@ -50,6 +50,8 @@ pub struct ViewerOptions {
     /// Exit after this many frames (for tests and benchmarks).
     pub frames: Option<u64>,
     pub validate: bool,
+    /// The device to use (`--device`: an index or part of a name); `None`: the default.
+    pub device: Option<String>,
     pub width: u32,
     pub height: u32,
     pub script: Script,

@@ -16,7 +16,8 @@ impl Viewer {
                 .create_window(attributes)
                 .map_err(|e| Error::Window(format!("cannot create a window: {e}")))?,
         );
-        let (device, surface) = crate::gpu::windowed(options.validate, &*window)?;
+        let (device, surface) =
+            crate::gpu::windowed(options.validate, options.device.as_deref(), &*window)?;
         let (mesh, rig, warnings) = options.model.prepare_body(options.scene.texture.as_ref())?;
         for warning in warnings {
             eprintln!("warning: {warning}");

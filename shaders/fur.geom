@@ -168,7 +168,11 @@ void main() {
         return;
     }
 #endif
-    uint seed = hash_u32(uint(gl_PrimitiveIDIn) * 0x9e3779b9u
+    // The hair's seed: its three master hairs and its place between them, which name it
+    // on any device and in any order of drawing. (Not gl_PrimitiveIDIn: after
+    // tessellation its value is the driver's own; Mesa 25's lavapipe hands over a
+    // different one at each draw of the same frame.)
+    uint seed = hash_u32(hash_u32(h.x ^ hash_u32(h.y ^ hash_u32(h.z))) * 0x9e3779b9u
                          ^ hash_u32(floatBitsToUint(b.x) ^ hash_u32(floatBitsToUint(b.y))));
     hair_seed = seed;
     vec3 jitter = (vec3(hash_unit(seed), hash_unit(seed + 1u), hash_unit(seed + 2u)) * 2.0 - 1.0)

@@ -1,0 +1,126 @@
+//! The same frame drawn twice is the same image: in one renderer frame after frame, and
+//! in a new renderer after others were made and dropped (the driver then hands out
+//! memory that held other frames). A frame that reads anything before writing it (an
+//! output a shader stage leaves undefined, an attachment not cleared, a buffer not filled)
+//! draws from whatever that memory held, and fails here on a driver that recycles it
+//! (Mesa 25's lavapipe did, for the ribbons' second side before the geometry stage wrote
+//! every output before each vertex it emits). On lavapipe with validation on.
+
+mod common;
+
+use ash::vk;
+use fur::render::{FrameSettings, FurStyle, Lighting, Primitive, Renderer, Shading, Shadows};
+use fur::scene::{Camera, GroomParams, Mesh, Strands};
+use fur::strand_textures::StrandTextures;
+
+/// The drawings whose frames are compared: each primitive, shading and sample count, the
+/// vertex LOD, thin-hair AA, shadows and the supersampled reference's settings.
+fn drawings() -> Vec<(&'static str, FrameSettings)> {
+    let base = FrameSettings {
+        camera: Camera {
+            distance: 4.0,
+            ..Default::default()
+        },
+        ..Default::default()
+    };
+    let with = |style: FurStyle| FrameSettings {
+        style,
+        ..base.clone()
+    };
+    let style = base.style.clone();
+    vec![
+        ("default", base.clone()),
+        (
+            "1x lines",
+            with(FurStyle {
+                samples: 1,
+                primitive: Primitive::Lines,
+                ..style.clone()
+            }),
+        ),
+        (
+            "4x ribbons per fragment, thin-hair AA",
+            with(FurStyle {
+                samples: 4,
+                primitive: Primitive::Ribbons,
+                shading: Shading::Fragment,
+                thin_hair_aa: true,
+                ..style.clone()
+            }),
+        ),
+        (
+            "1x ribbons, vertex LOD",
+            with(FurStyle {
+                samples: 1,
+                primitive: Primitive::Ribbons,
+                vertex_lod_px: 0.5,
+                ..style.clone()
+            }),
+        ),
+        (
+            "shadows",
+            FrameSettings {
+                lighting: Lighting {
+                    shadows: Shadows {
+                        enabled: true,
+                        ..Shadows::default()
+                    },
+                    ..Lighting::default()
+                },
+                ..base.clone()
+            },
+        ),
+    ]
+}
+
+#[test]
+fn the_same_frame_drawn_twice_is_the_same_image() {
+    let device = common::device();
+    let mesh = Mesh::icosphere(2);
+    let groom = GroomParams {
+        segments: 4,
+        segment_length: 0.05,
+        ..Default::default()
+    };
+    let strands = Strands::grow(&mesh, &groom).unwrap();
+    let textures = StrandTextures::new(&device, &strands, glam::Mat4::IDENTITY).unwrap();
+    let extent = vk::Extent2D {
+        width: 64,
+        height: 48,
+    };
+    let draw = |settings: &FrameSettings, frames: usize| {
+        let mut renderer =
+            Renderer::new(&device, &mesh, &textures, extent, 1, settings.style.samples).unwrap();
+        (0..frames)
+            .map(|_| renderer.render(&textures, settings).unwrap().0)
+            .collect::<Vec<_>>()
+    };
+    let drawings = drawings();
+    let first: Vec<_> = drawings.iter().map(|(_, s)| draw(s, 3)).collect();
+    // Every drawing again, in reverse order, each in a new renderer after the others.
+    for ((name, settings), images) in drawings.iter().zip(&first).rev() {
+        let covered = common::covered(&images[0]).iter().filter(|&&c| c).count();
+        assert!(covered > 100, "{name}: only {covered} pixels drawn");
+        for (frame, image) in images.iter().enumerate().skip(1) {
+            if *image != images[0] {
+                common::keep(&images[0], &format!("determinism-{name}-0"));
+                common::keep(image, &format!("determinism-{name}-{frame}"));
+            }
+            assert!(
+                *image == images[0],
+                "{name}: frame {frame} differs from frame 0"
+            );
+        }
+        let again = draw(settings, 1).remove(0);
+        if again != images[0] {
+            common::keep(&images[0], &format!("determinism-{name}-first"));
+            common::keep(&again, &format!("determinism-{name}-again"));
+        }
+        assert!(
+            again == images[0],
+            "{name}: drawn again in a new renderer, the frame differs"
+        );
+    }
+    drop(textures);
+    common::assert_clean(&device);
+}

@@ -54,9 +54,13 @@ fn main() {
     }
     let arch = env::var("CARGO_CFG_TARGET_ARCH").unwrap_or_default();
     let debian_arch = if arch == "x86" { "i386" } else { arch.as_str() };
-    let dir = env::var("SHADERC_LIB_DIR").unwrap_or_else(|_| format!("/usr/lib/{debian_arch}-linux-gnu"));
+    let dir =
+        env::var("SHADERC_LIB_DIR").unwrap_or_else(|_| format!("/usr/lib/{debian_arch}-linux-gnu"));
     let present = |lib: &Lib| Path::new(&dir).join(format!("lib{}.a", lib.name)).exists();
-    let missing: Vec<&Lib> = SYSTEM_LIBS.iter().filter(|l| !l.optional && !present(l)).collect();
+    let missing: Vec<&Lib> = SYSTEM_LIBS
+        .iter()
+        .filter(|l| !l.optional && !present(l))
+        .collect();
     if !missing.is_empty() {
         let names: Vec<String> = missing.iter().map(|l| format!("lib{}.a", l.name)).collect();
         let mut packages: Vec<&str> = missing.iter().map(|l| l.package).collect();

@@ -6,9 +6,8 @@
 
 #include "strands.glsl"
 
-layout(constant_id = 0) const uint GROUP_SIZE = 64u;   // strands per workgroup
 layout(constant_id = 1) const uint V = 17u;   // vertices per strand
-layout(local_size_x_id = 0) in;
+layout(local_size_x = GROUP_SIZE) in;         // strands per workgroup (src/gpu/shader.rs)
 
 layout(set = 0, binding = 0, std140) uniform SimStatic {
     vec4 stiffness;     // S_G, S_L

@@ -11,7 +11,7 @@
 // its root lands on the skinned vertex exactly and its shape turns rigidly.
 // The last substep's positions and normals are the posed body the mesh pass draws.
 
-layout(local_size_x = 64) in;
+layout(local_size_x = GROUP_SIZE) in;   // src/gpu/shader.rs
 
 // Every table but the posed body is a texel buffer: a CPU driver reads and writes one
 // at lane-varying indices in one gather or scatter, a storage buffer lane by lane.

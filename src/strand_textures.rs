@@ -213,7 +213,7 @@ impl StrandTextures {
             vk::AccessFlags2::TRANSFER_WRITE,
         );
         let storage = (
-            vk::PipelineStageFlags2::ALL_COMMANDS,
+            crate::gpu::SHARED_DATA_STAGES,
             vk::AccessFlags2::SHADER_STORAGE_READ | vk::AccessFlags2::SHADER_STORAGE_WRITE,
         );
         let (undefined, dst, general) = (
@@ -276,7 +276,7 @@ impl StrandTextures {
         d.submit_once(|cmd| {
             let general = vk::ImageLayout::GENERAL;
             let all = (
-                vk::PipelineStageFlags2::ALL_COMMANDS,
+                crate::gpu::SHARED_DATA_STAGES,
                 vk::AccessFlags2::SHADER_STORAGE_WRITE,
             );
             let copy_read = (
@@ -291,7 +291,7 @@ impl StrandTextures {
                     .cmd_copy_image_to_buffer(cmd, image.raw(), src, buffer.raw(), &[region])
             };
             let after = (
-                vk::PipelineStageFlags2::ALL_COMMANDS,
+                crate::gpu::SHARED_DATA_STAGES,
                 vk::AccessFlags2::SHADER_STORAGE_READ | vk::AccessFlags2::SHADER_STORAGE_WRITE,
             );
             image_barriers(

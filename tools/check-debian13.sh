@@ -14,7 +14,8 @@
 #   4. runs the README's first command (the "Quick start" block, `sudo ` dropped: the
 #      chroot is root) and checks that it wrote `fur.png`, then the README's test command.
 #
-# Not part of CI (a clean build and the whole suite take about 40 minutes on 2 cores).
+# Not part of CI (a clean build and the whole suite take about 40 minutes on 2 cores; a
+# later run reuses the chroot's build folder).
 # Options through the environment: MIRROR, FUR_RUST=host|rustup, TEST_ARGS (appended to the
 # test command, e.g. `-- --test-threads 1`), KEEP_MOUNTS=1 to leave the binds mounted.
 set -euo pipefail
@@ -75,8 +76,9 @@ mkdir -p "$ROOT/usr/local/share/ca-certificates"
 cp /usr/local/share/ca-certificates/*.crt "$ROOT/usr/local/share/ca-certificates/" 2>/dev/null || true
 
 echo "== copying the working tree to $ROOT/root/fur"
-rm -rf "$ROOT/root/fur"
+# A fresh copy each run; the build folder of an earlier run is kept (incremental builds).
 mkdir -p "$ROOT/root/fur"
+find "$ROOT/root/fur" -mindepth 1 -maxdepth 1 ! -name target -exec rm -rf {} +
 (cd "$REPO" && git ls-files -co --exclude-standard -z | tar --null -T - -cf -) |
     tar -C "$ROOT/root/fur" -xf -
 

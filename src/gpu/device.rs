@@ -115,7 +115,7 @@ impl Device {
         };
         let pool_info = vk::CommandPoolCreateInfo::default()
             .queue_family_index(queue_family)
-            .flags(vk::CommandPoolCreateFlags::RESET_COMMAND_BUFFER);
+            .flags(vk::CommandPoolCreateFlags::TRANSIENT);
         let command_pool = match unsafe { raw.create_command_pool(&pool_info, None) } {
             Ok(pool) => pool,
             Err(result) => {

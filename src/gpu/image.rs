@@ -207,6 +207,20 @@ pub fn subresource_range(aspect: vk::ImageAspectFlags) -> vk::ImageSubresourceRa
     }
 }
 
+/// Every stage that reads or writes the strand images, the skinned body and the other
+/// tables the passes share: the shader stages, vertex input and copies. Barriers name
+/// these instead of `ALL_COMMANDS`, which also waits for stages that never touch them.
+pub const SHARED_DATA_STAGES: vk::PipelineStageFlags2 = vk::PipelineStageFlags2::from_raw(
+    vk::PipelineStageFlags2::VERTEX_ATTRIBUTE_INPUT.as_raw()
+        | vk::PipelineStageFlags2::VERTEX_SHADER.as_raw()
+        | vk::PipelineStageFlags2::TESSELLATION_CONTROL_SHADER.as_raw()
+        | vk::PipelineStageFlags2::TESSELLATION_EVALUATION_SHADER.as_raw()
+        | vk::PipelineStageFlags2::GEOMETRY_SHADER.as_raw()
+        | vk::PipelineStageFlags2::FRAGMENT_SHADER.as_raw()
+        | vk::PipelineStageFlags2::COMPUTE_SHADER.as_raw()
+        | vk::PipelineStageFlags2::COPY.as_raw(),
+);
+
 /// Records a pipeline barrier made of image barriers only.
 pub fn image_barriers(
     device: &Device,

@@ -19,7 +19,7 @@ pub use choice::{choose, Candidate, DeviceEntry, DeviceKind, DeviceList};
 pub use device::{Device, DeviceInfo, PresentTarget};
 pub use image::{
     image_barrier, image_barriers, memory_barrier, subresource_range, whole_image_copy, Image,
-    ImageDesc,
+    ImageDesc, SHARED_DATA_STAGES,
 };
 pub use instance::{Instance, InstanceDesc, ValidationLog};
 pub use physical::list_devices;

@@ -74,7 +74,7 @@ impl LightView {
 }
 
 /// Records the shadow pass into `map`: the fur's caster form drawn with the descriptor
-/// set of the light's uniforms (bound by the caller with the index buffer), then the
+/// set of the light's uniforms (bound by the caller), then the
 /// map made readable by the fur and skin passes.
 pub fn record(
     device: &Device,
@@ -132,7 +132,8 @@ pub fn record(
         cmd,
         &[map.image.barrier(
             (
-                vk::PipelineStageFlags2::LATE_FRAGMENT_TESTS,
+                vk::PipelineStageFlags2::EARLY_FRAGMENT_TESTS
+                    | vk::PipelineStageFlags2::LATE_FRAGMENT_TESTS,
                 vk::AccessFlags2::DEPTH_STENCIL_ATTACHMENT_WRITE,
             ),
             (

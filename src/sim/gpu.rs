@@ -28,7 +28,7 @@ use crate::skinning::{GpuSkin, Playback, SkinnedBody};
 use crate::strand_textures::StrandTextures;
 
 /// Strands per workgroup (one invocation each).
-const GROUP_SIZE: u32 = 64;
+use crate::gpu::shader::GROUP_SIZE;
 /// Most vertices a strand may have (private arrays in the kernel).
 pub const MAX_VERTICES: u32 = 64;
 /// Substeps whose constants fit in the step buffer: one submission's worth.
@@ -301,7 +301,7 @@ impl GpuSim {
     }
 
     fn specialization(&self, steps: u32) -> Specialization {
-        Specialization::new(&[(0, GROUP_SIZE), (1, self.vertices), (2, steps)])
+        Specialization::new(&[(1, self.vertices), (2, steps)])
     }
 
     /// Runs `simulate_rest.comp` once: local rest vectors, rest lengths, root frames.

@@ -17,7 +17,7 @@ use crate::gpu::{
 };
 
 /// Vertices per workgroup (`local_size_x` in `skin.comp`).
-const GROUP_SIZE: u32 = 64;
+use crate::gpu::shader::GROUP_SIZE;
 /// The most root-pose memory a body may take (substeps × strands × 48 bytes).
 const MAX_ROOT_POSE_BYTES: u64 = 256 << 20;
 
@@ -321,7 +321,7 @@ impl GpuSkin {
             d,
             cmd,
             (
-                vk::PipelineStageFlags2::ALL_COMMANDS,
+                crate::gpu::SHARED_DATA_STAGES,
                 vk::AccessFlags2::SHADER_STORAGE_READ,
             ),
             (

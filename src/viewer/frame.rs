@@ -202,15 +202,14 @@ impl Viewer {
             vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT,
             vk::AccessFlags2::COLOR_ATTACHMENT_WRITE | vk::AccessFlags2::COLOR_ATTACHMENT_READ,
         );
-        // The acquire semaphore is waited at ALL_COMMANDS, so this barrier chains to it.
+        // The acquire semaphore is waited at the blit, the first use of the swapchain
+        // image (the simulation and the passes before it need not wait for it), so this
+        // barrier chains to it.
         image_barriers(
             &d,
             cmd,
             &[barrier(
-                (
-                    vk::PipelineStageFlags2::ALL_COMMANDS,
-                    vk::AccessFlags2::NONE,
-                ),
+                (vk::PipelineStageFlags2::BLIT, vk::AccessFlags2::NONE),
                 blit,
                 vk::ImageLayout::UNDEFINED,
                 vk::ImageLayout::TRANSFER_DST_OPTIMAL,
@@ -261,7 +260,7 @@ impl Viewer {
         let frame = &mut self.frames[slot];
         let wait = [vk::SemaphoreSubmitInfo::default()
             .semaphore(frame.image_available)
-            .stage_mask(vk::PipelineStageFlags2::ALL_COMMANDS)];
+            .stage_mask(vk::PipelineStageFlags2::BLIT)];
         let signal = [vk::SemaphoreSubmitInfo::default()
             .semaphore(swapchain.render_finished[image_index as usize])
             .stage_mask(vk::PipelineStageFlags2::ALL_COMMANDS)];

@@ -75,9 +75,9 @@ impl Renderer {
                     &[frame.light_sets[current]],
                     &[],
                 );
-                raw.cmd_bind_index_buffer(cmd, self.indices.raw(), 0, vk::IndexType::UINT32);
             }
-            self.mesh_pass.bind_vertices(d, cmd);
+            // The fur pass reads its triangles from a storage buffer: no vertex or index
+            // buffers to bind.
             shadow_pass::record(d, cmd, map, &self.fur_pass, self.index_count);
         }
         self.target.begin(d, cmd);
@@ -149,7 +149,9 @@ impl Renderer {
 
     fn timestamp(&self, cmd: vk::CommandBuffer, slot: usize, query: u32) {
         if let Some(q) = &self.slots[slot].timestamps {
-            let stage = vk::PipelineStageFlags2::ALL_GRAPHICS;
+            // Written once every command before it has finished (BOTTOM_OF_PIPE in the
+            // first scope is every stage): the passes' ends, not a stage of them.
+            let stage = vk::PipelineStageFlags2::BOTTOM_OF_PIPE;
             unsafe {
                 self.device
                     .raw

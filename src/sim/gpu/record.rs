@@ -83,7 +83,7 @@ impl GpuSim {
             d,
             cmd,
             (
-                vk::PipelineStageFlags2::ALL_COMMANDS,
+                crate::gpu::SHARED_DATA_STAGES,
                 vk::AccessFlags2::SHADER_STORAGE_READ
                     | vk::AccessFlags2::SHADER_STORAGE_WRITE
                     | vk::AccessFlags2::TRANSFER_READ,

@@ -125,11 +125,10 @@ impl std::str::FromStr for ModelSpec {
             "sphere" => Self::Sphere,
             "dense-sphere" => Self::DenseSphere,
             "critter" => Self::Critter,
-            "" => {
-                return Err(
-                    "expected blob, sphere, dense-sphere, critter or the path of an OBJ or glTF file".into(),
-                )
-            }
+            "" => return Err(
+                "expected blob, sphere, dense-sphere, critter or the path of an OBJ or glTF file"
+                    .into(),
+            ),
             path => Self::File(PathBuf::from(path)),
         })
     }

@@ -5,6 +5,7 @@ use std::sync::Arc;
 
 use fur::gpu::Device;
 
+pub mod rounding;
 pub mod seed;
 
 /// A lavapipe-friendly headless device with the Khronos validation layer on, and a debug

@@ -9,6 +9,7 @@
 //! - [`gpu`]: the Vulkan layer underneath.
 
 pub mod bench;
+pub mod colour;
 pub mod error;
 pub mod files;
 pub mod geometry;

@@ -3,10 +3,10 @@
 
 use std::f32::consts::TAU;
 use std::path::Path;
-use std::sync::OnceLock;
 
 use glam::{Vec2, Vec3};
 
+use crate::colour::{linear_to_srgb8, srgb8_to_linear, srgb_to_linear};
 use crate::error::{Error, Result};
 
 /// The image formats [`Texture::load`] reads, for messages.
@@ -166,9 +166,12 @@ impl Texture {
         };
         let (x, y) = (texel(uv.x, self.width), texel(uv.y, self.height));
         let i = 4 * (y * self.width as usize + x);
-        let lut = srgb_lut();
         match self.levels.first().and_then(|l| l.get(i..i + 3)) {
-            Some(p) => Vec3::new(lut[p[0] as usize], lut[p[1] as usize], lut[p[2] as usize]),
+            Some(p) => Vec3::new(
+                srgb8_to_linear(p[0]),
+                srgb8_to_linear(p[1]),
+                srgb8_to_linear(p[2]),
+            ),
             None => Vec3::ZERO,
         }
     }
@@ -211,7 +214,6 @@ fn check_size(width: u32, height: u32) -> std::result::Result<(), String> {
 fn downsample(src: &[u8], width: u32, height: u32) -> (Vec<u8>, u32, u32) {
     let (dw, dh) = ((width / 2).max(1), (height / 2).max(1));
     let (xs, ys) = (box_taps(width, dw), box_taps(height, dh));
-    let lut = srgb_lut();
     let mut out = Vec::with_capacity(4 * dw as usize * dh as usize);
     let mut row = vec![[0.0f32; 4]; dw as usize];
     for y_taps in &ys {
@@ -226,7 +228,7 @@ fn downsample(src: &[u8], width: u32, height: u32) -> (Vec<u8>, u32, u32) {
                     let p = &src_row[4 * sx..4 * sx + 4];
                     let w = wy * wx;
                     for c in 0..3 {
-                        acc[c] += w * lut[p[c] as usize];
+                        acc[c] += w * srgb8_to_linear(p[c]);
                     }
                     acc[3] += w * f32::from(p[3]);
                 }
@@ -255,31 +257,6 @@ fn box_taps(src: u32, dst: u32) -> Vec<Vec<(usize, f32)>> {
                 .collect()
         })
         .collect()
-}
-
-/// sRGB byte → linear value, for all 256 bytes.
-fn srgb_lut() -> &'static [f32; 256] {
-    static LUT: OnceLock<[f32; 256]> = OnceLock::new();
-    LUT.get_or_init(|| std::array::from_fn(|c| srgb_to_linear(c as f32 / 255.0)))
-}
-
-fn srgb_to_linear(s: f32) -> f32 {
-    if s <= 0.04045 {
-        s / 12.92
-    } else {
-        ((s + 0.055) / 1.055).powf(2.4)
-    }
-}
-
-/// Linear value → sRGB byte (clamped to [0, 1], rounded).
-fn linear_to_srgb8(l: f32) -> u8 {
-    let l = if l.is_nan() { 0.0 } else { l.clamp(0.0, 1.0) };
-    let s = if l <= 0.003_130_8 {
-        12.92 * l
-    } else {
-        1.055 * l.powf(1.0 / 2.4) - 0.055
-    };
-    (s * 255.0 + 0.5).clamp(0.0, 255.0) as u8
 }
 
 /// A linear colour from sRGB components in [0, 1].
@@ -326,7 +303,7 @@ mod tests {
     #[test]
     fn every_srgb_byte_survives_decoding_and_encoding() {
         for c in 0..=255u8 {
-            assert_eq!(linear_to_srgb8(srgb_lut()[c as usize]), c);
+            assert_eq!(linear_to_srgb8(srgb8_to_linear(c)), c);
         }
     }
 
@@ -357,9 +334,8 @@ mod tests {
     fn a_checker_averages_to_its_linear_light_mean() {
         let (a, b) = ([0u8, 0, 0, 255], [255u8, 255, 255, 255]);
         let (c, d) = ([220u8, 40, 10, 0], [30u8, 180, 250, 255]);
-        let lut = srgb_lut();
         let mean = |p: [u8; 4], q: [u8; 4], c: usize| {
-            linear_to_srgb8(0.5 * (lut[p[c] as usize] + lut[q[c] as usize]))
+            linear_to_srgb8(0.5 * (srgb8_to_linear(p[c]) + srgb8_to_linear(q[c])))
         };
         for (p, q) in [(a, b), (c, d)] {
             for side in [2u32, 4, 8] {

@@ -407,16 +407,7 @@ fn gpu_collision_matches_the_cpu_reference() {
     let mut flips = 0;
     let mut worst_budget = 0.0f32;
     for frame in 0..40 {
-        let state = |which: usize| -> Vec<V3<f32>> {
-            textures
-                .read_positions(which)
-                .unwrap()
-                .into_iter()
-                .map(V3::from_vec3)
-                .collect()
-        };
-        cpu.current = state(textures.current);
-        cpu.previous = state(1 - textures.current);
+        rounding::take_device_state(&mut cpu, &textures);
         gpu.run_frames(&mut textures, 1, |t| motion.head(t))
             .unwrap();
         cpu.step_frame(|t| motion.head(t));

@@ -96,16 +96,7 @@ fn frame_by_frame(
         flips: 0,
     };
     for frame in 0..frames {
-        let state = |which: usize| -> Vec<V3<f32>> {
-            textures
-                .read_positions(which)
-                .unwrap()
-                .into_iter()
-                .map(V3::from_vec3)
-                .collect()
-        };
-        cpu.current = state(textures.current);
-        cpu.previous = state(1 - textures.current);
+        rounding::take_device_state(cpu, textures);
         gpu.run_frames(textures, 1, head).unwrap();
         cpu.step_frame_posed(head, poses_at);
         assert_eq!(cpu.time, gpu.time);

@@ -163,7 +163,8 @@ struct RenderArgs {
     #[arg(long, allow_hyphen_values = true)]
     out_dir: Option<PathBuf>,
     /// Hold a sequence's frames under this many milliseconds by lowering the drawing
-    /// quality (the viewer's quality ladder); the rung chosen is printed [off].
+    /// quality (the viewer's quality ladder), 0 < ms ≤ 60000; the rung chosen is printed
+    /// [off].
     #[arg(long, allow_negative_numbers = true)]
     budget_ms: Option<f64>,
     /// Scripted head motion when simulating: still, shake, spin or nod [shake].

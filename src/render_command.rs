@@ -11,13 +11,20 @@ const NO_FUR: &str = "no hair was drawn: every furred triangle is off-screen, fa
 /// Frames measured before this many are warm-up (lazy shader compilation, caches).
 const WARM_UP_FRAMES: usize = 2;
 
+/// The largest frame budget `--budget-ms` takes: a minute a frame. Beyond it no rung
+/// would ever be left, and the number is more likely a mistake (seconds for ms).
+const MAX_BUDGET_MS: f64 = 60_000.0;
+
 pub(super) fn render(args: &RenderArgs) -> anyhow::Result<()> {
     if args.frames == 0 {
         bail!("--frames must be at least 1");
     }
     if let Some(ms) = args.budget_ms {
-        if !(ms.is_finite() && ms > 0.0) {
-            bail!("--budget-ms must be a positive number of milliseconds, got {ms}");
+        if !(ms.is_finite() && ms > 0.0 && ms <= MAX_BUDGET_MS) {
+            bail!(
+                "--budget-ms must be a positive number of milliseconds up to {MAX_BUDGET_MS} \
+                 (a minute a frame), got {ms}"
+            );
         }
         if args.frames < 2 {
             bail!("--budget-ms needs a sequence (--frames 2 or more) to observe frame times");

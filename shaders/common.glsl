@@ -1,5 +1,5 @@
 // Declarations shared by the mesh and fur passes. Must match `FrameUniforms` in
-// src/render/uniforms.rs (std140) and the bindings in src/render/renderer.rs.
+// src/render/uniforms.rs (std140) and the bindings in src/render/bindings.rs.
 #ifndef COMMON_GLSL
 #define COMMON_GLSL
 

@@ -106,13 +106,23 @@ fn location(path: &std::path::Path, line: usize, column: usize) -> String {
     }
 }
 
-/// A byte count for people.
-fn size_text(bytes: u64) -> String {
-    if bytes >= 1 << 20 {
-        format!("{:.1} MiB", bytes as f64 / f64::from(1u32 << 20))
+/// A byte count for people: `2 GiB`, `3.5 MiB`, `120 bytes`.
+pub fn size_text(bytes: u64) -> String {
+    const GIB: f64 = (1u64 << 30) as f64;
+    const MIB: f64 = (1u64 << 20) as f64;
+    let b = bytes as f64;
+    if b >= GIB {
+        format!("{} GiB", trim_number(b / GIB))
+    } else if b >= MIB {
+        format!("{} MiB", trim_number(b / MIB))
     } else {
         format!("{bytes} bytes")
     }
+}
+
+fn trim_number(x: f64) -> String {
+    let text = format!("{x:.1}");
+    text.strip_suffix(".0").map_or(text.clone(), str::to_string)
 }
 
 /// What a Vulkan error means for the user.
@@ -152,7 +162,7 @@ mod tests {
         };
         let text = oom.to_string();
         assert!(
-            text.contains("3.0 MiB") && text.contains("target.color"),
+            text.contains("3 MiB") && text.contains("target.color"),
             "{text}"
         );
         let lost = Error::Vulkan {

@@ -8,6 +8,7 @@ use std::io::{Read as _, Write as _};
 use std::os::unix::fs::FileTypeExt as _;
 use std::path::{Path, PathBuf};
 
+pub use crate::error::size_text;
 use crate::error::{Error, Result};
 
 /// The largest model (OBJ, glTF, .glb) or glTF buffer read, in bytes.
@@ -40,25 +41,6 @@ pub fn kind_name(metadata: &Metadata) -> &'static str {
     } else {
         "a regular file"
     }
-}
-
-/// A byte count for people: `2 GiB`, `3.5 MiB`, `120 bytes`.
-pub fn size_text(bytes: u64) -> String {
-    const GIB: f64 = (1u64 << 30) as f64;
-    const MIB: f64 = (1u64 << 20) as f64;
-    let b = bytes as f64;
-    if b >= GIB {
-        format!("{} GiB", trim_number(b / GIB))
-    } else if b >= MIB {
-        format!("{} MiB", trim_number(b / MIB))
-    } else {
-        format!("{bytes} bytes")
-    }
-}
-
-fn trim_number(x: f64) -> String {
-    let text = format!("{x:.1}");
-    text.strip_suffix(".0").map_or(text.clone(), str::to_string)
 }
 
 /// Reads the whole of `path`, which must be a regular file (a symbolic link to one is

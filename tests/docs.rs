@@ -46,21 +46,63 @@ fn the_figures_the_readme_quotes_come_from_the_benchmark_document() {
         .lines()
         .filter(|l| l.starts_with('|') && !l.starts_with("| ---"))
         .skip(1) // the header row
-        .flat_map(numbers)
+        // The first cell names what is measured ("the original 2018 demo's scene").
+        .flat_map(|l| numbers(&l.split('|').skip(2).collect::<Vec<_>>().join("|")))
         .filter(|n| n.len() > 1 || n.contains('.'))
         .collect();
     assert!(
         quoted.len() >= 4,
         "the README quotes no figures: {quoted:?}"
     );
-    let missing: Vec<&String> = quoted
-        .iter()
-        .filter(|n| !benchmark.contains(n.as_str()))
-        .collect();
+    // Whole numbers of the generated tables, not substrings of the document: 45.3
+    // must not be found inside 145.3, nor in prose outside the run.
+    let generated = generated(&benchmark);
+    let held: std::collections::HashSet<String> = numbers(generated).into_iter().collect();
+    let missing: Vec<&String> = quoted.iter().filter(|n| !held.contains(*n)).collect();
     assert!(
         missing.is_empty(),
-        "figures in the README's \"What to expect\" that docs/benchmark.md does not hold: {missing:?}"
+        "figures in the README's \"What to expect\" that docs/benchmark.md's tables do not hold: {missing:?}"
     );
+    // The tables the README copies row by row (the quality ladder, the ways of colliding
+    // with a walking body): each row's figures all stand in one row of the run's tables,
+    // so a figure cannot be taken from the wrong row.
+    let rows: Vec<Vec<String>> = generated
+        .lines()
+        .filter(|l| l.starts_with('|'))
+        .map(numbers)
+        .collect();
+    let mut copied = 0;
+    for table in expect.split("\n\n").filter(|t| {
+        let header = t.lines().next().unwrap_or("");
+        header.starts_with("| rung |") || header.starts_with("| way |")
+    }) {
+        for line in table.lines().skip(2) {
+            let figures: Vec<String> = numbers(line)
+                .into_iter()
+                .filter(|n| n.len() > 1 || n.contains('.'))
+                .collect();
+            let found = rows
+                .iter()
+                .any(|row| figures.iter().all(|f| row.contains(f)));
+            assert!(
+                found,
+                "README row {line:?}: its figures {figures:?} are not one row of the run's tables"
+            );
+            copied += 1;
+        }
+    }
+    assert!(copied >= 10, "only {copied} README rows checked row by row");
+}
+
+/// The part of docs/benchmark.md that `fur bench --write-docs` writes.
+fn generated(benchmark: &str) -> &str {
+    let begin = benchmark
+        .find("<!-- BEGIN fur bench -->")
+        .expect("docs/benchmark.md has the run's begin marker");
+    let end = benchmark
+        .find("<!-- END fur bench -->")
+        .expect("docs/benchmark.md has the run's end marker");
+    &benchmark[begin..end]
 }
 
 #[test]

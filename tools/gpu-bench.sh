@@ -11,7 +11,7 @@
 # It builds the release binary, lists the devices, then runs
 #   1. `fur bench`: every section (frame times, quality, simulation, collision, looks,
 #      ladder, animation) into bench-<device>/;
-#   2. the goal's scene (assets/scenes/goal.toml: 19,802 simulated masters, ~500K drawn
+#   2. the goal's scene (assets/scenes/goal.toml: 19,901 simulated masters, ~500K drawn
 #      hairs) in the frame section at 1920x1080 into bench-<device>/goal/: the goal is
 #      a frame under 2 ms (the "GPU ms" column).
 # Each folder gets results.md (the tables), results.csv (every measurement) and charts.

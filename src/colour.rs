@@ -13,10 +13,16 @@ pub fn srgb_to_linear(s: f32) -> f32 {
     }
 }
 
-/// An sRGB-encoded byte to linear light, from a table of all 256.
-pub fn srgb8_to_linear(byte: u8) -> f32 {
+/// sRGB-encoded byte → linear light, for all 256 bytes (for loops over many pixels:
+/// take the table once, index it per sample).
+pub fn srgb8_lut() -> &'static [f32; 256] {
     static LUT: OnceLock<[f32; 256]> = OnceLock::new();
-    LUT.get_or_init(|| std::array::from_fn(|c| srgb_to_linear(c as f32 / 255.0)))[byte as usize]
+    LUT.get_or_init(|| std::array::from_fn(|c| srgb_to_linear(c as f32 / 255.0)))
+}
+
+/// An sRGB-encoded byte to linear light.
+pub fn srgb8_to_linear(byte: u8) -> f32 {
+    srgb8_lut()[byte as usize]
 }
 
 /// Linear light to an sRGB-encoded byte: clamped to [0, 1] (NaN as 0), rounded.

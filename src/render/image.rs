@@ -3,7 +3,7 @@
 
 use std::path::Path;
 
-use crate::colour::{linear_to_srgb8, srgb8_to_linear};
+use crate::colour::{linear_to_srgb8, srgb8_lut};
 use crate::error::{Error, Result};
 
 /// An 8-bit RGBA image in memory.
@@ -70,6 +70,7 @@ impl RgbaImage {
         }
         let (w, h) = (self.width / factor, self.height / factor);
         let n = (factor * factor) as f32;
+        let lut = srgb8_lut();
         let mut data = Vec::with_capacity((w * h * 4) as usize);
         for y in 0..h {
             for x in 0..w {
@@ -78,7 +79,7 @@ impl RgbaImage {
                     for dx in 0..factor {
                         let p = self.pixel(x * factor + dx, y * factor + dy);
                         for c in 0..3 {
-                            sum[c] += srgb8_to_linear(p[c]);
+                            sum[c] += lut[p[c] as usize];
                         }
                         sum[3] += f32::from(p[3]);
                     }

@@ -6,7 +6,7 @@ use std::path::Path;
 
 use glam::{Vec2, Vec3};
 
-use crate::colour::{linear_to_srgb8, srgb8_to_linear, srgb_to_linear};
+use crate::colour::{linear_to_srgb8, srgb8_lut, srgb8_to_linear, srgb_to_linear};
 use crate::error::{Error, Result};
 
 /// The image formats [`Texture::load`] reads, for messages.
@@ -214,6 +214,7 @@ fn check_size(width: u32, height: u32) -> std::result::Result<(), String> {
 fn downsample(src: &[u8], width: u32, height: u32) -> (Vec<u8>, u32, u32) {
     let (dw, dh) = ((width / 2).max(1), (height / 2).max(1));
     let (xs, ys) = (box_taps(width, dw), box_taps(height, dh));
+    let lut = srgb8_lut();
     let mut out = Vec::with_capacity(4 * dw as usize * dh as usize);
     let mut row = vec![[0.0f32; 4]; dw as usize];
     for y_taps in &ys {
@@ -228,7 +229,7 @@ fn downsample(src: &[u8], width: u32, height: u32) -> (Vec<u8>, u32, u32) {
                     let p = &src_row[4 * sx..4 * sx + 4];
                     let w = wy * wx;
                     for c in 0..3 {
-                        acc[c] += w * srgb8_to_linear(p[c]);
+                        acc[c] += w * lut[p[c] as usize];
                     }
                     acc[3] += w * f32::from(p[3]);
                 }

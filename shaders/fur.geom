@@ -62,9 +62,16 @@ layout(location = 4) flat out uint g_seed;        // the hair's, for its coverag
 #endif
 
 #if COUNT_HAIRS
+// What the pass drew. With a capture buffer bound (`fur export-frame`; `captured` is
+// empty otherwise), every counted hair is also written out as drawn: per hair
+// 2 · STRAND_VERTICES + 1 vec4s (src/render/capture.rs reads them), in the order the
+// atomic hands out.
 layout(set = 0, binding = 3, std430) buffer Counters {
     uint hairs_drawn;
     uint segments_drawn;
+    uint unused0;
+    uint unused1;
+    vec4 captured[];
 } counters;
 #endif
 
@@ -144,6 +151,31 @@ void emit_vertex(uint k, vec3 t) {
     EmitVertex();
 #endif
 }
+
+#if COUNT_HAIRS
+// Writes hair number `index` into the capture buffer, when one is bound and has room:
+// every vertex before the vertex LOD (position, true width), then each vertex's base
+// colour (the ramp and texture, unlit) and drawn width, then the hair's seed, its form
+// (0 lines, 1 ribbons) and its root width before the taper (`thickness`).
+void capture(uint index, float thickness) {
+    const uint stride = 2u * V + 1u;
+    if (uint(counters.captured.length()) < (index + 1u) * stride) {
+        return;
+    }
+    uint at = index * stride;
+#if TEXTURED && !SHADOW_CASTER
+    vec3 root_texel = texel;
+#else
+    vec3 root_texel = vec3(1.0);
+#endif
+    for (uint k = 0u; k < V; ++k) {
+        float true_width = thickness * (1.0 - 0.8 * along(k));
+        counters.captured[at + k] = vec4(P[k], true_width);
+        counters.captured[at + V + k] = vec4(hair_base(along(k), root_texel), W[k]);
+    }
+    counters.captured[at + 2u * V] = vec4(uintBitsToFloat(hair_seed), float(1 - LINES), thickness, 0.0);
+}
+#endif
 
 void main() {
     if (e_keep[0] == 0u) {
@@ -236,8 +268,9 @@ void main() {
     EndPrimitive();
 #if COUNT_HAIRS
     if ((frame.strands.w & FLAG_COUNT) != 0u) {
-        atomicAdd(counters.hairs_drawn, 1u);
+        uint index = atomicAdd(counters.hairs_drawn, 1u);
         atomicAdd(counters.segments_drawn, segments);
+        capture(index, thickness);
     }
 #endif
 }

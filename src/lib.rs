@@ -11,6 +11,7 @@
 pub mod bench;
 pub mod colour;
 pub mod error;
+pub mod export;
 pub mod files;
 pub mod geometry;
 pub mod gpu;

@@ -6,6 +6,7 @@ use std::process::ExitCode;
 use std::time::Instant;
 
 mod args;
+mod export_command;
 mod render_command;
 
 use anyhow::{bail, Context as _};
@@ -34,6 +35,11 @@ struct Cli {
 enum Command {
     /// Render the scene to a PNG, or simulate it and render a PNG sequence.
     Render(RenderArgs),
+    /// Write one frame exactly as drawn (every hair the geometry stage emits, the posed
+    /// body, camera, lights and the fibre's parameters) as USD text for a path tracer
+    /// (tools/reference), and the PNG fur draws of it (--out); --frames N exports the
+    /// Nth simulated frame.
+    ExportFrame(export_command::ExportArgs),
     /// Open a window: live simulation, orbit camera, parameter panel, stage timings.
     View(ViewArgs),
     /// Measure stage costs, the speed/accuracy trade, scaling and savings on this device;
@@ -193,6 +199,7 @@ fn main() -> ExitCode {
     let result = match cli.command {
         Some(Command::Render(args)) => render_command::render(&args),
         Some(Command::View(args)) => view(args),
+        Some(Command::ExportFrame(args)) => export_command::export_frame(&args),
         Some(Command::ExportModel { out, model }) => export_model(&out, &model),
         Some(Command::Devices { device }) => devices(&device),
         Some(Command::Bench {

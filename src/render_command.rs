@@ -30,13 +30,6 @@ pub(super) fn render(args: &RenderArgs) -> anyhow::Result<()> {
             bail!("--budget-ms needs a sequence (--frames 2 or more) to observe frame times");
         }
     }
-    args.scene.check()?;
-    let mut scene = args::scene(args.scene_file.as_deref(), &args.scene, &args.sim)?;
-    args::set(&mut scene.width, args.width);
-    args::set(&mut scene.height, args.height);
-    args::set(&mut scene.motion.kind, args.motion);
-    args::set(&mut scene.motion.amplitude, args.amplitude);
-    args::set(&mut scene.motion.rate, args.rate);
     let simulate = args.frames > 1 || args.out_dir.is_some();
     // Every output path is checked before any work starts.
     let frames_dir = args
@@ -48,6 +41,76 @@ pub(super) fn render(args: &RenderArgs) -> anyhow::Result<()> {
     } else {
         fur::files::check_output_file(&args.out)?;
     }
+    let Opened {
+        device,
+        mut session,
+        width,
+        height,
+    } = open(args, simulate)?;
+    let masters = session.strands.count();
+    if simulate {
+        render_sequence(args, &frames_dir, &mut session)?;
+    } else {
+        let start = Instant::now();
+        let (image, report) = session
+            .render()
+            .with_context(|| format!("drawing the frame ({width}×{height})"))?;
+        let elapsed = start.elapsed();
+        image.write_png(&args.out)?;
+        if report.counts.is_some_and(|c| c.hairs == 0) {
+            eprintln!("warning: {NO_FUR}");
+        }
+        let points = report
+            .statistics
+            .map(|s| format!(", {} tessellated points", s.tess_eval_invocations))
+            .unwrap_or_default();
+        let hairs = report
+            .counts
+            .map(|c| {
+                format!(
+                    ", {} hairs drawn in {} segments (points shared by two triangles are drawn once)",
+                    c.hairs, c.segments
+                )
+            })
+            .unwrap_or_default();
+        // With the image on standard output (`--out -`), the summary goes to stderr.
+        let summary = format!(
+            "wrote {} ({}×{}): {masters} master hairs{points}{hairs}; one cold frame {:.1} ms \
+             (use --frames N for warm timings)",
+            args.out.display(),
+            width,
+            height,
+            elapsed.as_secs_f64() * 1e3,
+        );
+        if args.out.as_os_str() == fur::files::STDOUT {
+            eprintln!("{summary}");
+        } else {
+            println!("{summary}");
+        }
+    }
+    drop(session);
+    fur::gpu::shut_down(device)?;
+    Ok(())
+}
+
+/// A scene built and ready to draw.
+pub(super) struct Opened {
+    pub device: std::sync::Arc<fur::gpu::Device>,
+    pub session: FurSession,
+    pub width: u32,
+    pub height: u32,
+}
+
+/// Builds the scene `args` describe on the device they choose; `simulate`: whether it
+/// will be simulated (a single frame is drawn at rest, its head still).
+pub(super) fn open(args: &RenderArgs, simulate: bool) -> anyhow::Result<Opened> {
+    args.scene.check()?;
+    let mut scene = args::scene(args.scene_file.as_deref(), &args.scene, &args.sim)?;
+    args::set(&mut scene.width, args.width);
+    args::set(&mut scene.height, args.height);
+    args::set(&mut scene.motion.kind, args.motion);
+    args::set(&mut scene.motion.amplitude, args.amplitude);
+    args::set(&mut scene.motion.rate, args.rate);
     let (mesh, rig, warnings) = scene.model.prepare_body(scene.options.texture.as_ref())?;
     for warning in warnings {
         eprintln!("warning: {warning}");
@@ -97,7 +160,7 @@ pub(super) fn render(args: &RenderArgs) -> anyhow::Result<()> {
             groom.vertices_per_strand()
         );
     }
-    let mut session = FurSession::with_rig(
+    let session = FurSession::with_rig(
         &device,
         (mesh, rig),
         &groom,
@@ -118,50 +181,12 @@ pub(super) fn render(args: &RenderArgs) -> anyhow::Result<()> {
     for warning in session.all_warnings(&scene.model.name()) {
         eprintln!("warning: {warning}");
     }
-    let masters = session.strands.count();
-    if simulate {
-        render_sequence(args, &frames_dir, &mut session)?;
-    } else {
-        let start = Instant::now();
-        let (image, report) = session
-            .render()
-            .with_context(|| format!("drawing the frame ({}×{})", scene.width, scene.height))?;
-        let elapsed = start.elapsed();
-        image.write_png(&args.out)?;
-        if report.counts.is_some_and(|c| c.hairs == 0) {
-            eprintln!("warning: {NO_FUR}");
-        }
-        let points = report
-            .statistics
-            .map(|s| format!(", {} tessellated points", s.tess_eval_invocations))
-            .unwrap_or_default();
-        let hairs = report
-            .counts
-            .map(|c| {
-                format!(
-                    ", {} hairs drawn in {} segments (points shared by two triangles are drawn once)",
-                    c.hairs, c.segments
-                )
-            })
-            .unwrap_or_default();
-        // With the image on standard output (`--out -`), the summary goes to stderr.
-        let summary = format!(
-            "wrote {} ({}×{}): {masters} master hairs{points}{hairs}; one cold frame {:.1} ms \
-             (use --frames N for warm timings)",
-            args.out.display(),
-            scene.width,
-            scene.height,
-            elapsed.as_secs_f64() * 1e3,
-        );
-        if args.out.as_os_str() == fur::files::STDOUT {
-            eprintln!("{summary}");
-        } else {
-            println!("{summary}");
-        }
-    }
-    drop(session);
-    fur::gpu::shut_down(device)?;
-    Ok(())
+    Ok(Opened {
+        device,
+        session,
+        width: scene.width,
+        height: scene.height,
+    })
 }
 
 /// Simulates and renders `args.frames` frames into PNGs; ends with the median frame

@@ -237,6 +237,21 @@ impl FurSession {
         })
     }
 
+    /// A skinned body's last posed positions and normals (model space, before the head
+    /// transform), read back from the device; None for a rigid body.
+    pub fn posed_body(&self) -> Result<Option<(Vec<glam::Vec3>, Vec<glam::Vec3>)>> {
+        let Some(skinned) = &self.sim.skinned else {
+            return Ok(None);
+        };
+        let bytes = skinned.skin.posed.read_back()?;
+        let words: Vec<[f32; 4]> = bytemuck::pod_collect_to_vec(&bytes);
+        let (positions, normals) = words
+            .chunks_exact(2)
+            .map(|v| (glam::Vec4::from(v[0]).truncate(), glam::Vec4::from(v[1]).truncate()))
+            .unzip();
+        Ok(Some((positions, normals)))
+    }
+
     /// Simulates one frame (all its substeps) and renders it, in one submission.
     pub fn step_and_render(&mut self) -> Result<(RgbaImage, FrameTimings)> {
         let device = self.device.clone();

@@ -99,6 +99,43 @@ impl Buffer {
             .expect("buffer is not host-visible")
     }
 
+    /// The buffer's contents, read back through a host-visible copy unless it is
+    /// host-visible itself (it then needs `TRANSFER_SRC` usage). Waits for the device:
+    /// for tools and exports, not per frame.
+    pub fn read_back(&self) -> Result<Vec<u8>> {
+        if let Some(bytes) = self.allocation.as_ref().and_then(|a| a.mapped_slice()) {
+            return Ok(bytes[..self.size as usize].to_vec());
+        }
+        let staging = Buffer::new(
+            &self.device,
+            "readback",
+            self.size,
+            vk::BufferUsageFlags::TRANSFER_DST,
+            MemoryLocation::GpuToCpu,
+        )?;
+        let d = &self.device;
+        d.submit_once(|cmd| {
+            super::memory_barrier(
+                d,
+                cmd,
+                (
+                    vk::PipelineStageFlags2::ALL_COMMANDS,
+                    vk::AccessFlags2::MEMORY_WRITE,
+                ),
+                (
+                    vk::PipelineStageFlags2::COPY,
+                    vk::AccessFlags2::TRANSFER_READ,
+                ),
+            );
+            let region = [vk::BufferCopy::default().size(self.size)];
+            // SAFETY: both buffers are alive for the submission, which waits, and the
+            // region lies within both (the staging buffer has this buffer's size).
+            unsafe { d.raw.cmd_copy_buffer(cmd, self.raw, staging.raw, &region) };
+            Ok(())
+        })?;
+        Ok(staging.mapped()[..self.size as usize].to_vec())
+    }
+
     /// Copies `bytes` into a host-visible buffer at `offset`.
     pub fn write(&mut self, offset: usize, bytes: &[u8]) {
         let slice = self

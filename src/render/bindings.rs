@@ -66,6 +66,16 @@ pub(super) fn write_render_set(
     unsafe { device.raw.update_descriptor_sets(&writes, &[]) };
 }
 
+/// Points binding 3 of `set` (the hair counters, and the capture after them) at
+/// `counters`.
+pub(super) fn write_counters(device: &Device, set: vk::DescriptorSet, counters: &Buffer) {
+    let info = [vk::DescriptorBufferInfo::default()
+        .buffer(counters.raw())
+        .range(vk::WHOLE_SIZE)];
+    let writes = [write(set, 3).buffer_info(&info)];
+    unsafe { device.raw.update_descriptor_sets(&writes, &[]) };
+}
+
 /// Points binding 5 of `set` at a shadow map.
 pub(super) fn write_shadow_map(device: &Device, set: vk::DescriptorSet, map: &ShadowMap) {
     let info = [vk::DescriptorImageInfo::default()

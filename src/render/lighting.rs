@@ -70,6 +70,48 @@ impl Shadows {
     pub const MAX_RESOLUTION: u32 = 8192;
 }
 
+/// A hair fibre's physical parameters as Chiang et al. 2016 define them: what the path
+/// tracer's hair model (and a physically based real-time model) takes besides the
+/// colour.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Fibre {
+    /// Longitudinal roughness β_m, 0..1 (the width of the highlights along the hair).
+    pub longitudinal_roughness: f32,
+    /// Azimuthal roughness β_n, 0..1 (how much light spreads around the fibre).
+    pub azimuthal_roughness: f32,
+    /// Cuticle scale tilt α in degrees (shifts the highlights along the hair).
+    pub cuticle_tilt_deg: f32,
+    /// Index of refraction η of the fibre.
+    pub ior: f32,
+}
+
+impl Default for Fibre {
+    /// Chiang et al.'s defaults, which pbrt and Mitsuba share.
+    fn default() -> Self {
+        Self {
+            longitudinal_roughness: 0.3,
+            azimuthal_roughness: 0.3,
+            cuticle_tilt_deg: 2.0,
+            ior: 1.55,
+        }
+    }
+}
+
+impl Fibre {
+    /// Checks every parameter against its range, naming the first one out of it.
+    pub fn validate(&self) -> Result<()> {
+        for (name, v, lo, hi) in [
+            ("the longitudinal roughness", self.longitudinal_roughness, 0.01, 1.0),
+            ("the azimuthal roughness", self.azimuthal_roughness, 0.01, 1.0),
+            ("the cuticle tilt (degrees)", self.cuticle_tilt_deg, -10.0, 10.0),
+            ("the index of refraction", self.ior, 1.0, 3.0),
+        ] {
+            check_range(name, v, lo, hi)?;
+        }
+        Ok(())
+    }
+}
+
 /// Light and material.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Lighting {
@@ -90,6 +132,8 @@ pub struct Lighting {
     pub root_occlusion: f32,
     pub highlights: Highlights,
     pub shadows: Shadows,
+    /// The hair fibre's physical parameters (for the path tracer's hair model).
+    pub fibre: Fibre,
 }
 
 impl Default for Lighting {
@@ -107,6 +151,7 @@ impl Default for Lighting {
             root_occlusion: 0.6,
             highlights: Highlights::default(),
             shadows: Shadows::default(),
+            fibre: Fibre::default(),
         }
     }
 }
@@ -167,6 +212,7 @@ impl Lighting {
         ] {
             check_range(name, v, lo, hi)?;
         }
+        self.fibre.validate()?;
         if !(16..=Shadows::MAX_RESOLUTION).contains(&s.resolution) {
             return Err(Error::Parameter(format!(
                 "the shadow map resolution must be in [16, {}], got {}",

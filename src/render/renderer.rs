@@ -29,7 +29,10 @@ use crate::gpu::{
 use crate::scene::{Mesh, Texture};
 use crate::strand_textures::StrandTextures;
 
+mod capture;
 mod record;
+
+pub use capture::{CapturedHairs, MAX_CAPTURE_BYTES};
 
 /// What the fur pass drew (counted by its geometry stage).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]

@@ -21,6 +21,10 @@ pub(super) const TS_MESH: u32 = 2;
 pub(super) const TS_FUR: u32 = 3;
 pub(super) const TIMESTAMPS: u32 = 4;
 
+/// The counters' header: hairs drawn, segments drawn, two unused words (the capture
+/// that follows it in `shaders/fur.geom` is 16-byte aligned).
+pub(super) const COUNTERS_BYTES: u64 = 16;
+
 /// The resources of one frame in flight.
 pub(super) struct RenderSlot {
     pub(super) uniforms: Buffer,
@@ -28,7 +32,8 @@ pub(super) struct RenderSlot {
     pub(super) sets: [vk::DescriptorSet; 2],
     pub(super) timestamps: Option<QueryPool>,
     pub(super) statistics: Option<QueryPool>,
-    /// Hairs and segments drawn (two u32), reset at the start of every frame.
+    /// Hairs and segments drawn (two u32, then two unused), reset at the start of
+    /// every frame; `fur export-frame` swaps in a larger one that captures the hairs.
     pub(super) counters: Buffer,
     /// The fur pipelines this slot's frame draws, chosen by `update`.
     pub(super) variants: Vec<Variant>,
@@ -64,7 +69,7 @@ impl RenderSlot {
         let counters = Buffer::new(
             device,
             &format!("render.counters[{slot}]"),
-            8,
+            COUNTERS_BYTES,
             vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::TRANSFER_DST,
             gpu_allocator::MemoryLocation::GpuToCpu,
         )?;

@@ -135,7 +135,7 @@ impl GpuSkin {
             device,
             "skin.posed",
             32 * u64::from(vertex_count),
-            storage,
+            storage | vk::BufferUsageFlags::TRANSFER_SRC,
             MemoryLocation::GpuOnly,
         )?;
         let root_poses = TexelBuffer::new(

@@ -1,0 +1,108 @@
+//! `fur export-frame`: one frame exactly as drawn (the hairs the geometry stage emits,
+//! the posed body, the camera, the lights, the fibre) as USD text for a path tracer,
+//! with the PNG fur draws of the same frame beside it.
+
+use super::render_command::{open, Opened};
+use super::*;
+
+#[derive(Args, Clone)]
+pub(super) struct ExportArgs {
+    /// Where to write the frame: a USD text file (`.usda`).
+    pub usd: PathBuf,
+    #[command(flatten)]
+    pub render: RenderArgs,
+}
+
+pub(super) fn export_frame(args: &ExportArgs) -> anyhow::Result<()> {
+    let r = &args.render;
+    if r.frames == 0 {
+        bail!("--frames must be at least 1");
+    }
+    if r.out_dir.is_some() || r.budget_ms.is_some() {
+        bail!(
+            "export-frame writes one frame: --out-dir and --budget-ms are for `fur render`; \
+             --frames N exports the Nth simulated frame"
+        );
+    }
+    check_extension(&args.usd)?;
+    fur::files::check_output_file(&args.usd)?;
+    fur::files::check_output_file(&r.out)?;
+    let simulate = r.frames > 1;
+    let Opened {
+        device,
+        mut session,
+        width,
+        height,
+    } = open(r, simulate)?;
+    if simulate {
+        let bar = indicatif::ProgressBar::new(u64::from(r.frames)).with_style(
+            indicatif::ProgressStyle::with_template("{bar:40} {pos}/{len} frames simulated {elapsed}")
+                .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
+        );
+        for frame in 0..r.frames {
+            fur::interrupt::check()?;
+            session
+                .step_and_render()
+                .with_context(|| format!("simulating frame {frame}"))?;
+            bar.inc(1);
+        }
+        bar.finish_and_clear();
+    }
+    let (image, hairs) = session
+        .renderer
+        .capture(&session.textures, &session.settings)
+        .context("capturing the hairs the frame draws")?;
+    let posed = session.posed_body()?;
+    let frame = fur::export::FrameExport::new(
+        hairs,
+        &session.mesh,
+        posed,
+        &session.settings,
+        (width, height),
+    );
+    frame.check_size()?;
+    let generator = format!("fur {}", env!("CARGO_PKG_VERSION"));
+    let text = fur::export::write_usda(&frame, &generator)?;
+    fur::files::write_output(&args.usd, text.as_bytes(), "write the frame to")?;
+    image.write_png(&r.out)?;
+    if frame.hairs.count() == 0 {
+        eprintln!("warning: no hair was drawn: the export holds the body only");
+    }
+    let which = if simulate {
+        format!("frame {} of the simulation", r.frames)
+    } else {
+        "the frame at rest".to_string()
+    };
+    println!(
+        "wrote {} ({which}, {width}×{height}): {} hairs of {} vertices, {} body triangles, \
+         {}; and {} (the same frame as fur draws it)",
+        args.usd.display(),
+        frame.hairs.count(),
+        frame.hairs.vertices_per_strand,
+        frame.body.as_ref().map_or(0, |b| b.indices.len() / 3),
+        fur::files::size_text(text.len() as u64),
+        r.out.display()
+    );
+    drop(session);
+    fur::gpu::shut_down(device)?;
+    Ok(())
+}
+
+/// Only `.usda` is written; other USD encodings are named with the way to them.
+fn check_extension(path: &Path) -> anyhow::Result<()> {
+    let ext = path
+        .extension()
+        .map(|e| e.to_string_lossy().to_ascii_lowercase());
+    match ext.as_deref() {
+        Some("usda") => Ok(()),
+        Some(e @ ("usd" | "usdc" | "usdz")) => bail!(
+            "{}: fur writes USD as text (.usda); for .{e} write .usda and convert it with \
+             usd-core's usdcat (`usdcat frame.usda -o frame.{e}`)",
+            path.display()
+        ),
+        _ => bail!(
+            "{}: unknown extension; the frame is written as USD text, name it *.usda",
+            path.display()
+        ),
+    }
+}

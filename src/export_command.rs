@@ -9,6 +9,10 @@ use super::*;
 pub(super) struct ExportArgs {
     /// Where to write the frame: a USD text file (`.usda`).
     pub usd: PathBuf,
+    /// Export and draw the body alone, without hair (the calibration of the path
+    /// tracer against fur's mesh pass).
+    #[arg(long)]
+    pub body_only: bool,
     #[command(flatten)]
     pub render: RenderArgs,
 }
@@ -34,10 +38,13 @@ pub(super) fn export_frame(args: &ExportArgs) -> anyhow::Result<()> {
         width,
         height,
     } = open(r, simulate)?;
+    session.settings.draw_fur = !args.body_only;
     if simulate {
         let bar = indicatif::ProgressBar::new(u64::from(r.frames)).with_style(
-            indicatif::ProgressStyle::with_template("{bar:40} {pos}/{len} frames simulated {elapsed}")
-                .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
+            indicatif::ProgressStyle::with_template(
+                "{bar:40} {pos}/{len} frames simulated {elapsed}",
+            )
+            .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
         );
         for frame in 0..r.frames {
             fur::interrupt::check()?;

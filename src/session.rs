@@ -247,7 +247,12 @@ impl FurSession {
         let words: Vec<[f32; 4]> = bytemuck::pod_collect_to_vec(&bytes);
         let (positions, normals) = words
             .chunks_exact(2)
-            .map(|v| (glam::Vec4::from(v[0]).truncate(), glam::Vec4::from(v[1]).truncate()))
+            .map(|v| {
+                (
+                    glam::Vec4::from(v[0]).truncate(),
+                    glam::Vec4::from(v[1]).truncate(),
+                )
+            })
             .unzip();
         Ok(Some((positions, normals)))
     }

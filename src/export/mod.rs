@@ -13,6 +13,8 @@
 //!   tracer turns it into absorption with Chiang et al. 2016's mapping, with the
 //!   fibre's roughness, cuticle tilt and index of refraction ([`Fibre`]).
 
+pub mod compare;
+pub mod reference;
 mod usda;
 
 use glam::{Mat4, Vec3};

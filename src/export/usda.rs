@@ -26,8 +26,11 @@ pub fn write_usda(frame: &FrameExport, generator: &str) -> Result<String> {
         out,
         "#usda 1.0\n(\n    defaultPrim = \"World\"\n    metersPerUnit = 1\n    upAxis = \"Y\"\n    \
          customLayerData = {{\n        string generator = \"{generator}\"\n        \
-         int2 \"fur:resolution\" = ({}, {})\n    }}\n)\n\ndef Xform \"World\"\n{{",
-        c.width, c.height
+         int2 \"fur:resolution\" = ({}, {})\n        \
+         color3f \"fur:background\" = {}\n    }}\n)\n\ndef Xform \"World\"\n{{",
+        c.width,
+        c.height,
+        vec3(crate::render::BACKGROUND)
     );
     camera(&mut out, c);
     lights(&mut out, &frame.light);
@@ -42,7 +45,10 @@ pub fn write_usda(frame: &FrameExport, generator: &str) -> Result<String> {
 fn check_finite(frame: &FrameExport) -> Result<()> {
     let h = &frame.hairs;
     let finite = h.points.iter().all(|p| p.is_finite())
-        && h.widths.iter().chain(&h.drawn_widths).all(|w| w.is_finite())
+        && h.widths
+            .iter()
+            .chain(&h.drawn_widths)
+            .all(|w| w.is_finite())
         && h.colors.iter().all(|c| c.is_finite())
         && frame
             .body
@@ -115,7 +121,11 @@ fn lights(out: &mut String, l: &LightExport) {
 
 fn body_mesh(out: &mut String, b: &BodyExport) {
     out.push_str("\n    def Mesh \"Body\"\n    {\n        uniform bool doubleSided = 0\n");
-    let _ = writeln!(out, "        float3[] extent = {}", extent(&b.positions, 0.0));
+    let _ = writeln!(
+        out,
+        "        float3[] extent = {}",
+        extent(&b.positions, 0.0)
+    );
     out.push_str("        int[] faceVertexCounts = [");
     join(out, b.indices.chunks_exact(3), |out, _| out.push('3'));
     out.push_str("]\n        int[] faceVertexIndices = [");
@@ -139,10 +149,20 @@ fn body_mesh(out: &mut String, b: &BodyExport) {
 fn hairs(out: &mut String, frame: &FrameExport) {
     let h = &frame.hairs;
     let f = &frame.fibre;
-    let widest = h.widths.iter().chain(&h.drawn_widths).fold(0.0f32, |a, &w| a.max(w));
-    out.push_str("\n    def BasisCurves \"Hair\"\n    {\n        uniform token type = \"linear\"\n");
+    let widest = h
+        .widths
+        .iter()
+        .chain(&h.drawn_widths)
+        .fold(0.0f32, |a, &w| a.max(w));
+    out.push_str(
+        "\n    def BasisCurves \"Hair\"\n    {\n        uniform token type = \"linear\"\n",
+    );
     out.push_str("        uniform token wrap = \"nonperiodic\"\n");
-    let _ = writeln!(out, "        float3[] extent = {}", extent(&h.points, 0.5 * widest));
+    let _ = writeln!(
+        out,
+        "        float3[] extent = {}",
+        extent(&h.points, 0.5 * widest)
+    );
     let _ = writeln!(
         out,
         "        custom float fur:fibre:longitudinalRoughness = {}\n        \
@@ -172,7 +192,9 @@ fn hairs(out: &mut String, frame: &FrameExport) {
     });
     out.push_str("] (\n            interpolation = \"vertex\"\n        )\n");
     out.push_str("        int[] primvars:fur:ribbon = [");
-    join(out, h.ribbons.iter(), |out, r| out.push(if *r { '1' } else { '0' }));
+    join(out, h.ribbons.iter(), |out, r| {
+        out.push(if *r { '1' } else { '0' })
+    });
     out.push_str("] (\n            interpolation = \"uniform\"\n        )\n    }\n");
 }
 
@@ -194,7 +216,13 @@ fn vec3(v: Vec3) -> String {
 fn matrix(m: Mat4) -> String {
     let c = m.to_cols_array_2d();
     let row = |r: [f32; 4]| format!("({}, {}, {}, {})", r[0], r[1], r[2], r[3]);
-    format!("( {}, {}, {}, {} )", row(c[0]), row(c[1]), row(c[2]), row(c[3]))
+    format!(
+        "( {}, {}, {}, {} )",
+        row(c[0]),
+        row(c[1]),
+        row(c[2]),
+        row(c[3])
+    )
 }
 
 /// The bounding box of `points` grown by `margin`, as USD's `extent`.

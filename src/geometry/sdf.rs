@@ -175,12 +175,22 @@ impl Sdf {
         let vertices: Vec<[f32; 3]> = mesh.positions.iter().map(|p| p.to_array()).collect();
         // The crate's grid holds cell centres from `first_cell`, index z fastest.
         let grid = Grid::new(origin.to_array(), [cell; 3], dims.map(|n| n as usize));
-        let values = generate_grid_sdf(
-            &vertices,
-            Topology::TriangleList(Some(mesh.indices)),
-            &grid,
-            sign,
-        );
+        // The crate spreads its propagation over rayon's threads, and which thread
+        // reaches a cell first decides the distance stored there: on one thread the
+        // same mesh gives the same field on every run (and so the same hair lengths
+        // under the thickness limit, the same collisions, the same images).
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(1)
+            .build()
+            .map_err(|e| Error::Parameter(format!("starting the distance field's thread: {e}")))?;
+        let values = pool.install(|| {
+            generate_grid_sdf(
+                &vertices,
+                Topology::TriangleList(Some(mesh.indices)),
+                &grid,
+                sign,
+            )
+        });
         let [nx, ny, nz] = dims.map(|n| n as usize);
         let mut ordered = vec![0.0f32; nx * ny * nz];
         for x in 0..nx {

@@ -101,9 +101,24 @@ impl Fibre {
     /// Checks every parameter against its range, naming the first one out of it.
     pub fn validate(&self) -> Result<()> {
         for (name, v, lo, hi) in [
-            ("the longitudinal roughness", self.longitudinal_roughness, 0.01, 1.0),
-            ("the azimuthal roughness", self.azimuthal_roughness, 0.01, 1.0),
-            ("the cuticle tilt (degrees)", self.cuticle_tilt_deg, -10.0, 10.0),
+            (
+                "the longitudinal roughness",
+                self.longitudinal_roughness,
+                0.01,
+                1.0,
+            ),
+            (
+                "the azimuthal roughness",
+                self.azimuthal_roughness,
+                0.01,
+                1.0,
+            ),
+            (
+                "the cuticle tilt (degrees)",
+                self.cuticle_tilt_deg,
+                -10.0,
+                10.0,
+            ),
             ("the index of refraction", self.ior, 1.0, 3.0),
         ] {
             check_range(name, v, lo, hi)?;

@@ -16,7 +16,9 @@ mod uniforms;
 
 pub use image::{flip, RgbaImage};
 pub use lighting::{kajiya_kay, Fibre, Highlights, Lighting, Shade, Shadows};
-pub use renderer::{CapturedHairs, FrameReport, HairCounts, Renderer, MAX_CAPTURE_BYTES};
+pub use renderer::{
+    CapturedHairs, FrameReport, HairCounts, Renderer, BACKGROUND, MAX_CAPTURE_BYTES,
+};
 pub use shadow_pass::CASTER_DENSITY;
 pub use target::{check_samples, RenderTarget};
 pub use uniforms::{FrameSettings, FrameUniforms, FurStyle, Primitive, Shading, StrandShape};

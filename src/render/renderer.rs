@@ -34,6 +34,9 @@ mod record;
 
 pub use capture::{CapturedHairs, MAX_CAPTURE_BYTES};
 
+/// The colour behind the model (linear RGB), where nothing is drawn.
+pub const BACKGROUND: glam::Vec3 = glam::Vec3::new(0.02, 0.025, 0.035);
+
 /// What the fur pass drew (counted by its geometry stage).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct HairCounts {

@@ -86,7 +86,7 @@ impl Renderer {
         let clear = [
             vk::ClearValue {
                 color: vk::ClearColorValue {
-                    float32: [0.02, 0.025, 0.035, 1.0],
+                    float32: BACKGROUND.extend(1.0).to_array(),
                 },
             },
             vk::ClearValue {

@@ -1,0 +1,215 @@
+//! The path-traced reference: `tools/reference/render.py` (Mitsuba 3, embedded in the
+//! program) run by the Python of the virtual environment `tools/reference/setup.sh`
+//! makes, and the linear images it writes (PFM).
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+use glam::Vec3;
+
+use crate::error::{Error, Result};
+
+/// The renderer script, as shipped in `tools/reference/render.py`.
+pub const SCRIPT: &str = include_str!("../../tools/reference/render.py");
+
+/// The environment variable naming the reference's Python interpreter.
+pub const PYTHON_ENV: &str = "FUR_REFERENCE_PYTHON";
+
+/// Where `tools/reference/setup.sh` puts the interpreter, relative to the repository.
+pub const DEFAULT_PYTHON: &str = "tools/reference/.venv/bin/python";
+
+/// The largest reference image read, in bytes (a 16384² float RGB image is 3 GiB).
+const MAX_PFM_BYTES: u64 = 4 << 30;
+
+/// How to path-trace a frame.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct TraceOptions {
+    pub spp: u32,
+    pub seed: u32,
+    /// Leave the environment light out (the calibration's direct light only).
+    pub direct_only: bool,
+    pub no_hair: bool,
+}
+
+impl Default for TraceOptions {
+    fn default() -> Self {
+        Self {
+            spp: 64,
+            seed: 0,
+            direct_only: false,
+            no_hair: false,
+        }
+    }
+}
+
+/// A linear RGB image, rows top to bottom.
+#[derive(Clone, Debug, PartialEq)]
+pub struct LinearImage {
+    pub width: u32,
+    pub height: u32,
+    pub pixels: Vec<Vec3>,
+}
+
+/// The reference renderer, set up.
+#[derive(Clone, Debug)]
+pub struct Reference {
+    python: PathBuf,
+}
+
+impl Reference {
+    /// The interpreter `FUR_REFERENCE_PYTHON` names, else the one `tools/reference/setup.sh`
+    /// makes under `root`; checked to import Mitsuba and usd-core. The error says how to
+    /// set it up.
+    pub fn find(root: &Path) -> Result<Self> {
+        let python = match std::env::var_os(PYTHON_ENV) {
+            Some(p) if !p.is_empty() => PathBuf::from(p),
+            _ => root.join(DEFAULT_PYTHON),
+        };
+        let missing = |why: String| {
+            Error::Parameter(format!(
+                "the path-traced reference is not set up ({why}): run tools/reference/setup.sh, \
+                 or name a Python with Mitsuba 3 and usd-core in {PYTHON_ENV}"
+            ))
+        };
+        if !python.is_file() {
+            return Err(missing(format!("no Python at {}", python.display())));
+        }
+        let output = Command::new(&python)
+            .args(["-c", "import mitsuba, pxr.Usd"])
+            .output()
+            .map_err(|e| missing(format!("{}: {e}", python.display())))?;
+        if !output.status.success() {
+            return Err(missing(format!(
+                "{} cannot import mitsuba and pxr: {}",
+                python.display(),
+                last_line(&output.stderr)
+            )));
+        }
+        Ok(Self { python })
+    }
+
+    /// The interpreter used.
+    pub fn python(&self) -> &Path {
+        &self.python
+    }
+
+    /// Path-traces the exported frame `usda` into `out` (PFM, linear), with the script
+    /// written beside it; `extra` arguments go to the script as they are (tests use
+    /// them to break a convention on purpose).
+    pub fn trace(
+        &self,
+        usda: &Path,
+        out: &Path,
+        options: &TraceOptions,
+        extra: &[&str],
+    ) -> Result<()> {
+        let dir = out.parent().filter(|d| !d.as_os_str().is_empty());
+        let script = dir.unwrap_or(Path::new(".")).join(".fur-reference.py");
+        std::fs::write(&script, SCRIPT).map_err(|e| Error::Io {
+            operation: "write the reference renderer to",
+            path: script.clone(),
+            message: e.to_string(),
+        })?;
+        let mut command = Command::new(&self.python);
+        command
+            .arg(&script)
+            .arg(usda)
+            .arg("--out")
+            .arg(out)
+            .args(["--spp", &options.spp.to_string()])
+            .args(["--seed", &options.seed.to_string()])
+            .args(extra);
+        if options.direct_only {
+            command.arg("--direct-only");
+        }
+        if options.no_hair {
+            command.arg("--no-hair");
+        }
+        let output = command
+            .output()
+            .map_err(|e| Error::Parameter(format!("running {}: {e}", self.python.display())))?;
+        let _ = std::fs::remove_file(&script);
+        if !output.status.success() {
+            return Err(Error::Parameter(format!(
+                "the reference renderer failed on {}: {}",
+                usda.display(),
+                last_line(&output.stderr)
+            )));
+        }
+        Ok(())
+    }
+}
+
+fn last_line(bytes: &[u8]) -> String {
+    let text = String::from_utf8_lossy(bytes);
+    text.lines()
+        .rev()
+        .find(|l| !l.trim().is_empty())
+        .unwrap_or("no message")
+        .to_string()
+}
+
+/// Reads a little-endian float RGB PFM (`PF`, scale < 0) as the reference writes it.
+pub fn read_pfm(path: &Path) -> Result<LinearImage> {
+    let bad = |message: String| Error::Io {
+        operation: "read the reference image",
+        path: path.to_path_buf(),
+        message,
+    };
+    let bytes = crate::files::read_bounded(path, MAX_PFM_BYTES, "reference image").map_err(bad)?;
+    // Three header lines: "PF", "width height", the scale (negative: little-endian).
+    let mut lines = Vec::new();
+    let mut at = 0;
+    while lines.len() < 3 {
+        let end = bytes[at..]
+            .iter()
+            .position(|&b| b == b'\n')
+            .ok_or_else(|| bad("a PFM header has three lines".into()))?;
+        lines.push(
+            String::from_utf8_lossy(&bytes[at..at + end])
+                .trim()
+                .to_string(),
+        );
+        at += end + 1;
+    }
+    if lines[0] != "PF" {
+        return Err(bad(format!("not a colour PFM (starts `{}`)", lines[0])));
+    }
+    let size: Vec<u32> = lines[1]
+        .split_whitespace()
+        .filter_map(|s| s.parse().ok())
+        .collect();
+    let scale: f32 = lines[2].parse().map_err(|_| bad("no scale".into()))?;
+    let [width, height] = size[..] else {
+        return Err(bad(format!("bad size line `{}`", lines[1])));
+    };
+    if scale >= 0.0 {
+        return Err(bad(
+            "a big-endian PFM (the reference writes little-endian)".into()
+        ));
+    }
+    let expected = width as usize * height as usize * 12;
+    if bytes.len() - at != expected {
+        return Err(bad(format!(
+            "{width}×{height} needs {expected} bytes of pixels, the file has {}",
+            bytes.len() - at
+        )));
+    }
+    let floats: Vec<f32> = bytes[at..]
+        .chunks_exact(4)
+        .map(|b| f32::from_le_bytes([b[0], b[1], b[2], b[3]]))
+        .collect();
+    // PFM rows run bottom to top.
+    let mut pixels = Vec::with_capacity(floats.len() / 3);
+    for row in (0..height as usize).rev() {
+        let start = row * width as usize * 3;
+        for p in floats[start..start + width as usize * 3].chunks_exact(3) {
+            pixels.push(Vec3::new(p[0], p[1], p[2]));
+        }
+    }
+    Ok(LinearImage {
+        width,
+        height,
+        pixels,
+    })
+}

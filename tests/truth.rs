@@ -1,0 +1,427 @@
+//! Ground truth (lavapipe, validation on): the capture holds exactly the hairs a frame
+//! draws, `fur export-frame` writes them so that Pixar's usd-core reads the same counts,
+//! and the path tracer agrees with fur's drawing on every convention (the calibration),
+//! which a deliberately wrong convention fails.
+//!
+//! The tests that run the reference renderer need `tools/reference/setup.sh` (or
+//! `FUR_REFERENCE_PYTHON`); without it they say so loudly and stop, unless
+//! `FUR_REFERENCE_REQUIRED` is set (CI sets it), when they fail.
+
+mod common;
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+use ash::vk;
+use fur::export::compare::Calibration;
+use fur::export::reference::{read_pfm, Reference, TraceOptions};
+use fur::render::{FrameSettings, Renderer, RgbaImage};
+use fur::scene::{ModelSpec, Strands};
+use fur::scene_file::Scene;
+use fur::strand_textures::StrandTextures;
+use glam::Vec3;
+
+fn fur(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_fur"))
+        .args(args)
+        .env("RUST_BACKTRACE", "0")
+        .output()
+        .expect("the fur binary runs")
+}
+
+fn scratch(name: &str) -> PathBuf {
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR"))
+        .join("truth")
+        .join(name);
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+/// The reference renderer, or None (loudly) where it is not set up and not required.
+fn reference() -> Option<Reference> {
+    match Reference::find(Path::new(env!("CARGO_MANIFEST_DIR"))) {
+        Ok(r) => Some(r),
+        Err(e) if std::env::var_os("FUR_REFERENCE_REQUIRED").is_some() => {
+            panic!("FUR_REFERENCE_REQUIRED is set: {e}")
+        }
+        Err(e) => {
+            eprintln!("NOT RUN: {e}");
+            None
+        }
+    }
+}
+
+/// The blob's default scene, small, drawn and captured by the library.
+fn captured(
+    device: &std::sync::Arc<fur::gpu::Device>,
+    mesh: Option<fur::scene::Mesh>,
+    edit: impl FnOnce(&mut FrameSettings),
+    (width, height): (u32, u32),
+) -> (RgbaImage, fur::render::CapturedHairs, FrameSettings, u64) {
+    let scene = Scene::defaults(ModelSpec::Blob);
+    let mesh = mesh.unwrap_or_else(|| scene.model.load_body().unwrap().0);
+    let (groom, mut settings) = scene.options.resolve(&mesh).unwrap();
+    edit(&mut settings);
+    let strands = Strands::grow(&mesh, &groom).unwrap();
+    let textures = StrandTextures::new(device, &strands, settings.head).unwrap();
+    let extent = vk::Extent2D { width, height };
+    let mut renderer =
+        Renderer::new(device, &mesh, &textures, extent, 1, settings.style.samples).unwrap();
+    let counting = FrameSettings {
+        count_hairs: true,
+        ..settings.clone()
+    };
+    let (_, report) = renderer.render(&textures, &counting).unwrap();
+    let (image, hairs) = renderer.capture(&textures, &settings).unwrap();
+    (image, hairs, settings, report.counts.unwrap().hairs)
+}
+
+#[test]
+fn the_capture_holds_the_hairs_as_drawn() {
+    let device = common::device();
+    let (_, hairs, settings, drawn) = captured(&device, None, |_| {}, (160, 90));
+    let v = hairs.vertices_per_strand;
+    assert!(drawn > 1000, "the frame draws {drawn} hairs");
+    assert_eq!(
+        hairs.count() as u64,
+        drawn,
+        "one captured hair per hair drawn"
+    );
+    assert_eq!(hairs.points.len(), hairs.count() * v);
+    let style = &settings.style;
+    let eye = settings.camera.eye();
+    let lighting = &settings.lighting;
+    for h in 0..hairs.count() {
+        let at = h * v;
+        let root = hairs.points[at];
+        // The width the geometry stage gives the root: the style's, widened by the
+        // density LOD's thinning (thickness compensation).
+        let lod = (style.lod_distance / root.distance(eye)).powi(2).min(1.0);
+        let expected = if style.thickness_compensation {
+            style.hair_width / lod
+        } else {
+            style.hair_width
+        };
+        let (w_root, w_tip) = (hairs.widths[at], hairs.widths[at + v - 1]);
+        assert!(
+            (w_root - expected).abs() <= 1e-5 * expected,
+            "hair {h}: root width {w_root}, drawn at {expected}"
+        );
+        assert!(
+            (w_tip - 0.2 * w_root).abs() <= 1e-5 * w_root,
+            "hair {h}: tip {w_tip}"
+        );
+        for k in 0..v {
+            assert!(hairs.drawn_widths[at + k] >= hairs.widths[at + k] * (1.0 - 1e-6));
+        }
+        let (c_root, c_tip) = (hairs.colors[at], hairs.colors[at + v - 1]);
+        assert!(
+            c_root.abs_diff_eq(lighting.root_color, 1e-6),
+            "hair {h}: {c_root}"
+        );
+        assert!(
+            c_tip.abs_diff_eq(lighting.tip_color, 1e-6),
+            "hair {h}: {c_tip}"
+        );
+    }
+    // A fixed order: each hair's seed, ascending (the device hands out places as it runs).
+    common::assert_clean(&device);
+}
+
+#[test]
+fn captured_hairs_project_onto_the_pixels_drawn() {
+    let device = common::device();
+    let (width, height) = (160u32, 90u32);
+    // A few hairs on a coarse sphere: a wrong projection lands on empty pixels.
+    let (image, hairs, settings, _) = captured(
+        &device,
+        Some(fur::scene::Mesh::icosphere(1)),
+        |s| {
+            // The hair alone, opaque: every pixel a hair crosses differs from the clear colour.
+            s.draw_mesh = false;
+            s.style.thin_hair_aa = false;
+            s.style.samples = 1;
+            s.style.fixed_level = 1; // the master hairs only: sparse
+            s.style.min_pixel_width = 2.0; // a hair seen end-on still covers a pixel
+            s.style.cull = false;
+            // Bright and unlit, so that no hair is as dark as the background.
+            s.lighting.root_occlusion = 0.0;
+            s.lighting.root_color = Vec3::ONE;
+            s.lighting.tip_color = Vec3::ONE;
+            s.lighting.ambient = 1.0;
+        },
+        (width, height),
+    );
+    let covered = common::covered(&image);
+    let view_proj = settings
+        .camera
+        .view_projection(width as f32 / height as f32);
+    let hits = |mirror: bool| {
+        let (mut hit, mut total) = (0, 0);
+        for p in &hairs.points {
+            let c = view_proj * p.extend(1.0);
+            let ndc = c.truncate() / c.w;
+            let mut x = ((ndc.x * 0.5 + 0.5) * width as f32).floor() as i64;
+            let y = ((ndc.y * 0.5 + 0.5) * height as f32).floor() as i64;
+            if mirror {
+                x = i64::from(width) - 1 - x;
+            }
+            if x < 1 || y < 1 || x >= i64::from(width) - 1 || y >= i64::from(height) - 1 {
+                continue;
+            }
+            total += 1;
+            let near = (-1..=1).any(|dy| {
+                (-1..=1).any(|dx| covered[((y + dy) * i64::from(width) + x + dx) as usize])
+            });
+            hit += usize::from(near);
+        }
+        (hit, total)
+    };
+    let (hit, total) = hits(false);
+    assert!(total > 300, "{total} vertices on screen");
+    assert!(
+        hit as f64 >= 0.99 * total as f64,
+        "{hit} of {total} captured vertices land on drawn pixels"
+    );
+    // The same check with the image mirrored fails: it can tell a wrong projection.
+    let (mirrored, _) = hits(true);
+    assert!(
+        (mirrored as f64) < 0.5 * total as f64,
+        "a mirrored projection also lands on drawn pixels ({mirrored} of {total}): the check \
+         cannot fail"
+    );
+    common::assert_clean(&device);
+}
+
+/// Exports `args` with the binary (validation on); returns the file's text and stdout.
+fn export(dir: &Path, args: &[&str]) -> (PathBuf, String) {
+    let usda = dir.join("frame.usda");
+    let png = dir.join("fur.png");
+    let mut all = vec![
+        "export-frame",
+        usda.to_str().unwrap(),
+        "--out",
+        png.to_str().unwrap(),
+        "--validate",
+    ];
+    all.extend_from_slice(args);
+    let out = fur(&all);
+    let stdout = String::from_utf8_lossy(&out.stdout).to_string();
+    assert!(
+        out.status.success(),
+        "export-frame {args:?} failed:\n{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    (usda, stdout)
+}
+
+/// The number before `what` in `text` ("1234 hairs").
+fn number_before(text: &str, what: &str) -> u64 {
+    let end = text
+        .find(what)
+        .unwrap_or_else(|| panic!("no `{what}` in {text}"));
+    let digits: String = text[..end]
+        .trim_end()
+        .chars()
+        .rev()
+        .take_while(|c| c.is_ascii_digit())
+        .collect();
+    digits.chars().rev().collect::<String>().parse().unwrap()
+}
+
+#[test]
+fn the_export_holds_what_render_draws_and_usd_core_reads_it() {
+    let dir = scratch("counts");
+    let size = ["--width", "96", "--height", "54", "--density-scale", "0.5"];
+    let (usda, stdout) = export(&dir, &size);
+    let exported = number_before(&stdout, " hairs of");
+    let png = dir.join("render.png");
+    let mut render = vec!["render", "--validate", "--out", png.to_str().unwrap()];
+    render.extend_from_slice(&size);
+    let out = fur(&render);
+    assert!(out.status.success());
+    let drawn = number_before(&String::from_utf8_lossy(&out.stdout), " hairs drawn");
+    assert_eq!(
+        exported, drawn,
+        "export-frame exports the hairs `fur render` draws"
+    );
+    // The same frame: the export's image is the render's, byte for byte.
+    let (a, b) = (
+        image::open(dir.join("fur.png")).unwrap().to_rgba8(),
+        image::open(&png).unwrap().to_rgba8(),
+    );
+    let differ = a.pixels().zip(b.pixels()).filter(|(x, y)| x != y).count();
+    assert_eq!(
+        differ, 0,
+        "the export's image differs from the render's in {differ} pixels"
+    );
+    let text = std::fs::read_to_string(&usda).unwrap();
+    let counts = text
+        .lines()
+        .find(|l| l.trim_start().starts_with("int[] curveVertexCounts"))
+        .unwrap();
+    assert_eq!(counts.matches(',').count() as u64 + 1, exported);
+    let Some(reference) = reference() else { return };
+    let read = Command::new(reference.python())
+        .args([
+            "-c",
+            "import sys\nfrom pxr import Usd, UsdGeom\ns = Usd.Stage.Open(sys.argv[1])\n\
+             c = UsdGeom.BasisCurves(s.GetPrimAtPath('/World/Hair'))\n\
+             m = UsdGeom.Mesh(s.GetPrimAtPath('/World/Body'))\n\
+             cam = UsdGeom.Camera(s.GetPrimAtPath('/World/Camera')).GetCamera()\n\
+             print(len(c.GetCurveVertexCountsAttr().Get()), len(c.GetPointsAttr().Get()), \
+             len(c.GetWidthsAttr().Get()), len(m.GetFaceVertexCountsAttr().Get()), \
+             round(cam.GetFieldOfView(cam.FOVVertical), 4))",
+        ])
+        .arg(&usda)
+        .output()
+        .unwrap();
+    let line = String::from_utf8_lossy(&read.stdout).trim().to_string();
+    assert!(
+        read.status.success(),
+        "{}",
+        String::from_utf8_lossy(&read.stderr)
+    );
+    let v = 17; // the default 16 segments
+    let blob_triangles = fur::scene::Mesh::blob().triangle_count();
+    assert_eq!(
+        line,
+        format!(
+            "{exported} {} {} {blob_triangles} 40.0",
+            exported * v,
+            exported * v
+        )
+    );
+}
+
+/// Path-traces `usda` into `dir` (16 samples a pixel) and measures fur's image against it.
+fn calibrate(reference: &Reference, dir: &Path, usda: &Path, broken: Option<&str>) -> Calibration {
+    let pfm = dir.join(format!("reference-{}.pfm", broken.unwrap_or("right")));
+    let options = TraceOptions {
+        spp: 16,
+        direct_only: true,
+        ..Default::default()
+    };
+    let extra: Vec<&str> = broken.map(|b| vec!["--break", b]).unwrap_or_default();
+    reference.trace(usda, &pfm, &options, &extra).unwrap();
+    let truth = read_pfm(&pfm).unwrap();
+    let png = image::open(dir.join("fur.png")).unwrap().to_rgba8();
+    let drawn = RgbaImage {
+        width: png.width(),
+        height: png.height(),
+        data: png.into_raw(),
+    };
+    Calibration::measure(&drawn, &truth).unwrap()
+}
+
+#[test]
+fn calibration_the_body_alone_matches_the_path_tracer_and_wrong_conventions_fail() {
+    let Some(reference) = reference() else { return };
+    let dir = scratch("calibration");
+    let scene = dir.join("direct.toml");
+    std::fs::write(&scene, "[light]\nambient = 0.0\n").unwrap();
+    let args = [
+        scene.to_str().unwrap(),
+        "--body-only",
+        "--width",
+        "96",
+        "--height",
+        "54",
+    ];
+    let (usda, _) = export(&dir, &args);
+    let right = calibrate(&reference, &dir, &usda, None);
+    if let Err(e) = right.check() {
+        panic!("the body alone disagrees with the path tracer: {e} ({right:?})");
+    }
+    for broken in ["fov-axis", "mirror", "light-units"] {
+        let wrong = calibrate(&reference, &dir, &usda, Some(broken));
+        assert!(
+            wrong.check().is_err(),
+            "the calibration passes with the path tracer's {broken} convention broken: \
+             {wrong:?}"
+        );
+    }
+}
+
+#[test]
+fn calibration_thick_straight_strands_cover_the_same_pixels() {
+    let Some(reference) = reference() else { return };
+    let dir = scratch("strands");
+    let scene = dir.join("strands.toml");
+    std::fs::write(
+        &scene,
+        "[groom]\ndensity_scale = 0.02\ncomb = 0.0\ncurl = 0.0\n\
+         [render]\nhair_width = 0.03\nthin_hair_aa = false\njitter = 0.0\nlength_jitter = 0.0\n\
+         samples = 4\n[light]\nambient = 0.0\n",
+    )
+    .unwrap();
+    let (usda, stdout) = export(
+        &dir,
+        &[scene.to_str().unwrap(), "--width", "96", "--height", "54"],
+    );
+    assert!(number_before(&stdout, " hairs of") > 0);
+    let calibration = calibrate(&reference, &dir, &usda, None);
+    // Coverage only: the body and the strands are lit by two different models.
+    assert!(
+        2 * calibration.mismatched <= calibration.edge && calibration.shift_px <= 0.5,
+        "thick strands cover different pixels: {calibration:?}"
+    );
+}
+
+#[test]
+fn export_refuses_bad_input_before_writing() {
+    let dir = scratch("bad");
+    let usdc = dir.join("frame.usdc");
+    for (args, needle) in [
+        (vec!["export-frame", usdc.to_str().unwrap()], "usdcat"),
+        (vec!["export-frame", "frame.obj"], "unknown extension"),
+        (
+            vec!["export-frame", "x.usda", "--frames", "0"],
+            "--frames must be at least 1",
+        ),
+        (
+            vec!["export-frame", "x.usda", "--out-dir", "d"],
+            "one frame",
+        ),
+        (vec!["export-frame", "/dev/null/x.usda"], "x.usda"),
+    ] {
+        let out = fur(&args);
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert!(!out.status.success(), "{args:?} succeeded");
+        assert!(!stderr.contains("panicked"), "{args:?} panicked: {stderr}");
+        assert!(
+            stderr.contains(needle),
+            "{args:?}: `{needle}` not in {stderr}"
+        );
+    }
+    assert!(!usdc.exists() && !Path::new("x.usda").exists() && !Path::new("fur.png").exists());
+}
+
+#[test]
+fn read_pfm_refuses_malformed_files() {
+    let dir = scratch("pfm");
+    let cases: [(&str, &[u8]); 4] = [
+        ("short.pfm", b"PF\n2 2\n-1\n\0\0\0\0"),
+        ("grey.pfm", b"Pf\n1 1\n-1\n\0\0\0\0"),
+        ("big-endian.pfm", b"PF\n1 1\n1\n\0\0\0\0\0\0\0\0\0\0\0\0"),
+        ("header.pfm", b"PF\n1 1"),
+    ];
+    for (name, bytes) in cases {
+        let path = dir.join(name);
+        std::fs::write(&path, bytes).unwrap();
+        assert!(read_pfm(&path).is_err(), "{name} was read");
+    }
+    let good = dir.join("good.pfm");
+    let mut bytes = b"PF\n1 2\n-1\n".to_vec();
+    for v in [0.25f32, 0.5, 0.75, 1.0, 2.0, 3.0] {
+        bytes.extend_from_slice(&v.to_le_bytes());
+    }
+    std::fs::write(&good, bytes).unwrap();
+    let image = read_pfm(&good).unwrap();
+    // Rows bottom to top in the file: the last row read is the top.
+    assert_eq!(
+        image.pixels,
+        vec![Vec3::new(1.0, 2.0, 3.0), Vec3::new(0.25, 0.5, 0.75)]
+    );
+}

@@ -286,11 +286,13 @@ fn bench(
         }
         None => None,
     };
+    let root = std::env::current_dir().context("the current folder")?;
     let options = fur::bench::BenchOptions {
         quick,
         sections,
         scene,
         size,
+        work: Some((out_dir.to_path_buf(), root)),
     };
     let bar = indicatif::ProgressBar::new(fur::bench::task_count(&options)).with_style(
         indicatif::ProgressStyle::with_template("{bar:40} {pos}/{len} {elapsed} {msg}")

@@ -20,6 +20,7 @@ pub mod quality;
 mod render;
 mod savings;
 mod sim;
+mod truth;
 
 use std::fmt::Write as _;
 use std::path::Path;
@@ -45,6 +46,9 @@ pub struct BenchOptions {
     /// The image size (width, height) of the frame and quality measurements, instead
     /// of 1280×720 (160×90 in the quick suite).
     pub size: Option<(u32, u32)>,
+    /// Where the `truth` section keeps its exports and path-traced references (the
+    /// output folder), and the repository root it finds the reference renderer under.
+    pub work: Option<(std::path::PathBuf, std::path::PathBuf)>,
 }
 
 /// A scene the frame and render-quality sections measure.
@@ -87,10 +91,11 @@ pub enum Section {
     Looks,
     Ladder,
     Animation,
+    Truth,
 }
 
 impl Section {
-    pub const ALL: [Section; 10] = [
+    pub const ALL: [Section; 11] = [
         Self::Frame,
         Self::RenderQuality,
         Self::SimAccuracy,
@@ -101,6 +106,7 @@ impl Section {
         Self::Looks,
         Self::Ladder,
         Self::Animation,
+        Self::Truth,
     ];
 
     pub fn name(self) -> &'static str {
@@ -115,6 +121,7 @@ impl Section {
             Self::Looks => "looks",
             Self::Ladder => "ladder",
             Self::Animation => "animation",
+            Self::Truth => "truth",
         }
     }
 
@@ -130,6 +137,7 @@ impl Section {
             Self::Looks => "cost and image effect of texture colour, secondary highlight, shadows and thin-hair AA",
             Self::Ladder => "frame time and image error of every rung of the frame-time budget's quality ladder",
             Self::Animation => "the walking critter: skinning cost, walking against standing, and each way of colliding with the deforming body",
+            Self::Truth => "every quality rung and look against a path-traced reference (Mitsuba 3's hair model; needs tools/reference/setup.sh)",
         }
     }
 
@@ -210,6 +218,7 @@ struct Bench<'a> {
     quick: bool,
     size: Option<(u32, u32)>,
     scenes: Vec<BenchScene>,
+    work: Option<(std::path::PathBuf, std::path::PathBuf)>,
     rows: Vec<Row>,
     md: String,
     plots: Vec<(&'static str, Plot)>,
@@ -232,6 +241,7 @@ pub fn task_count(options: &BenchOptions) -> u64 {
             Section::Looks => looks::tasks(options.quick),
             Section::Ladder => ladder::tasks(options.scenes().len()) + 2,
             Section::Animation => animation::tasks(),
+            Section::Truth => truth::tasks(options.scenes().len()),
         })
         .sum()
 }
@@ -247,6 +257,7 @@ pub fn run(
         quick: options.quick,
         size: options.size,
         scenes: options.scenes(),
+        work: options.work.clone(),
         rows: Vec::new(),
         md: String::new(),
         plots: Vec::new(),
@@ -272,6 +283,7 @@ pub fn run(
             Section::Looks => bench.looks()?,
             Section::Ladder => bench.ladder()?,
             Section::Animation => bench.animation()?,
+            Section::Truth => bench.truth()?,
         }
     }
     Ok(Report {
@@ -407,6 +419,7 @@ mod tests {
         scene.motion.rate = 2.5;
         scene.options.draw.hair_width *= 2.0;
         let options = BenchOptions {
+            work: None,
             quick: true,
             sections: vec![Section::Frame],
             scene: Some(("mine".into(), scene.clone())),
@@ -422,6 +435,7 @@ mod tests {
         assert_eq!(reference.samples, 4);
         // Without a scene: the blob and the original's sphere with their defaults.
         let built_in = BenchOptions {
+            work: None,
             scene: None,
             ..options
         }

@@ -163,6 +163,31 @@ impl Shot {
         })
     }
 
+    /// The frame drawn with `look`, with every hair it draws captured (for the
+    /// path-traced truth), and the settings it was drawn with.
+    pub fn capture(
+        &self,
+        look: &Look,
+    ) -> Result<(RgbaImage, crate::render::CapturedHairs, FrameSettings)> {
+        let texture = self.texture.as_ref().filter(|_| look.textured);
+        let mut renderer = Renderer::textured(
+            &self.device,
+            &self.mesh,
+            texture,
+            &self.textures,
+            self.extent,
+            1,
+            look.style.samples,
+        )?;
+        let settings = FrameSettings {
+            style: look.style.clone(),
+            lighting: look.lighting.clone(),
+            ..self.settings.clone()
+        };
+        let (image, hairs) = renderer.capture(&self.textures, &settings)?;
+        Ok((image, hairs, settings))
+    }
+
     /// The supersampled reference of this frame (see the module documentation).
     pub fn reference(&self, factor: u32) -> Result<RgbaImage> {
         self.reference_of(&self.look(&self.settings.style), factor)

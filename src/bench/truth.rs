@@ -1,0 +1,298 @@
+//! Section `truth`: fur's drawings against a path-traced reference of the same frame.
+//!
+//! For each scene, the settled frame (as the render-quality section takes it) is drawn
+//! at the scene's own settings with every hair captured, exported (`fur export-frame`'s
+//! USD) and path-traced by `tools/reference` with Mitsuba 3's hair model, twice with
+//! different seeds: the two references' distance is the reference's own noise. Then
+//! every rung of the quality ladder and every look on and off is drawn and measured
+//! against the first reference (ꟻLIP on sRGB, RMSE in linear light), with its frame
+//! time. References are cached under the output folder by a hash of the export, the
+//! sample count and the renderer script, so reruns path-trace nothing.
+//!
+//! What the distance is made of: the same frame against a reference limited to
+//! single scattering (paths of one bounce off the hair: no multiple scattering), and
+//! fur's own supersampled drawing (coverage exact, the model unchanged) against the
+//! full reference.
+
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+
+use super::plot::{Plot, Series, PALETTE};
+use super::quality::{Look, Shot};
+use super::Bench;
+use crate::error::Result;
+use crate::export::compare::{errors, rmse_linear, to_srgb8};
+use crate::export::reference::{read_pfm, LinearImage, Reference, TraceOptions, SCRIPT};
+use crate::export::{write_usda, FrameExport};
+use crate::render::budget::LADDER;
+use crate::render::{flip, FurStyle, Lighting, Primitive};
+
+/// The looks switched one at a time, each against the scene's own drawing.
+const LOOKS: usize = 6;
+
+pub(super) fn tasks(scenes: usize) -> u64 {
+    scenes as u64 * (3 + LADDER.len() as u64 + LOOKS as u64 + 1)
+}
+
+/// One drawing measured against the truth.
+struct Measured {
+    name: String,
+    frame_ms: f64,
+    flip: f64,
+    rmse: f64,
+}
+
+impl Bench<'_> {
+    pub(super) fn truth(&mut self) -> Result<()> {
+        let _ = writeln!(self.md, "## Against the path-traced truth\n");
+        let Some((out_dir, root)) = self.work.clone() else {
+            let _ = writeln!(self.md, "Not run: no output folder.\n");
+            return Ok(());
+        };
+        let reference = match Reference::find(&root) {
+            Ok(r) => r,
+            Err(e) => {
+                eprintln!("truth: skipped: {e}");
+                let _ = writeln!(self.md, "Not run: {e}.\n");
+                return Ok(());
+            }
+        };
+        let extent = if self.quick {
+            ash::vk::Extent2D {
+                width: 96,
+                height: 54,
+            }
+        } else {
+            ash::vk::Extent2D {
+                width: 320,
+                height: 180,
+            }
+        };
+        let spp = if self.quick { 16 } else { 256 };
+        let dir = out_dir.join("truth");
+        std::fs::create_dir_all(&dir)
+            .map_err(|e| crate::error::Error::io("create the folder", &dir, e))?;
+        let _ = writeln!(
+            self.md,
+            "Each scene's settled frame at {}×{}, drawn by fur and path-traced by \
+             `tools/reference` (Mitsuba 3, Chiang et al.'s hair model, the same camera, \
+             lights and hairs; {spp} samples a pixel, up to 64 bounces). *Noise*: the \
+             reference against a second one with another seed, its own uncertainty. ꟻLIP \
+             on sRGB, RMSE in linear light; frame time as in the ladder.\n",
+            extent.width, extent.height
+        );
+        let mut series = Vec::new();
+        for (k, bench_scene) in self.scenes.clone().iter().enumerate() {
+            let scene = &bench_scene.name;
+            let shot = Shot::new(self.device, &bench_scene.scene, extent)?;
+            let own = shot.look(&shot.settings.style);
+            let (_, hairs, settings) = shot.capture(&own)?;
+            let frame = FrameExport::new(
+                hairs,
+                &shot.mesh,
+                None,
+                &settings,
+                (extent.width, extent.height),
+            );
+            frame.check_size()?;
+            let usda = dir.join(format!("{scene}.usda"));
+            let text = write_usda(&frame, "fur bench")?;
+            crate::files::write_output(&usda, text.as_bytes(), "write the frame to")?;
+            (self.progress)(&format!("{scene}: exported"));
+            let trace = |seed: u32, depth: Option<u32>| -> Result<LinearImage> {
+                cached_trace(&reference, &usda, &text, spp, seed, depth)
+            };
+            let truth = trace(0, None)?;
+            (self.progress)(&format!("{scene}: reference"));
+            let second = trace(1, None)?;
+            (self.progress)(&format!("{scene}: noise"));
+            let noise_flip = flip(&to_srgb8(&truth), &to_srgb8(&second));
+            let noise_rmse = rmse_linear(&truth, &second)?;
+            let single = trace(0, Some(2))?;
+            (self.progress)(&format!("{scene}: single scattering"));
+            let mut measured = Vec::new();
+            for (r, rung) in LADDER.iter().enumerate() {
+                let style = rung.apply(&shot.settings.style);
+                let drawn = shot.draw(&style, self.frames())?;
+                let (f, e) = errors(&drawn.image, &truth)?;
+                measured.push(Measured {
+                    name: format!("rung {r} ({})", rung.name),
+                    frame_ms: drawn.frame_ms,
+                    flip: f,
+                    rmse: e,
+                });
+                (self.progress)(&format!("{scene}: rung {r}"));
+            }
+            for (name, look) in looks(&own) {
+                let drawn = shot.draw_look(&look, self.frames())?;
+                let (f, e) = errors(&drawn.image, &truth)?;
+                measured.push(Measured {
+                    name: name.to_string(),
+                    frame_ms: drawn.frame_ms,
+                    flip: f,
+                    rmse: e,
+                });
+                (self.progress)(&format!("{scene}: {name}"));
+            }
+            let supersampled = shot.reference(4)?;
+            let (ss_flip, ss_rmse) = errors(&supersampled, &truth)?;
+            let own_drawn = shot.draw_look(&own, self.frames())?;
+            let (own_flip, own_rmse) = errors(&own_drawn.image, &truth)?;
+            let (own_single, _) = errors(&own_drawn.image, &single)?;
+            (self.progress)(&format!("{scene}: attribution"));
+            self.truth_table(scene, &measured, (noise_flip, noise_rmse));
+            let _ = writeln!(
+                self.md,
+                "What the distance of the scene's own drawing (ꟻLIP {own_flip:.4}) is made \
+                 of, one thing changed at a time:\n\n| change | ꟻLIP | RMSE |\n| --- | --- | \
+                 --- |\n| none: the scene's drawing against the reference | {own_flip:.4} | \
+                 {:.4} |\n| coverage exact: fur's 4×4 supersampled drawing against the \
+                 reference | {ss_flip:.4} | {ss_rmse:.4} |\n| no multiple scattering: the \
+                 drawing against a single-scattering reference | {own_single:.4} | – |\n",
+                own_rmse
+            );
+            for (metric, value) in [
+                ("own_flip", own_flip),
+                ("noise_flip", noise_flip),
+                ("noise_rmse", noise_rmse),
+                ("supersampled_flip", ss_flip),
+                ("single_scattering_flip", own_single),
+            ] {
+                self.row("truth", scene.clone(), metric, value, "0..1");
+            }
+            series.push(Series {
+                name: scene.to_string(),
+                points: measured[..LADDER.len()]
+                    .iter()
+                    .map(|m| (m.frame_ms, m.flip))
+                    .collect(),
+                color: PALETTE[k % PALETTE.len()],
+                line: true,
+            });
+        }
+        self.plots.push((
+            "truth.svg",
+            Plot {
+                title: "Against the path-traced truth: ꟻLIP and frame time, rung by rung".into(),
+                x_label: "frame ms (wall clock)".into(),
+                y_label: "ꟻLIP against the path-traced reference".into(),
+                log_x: true,
+                log_y: false,
+                series,
+                highlight: None,
+            },
+        ));
+        Ok(())
+    }
+
+    fn truth_table(&mut self, scene: &str, measured: &[Measured], noise: (f64, f64)) {
+        let _ = writeln!(
+            self.md,
+            "### {scene}\n\nReference noise: ꟻLIP {:.4}, RMSE {:.4}.\n\n| drawing | frame ms | \
+             ꟻLIP | RMSE |\n| --- | --- | --- | --- |",
+            noise.0, noise.1
+        );
+        for m in measured {
+            let _ = writeln!(
+                self.md,
+                "| {} | {:.1} | {:.4} | {:.4} |",
+                m.name, m.frame_ms, m.flip, m.rmse
+            );
+            let case = format!("{scene}: {}", m.name);
+            self.row("truth", case.clone(), "frame_ms", m.frame_ms, "ms");
+            self.row("truth", case.clone(), "flip", m.flip, "0..1");
+            self.row("truth", case, "rmse", m.rmse, "linear");
+        }
+        self.md.push('\n');
+    }
+}
+
+/// The scene's look with one thing switched: shadows, the secondary highlight,
+/// thin-hair AA, one sample and four, lines and ribbons.
+fn looks(own: &Look) -> Vec<(&'static str, Look)> {
+    let with_style = |edit: &dyn Fn(&mut FurStyle)| {
+        let mut look = own.clone();
+        edit(&mut look.style);
+        look
+    };
+    let with_light = |edit: &dyn Fn(&mut Lighting)| {
+        let mut look = own.clone();
+        edit(&mut look.lighting);
+        look
+    };
+    let shadows = own.lighting.shadows.enabled;
+    let secondary = own.lighting.highlights.secondary;
+    let aa = own.style.thin_hair_aa;
+    let looks = vec![
+        (
+            if shadows { "shadows off" } else { "shadows on" },
+            with_light(&|l| l.shadows.enabled = !shadows),
+        ),
+        (
+            if secondary {
+                "secondary highlight off"
+            } else {
+                "secondary highlight on"
+            },
+            with_light(&|l| l.highlights.secondary = !secondary),
+        ),
+        (
+            if aa {
+                "thin-hair AA off"
+            } else {
+                "thin-hair AA on"
+            },
+            with_style(&|s| s.thin_hair_aa = !aa),
+        ),
+        ("1 sample", with_style(&|s| s.samples = 1)),
+        ("4 samples", with_style(&|s| s.samples = 4)),
+        ("lines", with_style(&|s| s.primitive = Primitive::Lines)),
+    ];
+    debug_assert_eq!(looks.len(), LOOKS);
+    looks
+}
+
+/// The reference of `usda` (whose text is `text`) at `spp` samples, seed `seed` and at
+/// most `depth` bounces, path-traced unless a file of the same hash is there.
+fn cached_trace(
+    reference: &Reference,
+    usda: &Path,
+    text: &str,
+    spp: u32,
+    seed: u32,
+    depth: Option<u32>,
+) -> Result<LinearImage> {
+    let key = fnv64(&[
+        text.as_bytes(),
+        SCRIPT.as_bytes(),
+        format!("{spp} {seed} {depth:?}").as_bytes(),
+    ]);
+    let dir = usda.parent().map_or(PathBuf::from("."), Path::to_path_buf);
+    let pfm = dir.join(format!("reference-{key:016x}.pfm"));
+    if !pfm.is_file() {
+        let options = TraceOptions {
+            spp,
+            seed,
+            ..Default::default()
+        };
+        let depth_arg = depth.map(|d| d.to_string());
+        let extra: Vec<&str> = depth_arg
+            .as_deref()
+            .map(|d| vec!["--max-depth", d])
+            .unwrap_or_default();
+        reference.trace(usda, &pfm, &options, &extra)?;
+    }
+    read_pfm(&pfm)
+}
+
+/// FNV-1a, 64 bits, over the parts in order.
+fn fnv64(parts: &[&[u8]]) -> u64 {
+    let mut h: u64 = 0xcbf2_9ce4_8422_2325;
+    for part in parts {
+        for &b in *part {
+            h ^= u64::from(b);
+            h = h.wrapping_mul(0x0000_0100_0000_01b3);
+        }
+    }
+    h
+}

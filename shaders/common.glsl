@@ -37,6 +37,7 @@ layout(set = 0, binding = 0, std140) uniform Frame {
     vec4 secondary;      // secondary lobe: exponent, strength, unused, unused
     vec4 shadow;         // opacity per hair layer, layers per unit of map depth, depth bias, unused
     uvec4 strands;       // vertices per strand, strands per row, fixed level (0 = adaptive), flags
+    vec4 fibre;          // longitudinal roughness, azimuthal roughness, cuticle tilt (radians), index of refraction
 } frame;
 
 const uint FLAG_CULL = 1u;

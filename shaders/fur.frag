@@ -10,11 +10,12 @@
 // uniform in [0, 1), starting at a hashed sample. Fixed-function alpha to coverage
 // rounds instead (lavapipe covers one sample of four for any alpha above 0), which
 // makes a hair drawn twice as wide at half the alpha twice as dark.
-// VERTEX_SHADING, TEXTURED, SHADOWS and COVERAGE_SAMPLES are defined by the renderer.
+// VERTEX_SHADING, TEXTURED, SHADOWS, MARSCHNER and COVERAGE_SAMPLES are defined by the
+// renderer.
 #include "shading.glsl"
 
 #if VERTEX_SHADING
-layout(location = 0) in vec4 g_lit_along;          // ambient + diffuse, specular, tinted, along
+layout(location = 0) in vec4 g_lit_along;          // ambient + diffuse, specular, tinted (Marschner: radiance), along
 #else
 layout(location = 0) in vec4 g_tangent_along;      // world tangent, along
 layout(location = 1) in vec3 g_world;
@@ -34,6 +35,18 @@ void main() {
 #else
     vec3 texel = vec3(1.0);
 #endif
+#if MARSCHNER
+    // The fibre model's radiance (per vertex: interpolated), darkened at the root.
+#if VERTEX_SHADING
+    vec3 radiance = g_lit_along.xyz;
+    float along = g_lit_along.w;
+#else
+    float along = g_tangent_along.w;
+    vec3 radiance = marschner(normalize(g_tangent_along.xyz), g_world, hair_base(along, texel),
+                              light_through_fur(g_world));
+#endif
+    vec3 color = mix(1.0 - frame.root_color.w, 1.0, along) * radiance;
+#else
 #if VERTEX_SHADING
     vec3 lit = g_lit_along.xyz;
     float along = g_lit_along.w;
@@ -42,6 +55,7 @@ void main() {
     float along = g_tangent_along.w;
 #endif
     vec3 color = hair_color(lit, along, texel);
+#endif
 #if COVERAGE_SAMPLES > 1
     const uint N = uint(COVERAGE_SAMPLES);
     uint h = hash_u32(g_seed ^ hash_u32(uint(gl_FragCoord.x) | (uint(gl_FragCoord.y) << 16u)));

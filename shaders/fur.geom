@@ -26,8 +26,9 @@
 // emitted vertex; otherwise per fragment. TEXTURED: the texture at the hair's root UV
 // (blended from its triangle's corners by the evaluation stage) is its base colour.
 // SHADOW_CASTER: the light's view of the fur for the shadow map, positions only.
-// STRAND_VERTICES, LINES, VERTEX_SHADING, TEXTURED, SHADOWS, SHADOW_CASTER and
-// COUNT_HAIRS are defined by the renderer.
+// MARSCHNER: the fibre model instead of Kajiya–Kay (per vertex, its radiance).
+// STRAND_VERTICES, LINES, VERTEX_SHADING, TEXTURED, SHADOWS, SHADOW_CASTER, MARSCHNER
+// and COUNT_HAIRS are defined by the renderer.
 #include "shading.glsl"
 
 layout(points) in;
@@ -111,6 +112,15 @@ bool skippable(uint a, uint c, float tolerance) {
 vec4 lit_along;                // the lit vertex, computed once for both ribbon sides
 #endif
 
+// The texture at the hair's root (white without one).
+vec3 root_texel() {
+#if TEXTURED && !SHADOW_CASTER
+    return texel;
+#else
+    return vec3(1.0);
+#endif
+}
+
 // Writes every output of vertex k. GLSL leaves outputs undefined after EmitVertex, so
 // this runs before each one, the ribbon's second side included.
 void write_outputs(uint k, vec3 t) {
@@ -132,7 +142,10 @@ void write_outputs(uint k, vec3 t) {
 }
 
 void emit_vertex(uint k, vec3 t) {
-#if !SHADOW_CASTER && VERTEX_SHADING
+#if !SHADOW_CASTER && VERTEX_SHADING && MARSCHNER
+    lit_along = vec4(marschner(t, P[k], hair_base(along(k), root_texel()), light_through_fur(P[k])),
+                     along(k));
+#elif !SHADOW_CASTER && VERTEX_SHADING
     lit_along = vec4(kajiya_kay(t, P[k], light_through_fur(P[k])), along(k));
 #endif
 #if LINES
@@ -163,15 +176,10 @@ void capture(uint index, float thickness) {
         return;
     }
     uint at = index * stride;
-#if TEXTURED && !SHADOW_CASTER
-    vec3 root_texel = texel;
-#else
-    vec3 root_texel = vec3(1.0);
-#endif
     for (uint k = 0u; k < V; ++k) {
         float true_width = thickness * (1.0 - 0.8 * along(k));
         counters.captured[at + k] = vec4(P[k], true_width);
-        counters.captured[at + V + k] = vec4(hair_base(along(k), root_texel), W[k]);
+        counters.captured[at + V + k] = vec4(hair_base(along(k), root_texel()), W[k]);
     }
     counters.captured[at + 2u * V] = vec4(uintBitsToFloat(hair_seed), float(1 - LINES), thickness, 0.0);
 }

@@ -72,6 +72,90 @@ vec3 kajiya_kay(vec3 t, vec3 world, float light) {
     return vec3(frame.shading.w + diffuse * direct, specular * direct, tinted * direct);
 }
 
+#ifndef MARSCHNER
+#define MARSCHNER 0
+#endif
+
+#if MARSCHNER
+// The Marschner-family fibre model (MARSCHNER = 1; src/render/marschner.rs is its CPU
+// twin and says where each term comes from): R, TT and TRT lobes with Gaussian
+// longitudinal terms on the fibre's roughness and cuticle tilt, Karis 2016's azimuthal
+// terms and attenuations, absorption from the colour by Chiang et al.'s mapping, and
+// Karis's approximation of multiple scattering. frame.fibre: β_m, β_n, α (radians), η.
+const float PI = 3.14159265;
+
+float fibre_gaussian(float sd, float x) {
+    return exp(-0.5 * x * x / (sd * sd)) / (sqrt(2.0 * PI) * sd);
+}
+
+float fibre_fresnel(float cos_theta, float eta) {
+    float f0 = (1.0 - eta) / (1.0 + eta);
+    f0 *= f0;
+    return f0 + (1.0 - f0) * pow(1.0 - clamp(cos_theta, 0.0, 1.0), 5.0);
+}
+
+vec3 sigma_a_from_color(vec3 c, float b) {
+    float d = 5.969 - 0.215 * b + 2.532 * b * b - 10.73 * b * b * b + 5.574 * b * b * b * b
+            + 0.245 * b * b * b * b * b;
+    vec3 l = log(clamp(c, vec3(1e-4), vec3(1.0))) / d;
+    return l * l;
+}
+
+// Radiance per unit irradiance of a fibre with tangent t at `world`, colour `base`,
+// `light` the fraction of the light that reaches it.
+vec3 marschner_terms(vec3 t, vec3 world, vec3 base, float light) {
+    vec3 v = normalize(frame.eye.xyz - world);
+    vec3 l = frame.light.xyz;
+    float sin_i = clamp(dot(t, l), -1.0, 1.0);
+    float sin_o = clamp(dot(t, v), -1.0, 1.0);
+    float theta_i = asin(sin_i);
+    float theta_o = asin(sin_o);
+    float cos_d = cos(0.5 * (theta_o - theta_i));
+    vec3 lp = l - sin_i * t;
+    vec3 vp = v - sin_o * t;
+    float cos_phi = dot(lp, vp) * inversesqrt(dot(lp, lp) * dot(vp, vp) + 1e-4);
+    float cos_half_phi = sqrt(clamp(0.5 + 0.5 * cos_phi, 0.0, 1.0));
+    float b = frame.fibre.x;
+    float sd = 0.726 * b + 0.812 * b * b + 3.7 * pow(b, 20.0);
+    float alpha = frame.fibre.z;
+    float eta = frame.fibre.w;
+    float sum = theta_i + theta_o;
+    vec3 sigma_a = sigma_a_from_color(base, frame.fibre.y);
+    // R
+    float r = fibre_gaussian(sd, sum - 2.0 * alpha) * 0.25 * cos_half_phi
+            * fibre_fresnel(sqrt(clamp(0.5 + 0.5 * dot(l, v), 0.0, 1.0)), eta);
+    // TT
+    float a = 1.0 / (1.19 / cos_d + 0.36 * cos_d);
+    float h = cos_half_phi * (1.0 + a * (0.6 - 0.8 * cos_phi));
+    float f_tt = fibre_fresnel(cos_d * sqrt(clamp(1.0 - h * h, 0.0, 1.0)), eta);
+    vec3 t_tt = exp(-sigma_a * (2.0 * sqrt(clamp(1.0 - (h * a) * (h * a), 0.0, 1.0)) / cos_d));
+    vec3 tt = t_tt * (fibre_gaussian(0.5 * sd, sum + alpha) * exp(-3.65 * cos_phi - 3.98)
+                      * (1.0 - f_tt) * (1.0 - f_tt));
+    // TRT
+    float f_trt = fibre_fresnel(0.5 * cos_d, eta);
+    vec3 t_trt = exp(-sigma_a * (3.2 / cos_d));
+    vec3 trt = t_trt * (fibre_gaussian(2.0 * sd, sum + 4.0 * alpha) * exp(17.0 * cos_phi - 16.78)
+                        * (1.0 - f_trt) * (1.0 - f_trt) * f_trt);
+    // Multiple scattering (Karis 2016)
+    float kajiya = 1.0 - abs(dot(t, l));
+    vec3 fake_normal = v - t * dot(v, t);
+    float fn = length(fake_normal);
+    fake_normal = fn > 0.0 ? fake_normal / fn : vec3(0.0);
+    float wrap = clamp((dot(fake_normal, l) + 1.0) / 4.0, 0.0, 1.0);
+    float diffuse = (wrap + (kajiya - wrap) * 0.33) / PI;
+    float luma = max(dot(base, vec3(0.2126, 0.7152, 0.0722)), 1e-4);
+    vec3 tint = pow(max(base / luma, vec3(0.0)), vec3(1.0 - light));
+    vec3 multiple = sqrt(max(base, vec3(0.0))) * tint * (diffuse * light);
+    return (vec3(r) + tt + trt) * light + multiple;
+}
+
+// The hair's radiance before root occlusion: the ambient term on the colour plus the
+// fibre's response to the light's irradiance (π · intensity, as the export gives it).
+vec3 marschner(vec3 t, vec3 world, vec3 base, float light) {
+    return frame.shading.w * base + (PI * frame.light.w) * marschner_terms(t, world, base, light);
+}
+#endif
+
 // The hair's base colour `along` (0 at the root, 1 at the tip) of the way. With a
 // texture, `texel` (the texture at the root) is the tip's colour and the ramp darkens
 // and tints it toward the root as it takes the tip colour to the root colour (by at

@@ -2,7 +2,7 @@
 //! groom), how the fur is drawn, and the simulation; and the device (with `fur bench`).
 
 use clap::Args;
-use fur::render::{Primitive, Shading};
+use fur::render::{LightingModel, Primitive, Shading};
 use fur::scene::ModelSpec;
 use fur::scene::TextureSpec;
 use fur::scene_file::Scene;
@@ -47,6 +47,11 @@ pub struct LooksArgs {
     /// material's map_Kd, if any].
     #[arg(long, allow_hyphen_values = true)]
     pub texture: Option<TextureSpec>,
+    /// How the hair is lit: `kajiya-kay` (the seed's model, with shifted highlights) or
+    /// `marschner` (a physically based fibre model on the `[fibre]` parameters)
+    /// [default: kajiya-kay].
+    #[arg(long)]
+    pub lighting_model: Option<LightingModel>,
     /// A second, wider highlight tinted by the hair colour, shifted toward the root
     /// (the primary shifts toward the tip): on or off [default: on].
     #[arg(long, value_parser = clap::builder::BoolishValueParser::new())]
@@ -170,6 +175,7 @@ impl SceneArgs {
             o.texture = k.texture.clone();
         }
         let l = &mut o.lighting;
+        set(&mut l.model, k.lighting_model);
         set(&mut l.highlights.secondary, k.secondary_highlight);
         set(&mut l.highlights.primary_shift_deg, k.primary_shift);
         set(&mut l.highlights.secondary_shift_deg, k.secondary_shift);

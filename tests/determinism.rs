@@ -58,6 +58,30 @@ fn drawings() -> Vec<(&'static str, FrameSettings)> {
             }),
         ),
         (
+            "Marschner, per vertex",
+            FrameSettings {
+                lighting: Lighting {
+                    model: fur::render::LightingModel::Marschner,
+                    ..Lighting::default()
+                },
+                ..base.clone()
+            },
+        ),
+        (
+            "Marschner, per fragment",
+            FrameSettings {
+                lighting: Lighting {
+                    model: fur::render::LightingModel::Marschner,
+                    ..Lighting::default()
+                },
+                style: FurStyle {
+                    shading: Shading::Fragment,
+                    ..style.clone()
+                },
+                ..base.clone()
+            },
+        ),
+        (
             "shadows",
             FrameSettings {
                 lighting: Lighting {

@@ -38,20 +38,6 @@ fn scratch(name: &str) -> PathBuf {
     dir
 }
 
-/// The reference renderer, or None (loudly) where it is not set up and not required.
-fn reference() -> Option<Reference> {
-    match Reference::find(Path::new(env!("CARGO_MANIFEST_DIR"))) {
-        Ok(r) => Some(r),
-        Err(e) if std::env::var_os("FUR_REFERENCE_REQUIRED").is_some() => {
-            panic!("FUR_REFERENCE_REQUIRED is set: {e}")
-        }
-        Err(e) => {
-            eprintln!("NOT RUN: {e}");
-            None
-        }
-    }
-}
-
 /// The blob's default scene, small, drawn and captured by the library.
 fn captured(
     device: &std::sync::Arc<fur::gpu::Device>,
@@ -262,7 +248,9 @@ fn the_export_holds_what_render_draws_and_usd_core_reads_it() {
         .find(|l| l.trim_start().starts_with("int[] curveVertexCounts"))
         .unwrap();
     assert_eq!(counts.matches(',').count() as u64 + 1, exported);
-    let Some(reference) = reference() else { return };
+    let Some(reference) = common::reference() else {
+        return;
+    };
     let read = Command::new(reference.python())
         .args([
             "-c",
@@ -317,7 +305,9 @@ fn calibrate(reference: &Reference, dir: &Path, usda: &Path, broken: Option<&str
 
 #[test]
 fn calibration_the_body_alone_matches_the_path_tracer_and_wrong_conventions_fail() {
-    let Some(reference) = reference() else { return };
+    let Some(reference) = common::reference() else {
+        return;
+    };
     let dir = scratch("calibration");
     let scene = dir.join("direct.toml");
     std::fs::write(&scene, "[light]\nambient = 0.0\n").unwrap();
@@ -346,7 +336,9 @@ fn calibration_the_body_alone_matches_the_path_tracer_and_wrong_conventions_fail
 
 #[test]
 fn calibration_thick_straight_strands_cover_the_same_pixels() {
-    let Some(reference) = reference() else { return };
+    let Some(reference) = common::reference() else {
+        return;
+    };
     let dir = scratch("strands");
     let scene = dir.join("strands.toml");
     std::fs::write(

@@ -13,6 +13,10 @@
 //! single scattering (paths of one bounce off the hair: no multiple scattering), and
 //! fur's own supersampled drawing (coverage exact, the model unchanged) against the
 //! full reference.
+//!
+//! Beside the references it writes, per scene, the reference and the drawings of both
+//! lighting models as PNGs (`truth/{scene}-reference.png`, `-kajiya-kay.png`,
+//! `-marschner.png`) for a side-by-side.
 
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -25,10 +29,10 @@ use crate::export::compare::{errors, rmse_linear, to_srgb8};
 use crate::export::reference::{read_pfm, LinearImage, Reference, TraceOptions, SCRIPT};
 use crate::export::{write_usda, FrameExport};
 use crate::render::budget::LADDER;
-use crate::render::{flip, FurStyle, Lighting, Primitive};
+use crate::render::{flip, FurStyle, Lighting, LightingModel, Primitive};
 
 /// The looks switched one at a time, each against the scene's own drawing.
-const LOOKS: usize = 6;
+const LOOKS: usize = 8;
 
 pub(super) fn tasks(scenes: usize) -> u64 {
     scenes as u64 * (3 + LADDER.len() as u64 + LOOKS as u64 + 1)
@@ -123,9 +127,14 @@ impl Bench<'_> {
                 });
                 (self.progress)(&format!("{scene}: rung {r}"));
             }
-            for (name, look) in looks(&own) {
+            for (i, (name, look)) in looks(&own).into_iter().enumerate() {
                 let drawn = shot.draw_look(&look, self.frames())?;
                 let (f, e) = errors(&drawn.image, &truth)?;
+                if i == 0 {
+                    // The other lighting model's drawing, for the side-by-side.
+                    let file = format!("{scene}-{}.png", look.lighting.model.name());
+                    drawn.image.write_png(&dir.join(file))?;
+                }
                 measured.push(Measured {
                     name: name.to_string(),
                     frame_ms: drawn.frame_ms,
@@ -137,6 +146,9 @@ impl Bench<'_> {
             let supersampled = shot.reference(4)?;
             let (ss_flip, ss_rmse) = errors(&supersampled, &truth)?;
             let own_drawn = shot.draw_look(&own, self.frames())?;
+            let file = format!("{scene}-{}.png", own.lighting.model.name());
+            own_drawn.image.write_png(&dir.join(file))?;
+            to_srgb8(&truth).write_png(&dir.join(format!("{scene}-reference.png")))?;
             let (own_flip, own_rmse) = errors(&own_drawn.image, &truth)?;
             let (own_single, _) = errors(&own_drawn.image, &single)?;
             (self.progress)(&format!("{scene}: attribution"));
@@ -207,8 +219,8 @@ impl Bench<'_> {
     }
 }
 
-/// The scene's look with one thing switched: shadows, the secondary highlight,
-/// thin-hair AA, one sample and four, lines and ribbons.
+/// The scene's look with one thing switched: the lighting model, shadows, the
+/// secondary highlight, thin-hair AA, one sample and four, lines and ribbons.
 fn looks(own: &Look) -> Vec<(&'static str, Look)> {
     let with_style = |edit: &dyn Fn(&mut FurStyle)| {
         let mut look = own.clone();
@@ -223,7 +235,22 @@ fn looks(own: &Look) -> Vec<(&'static str, Look)> {
     let shadows = own.lighting.shadows.enabled;
     let secondary = own.lighting.highlights.secondary;
     let aa = own.style.thin_hair_aa;
+    let marschner = own.lighting.model == LightingModel::Marschner;
     let looks = vec![
+        (
+            if marschner {
+                "Kajiya–Kay lighting"
+            } else {
+                "Marschner lighting"
+            },
+            with_light(&|l| {
+                l.model = if marschner {
+                    LightingModel::KajiyaKay
+                } else {
+                    LightingModel::Marschner
+                }
+            }),
+        ),
         (
             if shadows { "shadows off" } else { "shadows on" },
             with_light(&|l| l.shadows.enabled = !shadows),
@@ -243,6 +270,21 @@ fn looks(own: &Look) -> Vec<(&'static str, Look)> {
                 "thin-hair AA on"
             },
             with_style(&|s| s.thin_hair_aa = !aa),
+        ),
+        (
+            if marschner {
+                "Kajiya–Kay lighting, shadows on"
+            } else {
+                "Marschner lighting, shadows on"
+            },
+            with_light(&|l| {
+                l.model = if marschner {
+                    LightingModel::KajiyaKay
+                } else {
+                    LightingModel::Marschner
+                };
+                l.shadows.enabled = true;
+            }),
         ),
         ("1 sample", with_style(&|s| s.samples = 1)),
         ("4 samples", with_style(&|s| s.samples = 4)),

@@ -10,6 +10,7 @@ use std::sync::Arc;
 
 use ash::vk;
 
+use super::lighting::LightingModel;
 use super::pipeline::{graphics_pipeline, Blend, GraphicsDesc};
 use super::target::sample_flag;
 use super::uniforms::{FrameSettings, FurStyle, Primitive, Shading};
@@ -27,6 +28,8 @@ pub struct Variant {
     pub shadows: bool,
     /// The light's view into the shadow map: depth only, lines.
     pub caster: bool,
+    /// Lit by the Marschner fibre model instead of Kajiya–Kay.
+    pub marschner: bool,
 }
 
 impl Variant {
@@ -37,6 +40,7 @@ impl Variant {
         coverage: false,
         shadows: false,
         caster: true,
+        marschner: false,
     };
 }
 
@@ -76,8 +80,12 @@ impl FurPass {
     }
 
     /// The forms `style` draws with hairs `root_px` pixels wide at the root (the range
-    /// over the model): ribbons first, then the blended lines over them.
-    pub fn variants(style: &FurStyle, shadows: bool, root_px: (f32, f32)) -> Vec<Variant> {
+    /// over the model), lit by `model`: ribbons first, then the blended lines over them.
+    pub fn variants(
+        style: &FurStyle,
+        (shadows, model): (bool, LightingModel),
+        root_px: (f32, f32),
+    ) -> Vec<Variant> {
         let (lines, ribbons) = match style.primitive {
             Primitive::Lines => (true, false),
             Primitive::Ribbons => (false, true),
@@ -95,6 +103,7 @@ impl FurPass {
                 coverage: style.thin_hair_aa,
                 shadows,
                 caster: false,
+                marschner: model == LightingModel::Marschner,
             })
             .collect()
     }
@@ -158,6 +167,7 @@ impl FurPass {
             ("VERTEX_SHADING", flag(variant.shading == Shading::Vertex)),
             ("TEXTURED", textured.clone()),
             ("SHADOWS", flag(variant.shadows)),
+            ("MARSCHNER", flag(variant.marschner)),
             ("COVERAGE_SAMPLES", coverage_samples.to_string()),
         ];
         let mut geometry_defines = vec![
@@ -192,9 +202,14 @@ impl FurPass {
             "fur shadow pass".to_string()
         } else {
             format!(
-                "fur pass ({}, {} shading{}{})",
+                "fur pass ({}, {} {} shading{}{})",
                 if variant.lines { "lines" } else { "ribbons" },
                 variant.shading.name(),
+                if variant.marschner {
+                    "Marschner"
+                } else {
+                    "Kajiya–Kay"
+                },
                 if variant.coverage { ", coverage" } else { "" },
                 if variant.shadows { ", shadows" } else { "" },
             )

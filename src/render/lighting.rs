@@ -127,6 +127,39 @@ impl Fibre {
     }
 }
 
+/// How the fur is lit.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum LightingModel {
+    /// Kajiya & Kay 1989 with Scheuermann's shifted highlights: the seed's model.
+    #[default]
+    KajiyaKay,
+    /// A Marschner-family fibre model (R, TT and TRT lobes in Karis 2016's closed
+    /// forms) on the fibre's physical parameters, with an approximation of multiple
+    /// scattering (see `shaders/shading.glsl` and [`marschner`]).
+    Marschner,
+}
+
+impl LightingModel {
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::KajiyaKay => "kajiya-kay",
+            Self::Marschner => "marschner",
+        }
+    }
+}
+
+impl std::str::FromStr for LightingModel {
+    type Err = String;
+
+    fn from_str(s: &str) -> std::result::Result<Self, String> {
+        match s {
+            "kajiya-kay" => Ok(Self::KajiyaKay),
+            "marschner" => Ok(Self::Marschner),
+            _ => Err(format!("expected kajiya-kay or marschner, got `{s}`")),
+        }
+    }
+}
+
 /// Light and material.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Lighting {
@@ -147,8 +180,11 @@ pub struct Lighting {
     pub root_occlusion: f32,
     pub highlights: Highlights,
     pub shadows: Shadows,
-    /// The hair fibre's physical parameters (for the path tracer's hair model).
+    /// The hair fibre's physical parameters (the Marschner model's, and the path
+    /// tracer's).
     pub fibre: Fibre,
+    /// The hair's lighting model.
+    pub model: LightingModel,
 }
 
 impl Default for Lighting {
@@ -167,6 +203,7 @@ impl Default for Lighting {
             highlights: Highlights::default(),
             shadows: Shadows::default(),
             fibre: Fibre::default(),
+            model: LightingModel::default(),
         }
     }
 }

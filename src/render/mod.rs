@@ -5,6 +5,7 @@ pub mod budget;
 mod fur_pass;
 mod image;
 mod lighting;
+pub mod marschner;
 mod mesh_pass;
 mod pipeline;
 mod renderer;
@@ -15,7 +16,7 @@ mod texture;
 mod uniforms;
 
 pub use image::{flip, RgbaImage};
-pub use lighting::{kajiya_kay, Fibre, Highlights, Lighting, Shade, Shadows};
+pub use lighting::{kajiya_kay, Fibre, Highlights, Lighting, LightingModel, Shade, Shadows};
 pub use renderer::{
     CapturedHairs, FrameReport, HairCounts, Renderer, BACKGROUND, MAX_CAPTURE_BYTES,
 };

@@ -302,7 +302,7 @@ impl Renderer {
         let shadows = settings.lighting.shadows.enabled;
         let mut variants = FurPass::variants(
             &settings.style,
-            shadows,
+            (shadows, settings.lighting.model),
             FurPass::root_pixel_range(settings, self.bounds, self.target.extent.height),
         );
         if shadows {

@@ -208,6 +208,9 @@ pub struct FrameUniforms {
     pub secondary: Vec4,
     pub shadow: Vec4,
     pub strands: UVec4,
+    /// The fibre: longitudinal and azimuthal roughness, cuticle tilt (radians), index
+    /// of refraction (the Marschner model's parameters).
+    pub fibre: Vec4,
 }
 
 pub const FLAG_CULL: u32 = 1;
@@ -331,6 +334,12 @@ impl FrameUniforms {
                 strands.strands_per_row,
                 s.fixed_level.min(max_level as u32),
                 flags,
+            ),
+            fibre: Vec4::new(
+                l.fibre.longitudinal_roughness,
+                l.fibre.azimuthal_roughness,
+                l.fibre.cuticle_tilt_deg.to_radians(),
+                l.fibre.ior,
             ),
         }
     }

@@ -127,6 +127,15 @@ fn light_key(error: &std::result::Result<(), String>) -> (&'static str, &'static
     if let Some((_, key)) = shadows.iter().find(|(n, _)| message.contains(n)) {
         return ("shadows", key);
     }
+    let fibre = [
+        ("longitudinal roughness", "longitudinal_roughness"),
+        ("azimuthal roughness", "azimuthal_roughness"),
+        ("cuticle tilt", "cuticle_tilt"),
+        ("index of refraction", "ior"),
+    ];
+    if let Some((_, key)) = fibre.iter().find(|(n, _)| message.contains(n)) {
+        return ("fibre", key);
+    }
     let key = [
         ("primary highlight's shift", "primary_shift"),
         ("secondary highlight's shift", "secondary_shift"),

@@ -17,7 +17,7 @@ use checks::checks;
 pub use sections::*;
 
 use crate::error::{Error, Result};
-use crate::render::{Primitive, Shading};
+use crate::render::{LightingModel, Primitive, Shading};
 use crate::scene::{ModelSpec, TextureSpec};
 use crate::session::SceneOptions;
 use crate::sim::{Motion, MotionKind, SimParams};
@@ -165,6 +165,13 @@ impl Scene {
                 secondary_shift: Some(l.highlights.secondary_shift_deg),
                 secondary_shininess: Some(l.highlights.secondary_shininess),
                 secondary_strength: Some(l.highlights.secondary_strength),
+                lighting_model: Some(l.model.name().into()),
+            }),
+            fibre: Some(FibreSection {
+                longitudinal_roughness: Some(l.fibre.longitudinal_roughness),
+                azimuthal_roughness: Some(l.fibre.azimuthal_roughness),
+                cuticle_tilt: Some(l.fibre.cuticle_tilt_deg),
+                ior: Some(l.fibre.ior),
             }),
             shadows: Some(ShadowsSection {
                 enabled: Some(l.shadows.enabled),
@@ -402,6 +409,18 @@ impl SceneFile {
             set(&mut h.secondary_shift_deg, s.secondary_shift);
             set(&mut h.secondary_shininess, s.secondary_shininess);
             set(&mut h.secondary_strength, s.secondary_strength);
+            if let Some(m) = &s.lighting_model {
+                l.model = m
+                    .parse::<LightingModel>()
+                    .map_err(|e| fail(Some("light"), "lighting_model", e))?;
+            }
+        }
+        if let Some(s) = &self.fibre {
+            let f = &mut o.lighting.fibre;
+            set(&mut f.longitudinal_roughness, s.longitudinal_roughness);
+            set(&mut f.azimuthal_roughness, s.azimuthal_roughness);
+            set(&mut f.cuticle_tilt_deg, s.cuticle_tilt);
+            set(&mut f.ior, s.ior);
         }
         if let Some(s) = &self.shadows {
             let d = &mut o.lighting.shadows;

@@ -15,6 +15,7 @@ pub struct SceneFile {
     pub groom: Option<GroomSection>,
     pub render: Option<RenderSection>,
     pub light: Option<LightSection>,
+    pub fibre: Option<FibreSection>,
     pub shadows: Option<ShadowsSection>,
     pub simulation: Option<SimulationSection>,
     pub collision: Option<CollisionSection>,
@@ -91,6 +92,23 @@ pub struct LightSection {
     pub secondary_shift: Option<f32>,
     pub secondary_shininess: Option<f32>,
     pub secondary_strength: Option<f32>,
+    /// `kajiya-kay` or `marschner`.
+    pub lighting_model: Option<String>,
+}
+
+/// The hair fibre's physical parameters (Chiang et al. 2016), which the path-traced
+/// reference (`fur export-frame`, `tools/reference`) takes with the hair colour.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct FibreSection {
+    /// β_m, 0.01..1.
+    pub longitudinal_roughness: Option<f32>,
+    /// β_n, 0.01..1.
+    pub azimuthal_roughness: Option<f32>,
+    /// The cuticle scales' tilt α in degrees, −10..10.
+    pub cuticle_tilt: Option<f32>,
+    /// Index of refraction η, 1..3.
+    pub ior: Option<f32>,
 }
 
 /// Self-shadowing; the spacing in bounding radii (0 = the hair spacing).

@@ -3,7 +3,7 @@
 use std::path::PathBuf;
 
 use super::Hud;
-use crate::render::{FurStyle, Primitive, Shading};
+use crate::render::{FurStyle, LightingModel, Primitive, Shading};
 use crate::session::{FurSession, SceneOptions};
 use crate::sim::SimParams;
 
@@ -151,6 +151,18 @@ impl PanelState {
 
                 egui::CollapsingHeader::new("lighting").show(ui, |ui| {
                     let l = &mut session.settings.lighting;
+                    ui.horizontal(|ui| {
+                        ui.label("model");
+                        ui.radio_value(&mut l.model, LightingModel::KajiyaKay, "Kajiya–Kay");
+                        ui.radio_value(&mut l.model, LightingModel::Marschner, "Marschner");
+                    });
+                    if l.model == LightingModel::Marschner {
+                        let f = &mut l.fibre;
+                        ui.add(egui::Slider::new(&mut f.longitudinal_roughness, 0.01..=1.0).text("β_m (longitudinal roughness)"));
+                        ui.add(egui::Slider::new(&mut f.azimuthal_roughness, 0.01..=1.0).text("β_n (azimuthal roughness)"));
+                        ui.add(egui::Slider::new(&mut f.cuticle_tilt_deg, -10.0..=10.0).text("α (cuticle tilt, °)"));
+                        ui.add(egui::Slider::new(&mut f.ior, 1.0..=3.0).text("η (index of refraction)"));
+                    }
                     ui.add(egui::Slider::new(&mut l.kd, 0.0..=2.0).text("Kd (diffuse)"));
                     ui.add(egui::Slider::new(&mut l.ks, 0.0..=2.0).text("Ks (specular)"));
                     ui.add(egui::Slider::new(&mut l.shininess, 1.0..=200.0).text("p (exponent)").logarithmic(true));

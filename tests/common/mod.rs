@@ -25,6 +25,23 @@ pub fn device() -> Arc<Device> {
     device
 }
 
+/// The path-traced reference renderer, or None (loudly) where it is not set up and
+/// not required; with `FUR_REFERENCE_REQUIRED` set (CI, the README's test command) its
+/// absence fails the test.
+pub fn reference() -> Option<fur::export::reference::Reference> {
+    match fur::export::reference::Reference::find(std::path::Path::new(env!("CARGO_MANIFEST_DIR")))
+    {
+        Ok(r) => Some(r),
+        Err(e) if std::env::var_os("FUR_REFERENCE_REQUIRED").is_some() => {
+            panic!("FUR_REFERENCE_REQUIRED is set: {e}")
+        }
+        Err(e) => {
+            eprintln!("NOT RUN: {e}");
+            None
+        }
+    }
+}
+
 /// Fails the test if the validation layer reported anything.
 pub fn assert_clean(device: &Arc<Device>) {
     let messages = device.instance().validation_messages();

@@ -1,0 +1,108 @@
+//! The Marschner-family fibre model, on the CPU: the twin of `marschner` in
+//! `shaders/shading.glsl`, which the tests check the shaders against.
+//!
+//! Three lobes of light through a fibre (Marschner et al. 2003): R (reflected at the
+//! cuticle), TT (through the fibre) and TRT (one internal reflection), each a product
+//! of a longitudinal term M_p, an azimuthal term N_p and an attenuation A_p:
+//! - M_p: a Gaussian in θi + θo − s_p with the cuticle tilt's shifts s = (2α, −α, −4α)
+//!   (pbrt's and Mitsuba's convention) and standard deviations (σ, σ/2, 2σ), σ² being
+//!   Chiang et al. 2016's variance for the longitudinal roughness β_m;
+//! - N_p and A_p: Karis 2016's closed forms (Unreal's hair shading): N_R = cos(φ/2)/4,
+//!   N_TT = exp(−3.65 cos φ − 3.98), N_TRT = exp(17 cos φ − 16.78) (fitted to an
+//!   azimuthal roughness near 0.3), Schlick's Fresnel at each lobe's angle, and
+//!   absorption along each lobe's path through the fibre, from σa;
+//! - σa from the hair's colour by Chiang et al.'s mapping with the azimuthal roughness
+//!   β_n, the same the path tracer is given, so a colour means one material to both.
+//!
+//! Multiple scattering between fibres, which makes light fur bright and soft, follows
+//! Karis 2016 too: a wrapped diffuse lobe (1/π) · lerp(wrap, 1 − |t·l|, 0.33) times
+//! √colour, tinted toward the colour as the light is shadowed.
+//!
+//! The sum is radiance per unit irradiance; the renderer scales it by the light's
+//! irradiance (π · intensity, as the export gives the path tracer) and the fraction of
+//! light the shadow map lets through, and adds the ambient term.
+
+use glam::Vec3;
+
+use super::lighting::Fibre;
+
+/// Chiang et al. 2016's absorption σa (per unit fibre radius) for a fibre of roughly
+/// `color` (linear RGB) with azimuthal roughness `beta_n`.
+pub fn sigma_a_from_color(color: Vec3, beta_n: f32) -> Vec3 {
+    let b = beta_n;
+    let d = 5.969 - 0.215 * b + 2.532 * b.powi(2) - 10.73 * b.powi(3)
+        + 5.574 * b.powi(4)
+        + 0.245 * b.powi(5);
+    let l = color
+        .clamp(Vec3::splat(1e-4), Vec3::ONE)
+        .to_array()
+        .map(f32::ln);
+    Vec3::from_array(l.map(|x| (x / d) * (x / d)))
+}
+
+/// Chiang et al.'s longitudinal variance for roughness `beta_m`.
+pub fn longitudinal_variance(beta_m: f32) -> f32 {
+    let b = beta_m;
+    (0.726 * b + 0.812 * b * b + 3.7 * b.powi(20)).powi(2)
+}
+
+fn gaussian(sd: f32, x: f32) -> f32 {
+    (-0.5 * x * x / (sd * sd)).exp() / ((2.0 * std::f32::consts::PI).sqrt() * sd)
+}
+
+fn fresnel(cos_theta: f32, eta: f32) -> f32 {
+    let f0 = ((1.0 - eta) / (1.0 + eta)).powi(2);
+    f0 + (1.0 - f0) * (1.0 - cos_theta.clamp(0.0, 1.0)).powi(5)
+}
+
+/// The fibre's single scattering (R + TT + TRT) and its multiple scattering, per unit
+/// irradiance, for unit tangent `t`, unit `l` towards the light, unit `v` towards the
+/// eye, colour `base` and `light` the fraction of light that reaches the point.
+pub fn marschner(t: Vec3, l: Vec3, v: Vec3, base: Vec3, fibre: &Fibre, light: f32) -> Vec3 {
+    let sin_i = t.dot(l).clamp(-1.0, 1.0);
+    let sin_o = t.dot(v).clamp(-1.0, 1.0);
+    let (theta_i, theta_o) = (sin_i.asin(), sin_o.asin());
+    let cos_d = (0.5 * (theta_o - theta_i)).cos();
+    let (lp, vp) = (l - sin_i * t, v - sin_o * t);
+    let cos_phi = lp.dot(vp) / (lp.length_squared() * vp.length_squared() + 1e-4).sqrt();
+    let cos_half_phi = (0.5 + 0.5 * cos_phi).clamp(0.0, 1.0).sqrt();
+    let eta = fibre.ior;
+    let alpha = fibre.cuticle_tilt_deg.to_radians();
+    let sd = longitudinal_variance(fibre.longitudinal_roughness).sqrt();
+    let sum = theta_i + theta_o;
+    let sigma_a = sigma_a_from_color(base, fibre.azimuthal_roughness);
+    // R: reflected at the cuticle, white.
+    let m_r = gaussian(sd, sum - 2.0 * alpha);
+    let a_r = fresnel((0.5 + 0.5 * l.dot(v)).clamp(0.0, 1.0).sqrt(), eta);
+    let r = m_r * 0.25 * cos_half_phi * a_r;
+    // TT: through the fibre, coloured by the path's absorption.
+    let n_prime = 1.19 / cos_d + 0.36 * cos_d;
+    let a = 1.0 / n_prime;
+    let h = cos_half_phi * (1.0 + a * (0.6 - 0.8 * cos_phi));
+    let f_tt = fresnel(cos_d * (1.0 - h * h).clamp(0.0, 1.0).sqrt(), eta);
+    let path_tt = 2.0 * (1.0 - (h * a).powi(2)).clamp(0.0, 1.0).sqrt() / cos_d;
+    let t_tt = (-sigma_a * path_tt).exp();
+    let m_tt = gaussian(0.5 * sd, sum + alpha);
+    let tt = t_tt * (m_tt * (-3.65 * cos_phi - 3.98).exp() * (1.0 - f_tt).powi(2));
+    // TRT: one internal reflection.
+    let f_trt = fresnel(0.5 * cos_d, eta);
+    let t_trt = (-sigma_a * (3.2 / cos_d)).exp();
+    let m_trt = gaussian(2.0 * sd, sum + 4.0 * alpha);
+    let trt = t_trt * (m_trt * (17.0 * cos_phi - 16.78).exp() * (1.0 - f_trt).powi(2) * f_trt);
+    (Vec3::splat(r) + tt + trt) * light + multiple(t, l, v, base, light)
+}
+
+/// Karis 2016's approximation of multiple scattering between fibres.
+fn multiple(t: Vec3, l: Vec3, v: Vec3, base: Vec3, light: f32) -> Vec3 {
+    let kajiya = 1.0 - t.dot(l).abs();
+    let fake_normal = (v - t * v.dot(t)).normalize_or_zero();
+    let wrap = ((fake_normal.dot(l) + 1.0) / 4.0).clamp(0.0, 1.0);
+    let diffuse = (wrap + (kajiya - wrap) * 0.33) / std::f32::consts::PI;
+    let luma = base.dot(Vec3::new(0.2126, 0.7152, 0.0722)).max(1e-4);
+    let tint = (base / luma)
+        .max(Vec3::ZERO)
+        .to_array()
+        .map(|c| c.powf(1.0 - light));
+    let root = Vec3::from_array(base.max(Vec3::ZERO).to_array().map(f32::sqrt));
+    root * Vec3::from_array(tint) * (diffuse * light)
+}

@@ -1,0 +1,292 @@
+//! The Marschner fibre model on the device follows its CPU twin
+//! (`fur::render::marschner`), and the twin has the shape of the model: lavapipe,
+//! validation on.
+
+mod common;
+
+use fur::render::marschner::{marschner, sigma_a_from_color};
+use fur::render::{Fibre, FrameSettings, FurStyle, Lighting, LightingModel, Shading};
+use fur::scene::{Camera, GroomParams, Mesh};
+use glam::Vec3;
+
+const COLOR: Vec3 = Vec3::new(0.8, 0.45, 0.2);
+const INTENSITY: f32 = 0.6;
+const FIBRE: Fibre = Fibre {
+    longitudinal_roughness: 0.2,
+    azimuthal_roughness: 0.3,
+    cuticle_tilt_deg: 6.0,
+    ior: 1.55,
+};
+
+/// Far away with a narrow field of view: every hair is seen from almost the same
+/// direction, so the image's light is the model's at that direction.
+fn camera() -> Camera {
+    Camera {
+        target: Vec3::new(0.0, 0.2, 0.0),
+        yaw_deg: 0.0,
+        pitch_deg: 20.0,
+        distance: 20.0,
+        fov_y_deg: 4.0,
+    }
+}
+
+fn linear(c: u8) -> f32 {
+    fur::colour::srgb8_to_linear(c)
+}
+
+/// Straight hairs standing up (+Y) on a plane seen from the side, lit by the fibre
+/// model from `light_deg` off the hair (in the x–y plane; None: unlit, ambient 1).
+/// Returns the linear light over the background per channel summed over `mask`, the
+/// covered pixels and the background.
+fn standing_hairs(
+    device: &std::sync::Arc<fur::gpu::Device>,
+    light_deg: Option<f32>,
+    mask: Option<&[bool]>,
+) -> (Vec3, Vec<bool>, Vec3) {
+    let plane = Mesh::grid(6, 6, 1.0);
+    let groom = GroomParams {
+        segments: 6,
+        segment_length: 0.06,
+        comb_strength: 0.0,
+        ..Default::default()
+    };
+    let (light, intensity, ambient) = match light_deg {
+        Some(angle) => {
+            let a = angle.to_radians();
+            (Vec3::new(a.sin(), a.cos(), 0.0), INTENSITY, 0.0)
+        }
+        None => (Vec3::Y, 0.0, 1.0),
+    };
+    let settings = FrameSettings {
+        camera: camera(),
+        lighting: Lighting {
+            model: LightingModel::Marschner,
+            fibre: FIBRE,
+            light_direction: light,
+            intensity,
+            ambient,
+            root_occlusion: 0.0,
+            root_color: COLOR,
+            tip_color: COLOR,
+            ..Default::default()
+        },
+        draw_mesh: false,
+        style: FurStyle {
+            jitter: 0.0,
+            shading: Shading::Fragment,
+            ..FurStyle::default()
+        },
+        ..Default::default()
+    };
+    let (image, _, _) = common::render(device, &plane, &groom, &settings, (128, 96));
+    common::keep(&image, &format!("marschner_{light_deg:?}"));
+    let covered = common::covered(&image);
+    let mask = mask.unwrap_or(&covered);
+    let bg = image.pixel(0, 0);
+    let background = Vec3::new(linear(bg[0]), linear(bg[1]), linear(bg[2]));
+    let mut sum = Vec3::ZERO;
+    for (i, _) in mask.iter().enumerate().filter(|(_, c)| **c) {
+        let p = image.pixel(i as u32 % image.width, i as u32 / image.width);
+        sum += Vec3::new(linear(p[0]), linear(p[1]), linear(p[2])) - background;
+    }
+    (sum, covered, background)
+}
+
+/// The CPU twin's radiance of the standing hairs lit from `light`, averaged over the
+/// hairs' points weighted by their projected area (1/d²), as the image sums them.
+fn predicted(light: Vec3, fibre: &Fibre) -> Vec3 {
+    let eye = camera().eye();
+    let (mut sum, mut weight) = (Vec3::ZERO, 0.0);
+    for i in 0..12 {
+        for j in 0..12 {
+            for k in 0..6 {
+                let p = Vec3::new(
+                    -0.5 + (i as f32 + 0.5) / 12.0,
+                    0.36 * (k as f32 + 0.5) / 6.0,
+                    -0.5 + (j as f32 + 0.5) / 12.0,
+                );
+                let w = 1.0 / p.distance_squared(eye);
+                let v = (eye - p).normalize();
+                let f = marschner(Vec3::Y, light, v, COLOR, fibre, 1.0);
+                sum += w * std::f32::consts::PI * INTENSITY * f;
+                weight += w;
+            }
+        }
+    }
+    sum / weight
+}
+
+#[test]
+fn the_device_follows_the_cpu_twin_over_light_angles() {
+    let device = common::device();
+    let (unlit, mask, background) = standing_hairs(&device, None, None);
+    // Unlit, each hair adds coverage × (colour − background).
+    let coverage = unlit / (COLOR - background);
+    let mut measured = Vec::new();
+    let angles = [0.0f32, 30.0, 60.0, 90.0, 110.0, 130.0, 150.0, 170.0];
+    for angle in angles {
+        let (sum, _, _) = standing_hairs(&device, Some(angle), Some(&mask));
+        measured.push(sum / coverage + background);
+    }
+    let light = |angle: f32| {
+        let a = angle.to_radians();
+        Vec3::new(a.sin(), a.cos(), 0.0)
+    };
+    let mismatch = |fibre: &Fibre| {
+        let predictions: Vec<Vec3> = angles.iter().map(|&a| predicted(light(a), fibre)).collect();
+        let peak = predictions
+            .iter()
+            .map(|p| p.max_element())
+            .fold(0.0, f32::max);
+        let worst = measured
+            .iter()
+            .zip(&predictions)
+            .map(|(m, p)| (*m - *p).abs().max_element())
+            .fold(0.0, f32::max);
+        (worst / peak, predictions)
+    };
+    let (off, predictions) = mismatch(&FIBRE);
+    println!("measured {measured:?}\npredicted {predictions:?}\noff by {off}");
+    // 8-bit rounding, the mean over the hairs' points for the pixels' (measured: see
+    // the printout) and hairs hiding hairs.
+    assert!(
+        off < 0.05,
+        "the device is off its CPU twin by {off} of the peak"
+    );
+    // The comparison can tell a wrong tilt or roughness.
+    for (what, wrong) in [
+        (
+            "the cuticle tilt's sign",
+            Fibre {
+                cuticle_tilt_deg: -FIBRE.cuticle_tilt_deg,
+                ..FIBRE
+            },
+        ),
+        (
+            "twice the longitudinal roughness",
+            Fibre {
+                longitudinal_roughness: 2.0 * FIBRE.longitudinal_roughness,
+                ..FIBRE
+            },
+        ),
+    ] {
+        let (wrong_off, _) = mismatch(&wrong);
+        assert!(
+            wrong_off > 2.0 * off.max(0.01),
+            "a prediction with {what} matches as well ({wrong_off} against {off})"
+        );
+    }
+    common::assert_clean(&device);
+}
+
+#[test]
+fn the_twin_has_the_shape_of_the_model() {
+    let fibre = Fibre::default();
+    // White hair absorbs nothing; darker hair more, every channel in order.
+    assert_eq!(sigma_a_from_color(Vec3::ONE, 0.3), Vec3::ZERO);
+    let s = sigma_a_from_color(COLOR, 0.3);
+    assert!(s.x < s.y && s.y < s.z, "{s}");
+    // Chiang et al.'s worked value: colour 0.5 at β_n = 0.3 is σa = (ln 0.5 / D)²,
+    // D = 5.969 − 0.0645 + 0.22788 − 0.28971 + 0.0451494 + 0.00059535 = 5.88841475.
+    let half = sigma_a_from_color(Vec3::splat(0.5), 0.3).x;
+    assert!(
+        (half - (0.5f32.ln() / 5.888_415).powi(2)).abs() < 1e-6,
+        "{half}"
+    );
+    // The R lobe: seen from the side of standing hairs, lit from the mirror direction
+    // shifted by twice the tilt, brighter than from the unshifted mirror.
+    let v = Vec3::new(0.0, 0.0, 1.0);
+    let tilt = fibre.cuticle_tilt_deg.to_radians();
+    let from = |theta: f32| Vec3::new(0.0, theta.sin(), theta.cos());
+    // (Dark hair: the TRT lobe, shifted the other way, is absorbed.)
+    let dark = Vec3::splat(0.01);
+    let shifted = marschner(Vec3::Y, from(2.0 * tilt), v, dark, &fibre, 1.0);
+    let mirror = marschner(Vec3::Y, from(-2.0 * tilt), v, dark, &fibre, 1.0);
+    assert!(shifted.x > mirror.x, "{shifted} {mirror}");
+    // TT: light from behind the fibre comes through, less of it through darker hair
+    // (absorption along the path).
+    let behind = Vec3::new(0.0, 0.0, -1.0);
+    let light_hair = marschner(Vec3::Y, behind, v, Vec3::splat(0.9), &fibre, 1.0);
+    let dark_hair = marschner(Vec3::Y, behind, v, Vec3::splat(0.1), &fibre, 1.0);
+    assert!(light_hair.x > 1.2 * dark_hair.x, "{light_hair} {dark_hair}");
+    // No light, no direct or scattered light.
+    assert_eq!(
+        marschner(Vec3::Y, behind, v, COLOR, &fibre, 0.0),
+        Vec3::ZERO
+    );
+    // Finite at grazing angles (light and view along the hair).
+    assert!(marschner(Vec3::Y, Vec3::Y, Vec3::Y, COLOR, &fibre, 1.0).is_finite());
+}
+
+/// The light elevation (degrees, towards the tip) of the brightest reflection of a
+/// dark fibre seen side on, by `fur`'s twin and by the path tracer's hair model: the
+/// two must agree on which way the cuticle tilt shifts the highlight.
+#[test]
+fn the_highlight_shifts_the_way_the_path_tracers_does() {
+    let fibre = Fibre {
+        longitudinal_roughness: 0.2,
+        azimuthal_roughness: 0.3,
+        cuticle_tilt_deg: 8.0,
+        ior: 1.55,
+    };
+    let dark = Vec3::splat(0.02);
+    let v = Vec3::Z;
+    let twin_peak = (-60..=60)
+        .map(|d| d as f32)
+        .max_by(|a, b| {
+            let at = |deg: f32| {
+                let r = deg.to_radians();
+                marschner(
+                    Vec3::Y,
+                    Vec3::new(0.0, r.sin(), r.cos()),
+                    v,
+                    dark,
+                    &fibre,
+                    1.0,
+                )
+                .x
+            };
+            at(*a).total_cmp(&at(*b))
+        })
+        .unwrap();
+    // Near 2α towards the tip (the smooth multiple-scattering term pulls it a little).
+    assert!(
+        (12.0..=17.0).contains(&twin_peak),
+        "the twin peaks at {twin_peak}°, not near 2α = 16°"
+    );
+    let Some(reference) = common::reference() else {
+        return;
+    };
+    // A vertical fibre from root (y = 0) to tip (y = 1), seen along −z at its centre.
+    let script = r#"
+import mitsuba as mi, numpy as np, tempfile, os
+mi.set_variant('scalar_rgb')
+d = tempfile.mkdtemp()
+path = os.path.join(d, 'fibre.txt')
+open(path, 'w').write('\n'.join(['0 0 0 0.01'] * 3 + ['0 1 0 0.01'] * 3) + '\n')
+sigma = ((np.log(0.02) / 5.888415) ** 2).item()
+scene = mi.load_dict({'type': 'scene', 'c': {'type': 'bsplinecurve', 'filename': path,
+    'bsdf': {'type': 'hair', 'scale_tilt': 8.0, 'longitudinal_roughness': 0.2,
+             'azimuthal_roughness': 0.3, 'sigma_a': {'type': 'rgb', 'value': [sigma] * 3}}}})
+si = scene.ray_intersect(mi.Ray3f([0, 0.5, 5], [0, 0, -1]))
+bsdf, ctx = si.bsdf(), mi.BSDFContext()
+best = max(range(-60, 61), key=lambda deg: bsdf.eval(ctx, si, si.to_local(
+    mi.Vector3f(0, np.sin(np.radians(deg)), np.cos(np.radians(deg)))))[0])
+print(best)
+"#;
+    let out = std::process::Command::new(reference.python())
+        .args(["-c", script])
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let path_tracer: f32 = String::from_utf8_lossy(&out.stdout).trim().parse().unwrap();
+    // Same side (a flipped tilt would put fur's peak near −16°), within 3°.
+    assert!(
+        (path_tracer - twin_peak).abs() <= 3.0,
+        "the path tracer's highlight peaks at {path_tracer}°, fur's at {twin_peak}°"
+    );
+}

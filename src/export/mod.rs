@@ -1,6 +1,6 @@
 //! One frame as drawn, handed over to a path tracer: the hairs the geometry stage
 //! emitted, the posed body, the camera, the lights and the hair's physical parameters,
-//! written as USD text (`.usda`; [`usda`]).
+//! written as USD text (`.usda`; [`write_usda`]).
 //!
 //! The renderer's lights and materials become physical ones that give the same
 //! radiance where the real-time model is exact (an unoccluded diffuse surface):

@@ -135,7 +135,7 @@ pub enum LightingModel {
     KajiyaKay,
     /// A Marschner-family fibre model (R, TT and TRT lobes in Karis 2016's closed
     /// forms) on the fibre's physical parameters, with an approximation of multiple
-    /// scattering (see `shaders/shading.glsl` and [`marschner`]).
+    /// scattering (see `shaders/shading.glsl` and [`super::marschner::marschner`]).
     Marschner,
 }
 

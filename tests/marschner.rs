@@ -6,7 +6,7 @@ mod common;
 
 use fur::render::marschner::{marschner, sigma_a_from_color};
 use fur::render::{Fibre, FrameSettings, FurStyle, Lighting, LightingModel, Shading};
-use fur::scene::{Camera, GroomParams, Mesh};
+use fur::scene::Camera;
 use glam::Vec3;
 
 const COLOR: Vec3 = Vec3::new(0.8, 0.45, 0.2);
@@ -43,13 +43,7 @@ fn standing_hairs(
     light_deg: Option<f32>,
     mask: Option<&[bool]>,
 ) -> (Vec3, Vec<bool>, Vec3) {
-    let plane = Mesh::grid(6, 6, 1.0);
-    let groom = GroomParams {
-        segments: 6,
-        segment_length: 0.06,
-        comb_strength: 0.0,
-        ..Default::default()
-    };
+    let (plane, groom) = common::standing_hairs_scene();
     let (light, intensity, ambient) = match light_deg {
         Some(angle) => {
             let a = angle.to_radians();

@@ -297,13 +297,7 @@ fn standing_hairs_lit(
     defines: &[(&str, &str)],
     mask: Option<&[bool]>,
 ) -> (f32, Vec<bool>, f32) {
-    let plane = Mesh::grid(6, 6, 1.0);
-    let groom = GroomParams {
-        segments: 6,
-        segment_length: 0.06,
-        comb_strength: 0.0,
-        ..Default::default()
-    };
+    let (plane, groom) = common::standing_hairs_scene();
     let (light, kd, ambient) = match light_deg {
         Some(angle) => {
             let a = angle.to_radians();

@@ -22,20 +22,11 @@ use fur::strand_textures::StrandTextures;
 use glam::Vec3;
 
 fn fur(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_fur"))
-        .args(args)
-        .env("RUST_BACKTRACE", "0")
-        .output()
-        .expect("the fur binary runs")
+    common::fur(args)
 }
 
 fn scratch(name: &str) -> PathBuf {
-    let dir = Path::new(env!("CARGO_TARGET_TMPDIR"))
-        .join("truth")
-        .join(name);
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
+    common::scratch("truth", name)
 }
 
 /// The blob's default scene, small, drawn and captured by the library.

@@ -122,16 +122,7 @@ impl Shot {
         (warm, measured): (usize, usize),
         count: bool,
     ) -> Result<Drawn> {
-        let texture = self.texture.as_ref().filter(|_| look.textured);
-        let mut renderer = Renderer::textured(
-            &self.device,
-            &self.mesh,
-            texture,
-            &self.textures,
-            extent,
-            1,
-            look.style.samples,
-        )?;
+        let mut renderer = self.renderer(look, extent)?;
         let mut settings = FrameSettings {
             style: look.style.clone(),
             lighting: look.lighting.clone(),
@@ -163,22 +154,28 @@ impl Shot {
         })
     }
 
+    /// A renderer of this frame into `extent` for `look` (its texture, if it takes it,
+    /// and sample count).
+    fn renderer(&self, look: &Look, extent: vk::Extent2D) -> Result<Renderer> {
+        let texture = self.texture.as_ref().filter(|_| look.textured);
+        Renderer::textured(
+            &self.device,
+            &self.mesh,
+            texture,
+            &self.textures,
+            extent,
+            1,
+            look.style.samples,
+        )
+    }
+
     /// The frame drawn with `look`, with every hair it draws captured (for the
     /// path-traced truth), and the settings it was drawn with.
     pub fn capture(
         &self,
         look: &Look,
     ) -> Result<(RgbaImage, crate::render::CapturedHairs, FrameSettings)> {
-        let texture = self.texture.as_ref().filter(|_| look.textured);
-        let mut renderer = Renderer::textured(
-            &self.device,
-            &self.mesh,
-            texture,
-            &self.textures,
-            self.extent,
-            1,
-            look.style.samples,
-        )?;
+        let mut renderer = self.renderer(look, self.extent)?;
         let settings = FrameSettings {
             style: look.style.clone(),
             lighting: look.lighting.clone(),

@@ -42,6 +42,37 @@ pub fn reference() -> Option<fur::export::reference::Reference> {
     }
 }
 
+/// Runs the `fur` binary with `args` (no backtraces: a panic shows as `panicked`).
+pub fn fur(args: &[&str]) -> std::process::Output {
+    std::process::Command::new(env!("CARGO_BIN_EXE_fur"))
+        .args(args)
+        .env("RUST_BACKTRACE", "0")
+        .output()
+        .expect("the fur binary runs")
+}
+
+/// An empty scratch folder `group/name` under the target's temporary folder.
+pub fn scratch(group: &str, name: &str) -> std::path::PathBuf {
+    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR"))
+        .join(group)
+        .join(name);
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+/// Straight hairs standing up (+Y) on a 1 × 1 plane: six segments of 0.06, uncombed.
+pub fn standing_hairs_scene() -> (Mesh, GroomParams) {
+    let plane = Mesh::grid(6, 6, 1.0);
+    let groom = GroomParams {
+        segments: 6,
+        segment_length: 0.06,
+        comb_strength: 0.0,
+        ..Default::default()
+    };
+    (plane, groom)
+}
+
 /// Fails the test if the validation layer reported anything.
 pub fn assert_clean(device: &Arc<Device>) {
     let messages = device.instance().validation_messages();

@@ -90,6 +90,9 @@ impl Device {
             .enabled_extension_names(&extension_names)
             .push_next(&mut features13)
             .push_next(&mut features12);
+        // Held until the device and its debug-utils functions are loaded (see
+        // `loader_lock`).
+        let _loader = super::loader_lock();
         let raw = unsafe { instance.raw.create_device(physical, &create_info, None) }
             .vk("vkCreateDevice")?;
         let queue = unsafe { raw.get_device_queue(queue_family, 0) };
@@ -191,6 +194,7 @@ impl Device {
         let info = vk::DebugUtilsObjectNameInfoEXT::default()
             .object_handle(handle)
             .object_name(&name);
+        let _loader = super::loader_lock();
         // Naming is best-effort diagnostics: a failure is not worth aborting for.
         let _ = unsafe { debug_utils.set_debug_utils_object_name(&info) };
     }
@@ -199,12 +203,14 @@ impl Device {
     pub fn begin_label(&self, cmd: vk::CommandBuffer, name: &str) {
         if let (Some(debug_utils), Ok(name)) = (&self.debug_utils, std::ffi::CString::new(name)) {
             let label = vk::DebugUtilsLabelEXT::default().label_name(&name);
+            let _loader = super::loader_lock();
             unsafe { debug_utils.cmd_begin_debug_utils_label(cmd, &label) };
         }
     }
 
     pub fn end_label(&self, cmd: vk::CommandBuffer) {
         if let Some(debug_utils) = &self.debug_utils {
+            let _loader = super::loader_lock();
             unsafe { debug_utils.cmd_end_debug_utils_label(cmd) };
         }
     }
@@ -272,6 +278,7 @@ impl Drop for Device {
             // The allocator frees its memory blocks through the device: drop it first
             // (every other holder of the Arc is gone by now).
             ManuallyDrop::drop(&mut self.allocator);
+            let _loader = super::loader_lock();
             self.raw.destroy_device(None);
         }
     }

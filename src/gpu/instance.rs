@@ -55,8 +55,15 @@ impl Instance {
     pub fn new(desc: &InstanceDesc) -> Result<Self> {
         // SAFETY: loading the system's Vulkan loader; symbols are resolved by ash.
         let entry = unsafe { ash::Entry::load()? };
+        // The loader may load and unload drivers and layers while it answers these
+        // (see `loader_lock`).
+        let loader = super::loader_lock();
         let layers = unsafe { entry.enumerate_instance_layer_properties() }
-            .vk("vkEnumerateInstanceLayerProperties")?;
+            .vk("vkEnumerateInstanceLayerProperties");
+        let available = unsafe { entry.enumerate_instance_extension_properties(None) }
+            .vk("vkEnumerateInstanceExtensionProperties");
+        drop(loader);
+        let (layers, available) = (layers?, available?);
         let has_layer = |name: &CStr| {
             layers
                 .iter()
@@ -65,8 +72,6 @@ impl Instance {
         if desc.validation && !has_layer(VALIDATION_LAYER) {
             return Err(crate::Error::ValidationLayerMissing);
         }
-        let available = unsafe { entry.enumerate_instance_extension_properties(None) }
-            .vk("vkEnumerateInstanceExtensionProperties")?;
         let has_debug_utils = available.iter().any(|e| {
             e.extension_name_as_c_str()
                 .is_ok_and(|n| n == ext::debug_utils::NAME)
@@ -103,7 +108,9 @@ impl Instance {
             // Also reports problems during vkCreateInstance/vkDestroyInstance.
             create_info = create_info.push_next(&mut messenger_info);
         }
+        let loader = super::loader_lock();
         let raw = unsafe { entry.create_instance(&create_info, None) }.vk("vkCreateInstance")?;
+        drop(loader);
 
         let (debug_utils, messenger) = if has_debug_utils {
             let debug_utils = ext::debug_utils::Instance::new(&entry, &raw);
@@ -174,12 +181,14 @@ impl Instance {
 
 impl Drop for Instance {
     fn drop(&mut self) {
+        let loader = super::loader_lock();
         unsafe {
             if let Some(debug_utils) = &self.debug_utils {
                 debug_utils.destroy_debug_utils_messenger(self.messenger, None);
             }
             self.raw.destroy_instance(None);
         }
+        drop(loader);
         // What the layer said while the device was torn down (objects left alive, for
         // one) comes after every check: say it here rather than lose it.
         let reported = self.log.reported.load(std::sync::atomic::Ordering::SeqCst);

@@ -31,6 +31,22 @@ pub use swapchain::{Surface, Swapchain};
 
 use crate::error::Result;
 
+/// Held around every call that makes the Vulkan loader change its process-wide lists of
+/// drivers and devices (instance creation and destruction, vkEnumeratePhysicalDevices,
+/// which unloads the drivers that find no device, vkCreateDevice, vkDestroyDevice) and
+/// around the debug-utils calls it resolves by walking those lists (object names,
+/// command-buffer labels). Debian 13's loader (1.4.309) walks them under a lock its
+/// writers do not take (KhronosGroup/Vulkan-Loader#2018), so two threads with their own
+/// instances (the tests) could crash it: a thread naming a buffer while another's
+/// enumeration unloaded a driver. The product has one device; the lock costs nothing
+/// there.
+static LOADER: std::sync::Mutex<()> = std::sync::Mutex::new(());
+
+/// Takes [`LOADER`]; a panic elsewhere while it was held leaves nothing to repair.
+pub(crate) fn loader_lock() -> std::sync::MutexGuard<'static, ()> {
+    LOADER.lock().unwrap_or_else(|e| e.into_inner())
+}
+
 /// Destroys the device and reports what outlived the work: a Vulkan object never
 /// released (it holds the device, which then cannot be destroyed), or anything the
 /// validation layer said, teardown included (its object tracker names every object

@@ -61,8 +61,12 @@ pub(super) fn select_physical_device(
 }
 
 fn probe_all(instance: &Instance, present: Option<&PresentTarget<'_>>) -> Result<Vec<Probe>> {
+    // The loader unloads drivers that find no device while it enumerates (see
+    // `loader_lock`).
+    let loader = super::loader_lock();
     let devices =
         unsafe { instance.raw.enumerate_physical_devices() }.vk("vkEnumeratePhysicalDevices")?;
+    drop(loader);
     Ok(devices
         .into_iter()
         .enumerate()

@@ -28,8 +28,8 @@ pub struct Variant {
     pub shadows: bool,
     /// The light's view into the shadow map: depth only, lines.
     pub caster: bool,
-    /// Lit by the Marschner fibre model instead of Kajiya–Kay.
-    pub marschner: bool,
+    /// How the hair is lit.
+    pub model: LightingModel,
 }
 
 impl Variant {
@@ -40,7 +40,7 @@ impl Variant {
         coverage: false,
         shadows: false,
         caster: true,
-        marschner: false,
+        model: LightingModel::KajiyaKay,
     };
 }
 
@@ -103,7 +103,7 @@ impl FurPass {
                 coverage: style.thin_hair_aa,
                 shadows,
                 caster: false,
-                marschner: model == LightingModel::Marschner,
+                model,
             })
             .collect()
     }
@@ -167,7 +167,7 @@ impl FurPass {
             ("VERTEX_SHADING", flag(variant.shading == Shading::Vertex)),
             ("TEXTURED", textured.clone()),
             ("SHADOWS", flag(variant.shadows)),
-            ("MARSCHNER", flag(variant.marschner)),
+            ("MARSCHNER", flag(variant.model == LightingModel::Marschner)),
             ("COVERAGE_SAMPLES", coverage_samples.to_string()),
         ];
         let mut geometry_defines = vec![
@@ -205,11 +205,7 @@ impl FurPass {
                 "fur pass ({}, {} {} shading{}{})",
                 if variant.lines { "lines" } else { "ribbons" },
                 variant.shading.name(),
-                if variant.marschner {
-                    "Marschner"
-                } else {
-                    "Kajiya–Kay"
-                },
+                variant.model.label(),
                 if variant.coverage { ", coverage" } else { "" },
                 if variant.shadows { ", shadows" } else { "" },
             )

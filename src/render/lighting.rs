@@ -140,10 +140,19 @@ pub enum LightingModel {
 }
 
 impl LightingModel {
+    /// The name on the command line and in scene files.
     pub fn name(self) -> &'static str {
         match self {
             Self::KajiyaKay => "kajiya-kay",
             Self::Marschner => "marschner",
+        }
+    }
+
+    /// The name in prose and tables.
+    pub fn label(self) -> &'static str {
+        match self {
+            Self::KajiyaKay => "Kajiya–Kay",
+            Self::Marschner => "Marschner",
         }
     }
 }

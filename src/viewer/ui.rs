@@ -153,8 +153,9 @@ impl PanelState {
                     let l = &mut session.settings.lighting;
                     ui.horizontal(|ui| {
                         ui.label("model");
-                        ui.radio_value(&mut l.model, LightingModel::KajiyaKay, "Kajiya–Kay");
-                        ui.radio_value(&mut l.model, LightingModel::Marschner, "Marschner");
+                        for model in [LightingModel::KajiyaKay, LightingModel::Marschner] {
+                            ui.radio_value(&mut l.model, model, model.label());
+                        }
                     });
                     if l.model == LightingModel::Marschner {
                         let f = &mut l.fibre;

@@ -55,8 +55,7 @@ impl CapturedHairs {
     }
 
     /// Parses `count` hairs written by the geometry stage in `words`.
-    fn parse(words: &[[f32; 4]], count: usize, v: usize) -> Self {
-        let words: Vec<Vec4> = words.iter().map(|w| Vec4::from_array(*w)).collect();
+    fn parse(words: &[Vec4], count: usize, v: usize) -> Self {
         let stride = 2 * v + 1;
         let mut order: Vec<usize> = (0..count).collect();
         // The atomic hands out places in the order the device runs: sort by the seed,
@@ -141,7 +140,8 @@ impl Renderer {
         }
         let start = COUNTERS_BYTES as usize;
         let end = start + (counted * CapturedHairs::bytes_per_hair(v)) as usize;
-        let words: Vec<[f32; 4]> = bytemuck::pod_collect_to_vec(&buffer.mapped()[start..end]);
+        // Copied out (the mapping need not be 16-byte aligned for `Vec4`).
+        let words: Vec<Vec4> = bytemuck::pod_collect_to_vec(&buffer.mapped()[start..end]);
         let hairs = CapturedHairs::parse(&words, counted as usize, v as usize);
         Ok((image, hairs))
     }

@@ -1,6 +1,7 @@
 //! Recording a frame: its first timestamp, then the shadow, mesh and fur passes into
 //! the target, with timestamps and pipeline statistics around them.
 
+use super::super::slot::COUNTERS_BYTES;
 use super::*;
 
 impl Renderer {
@@ -34,7 +35,8 @@ impl Renderer {
         d.begin_label(cmd, "frame");
         if settings.count_hairs {
             // The previous frame's counts have been read (its fence waited on).
-            unsafe { raw.cmd_fill_buffer(cmd, frame.counters.raw(), 0, vk::WHOLE_SIZE, 0) };
+            // The header only: a capture behind it is written whole by the frame.
+            unsafe { raw.cmd_fill_buffer(cmd, frame.counters.raw(), 0, COUNTERS_BYTES, 0) };
             memory_barrier(
                 d,
                 cmd,

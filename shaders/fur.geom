@@ -65,7 +65,7 @@ layout(location = 4) flat out uint g_seed;        // the hair's, for its coverag
 #if COUNT_HAIRS
 // What the pass drew. With a capture buffer bound (`fur export-frame`; `captured` is
 // empty otherwise), every counted hair is also written out as drawn: per hair
-// 2 · STRAND_VERTICES + 1 vec4s (src/render/capture.rs reads them), in the order the
+// 2 · STRAND_VERTICES + 1 vec4s (src/render/renderer/capture.rs reads them), in the order the
 // atomic hands out.
 layout(set = 0, binding = 3, std430) buffer Counters {
     uint hairs_drawn;
@@ -93,6 +93,11 @@ vec3 blended(uvec3 h, vec3 b, uint k) {
 
 float along(uint k) {
     return float(k) / float(V - 1u);
+}
+
+// The hair's true width at vertex k: `thickness` at the root, tapering to a fifth.
+float true_width(float thickness, uint k) {
+    return thickness * (1.0 - 0.8 * along(k));
 }
 
 // Whether the segment a → c draws every vertex between within `tolerance` pixels of
@@ -177,8 +182,7 @@ void capture(uint index, float thickness) {
     }
     uint at = index * stride;
     for (uint k = 0u; k < V; ++k) {
-        float true_width = thickness * (1.0 - 0.8 * along(k));
-        counters.captured[at + k] = vec4(P[k], true_width);
+        counters.captured[at + k] = vec4(P[k], true_width(thickness, k));
         counters.captured[at + V + k] = vec4(hair_base(along(k), root_texel()), W[k]);
     }
     counters.captured[at + 2u * V] = vec4(uintBitsToFloat(hair_seed), float(1 - LINES), thickness, 0.0);
@@ -227,13 +231,13 @@ void main() {
         vec3 p = k == 0u ? root : root + (blended(h, b, k) - root) * length_scale;
         P[k] = p + jitter * along(k);
         S[k] = pixel * distance(P[k], frame.eye.xyz);
-        float true_width = thickness * (1.0 - 0.8 * along(k));
-        W[k] = max(true_width, frame.hair.y * S[k]);
+        float width = true_width(thickness, k);
+        W[k] = max(width, frame.hair.y * S[k]);
 #if LINES
         // A line is a pixel wide: it covers the pixel by the hair's width.
-        C[k] = min((thin_hair_aa ? true_width : W[k]) / S[k], 1.0);
+        C[k] = min((thin_hair_aa ? width : W[k]) / S[k], 1.0);
 #else
-        C[k] = thin_hair_aa ? true_width / W[k] : 1.0;
+        C[k] = thin_hair_aa ? width / W[k] : 1.0;
 #endif
     }
 

@@ -4,6 +4,7 @@
 
 mod common;
 
+use fur::colour::srgb8_to_linear as linear;
 use fur::render::marschner::{marschner, sigma_a_from_color};
 use fur::render::{Fibre, FrameSettings, FurStyle, Lighting, LightingModel, Shading};
 use fur::scene::Camera;
@@ -28,10 +29,6 @@ fn camera() -> Camera {
         distance: 20.0,
         fov_y_deg: 4.0,
     }
-}
-
-fn linear(c: u8) -> f32 {
-    fur::colour::srgb8_to_linear(c)
 }
 
 /// Straight hairs standing up (+Y) on a plane seen from the side, lit by the fibre

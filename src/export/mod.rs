@@ -109,7 +109,7 @@ impl FrameExport {
         });
         let view = camera.view();
         let up = view.inverse().transform_vector3(Vec3::Y).normalize();
-        let projection_near = camera.distance * 0.01;
+        let (near, far) = camera.clip_planes();
         Self {
             hairs,
             body,
@@ -121,8 +121,8 @@ impl FrameExport {
                 fov_y_deg: camera.fov_y_deg,
                 width,
                 height,
-                near: projection_near,
-                far: camera.distance * 20.0,
+                near,
+                far,
             },
             light: LightExport {
                 direction: lighting.light_direction.normalize(),

@@ -46,11 +46,15 @@ impl Camera {
         Mat4::look_at_rh(eye, self.target, up)
     }
 
+    /// The near and far clipping distances. Both follow the distance, so a model of any
+    /// size is framed alike.
+    pub fn clip_planes(&self) -> (f32, f32) {
+        (self.distance * 0.01, self.distance * 20.0)
+    }
+
     /// Vulkan clip space: depth 0..1, y pointing down the framebuffer.
     pub fn projection(&self, aspect: f32) -> Mat4 {
-        // Both planes follow the distance, so a model of any size is framed alike.
-        let near = self.distance * 0.01;
-        let far = self.distance * 20.0;
+        let (near, far) = self.clip_planes();
         let mut proj = Mat4::perspective_rh(self.fov_y_deg.to_radians(), aspect, near, far);
         proj.y_axis.y = -proj.y_axis.y;
         proj

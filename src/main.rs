@@ -10,7 +10,7 @@ mod export_command;
 mod render_command;
 
 use anyhow::{bail, Context as _};
-use args::{DeviceArgs, SceneArgs, SimArgs};
+use args::{DeviceArgs, SceneArgs};
 use ash::vk;
 use clap::{Args, Parser, Subcommand};
 use fur::scene::ModelSpec;
@@ -105,20 +105,10 @@ struct ViewArgs {
     scene_file: Option<PathBuf>,
     #[command(flatten)]
     scene: SceneArgs,
-    /// Initial window width in pixels [1280].
-    #[arg(long, allow_negative_numbers = true)]
-    width: Option<u32>,
-    /// Initial window height in pixels [720].
-    #[arg(long, allow_negative_numbers = true)]
-    height: Option<u32>,
     /// Write the panel's state as a scene file when the viewer closes (the panel's
     /// "save scene" button writes it at once).
     #[arg(long, allow_hyphen_values = true)]
     save_scene: Option<PathBuf>,
-    #[command(flatten)]
-    sim: SimArgs,
-    #[command(flatten)]
-    animation: args::AnimationArgs,
     /// Hold this frame rate by lowering the drawing quality while the view moves (the
     /// quality ladder); back at full quality within 2 s of the last input; 0 = off,
     /// always the scene's drawing [30].
@@ -152,16 +142,6 @@ struct RenderArgs {
     /// Output PNG of a single frame.
     #[arg(long, default_value = "fur.png", allow_hyphen_values = true)]
     out: PathBuf,
-    /// Image width in pixels [1280].
-    #[arg(long, allow_negative_numbers = true)]
-    width: Option<u32>,
-    /// Image height in pixels [720].
-    #[arg(long, allow_negative_numbers = true)]
-    height: Option<u32>,
-
-    #[command(flatten)]
-    sim: SimArgs,
-
     /// Simulate and render this many frames (1/60 s each) into --out-dir.
     #[arg(long, default_value_t = 1, allow_negative_numbers = true)]
     frames: u32,
@@ -173,18 +153,6 @@ struct RenderArgs {
     /// [off].
     #[arg(long, allow_negative_numbers = true)]
     budget_ms: Option<f64>,
-    /// Scripted head motion when simulating: still, shake, spin or nod [shake].
-    #[arg(long)]
-    motion: Option<MotionKind>,
-    /// Motion amplitude: fraction of the model radius for shake, degrees for nod [0.25].
-    #[arg(long, allow_negative_numbers = true)]
-    amplitude: Option<f64>,
-    /// Motion rate: Hz for shake and nod, turns per second for spin [1].
-    #[arg(long, allow_negative_numbers = true)]
-    rate: Option<f64>,
-    #[command(flatten)]
-    animation: args::AnimationArgs,
-
     /// Enable the Khronos validation layer; any validation message fails the run.
     #[arg(long)]
     validate: bool,
@@ -322,16 +290,12 @@ fn view(args: ViewArgs) -> anyhow::Result<()> {
     if args.frames == Some(0) {
         bail!("--frames must be at least 1");
     }
-    args.scene.check()?;
     let script = fur::viewer::Script::parse(&args.script)?;
     if let Some(frames) = args.frames {
         script.check_within(frames)?;
     }
-    let mut scene = args::scene(args.scene_file.as_deref(), &args.scene, &args.sim)?;
-    args::set(&mut scene.width, args.width);
-    args::set(&mut scene.height, args.height);
+    let scene = args::scene(args.scene_file.as_deref(), &args.scene)?;
     scene.sim.validate()?;
-    args.animation.apply(&mut scene.animation);
     let target_fps = args.target_fps.unwrap_or(30.0);
     if !(target_fps.is_finite() && (0.0..=1000.0).contains(&target_fps)) {
         bail!("--target-fps must be 0 (off) to 1000 frames per second, got {target_fps}");

@@ -104,20 +104,13 @@ pub(super) struct Opened {
 /// Builds the scene `args` describe on the device they choose; `simulate`: whether it
 /// will be simulated (a single frame is drawn at rest, its head still).
 pub(super) fn open(args: &RenderArgs, simulate: bool) -> anyhow::Result<Opened> {
-    args.scene.check()?;
-    let mut scene = args::scene(args.scene_file.as_deref(), &args.scene, &args.sim)?;
-    args::set(&mut scene.width, args.width);
-    args::set(&mut scene.height, args.height);
-    args::set(&mut scene.motion.kind, args.motion);
-    args::set(&mut scene.motion.amplitude, args.amplitude);
-    args::set(&mut scene.motion.rate, args.rate);
+    let mut scene = args::scene(args.scene_file.as_deref(), &args.scene)?;
     let (mesh, rig, warnings) = scene.model.prepare_body(scene.options.texture.as_ref())?;
     for warning in warnings {
         eprintln!("warning: {warning}");
     }
-    args.animation.apply(&mut scene.animation);
     let rig = scene.animation.resolve(rig, &scene.model.name())?;
-    if rig.is_some() && args.motion.is_none() && scene.motion == Default::default() {
+    if rig.is_some() && !args.scene.settings.gives("motion") && scene.motion == Default::default() {
         // A character moves by its clip; the head stays put unless asked.
         scene.motion.kind = MotionKind::Still;
     }

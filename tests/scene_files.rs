@@ -390,10 +390,10 @@ fn every_out_of_range_value_names_its_key_and_line() {
         }
         apply(section, key, good).unwrap_or_else(|e| panic!("{section}.{key} = {good}: {e}"));
     }
-    // The motion's amplitude is checked with its rate, under the rate's key.
+    // The motion's amplitude must be finite, under its own key.
     let error = apply("motion", "amplitude", "inf").unwrap_err().to_string();
     assert!(
-        error.contains("`motion.rate`") && error.contains("finite"),
+        error.contains("`motion.amplitude`") && error.contains("got inf"),
         "{error}"
     );
 }

@@ -105,12 +105,17 @@ impl Viewer {
         // UI, then the parameter changes it asked for (some need an idle device).
         let raw_input = self.egui_state.take_egui_input(&self.window);
         let mut changes = ui::Changes::default();
+        let mut scene = self.current_scene();
         let egui_ctx = self.egui_ctx.clone();
         let mut output = egui_ctx.run_ui(raw_input, |root| {
             let mut view = controls_view(&mut self.controls);
-            changes = self
-                .ui
-                .show(root.ctx(), &mut self.session, &self.hud, &mut view);
+            changes = self.ui.show(
+                root.ctx(),
+                &mut scene,
+                &mut self.session,
+                &self.hud,
+                &mut view,
+            );
         });
         self.egui_state
             .handle_platform_output(&self.window, std::mem::take(&mut output.platform_output));
@@ -327,17 +332,19 @@ impl Viewer {
             let (groom, mut settings) = scene.resolve(&self.mesh)?;
             let old = &self.session.settings;
             settings.camera = old.camera;
-            settings.lighting = old.lighting.clone();
-            // The groom sets the model-scaled density and widths; every drawing choice
-            // made in the panel stays.
-            let scaled = settings.style;
-            settings.style = crate::render::FurStyle {
-                density: scaled.density,
-                hair_width: scaled.hair_width,
-                jitter: scaled.jitter,
-                ..old.style.clone()
-            };
+            settings.draw_mesh = old.draw_mesh;
+            settings.draw_fur = old.draw_fur;
             self.rebuild_session(&groom, settings)?;
+            self.scene = scene;
+        } else if let Some(scene) = changes.frame {
+            // The lighting and the drawing as the scene's settings give them (scaled by
+            // the model); the camera and the light's direction stay as the mouse and
+            // the light controls left them.
+            let (_, settings) = scene.resolve(&self.mesh)?;
+            let direction = self.session.settings.lighting.light_direction;
+            self.session.settings.lighting = settings.lighting;
+            self.session.settings.lighting.light_direction = direction;
+            self.session.settings.style = settings.style;
             self.scene = scene;
         }
         if let Some(on) = changes.texture {

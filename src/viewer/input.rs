@@ -21,7 +21,8 @@ impl Viewer {
     pub(super) fn current_scene(&self) -> Scene {
         let settings = &self.session.settings;
         let radius = self.mesh.bounds().1;
-        let style = &settings.style;
+        // The drawing the scene asks for, not the ladder's rung in use.
+        let style = &self.quality.base;
         let camera = &settings.camera;
         let mut options = self.scene.clone();
         options.yaw_deg = camera.yaw_deg;

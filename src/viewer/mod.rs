@@ -8,6 +8,7 @@ mod input;
 mod quality;
 mod quality_ui;
 mod script;
+mod settings_ui;
 mod setup;
 mod ui;
 

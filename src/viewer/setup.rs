@@ -151,7 +151,7 @@ impl Viewer {
             egui_renderer,
             egui_state,
             egui_ctx,
-            ui: ui::PanelState::new(&options.scene, &session),
+            ui: ui::PanelState::new(),
             frames,
             command_pool,
             upload_pool,

@@ -1,0 +1,172 @@
+//! How the fur is drawn: the levers that trade speed for image quality (`fur bench`
+//! measures each).
+
+use crate::scene_file::setting::field;
+use crate::scene_file::{Flag, Group, Kind, Panel, Setting};
+
+pub const RENDER: Group = Group {
+    section: "render",
+    heading: "Drawing",
+    settings: &[
+        Setting {
+            key: "samples",
+            flag: Flag::Long("samples"),
+            label: "samples per pixel",
+            help: "Samples per pixel: 1 (no MSAA; lines then blend their coverage) or an MSAA \
+                   count the device supports (lavapipe: 1 and 4)",
+            kind: Kind::OneOf(&[1, 2, 4, 8, 16]),
+            panel: Panel::Plain,
+            ..field!(options.draw.samples)
+        },
+        Setting {
+            key: "primitive",
+            flag: Flag::Long("primitive"),
+            label: "hair primitive",
+            help: "What each hair is drawn as: `lines` (coverage in alpha), `ribbons` (true \
+                   width), or `auto`: ribbons for hairs at least --ribbon-above pixels wide at \
+                   the root, lines for the rest",
+            kind: Kind::Choice(&["ribbons", "lines", "auto"]),
+            panel: Panel::Plain,
+            ..field!(options.draw.primitive)
+        },
+        Setting {
+            key: "ribbon_above",
+            flag: Flag::Long("ribbon-above"),
+            label: "ribbon threshold",
+            help: "Root width from which `auto` draws ribbons",
+            units: "px",
+            kind: Kind::within(0.0, 1e6),
+            panel: Panel::Slider {
+                min: 0.0,
+                max: 8.0,
+                log: false,
+            },
+            ..field!(options.draw.ribbon_above_px)
+        },
+        Setting {
+            key: "shading",
+            flag: Flag::Long("shading"),
+            label: "shading rate",
+            help: "Where the lighting runs: `vertex` (per strand vertex, geometry stage) or \
+                   `fragment`",
+            kind: Kind::Choice(&["vertex", "fragment"]),
+            panel: Panel::Plain,
+            ..field!(options.draw.shading)
+        },
+        Setting {
+            key: "vertex_lod",
+            flag: Flag::Long("vertex-lod"),
+            label: "vertex LOD tolerance",
+            help: "Vertex LOD tolerance: a strand vertex is skipped when the segment drawn \
+                   instead passes within this distance of it, width included; 0 draws every \
+                   vertex",
+            units: "px",
+            kind: Kind::within(0.0, 1e6),
+            panel: Panel::Slider {
+                min: 0.0,
+                max: 2.0,
+                log: true,
+            },
+            ..field!(options.draw.vertex_lod_px)
+        },
+        Setting {
+            key: "lod_distance",
+            flag: Flag::Long("lod-distance"),
+            label: "full-density distance",
+            help: "Full-density distance: farther away the density falls with the square of \
+                   the distance",
+            units: "bounding radii",
+            kind: Kind::positive(f64::MAX),
+            panel: Panel::Slider {
+                min: 0.1,
+                max: 100.0,
+                log: true,
+            },
+            ..field!(options.draw.lod_distance)
+        },
+        Setting {
+            key: "thickness_compensation",
+            flag: Flag::Long("thickness-compensation"),
+            label: "thickness compensation",
+            help: "Widen hairs the density LOD thins out, so coverage is kept",
+            kind: Kind::Bool,
+            panel: Panel::Plain,
+            ..field!(options.draw.thickness_compensation)
+        },
+        Setting {
+            key: "hair_width",
+            flag: Flag::Long("hair-width"),
+            label: "hair width",
+            help: "Hair width at the root",
+            units: "bounding radii",
+            kind: Kind::positive(f64::MAX),
+            panel: Panel::Slider {
+                min: 1e-4,
+                max: 0.05,
+                log: true,
+            },
+            ..field!(options.draw.hair_width)
+        },
+        Setting {
+            key: "min_pixel_width",
+            flag: Flag::Long("min-pixel-width"),
+            label: "minimum hair width",
+            help: "Hairs are drawn at least this wide; thinner ones cover by their true width \
+                   (thin-hair AA)",
+            units: "px",
+            kind: Kind::within(0.0, 64.0),
+            panel: Panel::Slider {
+                min: 0.0,
+                max: 4.0,
+                log: false,
+            },
+            ..field!(options.draw.min_pixel_width)
+        },
+        Setting {
+            key: "jitter",
+            flag: Flag::Long("jitter"),
+            label: "jitter",
+            help: "Random tip offset of each interpolated hair",
+            units: "bounding radii",
+            kind: Kind::within(0.0, 1e3),
+            panel: Panel::Slider {
+                min: 0.0,
+                max: 0.2,
+                log: false,
+            },
+            ..field!(options.draw.jitter)
+        },
+        Setting {
+            key: "length_jitter",
+            flag: Flag::Long("length-jitter"),
+            label: "length jitter",
+            help: "Random shortening of each interpolated hair, as a fraction of its length",
+            kind: Kind::within(0.0, 1.0),
+            panel: Panel::Slider {
+                min: 0.0,
+                max: 1.0,
+                log: false,
+            },
+            ..field!(options.draw.length_jitter)
+        },
+        Setting {
+            key: "cull",
+            flag: Flag::Long("cull"),
+            label: "culling",
+            help: "Skip triangles facing away or off screen before tessellating them",
+            kind: Kind::Bool,
+            panel: Panel::Plain,
+            ..field!(options.draw.cull)
+        },
+        Setting {
+            key: "thin_hair_aa",
+            flag: Flag::Long("thin-hair-aa"),
+            label: "thin-hair anti-aliasing",
+            help: "Hairs thinner than the minimum width cover their pixels by their true width \
+                   (a dithered sample mask under MSAA, blending at 1 sample)",
+            kind: Kind::Bool,
+            panel: Panel::Plain,
+            ..field!(options.draw.thin_hair_aa)
+        },
+    ],
+};

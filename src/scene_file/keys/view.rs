@@ -1,0 +1,167 @@
+//! The image, the camera and the groom.
+
+use crate::scene_file::setting::field;
+use crate::scene_file::{Effect, Flag, Group, Kind, Panel, Setting};
+
+pub const IMAGE: Group = Group {
+    section: "image",
+    heading: "Image",
+    settings: &[
+        Setting {
+            key: "width",
+            flag: Flag::Long("width"),
+            label: "image size, width",
+            help: "Image width (the viewer's window width)",
+            units: "px",
+            kind: Kind::integer(1, 16384),
+            effect: Effect::Restart,
+            ..field!(width)
+        },
+        Setting {
+            key: "height",
+            flag: Flag::Long("height"),
+            label: "image size, height",
+            help: "Image height (the viewer's window height)",
+            units: "px",
+            kind: Kind::integer(1, 16384),
+            effect: Effect::Restart,
+            ..field!(height)
+        },
+    ],
+};
+
+pub const CAMERA: Group = Group {
+    section: "camera",
+    heading: "Camera",
+    settings: &[
+        Setting {
+            key: "yaw",
+            flag: Flag::Long("yaw"),
+            label: "camera yaw",
+            help: "Camera orbit angle around the vertical axis",
+            units: "°",
+            kind: Kind::within(-1e6, 1e6),
+            ..field!(options.yaw_deg)
+        },
+        Setting {
+            key: "pitch",
+            flag: Flag::Long("pitch"),
+            label: "camera pitch",
+            help: "Camera elevation",
+            units: "°",
+            kind: Kind::within(-1e6, 1e6),
+            ..field!(options.pitch_deg)
+        },
+        Setting {
+            key: "distance",
+            flag: Flag::Long("distance"),
+            label: "camera distance",
+            help: "Camera distance in bounding radii of the model",
+            units: "bounding radii",
+            kind: Kind::positive(f64::MAX),
+            unset: Some("framing the whole model"),
+            ..field!(options.distance)
+        },
+        Setting {
+            key: "fov",
+            flag: Flag::Long("fov"),
+            label: "field of view",
+            help: "Vertical field of view",
+            units: "°",
+            kind: Kind::within(1.0, 170.0),
+            ..field!(options.fov_deg)
+        },
+    ],
+};
+
+pub const GROOM: Group = Group {
+    section: "groom",
+    heading: "Groom",
+    settings: &[
+        Setting {
+            key: "hair_length",
+            flag: Flag::Long("hair-length"),
+            label: "hair length",
+            help: "Hair length as a fraction of the model's bounding radius",
+            units: "bounding radii",
+            kind: Kind::positive(f64::MAX),
+            effect: Effect::Regrow,
+            panel: Panel::Slider {
+                min: 0.02,
+                max: 1.0,
+                log: false,
+            },
+            ..field!(options.hair_length)
+        },
+        Setting {
+            key: "segments",
+            flag: Flag::Long("segments"),
+            label: "segments",
+            help: "Segments per master hair",
+            kind: Kind::integer(1, 63),
+            effect: Effect::Regrow,
+            panel: Panel::Slider {
+                min: 1.0,
+                max: 63.0,
+                log: false,
+            },
+            ..field!(options.segments)
+        },
+        Setting {
+            key: "density_scale",
+            flag: Flag::Long("density-scale"),
+            label: "density scale",
+            help: "Multiplies the interpolated-hair density",
+            kind: Kind::positive(f64::MAX),
+            panel: Panel::Slider {
+                min: 0.01,
+                max: 10.0,
+                log: true,
+            },
+            ..field!(options.density_scale)
+        },
+        Setting {
+            key: "comb",
+            flag: Flag::Long("comb"),
+            label: "comb strength",
+            help: "Comb strength, 0 = hairs stand along the normals",
+            kind: Kind::within(0.0, 1e3),
+            effect: Effect::Regrow,
+            panel: Panel::Slider {
+                min: 0.0,
+                max: 4.0,
+                log: false,
+            },
+            ..field!(options.comb)
+        },
+        Setting {
+            key: "thickness_limit",
+            flag: Flag::Long("thickness-limit"),
+            label: "thickness limit",
+            help: "Hairs are at most this many times the model's local half-thickness long, \
+                   so thin parts are not buried; 0 = off",
+            kind: Kind::within(0.0, 1e3),
+            effect: Effect::Regrow,
+            panel: Panel::Slider {
+                min: 0.0,
+                max: 2.0,
+                log: false,
+            },
+            ..field!(options.thickness_limit)
+        },
+        Setting {
+            key: "curl",
+            flag: Flag::Long("curl"),
+            label: "curl",
+            help: "Curl radius as a fraction of the segment length",
+            kind: Kind::within(0.0, 1e3),
+            effect: Effect::Regrow,
+            panel: Panel::Slider {
+                min: 0.0,
+                max: 2.0,
+                log: false,
+            },
+            ..field!(options.curl)
+        },
+    ],
+};

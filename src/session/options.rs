@@ -5,7 +5,7 @@ use ash::vk;
 
 use crate::error::Error;
 use crate::error::Result;
-use crate::render::{FrameSettings, Primitive, Shading};
+use crate::render::{FrameSettings, FurStyle, Primitive, Shading};
 use crate::scene::{Camera, GroomParams, Mesh, Rig, TextureSpec};
 use crate::skinning::Playback;
 
@@ -60,26 +60,31 @@ pub struct DrawOptions {
 
 impl Default for DrawOptions {
     fn default() -> Self {
-        let style = crate::render::FurStyle::default();
+        Self::from_style(&FurStyle::default(), 1.0)
+    }
+}
+
+impl DrawOptions {
+    /// The drawing a fur pass's `style` stands for on a model of bounding radius
+    /// `radius`: the inverse of [`SceneOptions::resolve`]'s scaling.
+    pub fn from_style(style: &FurStyle, radius: f32) -> Self {
         Self {
             samples: style.samples,
             primitive: style.primitive,
             ribbon_above_px: style.ribbon_above_px,
             shading: style.shading,
             vertex_lod_px: style.vertex_lod_px,
-            lod_distance: style.lod_distance,
+            lod_distance: style.lod_distance / radius,
             thickness_compensation: style.thickness_compensation,
-            hair_width: style.hair_width,
+            hair_width: style.hair_width / radius,
             min_pixel_width: style.min_pixel_width,
-            jitter: style.jitter,
+            jitter: style.jitter / radius,
             length_jitter: style.length_jitter,
             cull: style.cull,
             thin_hair_aa: style.thin_hair_aa,
         }
     }
-}
 
-impl DrawOptions {
     /// This drawing at reference quality: 4× MSAA ribbons lit per fragment, every
     /// strand vertex drawn (widths, jitter and culling kept).
     pub fn reference_quality(&self) -> Self {

@@ -33,21 +33,7 @@ impl Viewer {
         options.lighting.shadows.spacing /= radius;
         options.texture = self.session.mesh.texture.clone();
         options.density_scale = style.density * radius * radius / FurStyle::default().density;
-        options.draw = DrawOptions {
-            samples: style.samples,
-            primitive: style.primitive,
-            ribbon_above_px: style.ribbon_above_px,
-            shading: style.shading,
-            vertex_lod_px: style.vertex_lod_px,
-            lod_distance: style.lod_distance / radius,
-            thickness_compensation: style.thickness_compensation,
-            hair_width: style.hair_width / radius,
-            min_pixel_width: style.min_pixel_width,
-            jitter: style.jitter / radius,
-            length_jitter: style.length_jitter,
-            cull: style.cull,
-            thin_hair_aa: style.thin_hair_aa,
-        };
+        options.draw = DrawOptions::from_style(style, radius);
         let motion = self.session.motion;
         let extent = self.session.renderer.target.extent;
         Scene {

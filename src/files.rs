@@ -272,6 +272,45 @@ pub fn check_output_dir(dir: &Path) -> Result<()> {
     written.map(drop)
 }
 
+/// Splits `text` around the region between the lines `begin` and `end`: (before, with
+/// the begin line; after, from the end line).
+pub fn region<'a>(text: &'a str, begin: &str, end: &str) -> Option<(&'a str, &'a str)> {
+    let start = text.find(begin)? + begin.len();
+    let stop = start + text[start..].find(end)?;
+    Some((&text[..start], &text[stop..]))
+}
+
+fn read_document(path: &Path) -> Result<String> {
+    read_text_bounded(path, MAX_SCENE_BYTES, "document").map_err(|message| Error::Io {
+        operation: "read the document",
+        path: path.to_path_buf(),
+        message,
+    })
+}
+
+/// Checks that `path` is a Markdown file holding a `begin` line followed by an `end`
+/// line, and can be written.
+pub fn check_region(path: &Path, begin: &str, end: &str) -> Result<()> {
+    if region(&read_document(path)?, begin, end).is_none() {
+        return Err(Error::Io {
+            operation: "write the tables into",
+            path: path.to_path_buf(),
+            message: format!("it has no `{begin}` line followed by a `{end}` line"),
+        });
+    }
+    check_output_file(path)
+}
+
+/// Replaces what lies between the `begin` and `end` lines of the Markdown file at
+/// `path` with `markdown`, leaving the rest of the document as it is.
+pub fn write_region(path: &Path, begin: &str, end: &str, markdown: &str) -> Result<()> {
+    check_region(path, begin, end)?;
+    let text = read_document(path)?;
+    let (before, after) = region(&text, begin, end).expect("checked above");
+    let updated = format!("{before}\n\n{}\n\n{after}", markdown.trim());
+    write_output(path, updated.as_bytes(), "write the tables into")
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

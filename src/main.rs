@@ -80,6 +80,14 @@ enum Command {
         #[arg(long, allow_hyphen_values = true)]
         write_docs: Option<PathBuf>,
     },
+    /// List every setting of a scene (section and key in a scene file, flag, values,
+    /// units, defaults, meaning) as Markdown tables.
+    Settings {
+        /// Put the tables into this Markdown file between its `<!-- BEGIN fur settings
+        /// -->` and `<!-- END fur settings -->` lines instead, e.g. docs/scene-files.md.
+        #[arg(long, allow_hyphen_values = true)]
+        write_docs: Option<PathBuf>,
+    },
     /// List the Vulkan devices (index, type, Vulkan version, name, driver, whether fur
     /// can use it) and mark the one fur uses by default; `--device` chooses another.
     Devices {
@@ -170,6 +178,7 @@ fn main() -> ExitCode {
         Some(Command::ExportFrame(args)) => export_command::export_frame(&args),
         Some(Command::ExportModel { out, model }) => export_model(&out, &model),
         Some(Command::Devices { device }) => devices(&device),
+        Some(Command::Settings { write_docs }) => settings(write_docs.as_deref()),
         Some(Command::Bench {
             device,
             quick,
@@ -322,6 +331,19 @@ fn view(args: ViewArgs) -> anyhow::Result<()> {
         save_scene: args.save_scene,
     };
     fur::viewer::run(options)?;
+    Ok(())
+}
+
+fn settings(write_docs: Option<&Path>) -> anyhow::Result<()> {
+    use fur::scene_file::docs;
+    let tables = docs::markdown();
+    match write_docs {
+        Some(path) => {
+            fur::files::write_region(path, docs::BEGIN, docs::END, &tables)?;
+            eprintln!("wrote the settings into {}", path.display());
+        }
+        None => println!("{tables}"),
+    }
     Ok(())
 }
 

@@ -343,45 +343,15 @@ impl Bench<'_> {
 pub const DOCS_BEGIN: &str = "<!-- BEGIN fur bench -->";
 pub const DOCS_END: &str = "<!-- END fur bench -->";
 
-/// Splits `text` around its benchmark region: (before with the begin line, after
-/// from the end line).
-fn docs_region(text: &str) -> Option<(&str, &str)> {
-    let begin = text.find(DOCS_BEGIN)? + DOCS_BEGIN.len();
-    let end = begin + text[begin..].find(DOCS_END)?;
-    Some((&text[..begin], &text[end..]))
-}
-
 /// Checks, before a run, that `path` is a Markdown file with the benchmark's markers.
 pub fn check_docs(path: &Path) -> Result<()> {
-    let text = crate::files::read_text_bounded(path, crate::files::MAX_SCENE_BYTES, "document")
-        .map_err(|message| Error::Io {
-            operation: "read the document",
-            path: path.to_path_buf(),
-            message,
-        })?;
-    if docs_region(&text).is_none() {
-        return Err(Error::Io {
-            operation: "write the tables into",
-            path: path.to_path_buf(),
-            message: format!("it has no `{DOCS_BEGIN}` line followed by a `{DOCS_END}` line"),
-        });
-    }
-    crate::files::check_output_file(path)
+    crate::files::check_region(path, DOCS_BEGIN, DOCS_END)
 }
 
 /// Replaces the tables between the markers of the Markdown file at `path` with
 /// `markdown` (a run's `results.md`), leaving the rest of the document as it is.
 pub fn write_docs(path: &Path, markdown: &str) -> Result<()> {
-    check_docs(path)?;
-    let text = crate::files::read_text_bounded(path, crate::files::MAX_SCENE_BYTES, "document")
-        .map_err(|message| Error::Io {
-            operation: "read the document",
-            path: path.to_path_buf(),
-            message,
-        })?;
-    let (before, after) = docs_region(&text).expect("checked above");
-    let updated = format!("{before}\n\n{}\n\n{after}", markdown.trim());
-    crate::files::write_output(path, updated.as_bytes(), "write the tables into")
+    crate::files::write_region(path, DOCS_BEGIN, DOCS_END, markdown)
 }
 
 #[cfg(test)]

@@ -14,6 +14,7 @@ use std::path::Path;
 use glam::Vec3;
 
 mod cli;
+pub mod docs;
 mod file;
 mod keys;
 mod setting;

@@ -251,3 +251,39 @@ fn the_scene_file_docs_hold_the_generated_tables() {
         "docs/scene-files.md is stale: run `fur settings --write-docs docs/scene-files.md`"
     );
 }
+
+/// The hairs `fur render ARGS` reports drawing (a small, validated frame).
+fn hairs_drawn(args: &[&str]) -> u64 {
+    let out = scratch("cull.png");
+    let run = std::process::Command::new(env!("CARGO_BIN_EXE_fur"))
+        .args(["render", "--validate", "--width", "96", "--height", "54"])
+        .args(["--density-scale", "0.2", "--out", out.to_str().unwrap()])
+        .args(args)
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8_lossy(&run.stdout);
+    assert!(
+        run.status.success(),
+        "{args:?}: {}",
+        String::from_utf8_lossy(&run.stderr)
+    );
+    let before = stdout.split(" hairs drawn in ").next().unwrap();
+    before.rsplit(' ').next().unwrap().parse().unwrap()
+}
+
+/// `[render] cull_margin` (the setting added to show what adding one takes): a larger
+/// margin keeps the hairs of triangles facing further away. At 0 every back-facing
+/// triangle is culled; at 1 only the screen's bounds cull, so more hairs are drawn; with
+/// culling off no fewer again.
+#[test]
+fn the_cull_margin_keeps_hairs_past_the_silhouette() {
+    let none = hairs_drawn(&["--cull-margin", "0"]);
+    let default = hairs_drawn(&[]);
+    let all = hairs_drawn(&["--cull-margin", "1"]);
+    let uncull = hairs_drawn(&["--cull", "off"]);
+    assert!(
+        none < default && default < all,
+        "{none} < {default} < {all}"
+    );
+    assert!(all <= uncull, "margin 1 {all} vs culling off {uncull}");
+}

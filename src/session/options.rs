@@ -55,6 +55,8 @@ pub struct DrawOptions {
     pub jitter: f32,
     pub length_jitter: f32,
     pub cull: bool,
+    /// Culled when cos(normal, view) < −cull_margin.
+    pub cull_margin: f32,
     pub thin_hair_aa: bool,
 }
 
@@ -81,6 +83,7 @@ impl DrawOptions {
             jitter: style.jitter / radius,
             length_jitter: style.length_jitter,
             cull: style.cull,
+            cull_margin: style.cull_margin,
             thin_hair_aa: style.thin_hair_aa,
         }
     }
@@ -256,6 +259,7 @@ impl SceneOptions {
         style.min_pixel_width = draw.min_pixel_width;
         style.length_jitter = draw.length_jitter;
         style.cull = draw.cull;
+        style.cull_margin = draw.cull_margin;
         style.lod_distance = draw.lod_distance * radius;
         style.samples = draw.samples;
         style.primitive = draw.primitive;

@@ -159,6 +159,21 @@ pub const RENDER: Group = Group {
             ..field!(options.draw.cull)
         },
         Setting {
+            key: "cull_margin",
+            flag: Flag::Long("cull-margin"),
+            label: "cull margin",
+            help: "How far a triangle may face away before its hairs are culled: culled when \
+                   cos(normal, view) < −margin; hairs on triangles just past the silhouette \
+                   still show, so 0 loses them and 1 culls by the screen's bounds only",
+            kind: Kind::within(0.0, 1.0),
+            panel: Panel::Slider {
+                min: 0.0,
+                max: 1.0,
+                log: false,
+            },
+            ..field!(options.draw.cull_margin)
+        },
+        Setting {
             key: "thin_hair_aa",
             flag: Flag::Long("thin-hair-aa"),
             label: "thin-hair anti-aliasing",

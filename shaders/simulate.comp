@@ -13,29 +13,22 @@
 #include "sim_common.glsl"
 
 layout(constant_id = 2) const uint STEPS = 0x1fu;
-const uint STEP_GLOBAL = 2u;
-const uint STEP_LOCAL = 4u;
-const uint STEP_LENGTH = 8u;
-const uint STEP_WIND = 16u;
-const uint STEP_COLLISION = 32u;
-// The body is skinned: each strand's rest shape follows its own root pose (from the
-// skinning pass) before the head transform, instead of the head transform alone.
-const uint BODY_SKINNED = 64u;
-// Strands at rest sleep (see the end of main); compiled out with wind, which never stops.
-const uint SLEEP = 128u;
-// A skinned body's collision carries vertices back through the skin's blend of bones
-// (blend_back), not the root pose alone.
-const uint BODY_BLEND = 256u;
-// Projections onto the collision margin per vertex and substep, at most: on a rigid body,
-// and on a skinned one onto each of its constraints in turn (src/sim/collide.rs).
-const uint PROJECTIONS = 3u;
-const uint PROJECTIONS_SKINNED = 1u;
-// Rest: a strand whose root stayed put (to this many ulps of its coordinates) and whose
-// other vertices moved by no more than that, or than the slow motion below, in a frame
-// sleeps (src/sim/cpu.rs: SLEEP_ULPS, REST_MOTION, REST_GRAVITY).
-const float SLEEP_ULPS = 16.0;
-const float REST_MOTION = 1e-3;    // of the strand's own length a frame
-const float REST_GRAVITY = 0.1;    // of g Δt², a free vertex's first frame from rest
+// Shared with Rust, defined for this shader from the Rust constants
+// (src/sim/gpu.rs: kernel_defines), never typed here: the STEPS bits STEP_GLOBAL,
+// STEP_LOCAL, STEP_LENGTH, STEP_WIND, STEP_COLLISION; BODY_SKINNED (the body is skinned:
+// each strand's rest shape follows its own root pose from the skinning pass before the
+// head transform); SLEEP (strands at rest sleep, see the end of main; compiled out with
+// wind, which never stops); BODY_BLEND (a skinned body's collision carries vertices back
+// through the skin's blend of bones, not the root pose alone); PROJECTIONS and
+// PROJECTIONS_SKINNED (projections onto the collision margin per vertex and substep on a
+// rigid and a skinned body, src/sim/collide.rs); SLEEP_ULPS, REST_MOTION (of the
+// strand's own length a frame) and REST_GRAVITY (of g Δt², a free vertex's first frame
+// from rest): a strand whose root stayed put to SLEEP_ULPS of its coordinates and whose
+// other vertices moved by no more than that, or than the slow motion, sleeps
+// (src/sim/cpu.rs).
+#if !defined(STEP_GLOBAL) || !defined(SLEEP_ULPS) || !defined(PROJECTIONS)
+#error "simulate.comp is compiled with kernel_defines() (src/sim/gpu.rs)"
+#endif
 
 vec3 x[V];   // current positions, world space
 vec3 p[V];   // positions one substep ago

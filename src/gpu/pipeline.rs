@@ -176,14 +176,15 @@ impl Specialization {
 }
 
 impl Pipeline {
-    /// A compute pipeline from an embedded shader.
+    /// A compute pipeline from an embedded shader compiled with `defines`.
     pub fn compute(
         device: &Arc<Device>,
         shader: &str,
+        defines: &[(&str, String)],
         layout: &PipelineLayout,
         specialization: &Specialization,
     ) -> Result<Self> {
-        let module = ShaderModule::new(device, shader, &[])?;
+        let module = ShaderModule::new(device, shader, defines)?;
         let spec = specialization.info();
         let stage = vk::PipelineShaderStageCreateInfo::default()
             .stage(vk::ShaderStageFlags::COMPUTE)

@@ -37,7 +37,7 @@ pub const SOURCES: &[(&str, &str)] = &[
     ),
 ];
 
-fn source(name: &str) -> Option<&'static str> {
+pub(crate) fn source(name: &str) -> Option<&'static str> {
     SOURCES.iter().find(|(n, _)| *n == name).map(|(_, s)| *s)
 }
 

@@ -8,11 +8,11 @@ use super::math::{max, min, min_length, Head, Real, M3, V3};
 use super::sdf::Sdf;
 
 /// Projections onto the margin per vertex and substep, at most, on a rigid body.
-const PROJECTIONS: usize = 3;
+pub(crate) const PROJECTIONS: u32 = 3;
 /// The same on a skinned body, onto each of its constraints in turn. A second and third
 /// round moved the walk's deepest vertex by 3e-4 hair lengths and took a tenth of the
 /// simulation step (docs/benchmark.md); what one leaves, the next substep takes up.
-const PROJECTIONS_SKINNED: usize = 1;
+pub(crate) const PROJECTIONS_SKINNED: u32 = 1;
 
 /// The first vertex of a strand of `vertices` that the skin's blend carries back: from
 /// seven eighths of the hair out (`BLEND_FROM` in `shaders/collide.glsl`). The root

@@ -42,6 +42,33 @@ const SLEEP: u32 = 128;
 /// bones (`BODY_BLEND` in `simulate.comp`, [`SimParams::skin_blend`]).
 const BODY_BLEND: u32 = 256;
 
+/// What the simulation kernels share with Rust, given to them as `#define`s so no
+/// constant is typed twice: the `STEPS` bits, the projections per substep and the rest
+/// thresholds.
+pub fn kernel_defines() -> Vec<(&'static str, String)> {
+    let uint = |v: u32| format!("{v}u");
+    // `{:?}` writes an f32 as its shortest round-trip decimal, always with a point.
+    let float = |v: f32| format!("{v:?}");
+    vec![
+        ("STEP_GLOBAL", uint(SimStep::Global.bit())),
+        ("STEP_LOCAL", uint(SimStep::Local.bit())),
+        ("STEP_LENGTH", uint(SimStep::Length.bit())),
+        ("STEP_WIND", uint(SimStep::Wind.bit())),
+        ("STEP_COLLISION", uint(SimStep::Collision.bit())),
+        ("BODY_SKINNED", uint(BODY_SKINNED)),
+        ("SLEEP", uint(SLEEP)),
+        ("BODY_BLEND", uint(BODY_BLEND)),
+        ("PROJECTIONS", uint(super::collide::PROJECTIONS)),
+        (
+            "PROJECTIONS_SKINNED",
+            uint(super::collide::PROJECTIONS_SKINNED),
+        ),
+        ("SLEEP_ULPS", float(super::cpu::SLEEP_ULPS)),
+        ("REST_MOTION", float(super::cpu::REST_MOTION)),
+        ("REST_GRAVITY", float(super::cpu::REST_GRAVITY)),
+    ]
+}
+
 /// A skinned body's part of the simulation: the skinning pass, the body, which clip
 /// plays, and the joint matrices of the substeps not yet recorded.
 pub struct Skinned {
@@ -307,7 +334,13 @@ impl GpuSim {
     /// Runs `simulate_rest.comp` once: local rest vectors, rest lengths, root frames.
     fn compute_rest_data(&self) -> Result<()> {
         let spec = self.specialization(0);
-        let pipeline = Pipeline::compute(&self.device, "simulate_rest.comp", &self.layout, &spec)?;
+        let pipeline = Pipeline::compute(
+            &self.device,
+            "simulate_rest.comp",
+            &kernel_defines(),
+            &self.layout,
+            &spec,
+        )?;
         let d = &*self.device;
         d.submit_once(|cmd| {
             d.begin_label(cmd, "rest pose");
@@ -411,10 +444,50 @@ impl GpuSim {
         }
         if self.pipeline.as_ref().map(|(m, _)| *m) != Some(mask) {
             let spec = self.specialization(mask);
-            let pipeline = Pipeline::compute(&self.device, "simulate.comp", &self.layout, &spec)?;
+            let pipeline = Pipeline::compute(
+                &self.device,
+                "simulate.comp",
+                &kernel_defines(),
+                &self.layout,
+                &spec,
+            )?;
             self.pipeline = Some((mask, pipeline));
         }
         self.params = params;
         Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::kernel_defines;
+    use crate::gpu::shader::compile;
+
+    /// The kernels take what they share with Rust from `kernel_defines` only: without
+    /// it they do not compile, and every name it defines is one the kernel uses.
+    #[test]
+    fn the_kernels_take_their_shared_constants_from_rust() {
+        for kernel in ["simulate.comp", "simulate_rest.comp"] {
+            compile(kernel, &kernel_defines()).unwrap_or_else(|e| panic!("{kernel}: {e}"));
+        }
+        let error = compile("simulate.comp", &[]).unwrap_err().to_string();
+        assert!(error.contains("kernel_defines"), "{error}");
+        let source = [
+            crate::gpu::shader::source("simulate.comp").unwrap(),
+            crate::gpu::shader::source("collide.glsl").unwrap(),
+        ]
+        .concat();
+        for (name, value) in kernel_defines() {
+            let uses = source.matches(name).count();
+            assert!(
+                uses >= 2,
+                "{name} = {value} is defined but used {uses} times"
+            );
+            assert!(
+                !source.contains(&format!("const uint {name} ="))
+                    && !source.contains(&format!("const float {name} =")),
+                "{name} is typed in GLSL too"
+            );
+        }
     }
 }

@@ -246,7 +246,8 @@ impl GpuSkin {
             );
             unsafe { device.raw.update_descriptor_sets(&writes, &[]) };
         }
-        let pipeline = Pipeline::compute(device, "skin.comp", &layout, &Specialization::new(&[]))?;
+        let pipeline =
+            Pipeline::compute(device, "skin.comp", &[], &layout, &Specialization::new(&[]))?;
         Ok(Self {
             device: device.clone(),
             vertex_count,

@@ -192,31 +192,22 @@ pub fn write_output(path: &Path, bytes: &[u8], what: &'static str) -> Result<()>
     }
 }
 
-/// Writes `bytes` to a temporary file beside `path` and renames it over `path`.
+/// Writes `bytes` to a temporary file beside `path` (removed if anything fails), syncs
+/// it to disk and renames it over `path`, keeping the old file's permissions.
 fn replace(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
     let dir = path
         .parent()
         .filter(|d| !d.as_os_str().is_empty())
         .unwrap_or(Path::new("."));
     std::fs::create_dir_all(dir)?;
-    let name = path
-        .file_name()
-        .map_or("output".into(), |n| n.to_string_lossy());
-    let partial = dir.join(format!(".{name}.{}.partial", std::process::id()));
-    let written = (|| {
-        let mut file = File::create(&partial)?;
-        file.write_all(bytes)?;
-        file.flush()?;
-        if let Ok(old) = std::fs::metadata(path) {
-            let _ = file.set_permissions(old.permissions());
-        }
-        drop(file);
-        std::fs::rename(&partial, path)
-    })();
-    if written.is_err() {
-        let _ = std::fs::remove_file(&partial);
+    let mut file = tempfile::NamedTempFile::new_in(dir)?;
+    file.write_all(bytes)?;
+    if let Ok(old) = std::fs::metadata(path) {
+        file.as_file().set_permissions(old.permissions())?;
     }
-    written
+    file.as_file().sync_all()?;
+    file.persist(path).map_err(|e| e.error)?;
+    Ok(())
 }
 
 /// Checks, before any work, that an output can be written at `path`: standard output,

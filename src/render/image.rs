@@ -3,7 +3,6 @@
 
 use std::path::Path;
 
-use crate::colour::{linear_to_srgb8, srgb8_lut};
 use crate::error::{Error, Result};
 
 /// An 8-bit RGBA image in memory.
@@ -69,29 +68,7 @@ impl RgbaImage {
             )));
         }
         let (w, h) = (self.width / factor, self.height / factor);
-        let n = (factor * factor) as f32;
-        let lut = srgb8_lut();
-        let mut data = Vec::with_capacity((w * h * 4) as usize);
-        for y in 0..h {
-            for x in 0..w {
-                let mut sum = [0.0f32; 4];
-                for dy in 0..factor {
-                    for dx in 0..factor {
-                        let p = self.pixel(x * factor + dx, y * factor + dy);
-                        for c in 0..3 {
-                            sum[c] += lut[p[c] as usize];
-                        }
-                        sum[3] += f32::from(p[3]);
-                    }
-                }
-                data.extend_from_slice(&[
-                    linear_to_srgb8(sum[0] / n),
-                    linear_to_srgb8(sum[1] / n),
-                    linear_to_srgb8(sum[2] / n),
-                    (sum[3] / n).round() as u8,
-                ]);
-            }
-        }
+        let data = crate::colour::resample(&self.data, (self.width, self.height), (w, h));
         Ok(Self {
             width: w,
             height: h,

@@ -82,20 +82,11 @@ impl Channel {
     }
 }
 
-/// Spherical interpolation of two unit quaternions on the shorter arc, normalised.
+/// Spherical interpolation of two unit quaternions (x, y, z, w) on the shorter arc
+/// (glam's), normalised.
 fn slerp(a: Vec4, b: Vec4, s: f32) -> Vec4 {
-    let (b, dot) = if a.dot(b) < 0.0 {
-        (-b, -a.dot(b))
-    } else {
-        (b, a.dot(b))
-    };
-    let mixed = if dot > 0.9995 {
-        a.lerp(b, s)
-    } else {
-        let theta = dot.min(1.0).acos();
-        (a * ((1.0 - s) * theta).sin() + b * (s * theta).sin()) / theta.sin()
-    };
-    mixed.try_normalize().unwrap_or(Vec4::W)
+    let q = glam::Quat::from_vec4(a).slerp(glam::Quat::from_vec4(b), s);
+    Vec4::from(q).try_normalize().unwrap_or(Vec4::W)
 }
 
 impl Rig {

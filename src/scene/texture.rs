@@ -6,7 +6,7 @@ use std::path::Path;
 
 use glam::{Vec2, Vec3};
 
-use crate::colour::{linear_to_srgb8, srgb8_lut, srgb8_to_linear, srgb_to_linear};
+use crate::colour::{linear_to_srgb8, srgb8_to_linear, srgb_to_linear};
 use crate::error::{Error, Result};
 
 /// The image formats [`Texture::load`] reads, for messages.
@@ -181,7 +181,8 @@ impl Texture {
         let mut levels = vec![rgba];
         let (mut w, mut h) = (width, height);
         while w > 1 || h > 1 {
-            let (next, nw, nh) = downsample(levels.last().map_or(&[][..], |l| l), w, h);
+            let (next, nw, nh) =
+                crate::colour::half_size(levels.last().map_or(&[][..], |l| l), w, h);
             levels.push(next);
             (w, h) = (nw, nh);
         }
@@ -206,58 +207,6 @@ fn check_size(width: u32, height: u32) -> std::result::Result<(), String> {
         ));
     }
     Ok(())
-}
-
-/// The next mip level of a `width × height` RGBA8 sRGB level: a box filter in linear
-/// light over the texels each new texel covers (2 × 2 for even sides; for odd ones the
-/// boundary texels are shared with their overlap as weight, so none is dropped).
-fn downsample(src: &[u8], width: u32, height: u32) -> (Vec<u8>, u32, u32) {
-    let (dw, dh) = ((width / 2).max(1), (height / 2).max(1));
-    let (xs, ys) = (box_taps(width, dw), box_taps(height, dh));
-    let lut = srgb8_lut();
-    let mut out = Vec::with_capacity(4 * dw as usize * dh as usize);
-    let mut row = vec![[0.0f32; 4]; dw as usize];
-    for y_taps in &ys {
-        row.iter_mut().for_each(|t| *t = [0.0; 4]);
-        for &(sy, wy) in y_taps {
-            let start = 4 * sy * width as usize;
-            let Some(src_row) = src.get(start..start + 4 * width as usize) else {
-                continue;
-            };
-            for (acc, x_taps) in row.iter_mut().zip(&xs) {
-                for &(sx, wx) in x_taps {
-                    let p = &src_row[4 * sx..4 * sx + 4];
-                    let w = wy * wx;
-                    for c in 0..3 {
-                        acc[c] += w * lut[p[c] as usize];
-                    }
-                    acc[3] += w * f32::from(p[3]);
-                }
-            }
-        }
-        for acc in &row {
-            out.extend([acc[0], acc[1], acc[2]].map(linear_to_srgb8));
-            out.push(acc[3].round().clamp(0.0, 255.0) as u8);
-        }
-    }
-    (out, dw, dh)
-}
-
-/// For each of `dst` texels along a side of `src`, the source texels it covers and
-/// their weights (summing to 1).
-fn box_taps(src: u32, dst: u32) -> Vec<Vec<(usize, f32)>> {
-    let scale = f64::from(src) / f64::from(dst);
-    (0..dst)
-        .map(|i| {
-            let (lo, hi) = (f64::from(i) * scale, f64::from(i + 1) * scale);
-            (lo.floor() as usize..(hi.ceil() as usize).min(src as usize))
-                .filter_map(|k| {
-                    let overlap = hi.min(k as f64 + 1.0) - lo.max(k as f64);
-                    (overlap > 1e-9).then_some((k, (overlap / scale) as f32))
-                })
-                .collect()
-        })
-        .collect()
 }
 
 /// A linear colour from sRGB components in [0, 1].

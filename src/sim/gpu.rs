@@ -468,7 +468,10 @@ mod tests {
     #[test]
     fn the_kernels_take_their_shared_constants_from_rust() {
         for kernel in ["simulate.comp", "simulate_rest.comp"] {
-            compile(kernel, &kernel_defines()).unwrap_or_else(|e| panic!("{kernel}: {e}"));
+            let mut defines = kernel_defines();
+            defines.push(("STRAND_VERTICES", "17".into()));
+            let words = compile(kernel, &defines).unwrap_or_else(|e| panic!("{kernel}: {e}"));
+            assert_eq!(words[0], 0x0723_0203, "{kernel}: not SPIR-V");
         }
         let error = compile("simulate.comp", &[]).unwrap_err().to_string();
         assert!(error.contains("kernel_defines"), "{error}");

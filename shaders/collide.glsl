@@ -27,8 +27,6 @@
 // the strand's root pose, over CAPSULE_RAMP strand lengths, up to 1: the rest field
 // carried by the root pose already holds what moved with the root
 // (src/sim/collide.rs: `near_capsules`).
-const uint NEAR_CAPSULES = 4u;
-const float CAPSULE_RAMP = 0.25;   // strand lengths of relative motion to the full radius
 vec4 near_a[NEAR_CAPSULES];    // a, radius
 vec4 near_ab[NEAR_CAPSULES];   // b − a, |b − a|²
 float near_root[NEAR_CAPSULES]; // the root's distance from the axis
@@ -100,8 +98,8 @@ void select_capsules(uint k, float reach) {
     }
 }
 
-// Blend grid points per field cell along each axis (src/skinning/blend.rs: REFINE).
-const uint BLEND_REFINE = 2u;
+// Blend grid points per field cell along each axis: BLEND_REFINE (src/skinning/blend.rs:
+// REFINE, defined from Rust).
 
 // The first vertex carried back through the skin's blend: from seven eighths of the hair
 // out. The root pose is exact at the root and drifts from the skin with distance along
@@ -109,8 +107,8 @@ const uint BLEND_REFINE = 2u;
 // measured the same depths with it and without (src/sim/collide.rs: BLEND_FROM).
 const uint BLEND_FROM = (7u * (V - 1u)) / 8u;
 
-// A blended matrix's determinant below which it is taken as degenerate.
-const float MIN_DETERMINANT = 1e-6;
+// A blended matrix's determinant below which it is taken as degenerate: MIN_DETERMINANT
+// (src/sim/collide.rs, defined from Rust).
 
 // How a vertex is carried back to the rest pose (`collide`'s loops).
 const uint CARRY_ROOT = 0u;  // by the strand's root pose

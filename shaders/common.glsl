@@ -1,5 +1,6 @@
-// Declarations shared by the mesh and fur passes. Must match `FrameUniforms` in
-// src/render/uniforms.rs (std140) and the bindings in src/render/bindings.rs.
+// Declarations shared by the mesh and fur passes. `Frame` is `FrameUniforms` of
+// src/render/uniforms.rs (std140) and the bindings are src/render/bindings.rs's: a test
+// there checks both against the compiled SPIR-V.
 #ifndef COMMON_GLSL
 #define COMMON_GLSL
 
@@ -40,11 +41,12 @@ layout(set = 0, binding = 0, std140) uniform Frame {
     vec4 fibre;          // longitudinal roughness, azimuthal roughness, cuticle tilt (radians), index of refraction
 } frame;
 
-const uint FLAG_CULL = 1u;
-const uint FLAG_THICKNESS_COMPENSATION = 2u;
-const uint FLAG_COUNT = 4u;
-const uint FLAG_SECONDARY_HIGHLIGHT = 8u;
-const uint FLAG_THIN_HAIR_AA = 16u;
+// The flags of strands.w (FLAG_CULL, FLAG_THICKNESS_COMPENSATION, FLAG_COUNT,
+// FLAG_SECONDARY_HIGHLIGHT, FLAG_THIN_HAIR_AA) are defined for every render shader from
+// the Rust constants (src/render/uniforms.rs: shader_defines), never typed here.
+#ifndef FLAG_CULL
+#error "render shaders are compiled with shader_defines() (src/render/uniforms.rs)"
+#endif
 
 layout(set = 0, binding = 1, rgba32f) uniform readonly image2D strand_positions;
 

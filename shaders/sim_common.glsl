@@ -1,4 +1,6 @@
-// Declarations shared by the simulation kernels. Must match src/sim/gpu.rs.
+// Declarations shared by the simulation kernels. The bindings and the SimStatic and
+// Step layouts are checked against src/sim/kernel.rs by its test (SPIR-V reflection);
+// the constants shared with Rust are defined from it (src/sim/gpu.rs: kernel_defines).
 //
 // One invocation per master strand; GROUP_SIZE strands per workgroup.
 #ifndef SIM_COMMON_GLSL
@@ -80,7 +82,6 @@ layout(push_constant) uniform Push {
     uint place;         // 1: put every strand at its posed rest shape, at rest
 } push;
 
-const float MIN_LENGTH = 1e-20;
 
 // The rotation taking the x axis to unit u along the shortest arc (src/sim/cpu.rs).
 mat3 rotation_from_x(vec3 u) {

@@ -8,6 +8,8 @@ mod instance;
 mod physical;
 mod pipeline;
 mod query;
+#[cfg(test)]
+pub(crate) mod reflect;
 mod sampler;
 pub mod shader;
 mod swapchain;

@@ -133,3 +133,96 @@ pub(super) fn bindings() -> [(vk::DescriptorType, vk::ShaderStageFlags); 10] {
         ),
     ]
 }
+
+#[cfg(test)]
+mod tests {
+    use std::mem::offset_of;
+
+    use super::bindings;
+    use crate::gpu::reflect::{check_bindings, check_struct, reflect};
+    use crate::gpu::shader::compile;
+    use crate::render::uniforms::{shader_defines, FrameUniforms};
+
+    /// The `Frame` uniform block as Rust lays it out: (member, byte offset).
+    fn frame_fields() -> Vec<(&'static str, usize)> {
+        macro_rules! fields {
+            ($($f:ident),+) => { vec![$((stringify!($f), offset_of!(FrameUniforms, $f))),+] };
+        }
+        fields!(
+            view_proj,
+            model,
+            light_view_proj,
+            eye,
+            light,
+            root_color,
+            tip_color,
+            skin_color,
+            shading,
+            lod,
+            hair,
+            viewport,
+            draw,
+            highlight,
+            secondary,
+            shadow,
+            strands,
+            fibre
+        )
+    }
+
+    /// Every render shader, compiled with every option that adds a binding, uses the
+    /// bindings of the Rust layout with their types, and lays out the `Frame` block as
+    /// `FrameUniforms` is (names, order, offsets); every binding of the layout is used.
+    /// Swapping two members in GLSL, or adding a field in Rust only, fails here.
+    #[test]
+    fn the_render_shaders_agree_with_the_rust_layouts() {
+        let layout: Vec<_> = bindings().iter().map(|b| b.0).collect();
+        let mut used = std::collections::BTreeSet::new();
+        for lines in ["0", "1"] {
+            let mut defines: Vec<(&str, String)> = [
+                ("STRAND_VERTICES", "17"),
+                ("TEXTURED", "1"),
+                ("SHADOWS", "1"),
+                ("BODY_SKINNED", "1"),
+                ("COUNT_HAIRS", "1"),
+                ("MARSCHNER", "1"),
+                ("COVERAGE_SAMPLES", "4"),
+                ("LINES", lines),
+            ]
+            .into_iter()
+            .map(|(k, v)| (k, v.to_string()))
+            .collect();
+            defines.extend(shader_defines());
+            for shader in [
+                "fur.vert",
+                "fur.tesc",
+                "fur.tese",
+                "fur.geom",
+                "fur.frag",
+                "mesh.vert",
+                "mesh.frag",
+            ] {
+                let words = compile(shader, &defines).unwrap_or_else(|e| panic!("{shader}: {e}"));
+                let found = reflect(&words);
+                check_bindings(shader, &found, &layout).unwrap();
+                if found.structs.contains_key("Frame") {
+                    check_struct(shader, &found, "Frame", &frame_fields()).unwrap();
+                }
+                used.extend(found.bindings.keys().map(|&(_, b)| b));
+            }
+        }
+        assert_eq!(used.len(), layout.len(), "bindings used: {used:?}");
+        assert_eq!(
+            std::mem::size_of::<FrameUniforms>(),
+            frame_fields().last().unwrap().1 + 16,
+            "FrameUniforms ends with its last vec4"
+        );
+    }
+
+    /// Without the shared defines a render shader does not compile.
+    #[test]
+    fn render_shaders_take_their_flags_from_rust() {
+        let error = compile("fur.tesc", &[]).unwrap_err().to_string();
+        assert!(error.contains("shader_defines"), "{error}");
+    }
+}

@@ -163,13 +163,15 @@ impl FurPass {
         } else {
             0
         };
-        let common = [
+        let shared = super::uniforms::shader_defines();
+        let mut common = vec![
             ("VERTEX_SHADING", flag(variant.shading == Shading::Vertex)),
             ("TEXTURED", textured.clone()),
             ("SHADOWS", flag(variant.shadows)),
             ("MARSCHNER", flag(variant.model == LightingModel::Marschner)),
             ("COVERAGE_SAMPLES", coverage_samples.to_string()),
         ];
+        common.extend(shared.iter().cloned());
         let mut geometry_defines = vec![
             ("STRAND_VERTICES", self.vertices_per_strand.to_string()),
             ("LINES", flag(variant.lines)),
@@ -178,16 +180,16 @@ impl FurPass {
         ];
         geometry_defines.extend(common.iter().cloned());
         let device = &self.device;
-        let vert = ShaderModule::new(device, "fur.vert", &[])?;
-        let tesc = ShaderModule::new(
-            device,
-            "fur.tesc",
-            &[
-                ("BODY_SKINNED", flag(self.skinned)),
-                ("TEXTURED", textured.clone()),
-            ],
-        )?;
-        let tese = ShaderModule::new(device, "fur.tese", &[("TEXTURED", textured)])?;
+        let vert = ShaderModule::new(device, "fur.vert", &shared)?;
+        let mut tesc_defines = vec![
+            ("BODY_SKINNED", flag(self.skinned)),
+            ("TEXTURED", textured.clone()),
+        ];
+        tesc_defines.extend(shared.iter().cloned());
+        let tesc = ShaderModule::new(device, "fur.tesc", &tesc_defines)?;
+        let mut tese_defines = vec![("TEXTURED", textured)];
+        tese_defines.extend(shared.iter().cloned());
+        let tese = ShaderModule::new(device, "fur.tese", &tese_defines)?;
         let geom = ShaderModule::new(device, "fur.geom", &geometry_defines)?;
         let frag = ShaderModule::new(device, "fur.frag", &common)?;
         // All forms write depth: a blended hair hides the hairs drawn after it behind

@@ -120,11 +120,12 @@ impl MeshPass {
         shadows: bool,
     ) -> Result<Pipeline> {
         let flag = |on: bool| u32::from(on).to_string();
-        let defines = [
+        let mut defines = vec![
             ("TEXTURED", flag(textured)),
             ("SHADOWS", flag(shadows)),
             ("BODY_SKINNED", flag(skinned)),
         ];
+        defines.extend(super::uniforms::shader_defines());
         let vert = ShaderModule::new(device, "mesh.vert", &defines)?;
         let frag = ShaderModule::new(device, "mesh.frag", &defines)?;
         let stride = std::mem::size_of::<MeshVertex>() as u32;

@@ -219,6 +219,21 @@ pub const FLAG_COUNT: u32 = 4;
 pub const FLAG_SECONDARY_HIGHLIGHT: u32 = 8;
 pub const FLAG_THIN_HAIR_AA: u32 = 16;
 
+/// What the render shaders share with Rust, given to every one of them as `#define`s
+/// so no constant is typed twice: the flags of `strands.w`.
+pub fn shader_defines() -> Vec<(&'static str, String)> {
+    [
+        ("FLAG_CULL", FLAG_CULL),
+        ("FLAG_THICKNESS_COMPENSATION", FLAG_THICKNESS_COMPENSATION),
+        ("FLAG_COUNT", FLAG_COUNT),
+        ("FLAG_SECONDARY_HIGHLIGHT", FLAG_SECONDARY_HIGHLIGHT),
+        ("FLAG_THIN_HAIR_AA", FLAG_THIN_HAIR_AA),
+    ]
+    .into_iter()
+    .map(|(name, bit)| (name, format!("{bit}u")))
+    .collect()
+}
+
 /// Everything one frame is drawn with.
 #[derive(Clone, Debug, PartialEq)]
 pub struct FrameSettings {

@@ -86,13 +86,13 @@ fn segment_parameter<T: Real>(m: V3<T>, a: V3<T>, ab: V3<T>, len2: T) -> T {
 }
 
 /// Capsules a strand collides with in a substep, at most.
-const NEAR_CAPSULES: usize = 4;
+pub(crate) const NEAR_CAPSULES: usize = 4;
 
 /// How far, in strand lengths, a capsule's bone must move relative to a strand's root
 /// for the capsule to reach its full radius ([`near_capsules`]). Measured on the walking
 /// critter (deepest vertex, in hair lengths): 1 let hair 12.5 % into the skin near
 /// joints; 0.25 and 0.1 both 8.1 %, as every capsule at its full radius does.
-const CAPSULE_RAMP: f32 = 0.25;
+pub(crate) const CAPSULE_RAMP: f32 = 0.25;
 
 /// A capsule as the collision loop reads it: `a`, radius, `b − a`, `|b − a|²`, and the
 /// strand's root's distance from its axis.
@@ -201,7 +201,7 @@ pub(super) fn near_capsules<T: Real>(
 
 /// A blended matrix's determinant below which it is taken as degenerate (the root pose
 /// carries the vertex instead).
-const MIN_DETERMINANT: f32 = 1e-6;
+pub(crate) const MIN_DETERMINANT: f32 = 1e-6;
 
 /// Substep `bones`' blended matrix `w Kₐ + (1 − w) K_b` of grid point `packed` (`Kₐ`
 /// alone where `heaviest`), inverted: its inverse transpose (which carries the rest

@@ -66,6 +66,11 @@ pub fn kernel_defines() -> Vec<(&'static str, String)> {
         ("SLEEP_ULPS", float(super::cpu::SLEEP_ULPS)),
         ("REST_MOTION", float(super::cpu::REST_MOTION)),
         ("REST_GRAVITY", float(super::cpu::REST_GRAVITY)),
+        ("NEAR_CAPSULES", uint(super::collide::NEAR_CAPSULES as u32)),
+        ("CAPSULE_RAMP", float(super::collide::CAPSULE_RAMP)),
+        ("MIN_DETERMINANT", float(super::collide::MIN_DETERMINANT)),
+        ("BLEND_REFINE", uint(crate::skinning::blend::REFINE)),
+        ("MIN_LENGTH", float(super::math::MIN_LENGTH)),
     ]
 }
 
@@ -478,6 +483,7 @@ mod tests {
         let source = [
             crate::gpu::shader::source("simulate.comp").unwrap(),
             crate::gpu::shader::source("collide.glsl").unwrap(),
+            crate::gpu::shader::source("sim_common.glsl").unwrap(),
         ]
         .concat();
         for (name, value) in kernel_defines() {

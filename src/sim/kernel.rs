@@ -152,3 +152,46 @@ pub(super) fn write_sim_set(
     ];
     unsafe { device.raw.update_descriptor_sets(&writes, &[]) };
 }
+
+#[cfg(test)]
+mod tests {
+    use std::mem::offset_of;
+
+    use super::{bindings, GpuStep, SimStatic};
+    use crate::gpu::reflect::{check_bindings, check_struct, reflect};
+    use crate::gpu::shader::compile;
+
+    /// Both kernels use the bindings of the Rust layout with their types and lay out
+    /// `SimStatic` and `Step` as the Rust structs do; every binding is used.
+    #[test]
+    fn the_kernels_agree_with_the_rust_layouts() {
+        let layout: Vec<_> = bindings().iter().map(|b| b.0).collect();
+        let sim_static = [
+            ("stiffness", offset_of!(SimStatic, stiffness)),
+            ("counts", offset_of!(SimStatic, counts)),
+            ("counts2", offset_of!(SimStatic, counts2)),
+            ("collision", offset_of!(SimStatic, collision)),
+            ("sdf_origin", offset_of!(SimStatic, sdf_origin)),
+            ("sdf_dims", offset_of!(SimStatic, sdf_dims)),
+        ];
+        let step = [
+            ("head", offset_of!(GpuStep, head)),
+            ("head_inverse", offset_of!(GpuStep, head_inverse)),
+            ("gravity_h2", offset_of!(GpuStep, gravity_h2)),
+            ("wind_h2", offset_of!(GpuStep, wind_h2)),
+        ];
+        let mut used = std::collections::BTreeSet::new();
+        for kernel in ["simulate.comp", "simulate_rest.comp"] {
+            let words = compile(kernel, &crate::sim::gpu::kernel_defines())
+                .unwrap_or_else(|e| panic!("{kernel}: {e}"));
+            let found = reflect(&words);
+            check_bindings(kernel, &found, &layout).unwrap();
+            check_struct(kernel, &found, "SimStatic", &sim_static).unwrap();
+            if kernel == "simulate.comp" || found.structs.contains_key("Step") {
+                check_struct(kernel, &found, "Step", &step).unwrap();
+            }
+            used.extend(found.bindings.keys().map(|&(_, b)| b));
+        }
+        assert_eq!(used.len(), layout.len(), "bindings used: {used:?}");
+    }
+}

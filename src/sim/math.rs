@@ -68,9 +68,12 @@ pub fn min<T: Real>(a: T, b: T) -> T {
     }
 }
 
-/// Smallest segment length that still has a direction.
+/// Smallest segment length that still has a direction (`MIN_LENGTH` in the kernels).
+pub const MIN_LENGTH: f32 = 1e-20;
+
+/// [`MIN_LENGTH`] as `T`.
 pub fn min_length<T: Real>() -> T {
-    T::from_f32(1e-20)
+    T::from_f32(MIN_LENGTH)
 }
 
 /// The head transform split into rotation and translation.

@@ -380,3 +380,19 @@ impl GpuSkin {
             + self.last_poses.buffer.size()
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use crate::gpu::reflect::{check_bindings, reflect};
+
+    /// The skinning kernel uses the bindings of the Rust layout, each with its type,
+    /// and every one of them.
+    #[test]
+    fn the_skinning_kernel_agrees_with_the_rust_layout() {
+        let layout: Vec<_> = super::bindings().iter().map(|b| b.0).collect();
+        let words = crate::gpu::shader::compile("skin.comp", &[]).unwrap();
+        let found = reflect(&words);
+        check_bindings("skin.comp", &found, &layout).unwrap();
+        assert_eq!(found.bindings.len(), layout.len(), "{:?}", found.bindings);
+    }
+}

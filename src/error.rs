@@ -1,140 +1,23 @@
-//! The library's error type: every failure a user can cause or act on, named.
-
-use std::path::PathBuf;
+//! The error type (the core's, [`fur_core::error`]) and what the Vulkan layer adds to
+//! it: Vulkan results named and attached to the failing call.
 
 use ash::vk;
 
-/// Result alias used throughout the library.
-pub type Result<T, E = Error> = std::result::Result<T, E>;
+pub use fur_core::error::*;
 
-/// Everything that can go wrong in the renderer and simulator.
-#[derive(Debug, thiserror::Error)]
-pub enum Error {
-    #[error("the Vulkan loader could not be loaded ({0}); install libvulkan1 and a Vulkan driver (e.g. mesa-vulkan-drivers)")]
-    Loader(#[from] ash::LoadingError),
-
-    #[error("Vulkan call {call} failed: {result}{}", hint(*.result))]
-    Vulkan {
-        call: &'static str,
-        result: vk::Result,
-    },
-
-    #[error("the Khronos validation layer (VK_LAYER_KHRONOS_validation) is not installed; install vulkan-validationlayers or run without --validate")]
-    ValidationLayerMissing,
-
-    #[error("no usable Vulkan device:\n{0}")]
-    NoSuitableDevice(String),
-
-    /// `--device` named no device, several, or one fur cannot run on; with the list.
-    #[error("{0}")]
-    DeviceChoice(String),
-
-    #[error("allocating {} of GPU memory for `{name}` failed (out of device memory?): {source}", size_text(*.bytes))]
-    Allocation {
-        name: String,
-        bytes: u64,
-        #[source]
-        source: gpu_allocator::AllocationError,
-    },
-
-    #[error("shader compilation failed: {0}")]
-    ShaderCompile(String),
-
-    #[error("GPU work did not finish within {0} seconds")]
-    Timeout(u64),
-
-    #[error("cannot read model {path}: {message}")]
-    Model { path: PathBuf, message: String },
-
-    /// A texture image that cannot be read, decoded or used.
-    #[error("cannot read texture {path}: {message}")]
-    Texture { path: PathBuf, message: String },
-
-    #[error("{0}")]
-    Window(String),
-
-    #[error("{count} validation message(s); the first: {first}")]
-    Validation { count: usize, first: String },
-
-    #[error("invalid parameter: {0}")]
-    Parameter(String),
-
-    #[error("cannot write image {path}: {message}")]
-    ImageWrite { path: PathBuf, message: String },
-
-    /// A file-system operation (write, create a folder, rename) on a path failed.
-    #[error("cannot {operation} {path}: {message}")]
-    Io {
-        operation: &'static str,
-        path: PathBuf,
-        message: String,
-    },
-
-    #[error("interrupted")]
-    Interrupted,
-
-    /// A scene file that cannot be read, parsed or applied; line 0 when no line applies.
-    #[error("scene file {}: {message}", location(path, *line, *column))]
-    SceneFile {
-        path: PathBuf,
-        line: usize,
-        column: usize,
-        message: String,
-    },
-
-    #[error("leak: {0}")]
-    Leak(String),
-}
-
-impl Error {
-    /// An [`Error::Io`] from an `std::io::Error`.
-    pub fn io(operation: &'static str, path: &std::path::Path, error: std::io::Error) -> Self {
-        Error::Io {
-            operation,
-            path: path.to_path_buf(),
-            message: error.to_string(),
-        }
+/// A `vk::Result` as the core's [`VulkanResult`].
+pub fn vulkan_result(result: vk::Result) -> VulkanResult {
+    VulkanResult {
+        code: result.as_raw(),
+        name: format!("{result:?}"),
     }
 }
 
-/// `path:line:column`, or the path alone without a line.
-fn location(path: &std::path::Path, line: usize, column: usize) -> String {
-    if line == 0 {
-        path.display().to_string()
-    } else {
-        format!("{}:{line}:{column}", path.display())
-    }
-}
-
-/// A byte count for people: `2 GiB`, `3.5 MiB`, `120 bytes`.
-pub fn size_text(bytes: u64) -> String {
-    const GIB: f64 = (1u64 << 30) as f64;
-    const MIB: f64 = (1u64 << 20) as f64;
-    let b = bytes as f64;
-    if b >= GIB {
-        format!("{} GiB", trim_number(b / GIB))
-    } else if b >= MIB {
-        format!("{} MiB", trim_number(b / MIB))
-    } else {
-        format!("{bytes} bytes")
-    }
-}
-
-fn trim_number(x: f64) -> String {
-    let text = format!("{x:.1}");
-    text.strip_suffix(".0").map_or(text.clone(), str::to_string)
-}
-
-/// What a Vulkan error means for the user.
-fn hint(result: vk::Result) -> &'static str {
-    match result {
-        vk::Result::ERROR_DEVICE_LOST => {
-            " (the GPU stopped responding or reset; the work was too large or the driver failed)"
-        }
-        vk::Result::ERROR_OUT_OF_DEVICE_MEMORY | vk::Result::ERROR_OUT_OF_HOST_MEMORY => {
-            " (out of memory: use a smaller image, fewer samples or hairs)"
-        }
-        _ => "",
+/// The error of Vulkan call `call` failing with `result`.
+pub fn vulkan(call: &'static str, result: vk::Result) -> Error {
+    Error::Vulkan {
+        call,
+        result: vulkan_result(result),
     }
 }
 
@@ -145,7 +28,7 @@ pub(crate) trait VkContext<T> {
 
 impl<T> VkContext<T> for std::result::Result<T, vk::Result> {
     fn vk(self, call: &'static str) -> Result<T> {
-        self.map_err(|result| Error::Vulkan { call, result })
+        self.map_err(|result| vulkan(call, result))
     }
 }
 
@@ -154,26 +37,14 @@ mod tests {
     use super::*;
 
     #[test]
-    fn memory_and_device_errors_say_what_and_how_big() {
-        let oom = Error::Allocation {
-            name: "target.color".into(),
-            bytes: 3 << 20,
-            source: gpu_allocator::AllocationError::OutOfMemory,
-        };
-        let text = oom.to_string();
+    fn vulkan_results_keep_their_names_and_hints() {
+        let lost = vulkan("vkQueueSubmit", vk::Result::ERROR_DEVICE_LOST);
+        let text = lost.to_string();
         assert!(
-            text.contains("3 MiB") && text.contains("target.color"),
+            text.contains("ERROR_DEVICE_LOST") && text.contains("stopped responding"),
             "{text}"
         );
-        let lost = Error::Vulkan {
-            call: "vkQueueSubmit",
-            result: vk::Result::ERROR_DEVICE_LOST,
-        };
-        assert!(lost.to_string().contains("stopped responding"), "{lost}");
-        let full = Error::Vulkan {
-            call: "vkAllocateMemory",
-            result: vk::Result::ERROR_OUT_OF_DEVICE_MEMORY,
-        };
+        let full = vulkan("vkAllocateMemory", vk::Result::ERROR_OUT_OF_DEVICE_MEMORY);
         assert!(full.to_string().contains("out of memory"), "{full}");
     }
 }

@@ -7,22 +7,21 @@
 //! - [`render`]: the mesh pass and the tessellated fur pass;
 //! - [`geometry`]: the distance fields and maths the scene and the simulation share;
 //! - [`gpu`]: the Vulkan layer underneath.
+//!
+//! Everything without a device (the scene, settings, the CPU references, lighting
+//! models, images) is the `fur-core` crate, re-exported here under the same paths.
 
 pub mod bench;
-pub mod colour;
 pub mod error;
 pub mod export;
-pub mod files;
-pub mod geometry;
 pub mod gpu;
-pub mod interrupt;
 pub mod render;
-pub mod scene;
-pub mod scene_file;
 pub mod session;
 pub mod sim;
 pub mod skinning;
 pub mod strand_textures;
 pub mod viewer;
+
+pub use fur_core::{colour, files, geometry, interrupt, scene, scene_file};
 
 pub use error::{Error, Result};

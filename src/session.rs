@@ -17,7 +17,8 @@ use crate::strand_textures::StrandTextures;
 
 mod options;
 
-pub use options::{check_work, DrawOptions, SceneOptions, MAX_TARGET_BYTES};
+pub use fur_core::scene_file::{DrawOptions, SceneOptions};
+pub use options::{check_work, MAX_TARGET_BYTES};
 
 /// What a frame reports beyond the image.
 #[derive(Clone, Debug)]

@@ -407,7 +407,7 @@ fn gpu_collision_matches_the_cpu_reference() {
     let mut flips = 0;
     let mut worst_budget = 0.0f32;
     for frame in 0..40 {
-        rounding::take_device_state(&mut cpu, &textures);
+        common::take_device_state(&mut cpu, &textures);
         gpu.run_frames(&mut textures, 1, |t| motion.head(t))
             .unwrap();
         cpu.step_frame(|t| motion.head(t));

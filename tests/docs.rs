@@ -159,3 +159,51 @@ fn numbers_are_read_as_written() {
         ["271.1", "5.2", "1,400"]
     );
 }
+
+/// Every source path the documents name (`src/…`, `tests/…`, `shaders/…`, `crates/…`,
+/// `tools/…`, in backticks or as a link) is a file or folder of the tree: a file moved
+/// or renamed without its docs fails here.
+#[test]
+fn the_files_the_documents_name_exist() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let mut missing = Vec::new();
+    for doc in [
+        "README.md",
+        "docs/design.md",
+        "docs/benchmark.md",
+        "docs/ground-truth.md",
+        "docs/robustness.md",
+        "docs/testing.md",
+        "docs/scene-files.md",
+    ] {
+        let text = read(doc);
+        for prefix in ["src/", "tests/", "shaders/", "crates/", "tools/"] {
+            for (i, _) in text.match_indices(prefix) {
+                let before = text[..i].chars().next_back();
+                if !matches!(before, Some('`') | Some('/') | Some('(')) {
+                    continue;
+                }
+                if before == Some('/') && !text[..i].ends_with("../") {
+                    continue;
+                }
+                let path: String = text[i..]
+                    .chars()
+                    .take_while(|c| c.is_ascii_alphanumeric() || "_./-".contains(*c))
+                    .collect();
+                // A pattern (`shaders/mesh.*`) names no one file.
+                if text[i + path.len()..].starts_with('*') {
+                    continue;
+                }
+                let path = path.trim_end_matches(['.', '/']);
+                if !root.join(path).exists() {
+                    missing.push(format!("{doc}: {path}"));
+                }
+            }
+        }
+    }
+    assert!(
+        missing.is_empty(),
+        "named but not there:\n{}",
+        missing.join("\n")
+    );
+}

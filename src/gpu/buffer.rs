@@ -46,7 +46,7 @@ impl Buffer {
                 return Err(Error::Allocation {
                     name: name.into(),
                     bytes: size,
-                    source,
+                    source: Box::new(source),
                 });
             }
         };

@@ -112,7 +112,7 @@ impl Device {
                 return Err(Error::Allocation {
                     name: "allocator".into(),
                     bytes: 0,
-                    source,
+                    source: Box::new(source),
                 });
             }
         };
@@ -124,10 +124,7 @@ impl Device {
             Err(result) => {
                 drop(allocator);
                 unsafe { raw.destroy_device(None) };
-                return Err(Error::Vulkan {
-                    call: "vkCreateCommandPool",
-                    result,
-                });
+                return Err(crate::error::vulkan("vkCreateCommandPool", result));
             }
         };
         let debug_utils = instance
@@ -252,10 +249,7 @@ impl Device {
         } {
             Ok(()) => Ok(()),
             Err(vk::Result::TIMEOUT) => Err(Error::Timeout(SUBMIT_TIMEOUT_S)),
-            Err(result) => Err(Error::Vulkan {
-                call: "vkWaitForFences",
-                result,
-            }),
+            Err(result) => Err(crate::error::vulkan("vkWaitForFences", result)),
         }
     }
 

@@ -92,7 +92,7 @@ impl Image {
                 return Err(Error::Allocation {
                     name: name.into(),
                     bytes: requirements.size,
-                    source,
+                    source: Box::new(source),
                 });
             }
         };

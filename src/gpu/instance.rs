@@ -54,7 +54,7 @@ pub struct Instance {
 impl Instance {
     pub fn new(desc: &InstanceDesc) -> Result<Self> {
         // SAFETY: loading the system's Vulkan loader; symbols are resolved by ash.
-        let entry = unsafe { ash::Entry::load()? };
+        let entry = unsafe { ash::Entry::load().map_err(|e| crate::Error::Loader(e.to_string()))? };
         // The loader may load and unload drivers and layers while it answers these
         // (see `loader_lock`).
         let loader = super::loader_lock();
@@ -119,10 +119,10 @@ impl Instance {
                 Ok(messenger) => (Some(debug_utils), messenger),
                 Err(result) => {
                     unsafe { raw.destroy_instance(None) };
-                    return Err(crate::Error::Vulkan {
-                        call: "vkCreateDebugUtilsMessengerEXT",
+                    return Err(crate::error::vulkan(
+                        "vkCreateDebugUtilsMessengerEXT",
                         result,
-                    });
+                    ));
                 }
             }
         } else {

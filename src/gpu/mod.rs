@@ -13,6 +13,7 @@ pub(crate) mod reflect;
 mod sampler;
 pub mod shader;
 mod swapchain;
+mod sync;
 
 use std::sync::Arc;
 
@@ -30,6 +31,7 @@ pub use query::{FurStatistics, QueryPool, FUR_STATISTICS};
 pub use sampler::Sampler;
 pub use shader::ShaderModule;
 pub use swapchain::{Surface, Swapchain};
+pub use sync::{CommandPool, Fence, Semaphore};
 
 use crate::error::Result;
 
@@ -93,13 +95,8 @@ pub fn windowed(
     let display = window
         .display_handle()
         .map_err(|e| crate::Error::Window(format!("no display handle: {e}")))?;
-    let required =
-        ash_window::enumerate_required_extensions(display.as_raw()).map_err(|result| {
-            crate::Error::Vulkan {
-                call: "enumerate_required_extensions",
-                result,
-            }
-        })?;
+    let required = ash_window::enumerate_required_extensions(display.as_raw())
+        .map_err(|result| crate::error::vulkan("enumerate_required_extensions", result))?;
     // SAFETY: ash returns pointers to its static, NUL-terminated extension names.
     let extensions = required
         .iter()

@@ -199,10 +199,7 @@ impl Pipeline {
                 .raw
                 .create_compute_pipelines(vk::PipelineCache::null(), &[info], None)
         }
-        .map_err(|(_, result)| crate::Error::Vulkan {
-            call: "vkCreateComputePipelines",
-            result,
-        })?[0];
+        .map_err(|(_, result)| crate::error::vulkan("vkCreateComputePipelines", result))?[0];
         device.set_name(raw, shader);
         Ok(Self {
             device: device.clone(),

@@ -196,10 +196,7 @@ impl Swapchain {
         } {
             Ok((index, _suboptimal)) => Ok(Some(index)),
             Err(vk::Result::ERROR_OUT_OF_DATE_KHR) => Ok(None),
-            Err(result) => Err(Error::Vulkan {
-                call: "vkAcquireNextImageKHR",
-                result,
-            }),
+            Err(result) => Err(crate::error::vulkan("vkAcquireNextImageKHR", result)),
         }
     }
 
@@ -216,10 +213,7 @@ impl Swapchain {
         match unsafe { self.loader.queue_present(self.device.queue, &info) } {
             Ok(suboptimal) => Ok(!suboptimal),
             Err(vk::Result::ERROR_OUT_OF_DATE_KHR) => Ok(false),
-            Err(result) => Err(Error::Vulkan {
-                call: "vkQueuePresentKHR",
-                result,
-            }),
+            Err(result) => Err(crate::error::vulkan("vkQueuePresentKHR", result)),
         }
     }
 }

@@ -10,10 +10,10 @@ use std::sync::Arc;
 
 use ash::vk;
 
-use super::lighting::LightingModel;
 use super::pipeline::{graphics_pipeline, Blend, GraphicsDesc};
 use super::target::sample_flag;
 use super::uniforms::{FrameSettings, FurStyle, Primitive, Shading};
+use super::LightingModel;
 use crate::error::Result;
 use crate::gpu::{Device, Pipeline, PipelineLayout, ShaderModule};
 

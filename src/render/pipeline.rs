@@ -115,10 +115,7 @@ pub fn graphics_pipeline(
             .raw
             .create_graphics_pipelines(vk::PipelineCache::null(), &[info], None)
     }
-    .map_err(|(_, result)| crate::Error::Vulkan {
-        call: "vkCreateGraphicsPipelines",
-        result,
-    })?[0];
+    .map_err(|(_, result)| crate::error::vulkan("vkCreateGraphicsPipelines", result))?[0];
     Ok(Pipeline::from_raw(device, desc.name, raw))
 }
 

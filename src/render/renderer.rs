@@ -12,7 +12,6 @@ use ash::vk;
 
 use super::bindings::{bindings, write_shadow_map, BodyBinding, TextureBinding};
 use super::fur_pass::{FurPass, Variant};
-use super::image::RgbaImage;
 use super::mesh_pass::MeshPass;
 use super::pipeline::begin_rendering;
 use super::shadow_pass::{self, LightView};
@@ -20,6 +19,7 @@ use super::slot::{RenderSlot, TIMESTAMPS, TS_FRAME, TS_FUR, TS_MESH, TS_START};
 use super::target::{check_samples, RenderTarget};
 use super::texture::{GpuTexture, ShadowMap};
 use super::uniforms::{FrameSettings, FrameUniforms, StrandShape};
+use super::RgbaImage;
 use crate::error::Error;
 use crate::error::Result;
 use crate::gpu::{

@@ -8,7 +8,7 @@ use std::sync::Arc;
 use ash::vk;
 use gpu_allocator::MemoryLocation;
 
-use super::image::RgbaImage;
+use super::RgbaImage;
 use crate::error::{Error, Result};
 use crate::gpu::{image_barriers, whole_image_copy, Buffer, Device, Image, ImageDesc};
 

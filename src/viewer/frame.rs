@@ -90,14 +90,14 @@ impl Viewer {
         }
 
         let slot = (self.frame_index % FRAMES_IN_FLIGHT as u64) as usize;
-        self.device.wait_fence(self.frames[slot].fence)?;
+        self.device.wait_fence(self.frames[slot].fence.raw)?;
         self.finish_slot(slot)?;
 
         let swapchain = self
             .swapchain
             .as_ref()
             .expect("swapchain exists while drawing");
-        let Some(image_index) = swapchain.acquire(self.frames[slot].image_available)? else {
+        let Some(image_index) = swapchain.acquire(self.frames[slot].image_available.raw)? else {
             self.needs_resize = true;
             return Ok(true);
         };
@@ -131,7 +131,7 @@ impl Viewer {
         for (id, deltas) in textures.set.drain() {
             for delta in &deltas {
                 self.egui_renderer
-                    .set_texture(self.device.queue, self.upload_pool, id, delta)
+                    .set_texture(self.device.queue, self.upload_pool.raw, id, delta)
                     .map_err(|e| Error::Window(format!("UI texture upload failed: {e}")))?;
             }
         }
@@ -173,7 +173,7 @@ impl Viewer {
         let frame = &mut self.frames[slot];
         let cmd = frame.cmd;
         unsafe {
-            raw.reset_fences(&[frame.fence]).vk("vkResetFences")?;
+            raw.reset_fences(&[frame.fence.raw]).vk("vkResetFences")?;
             raw.reset_command_buffer(cmd, vk::CommandBufferResetFlags::empty())
                 .vk("vkResetCommandBuffer")?;
             raw.begin_command_buffer(
@@ -264,7 +264,7 @@ impl Viewer {
 
         let frame = &mut self.frames[slot];
         let wait = [vk::SemaphoreSubmitInfo::default()
-            .semaphore(frame.image_available)
+            .semaphore(frame.image_available.raw)
             .stage_mask(vk::PipelineStageFlags2::BLIT)];
         let signal = [vk::SemaphoreSubmitInfo::default()
             .semaphore(swapchain.render_finished[image_index as usize])
@@ -274,7 +274,7 @@ impl Viewer {
             .wait_semaphore_infos(&wait)
             .command_buffer_infos(&cmds)
             .signal_semaphore_infos(&signal);
-        unsafe { raw.queue_submit2(d.queue, &[submit], frame.fence) }.vk("vkQueueSubmit2")?;
+        unsafe { raw.queue_submit2(d.queue, &[submit], frame.fence.raw) }.vk("vkQueueSubmit2")?;
         frame.submitted = true;
         if !swapchain.present(image_index)? {
             self.needs_resize = true;

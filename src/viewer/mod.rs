@@ -26,8 +26,8 @@ use winit::window::{Window, WindowId};
 
 pub use script::{Action, Script};
 
-use crate::error::{Error, Result, VkContext};
-use crate::gpu::{Device, Surface, Swapchain};
+use crate::error::{Error, Result};
+use crate::gpu::{CommandPool, Device, Fence, Semaphore, Surface, Swapchain};
 use crate::scene::Mesh;
 use crate::session::{FurSession, SceneOptions};
 use crate::sim::{Motion, MotionKind, SimParams};
@@ -204,9 +204,10 @@ impl ApplicationHandler for App {
 /// Per frame in flight: command buffer, fence, acquire semaphore and what to do once
 /// the frame is done.
 struct FrameSync {
+    /// Allocated from the viewer's command pool, freed with it.
     cmd: vk::CommandBuffer,
-    fence: vk::Fence,
-    image_available: vk::Semaphore,
+    fence: Fence,
+    image_available: Semaphore,
     submitted: bool,
     simulated: bool,
     screenshot: Option<PathBuf>,
@@ -280,16 +281,19 @@ pub(crate) struct Hud {
     pub binning: bool,
 }
 
-// Fields drop in declaration order: UI first, then frame objects, swapchain, scene,
-// surface, device, and the window last (the surface refers to it).
+// Every Vulkan object here frees itself (its type holds the device); the one order that
+// matters is the window's, last, since the surface refers to it. `Drop` waits for the
+// device first, so nothing is destroyed while a frame is in flight.
 struct Viewer {
     egui_renderer: egui_ash_renderer::Renderer<egui_ash_renderer::allocator::GpuAllocator>,
     egui_state: egui_winit::State,
     egui_ctx: egui::Context,
     ui: ui::PanelState,
     frames: Vec<FrameSync>,
-    command_pool: vk::CommandPool,
-    upload_pool: vk::CommandPool,
+    /// Held for what it frees: the frames' command buffers come from it.
+    #[allow(dead_code)]
+    command_pool: CommandPool,
+    upload_pool: CommandPool,
     swapchain: Option<Swapchain>,
     session: FurSession,
     surface: Surface,
@@ -321,16 +325,7 @@ struct Viewer {
 
 impl Drop for Viewer {
     fn drop(&mut self) {
-        // Wait for every frame in flight before anything is destroyed.
+        // Wait for every frame in flight before the fields free their objects.
         let _ = self.device.wait_idle();
-        let raw = &self.device.raw;
-        unsafe {
-            for frame in &self.frames {
-                raw.destroy_fence(frame.fence, None);
-                raw.destroy_semaphore(frame.image_available, None);
-            }
-            raw.destroy_command_pool(self.command_pool, None);
-            raw.destroy_command_pool(self.upload_pool, None);
-        }
     }
 }

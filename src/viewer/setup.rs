@@ -59,37 +59,18 @@ impl Viewer {
         for warning in session.all_warnings(&options.model.name()) {
             eprintln!("warning: {warning}");
         }
-        let raw = &device.raw;
-        let pool_info = vk::CommandPoolCreateInfo::default()
-            .queue_family_index(device.queue_family)
-            .flags(vk::CommandPoolCreateFlags::RESET_COMMAND_BUFFER);
-        let command_pool =
-            unsafe { raw.create_command_pool(&pool_info, None) }.vk("vkCreateCommandPool")?;
-        let upload_pool =
-            unsafe { raw.create_command_pool(&pool_info, None) }.vk("vkCreateCommandPool")?;
-        let alloc_info = vk::CommandBufferAllocateInfo::default()
-            .command_pool(command_pool)
-            .level(vk::CommandBufferLevel::PRIMARY)
-            .command_buffer_count(FRAMES_IN_FLIGHT as u32);
-        let cmds =
-            unsafe { raw.allocate_command_buffers(&alloc_info) }.vk("vkAllocateCommandBuffers")?;
+        let command_pool = CommandPool::new(&device, "frames")?;
+        let upload_pool = CommandPool::new(&device, "ui uploads")?;
         let mut frames = Vec::new();
-        for (i, cmd) in cmds.into_iter().enumerate() {
-            let fence = unsafe {
-                raw.create_fence(
-                    &vk::FenceCreateInfo::default().flags(vk::FenceCreateFlags::SIGNALED),
-                    None,
-                )
-            }
-            .vk("vkCreateFence")?;
-            let image_available =
-                unsafe { raw.create_semaphore(&vk::SemaphoreCreateInfo::default(), None) }
-                    .vk("vkCreateSemaphore")?;
-            device.set_name(image_available, &format!("image_available[{i}]"));
+        for (i, cmd) in command_pool
+            .allocate(FRAMES_IN_FLIGHT as u32)?
+            .into_iter()
+            .enumerate()
+        {
             frames.push(FrameSync {
                 cmd,
-                fence,
-                image_available,
+                fence: Fence::new(&device, true, &format!("frame_done[{i}]"))?,
+                image_available: Semaphore::new(&device, &format!("image_available[{i}]"))?,
                 submitted: false,
                 simulated: false,
                 screenshot: None,

@@ -5,8 +5,11 @@ use std::sync::Arc;
 
 use fur::gpu::Device;
 
-pub mod rounding;
-pub mod seed;
+// The CPU-side helpers live with the core's tests, shared here.
+#[path = "../../crates/fur-core/tests/common/mod.rs"]
+mod core_common;
+#[allow(unused_imports)]
+pub use core_common::{field_error, rounding, seed};
 
 /// A lavapipe-friendly headless device with the Khronos validation layer on, and a debug
 /// messenger that hears it: without `VK_EXT_debug_utils` no messenger exists, every
@@ -146,32 +149,17 @@ pub fn keep(image: &RgbaImage, name: &str) {
     }
 }
 
-/// The largest error of `sdf` against exact distances to `mesh` at points whose exact
-/// distance lies in `band` (scene units; 40,000 points spread over the grid): how far
-/// the collider's idea of the surface can be from the surface there. Exact distances
-/// come from a BVH over the mesh's triangles, not from the grid the collider samples.
-pub fn field_error(mesh: &Mesh, sdf: &fur::sim::Sdf, band: (f32, f32)) -> f64 {
-    let extent = glam::Vec3::from_array(sdf.dims.map(|n| (n - 1) as f32)) * sdf.cell;
-    let points: Vec<glam::Vec3> = (0..40_000u32)
-        .map(|i| {
-            let u = glam::Vec3::new(
-                fur::scene::hash_unit(3 * i),
-                fur::scene::hash_unit(3 * i + 1),
-                fur::scene::hash_unit(3 * i + 2),
-            );
-            sdf.origin + u * extent
-        })
-        .collect();
-    let exact = fur::sim::sdf::exact_distances(mesh, &points);
-    points
-        .iter()
-        .zip(&exact)
-        .filter(|(_, t)| (band.0..=band.1).contains(*t))
-        .map(|(p, t)| {
-            let (d, _) = sdf
-                .sample(fur::sim::V3::<f32>::from_vec3(*p))
-                .expect("a point of the grid");
-            f64::from((d - t).abs())
-        })
-        .fold(0.0, f64::max)
+/// Puts the device's current and previous positions into the CPU twin, so the next
+/// frame on each starts from the same state and one frame's arithmetic is compared.
+pub fn take_device_state(cpu: &mut fur::sim::CpuSim<f32>, textures: &StrandTextures) {
+    let state = |which: usize| -> Vec<fur::sim::V3<f32>> {
+        textures
+            .read_positions(which)
+            .unwrap()
+            .into_iter()
+            .map(fur::sim::V3::from_vec3)
+            .collect()
+    };
+    cpu.current = state(textures.current);
+    cpu.previous = state(1 - textures.current);
 }

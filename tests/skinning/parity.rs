@@ -96,7 +96,7 @@ fn frame_by_frame(
         flips: 0,
     };
     for frame in 0..frames {
-        rounding::take_device_state(cpu, textures);
+        common::take_device_state(cpu, textures);
         gpu.run_frames(textures, 1, head).unwrap();
         cpu.step_frame_posed(head, poses_at);
         assert_eq!(cpu.time, gpu.time);

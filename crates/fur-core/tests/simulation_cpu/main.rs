@@ -15,10 +15,10 @@ mod stability;
 use std::cell::RefCell;
 use std::sync::Arc;
 
-use fur::scene::{GroomParams, Mesh, Strands};
-use fur::sim::{CpuSim, Motion, MotionKind, Real, Sdf, SimParams, StepConstants, V3};
-use fur::skinning::cpu::Posed;
-use fur::skinning::RootPose;
+use fur_core::scene::{GroomParams, Mesh, Strands};
+use fur_core::sim::{CpuSim, Motion, MotionKind, Real, Sdf, SimParams, StepConstants, V3};
+use fur_core::skinning::cpu::Posed;
+use fur_core::skinning::RootPose;
 use glam::{DMat4, Vec3};
 
 fn strands(groom: &GroomParams) -> Strands {

@@ -2,8 +2,8 @@
 //! `shaders/simulate.comp`): settled hair is exactly still, moving hair is never put to
 //! sleep, and the threshold is 16 ulps of a strand's largest coordinate.
 
-use fur::scene::Strands;
-use fur::sim::{CpuSim, Real, SimParams};
+use fur_core::scene::Strands;
+use fur_core::sim::{CpuSim, Real, SimParams};
 use glam::{DMat4, Vec3};
 
 /// Strands sticking out sideways (along +x) from roots stacked along y: gravity bends

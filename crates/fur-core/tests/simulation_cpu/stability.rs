@@ -370,7 +370,7 @@ fn stability_matrix_collision_rows() {
         };
         let strands = Strands::grow(&mesh, &groom).unwrap();
         let hair = strands.hair_length();
-        let (sdf, _) = fur::sim::Sdf::build(&mesh, 128, hair.min(0.5)).unwrap();
+        let (sdf, _) = fur_core::sim::Sdf::build(&mesh, 128, hair.min(0.5)).unwrap();
         let e = common::field_error(&mesh, &sdf, (-2.0 * sdf.cell, 2.0 * sdf.cell));
         let sdf = std::sync::Arc::new(sdf);
         let is_resolved = segment_length == 0.02;
@@ -403,7 +403,7 @@ fn stability_matrix_collision_rows() {
                     .filter(|(i, _)| i % v != 0) // roots sit on the surface
                     .map(|(_, p)| to_model.transform_point3(p.to_vec3()))
                     .collect();
-                let exact = fur::sim::sdf::exact_distances(&mesh, &model);
+                let exact = fur_core::sim::sdf::exact_distances(&mesh, &model);
                 nearest = exact.iter().fold(nearest, |m, d| m.min(f64::from(*d)));
             }
             nearest

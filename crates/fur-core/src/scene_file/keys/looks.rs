@@ -1,7 +1,7 @@
 //! The light, the hair's colour and highlights, the fibre's physical parameters and
 //! self-shadowing (`fur bench --only looks` costs each).
 
-use crate::scene_file::setting::field;
+use crate::scene_file::value::field;
 use crate::scene_file::{Flag, Group, Kind, Panel, Setting};
 
 const SLIDER_0_2: Panel = Panel::Slider {

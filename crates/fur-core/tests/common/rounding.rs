@@ -17,8 +17,7 @@
 //! most 1, so a correction does not amplify the error it carries. [`frame_budget`]
 //! counts the operations of each step of `shaders/simulate.comp` per substep.
 
-use fur::sim::{CpuSim, SimParams, V3};
-use fur::strand_textures::StrandTextures;
+use fur_core::sim::SimParams;
 
 /// The unit in the last place of an f32 of magnitude `x` (its exponent's ulp).
 pub fn ulp(x: f32) -> f32 {
@@ -165,19 +164,4 @@ pub fn check_the_budget_by_hand() {
     assert_eq!(ulp(1.0), f32::EPSILON);
     assert_eq!(ulp(0.75), f32::EPSILON / 2.0);
     assert_eq!(ulp(-3.0), 2.0 * f32::EPSILON);
-}
-
-/// Puts the device's current and previous positions into the CPU twin, so the next
-/// frame on each starts from the same state and one frame's arithmetic is compared.
-pub fn take_device_state(cpu: &mut CpuSim<f32>, textures: &StrandTextures) {
-    let state = |which: usize| -> Vec<V3<f32>> {
-        textures
-            .read_positions(which)
-            .unwrap()
-            .into_iter()
-            .map(V3::from_vec3)
-            .collect()
-    };
-    cpu.current = state(textures.current);
-    cpu.previous = state(1 - textures.current);
 }

@@ -176,7 +176,7 @@ fn parameters_outside_their_ranges_are_refused() {
 /// both sides of every parity test (the f64 oracle included), so nothing else can.
 #[test]
 fn the_reference_maths_is_the_textbook_maths() {
-    use fur::sim::{M3, V3};
+    use fur_core::sim::{M3, V3};
     let a = V3::<f64>(1.0, -2.0, 3.0);
     let b = V3::<f64>(-4.0, 0.5, 2.0);
     assert_eq!(a + b, V3(-3.0, -1.5, 5.0));

@@ -17,16 +17,19 @@ mod cli;
 pub mod docs;
 mod file;
 mod keys;
+mod options;
 mod setting;
+mod value;
 
 pub use cli::SettingArgs;
 pub use file::SceneFile;
 pub use keys::GROUPS;
-pub use setting::{list, Effect, FieldValue, Flag, Group, Kind, Panel, Setting, Value};
+pub use options::{DrawOptions, SceneOptions};
+pub use setting::{list, Effect, Flag, Group, Kind, Panel, Setting};
+pub use value::{FieldValue, Value};
 
 use crate::error::Result;
 use crate::scene::ModelSpec;
-use crate::session::SceneOptions;
 use crate::sim::{Motion, MotionKind, SimParams};
 
 /// Everything a run draws.

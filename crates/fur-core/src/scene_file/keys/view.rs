@@ -1,6 +1,6 @@
 //! The image, the camera and the groom.
 
-use crate::scene_file::setting::field;
+use crate::scene_file::value::field;
 use crate::scene_file::{Effect, Flag, Group, Kind, Panel, Setting};
 
 pub const IMAGE: Group = Group {

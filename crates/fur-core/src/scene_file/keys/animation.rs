@@ -1,6 +1,6 @@
 //! Scripted head motion and a skinned or animated model's clip.
 
-use crate::scene_file::setting::field;
+use crate::scene_file::value::field;
 use crate::scene_file::{Effect, Flag, Group, Kind, Setting};
 
 pub const MOTION: Group = Group {

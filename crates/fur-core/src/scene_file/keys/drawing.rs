@@ -1,7 +1,7 @@
 //! How the fur is drawn: the levers that trade speed for image quality (`fur bench`
 //! measures each).
 
-use crate::scene_file::setting::field;
+use crate::scene_file::value::field;
 use crate::scene_file::{Flag, Group, Kind, Panel, Setting};
 
 pub const RENDER: Group = Group {

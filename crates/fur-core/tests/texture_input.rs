@@ -4,8 +4,8 @@
 
 use std::path::{Path, PathBuf};
 
-use fur::error::Error;
-use fur::scene::{Mesh, Texture, TextureSpec};
+use fur_core::error::Error;
+use fur_core::scene::{Mesh, Texture, TextureSpec};
 
 /// A fresh, empty folder under the system's temporary folder, removed when dropped.
 struct TempDir(PathBuf);

@@ -8,11 +8,11 @@ use super::math::{max, min, min_length, Head, Real, M3, V3};
 use super::sdf::Sdf;
 
 /// Projections onto the margin per vertex and substep, at most, on a rigid body.
-pub(crate) const PROJECTIONS: u32 = 3;
+pub const PROJECTIONS: u32 = 3;
 /// The same on a skinned body, onto each of its constraints in turn. A second and third
 /// round moved the walk's deepest vertex by 3e-4 hair lengths and took a tenth of the
 /// simulation step (docs/benchmark.md); what one leaves, the next substep takes up.
-pub(crate) const PROJECTIONS_SKINNED: u32 = 1;
+pub const PROJECTIONS_SKINNED: u32 = 1;
 
 /// The first vertex of a strand of `vertices` that the skin's blend carries back: from
 /// seven eighths of the hair out (`BLEND_FROM` in `shaders/collide.glsl`). The root
@@ -86,13 +86,13 @@ fn segment_parameter<T: Real>(m: V3<T>, a: V3<T>, ab: V3<T>, len2: T) -> T {
 }
 
 /// Capsules a strand collides with in a substep, at most.
-pub(crate) const NEAR_CAPSULES: usize = 4;
+pub const NEAR_CAPSULES: usize = 4;
 
 /// How far, in strand lengths, a capsule's bone must move relative to a strand's root
 /// for the capsule to reach its full radius ([`near_capsules`]). Measured on the walking
 /// critter (deepest vertex, in hair lengths): 1 let hair 12.5 % into the skin near
 /// joints; 0.25 and 0.1 both 8.1 %, as every capsule at its full radius does.
-pub(crate) const CAPSULE_RAMP: f32 = 0.25;
+pub const CAPSULE_RAMP: f32 = 0.25;
 
 /// A capsule as the collision loop reads it: `a`, radius, `b − a`, `|b − a|²`, and the
 /// strand's root's distance from its axis.
@@ -201,7 +201,7 @@ pub(super) fn near_capsules<T: Real>(
 
 /// A blended matrix's determinant below which it is taken as degenerate (the root pose
 /// carries the vertex instead).
-pub(crate) const MIN_DETERMINANT: f32 = 1e-6;
+pub const MIN_DETERMINANT: f32 = 1e-6;
 
 /// Substep `bones`' blended matrix `w Kₐ + (1 − w) K_b` of grid point `packed` (`Kₐ`
 /// alone where `heaviest`), inverted: its inverse transpose (which carries the rest

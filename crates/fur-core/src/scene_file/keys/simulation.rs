@@ -1,7 +1,7 @@
 //! The simulation (Han & Harada's constraints, wind) and collision with the body; units
 //! as [`crate::sim::SimParams`]: seconds, m/s², degrees.
 
-use crate::scene_file::setting::field;
+use crate::scene_file::value::field;
 use crate::scene_file::{Effect, Flag, Group, Kind, Panel, Setting};
 
 const UNIT: Panel = Panel::Slider {

@@ -1,0 +1,14 @@
+//! What a frame is drawn with, without the device: the drawing's settings and the
+//! uniform block they become, the lighting models and their CPU twins, images and
+//! their error, and the quality ladder (the passes that draw are the GPU layer's
+//! `render` module).
+
+pub mod budget;
+mod image;
+mod lighting;
+pub mod marschner;
+pub mod uniforms;
+
+pub use image::{flip, RgbaImage};
+pub use lighting::{kajiya_kay, Fibre, Highlights, Lighting, LightingModel, Shade, Shadows};
+pub use uniforms::{FrameSettings, FrameUniforms, FurStyle, Primitive, Shading, StrandShape};

@@ -1,0 +1,274 @@
+//! What a scene asks for, relative to the model's size ([`SceneOptions`]), and how it
+//! is drawn ([`DrawOptions`]).
+
+use crate::error::Error;
+use crate::error::Result;
+use crate::render::{FrameSettings, FurStyle, Primitive, Shading};
+use crate::scene::{Camera, GroomParams, Mesh, Rig, TextureSpec};
+use crate::skinning::Playback;
+
+/// A scene described relative to the model's size, so one set of defaults suits any
+/// model: lengths are fractions of the bounding radius.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SceneOptions {
+    /// Hair length as a fraction of the bounding radius.
+    pub hair_length: f32,
+    pub segments: u32,
+    pub comb: f32,
+    pub curl: f32,
+    /// Hairs at most this many times the local half-thickness long (0 = off).
+    pub thickness_limit: f32,
+    /// Multiplies the default interpolated-hair density.
+    pub density_scale: f32,
+    pub yaw_deg: f32,
+    pub pitch_deg: f32,
+    /// Camera distance in bounding radii; `None` frames the whole model, hair included,
+    /// in the vertical field of view.
+    pub distance: Option<f32>,
+    /// Vertical field of view, degrees.
+    pub fov_deg: f32,
+    pub draw: DrawOptions,
+    /// Lighting; the shadows' spacing is in bounding radii here (0 = the hair spacing).
+    pub lighting: crate::render::Lighting,
+    /// The colour texture, over the model's own (its OBJ material's map_Kd).
+    pub texture: Option<TextureSpec>,
+}
+
+/// How the fur is drawn: the levers that trade speed for image quality (measured by
+/// `fur bench`). Distances are in bounding radii.
+#[derive(Clone, Debug, PartialEq)]
+pub struct DrawOptions {
+    pub samples: u32,
+    pub primitive: Primitive,
+    pub ribbon_above_px: f32,
+    pub shading: Shading,
+    pub vertex_lod_px: f32,
+    /// Full-density distance of the density LOD, in bounding radii.
+    pub lod_distance: f32,
+    pub thickness_compensation: bool,
+    /// Hair width at the root, in bounding radii.
+    pub hair_width: f32,
+    pub min_pixel_width: f32,
+    /// Random tip offset of each interpolated hair, in bounding radii.
+    pub jitter: f32,
+    pub length_jitter: f32,
+    pub cull: bool,
+    /// Culled when cos(normal, view) < −cull_margin.
+    pub cull_margin: f32,
+    pub thin_hair_aa: bool,
+}
+
+impl Default for DrawOptions {
+    fn default() -> Self {
+        Self::from_style(&FurStyle::default(), 1.0)
+    }
+}
+
+impl DrawOptions {
+    /// The drawing a fur pass's `style` stands for on a model of bounding radius
+    /// `radius`: the inverse of [`SceneOptions::resolve`]'s scaling.
+    pub fn from_style(style: &FurStyle, radius: f32) -> Self {
+        Self {
+            samples: style.samples,
+            primitive: style.primitive,
+            ribbon_above_px: style.ribbon_above_px,
+            shading: style.shading,
+            vertex_lod_px: style.vertex_lod_px,
+            lod_distance: style.lod_distance / radius,
+            thickness_compensation: style.thickness_compensation,
+            hair_width: style.hair_width / radius,
+            min_pixel_width: style.min_pixel_width,
+            jitter: style.jitter / radius,
+            length_jitter: style.length_jitter,
+            cull: style.cull,
+            cull_margin: style.cull_margin,
+            thin_hair_aa: style.thin_hair_aa,
+        }
+    }
+
+    /// This drawing at reference quality: 4× MSAA ribbons lit per fragment, every
+    /// strand vertex drawn (widths, jitter and culling kept).
+    pub fn reference_quality(&self) -> Self {
+        Self {
+            samples: 4,
+            primitive: Primitive::Ribbons,
+            shading: Shading::Fragment,
+            vertex_lod_px: 0.0,
+            ..self.clone()
+        }
+    }
+}
+
+impl Default for SceneOptions {
+    fn default() -> Self {
+        Self {
+            hair_length: 0.2,
+            segments: 16,
+            comb: 2.0,
+            curl: 0.0,
+            thickness_limit: 0.6,
+            density_scale: 1.0,
+            yaw_deg: 25.0,
+            pitch_deg: 15.0,
+            distance: None,
+            fov_deg: 40.0,
+            draw: DrawOptions::default(),
+            lighting: crate::render::Lighting::default(),
+            texture: None,
+        }
+    }
+}
+
+/// Bounding radius of the original demo's sphere ([`crate::scene::ModelSpec::Sphere`]),
+/// the half-diagonal of its 4 × 4 × 4 box.
+const SPHERE_BOUNDS: f32 = 3.464_101_6;
+
+impl SceneOptions {
+    /// The original fur demo's scene on its sphere: master hairs of 12 vertices with
+    /// segments of 0.05 along the normals, seen from the side of the poles' axis through
+    /// the original's camera (the eye 10 units from the sphere's centre, a 45° vertical
+    /// field of view; at its 1280×720 the same pixels). The density gives the whole
+    /// sphere 35,193 interpolated hairs: as many as the distinct points of the original's
+    /// tessellation levels (⌊350 · area⌋ per triangle: 35,129), which it drew 189,600
+    /// times.
+    pub fn original() -> Self {
+        Self {
+            hair_length: 0.55 / SPHERE_BOUNDS,
+            segments: 11,
+            comb: 0.0,
+            curl: 0.0,
+            thickness_limit: 0.0,
+            density_scale: 0.33,
+            yaw_deg: 90.0,
+            pitch_deg: 15.0,
+            distance: Some(10.0 / SPHERE_BOUNDS),
+            fov_deg: 45.0,
+            ..Self::default()
+        }
+    }
+
+    /// The camera distance that frames `mesh` with its hair: its farthest vertex from the
+    /// box centre plus the hair length fills 90 % of the vertical field of view, from
+    /// any direction.
+    pub fn framing_distance(&self, mesh: &Mesh) -> f32 {
+        let (centre, radius) = mesh.bounds();
+        let reach = mesh
+            .positions
+            .iter()
+            .map(|p| p.distance(centre))
+            .fold(0.0f32, f32::max)
+            + self.hair_length * radius;
+        reach / ((0.5 * self.fov_deg).to_radians().sin() * 0.9)
+    }
+
+    /// Moves the camera of `settings` (made by [`SceneOptions::resolve`] for `mesh`) so
+    /// it frames every pose the first `frames` frames of `playback` take: the bounds of
+    /// the skinned body over them, plus the hair.
+    pub fn frame_poses(
+        &self,
+        settings: &mut FrameSettings,
+        mesh: &Mesh,
+        rig: &Rig,
+        playback: &Playback,
+        frames: u32,
+    ) {
+        let dt = 1.0 / 60.0;
+        let samples = frames.clamp(1, 32);
+        let mut positions = Vec::new();
+        for k in 0..samples {
+            let t = f64::from(frames.max(1) - 1) * dt * f64::from(k) / f64::from(samples);
+            let matrices = playback.joint_matrices(rig, t);
+            positions.extend(rig.skin(&matrices, &[]).0);
+        }
+        let envelope = Mesh {
+            positions,
+            ..mesh.clone()
+        };
+        let (centre, _) = envelope.bounds();
+        let (_, rest_radius) = mesh.bounds();
+        settings.camera.target = centre;
+        let reach = envelope
+            .positions
+            .iter()
+            .map(|p| p.distance(centre))
+            .fold(0.0f32, f32::max)
+            + self.hair_length * rest_radius;
+        settings.camera.distance = reach / ((0.5 * self.fov_deg).to_radians().sin() * 0.9);
+    }
+
+    /// The defaults for a model: the original scene for the built-in sphere, the
+    /// general defaults otherwise.
+    pub fn for_model(model: &crate::scene::ModelSpec) -> Self {
+        match model {
+            crate::scene::ModelSpec::Sphere => Self::original(),
+            _ => Self::default(),
+        }
+    }
+
+    /// The groom and frame settings for `mesh`.
+    pub fn resolve(&self, mesh: &Mesh) -> Result<(GroomParams, FrameSettings)> {
+        for (name, v) in [
+            ("hair length", self.hair_length),
+            ("camera distance", self.distance.unwrap_or(1.0)),
+            ("density scale", self.density_scale),
+        ] {
+            if !(v.is_finite() && v > 0.0) {
+                return Err(Error::Parameter(format!(
+                    "{name} must be a positive number, got {v}"
+                )));
+            }
+        }
+        if !(self.fov_deg.is_finite() && (1.0..=170.0).contains(&self.fov_deg)) {
+            return Err(Error::Parameter(format!(
+                "field of view must be in [1, 170] degrees, got {}",
+                self.fov_deg
+            )));
+        }
+        self.lighting.validate()?;
+        let (center, radius) = mesh.bounds();
+        let groom = GroomParams {
+            segments: self.segments,
+            segment_length: self.hair_length * radius / self.segments.max(1) as f32,
+            comb_strength: self.comb,
+            thickness_limit: self.thickness_limit,
+            curl: self.curl,
+            ..Default::default()
+        };
+        let mut settings = FrameSettings {
+            camera: Camera {
+                target: center,
+                yaw_deg: self.yaw_deg,
+                pitch_deg: self.pitch_deg,
+                distance: match self.distance {
+                    Some(d) => d * radius,
+                    None => self.framing_distance(mesh),
+                },
+                fov_y_deg: self.fov_deg,
+            },
+            lighting: self.lighting.clone(),
+            ..Default::default()
+        };
+        // Density and widths are per scene unit; scale them with the model.
+        let style = &mut settings.style;
+        style.density *= self.density_scale / (radius * radius);
+        let draw = &self.draw;
+        style.hair_width = draw.hair_width * radius;
+        style.jitter = draw.jitter * radius;
+        style.min_pixel_width = draw.min_pixel_width;
+        style.length_jitter = draw.length_jitter;
+        style.cull = draw.cull;
+        style.cull_margin = draw.cull_margin;
+        style.lod_distance = draw.lod_distance * radius;
+        style.samples = draw.samples;
+        style.primitive = draw.primitive;
+        style.ribbon_above_px = draw.ribbon_above_px;
+        style.shading = draw.shading;
+        style.vertex_lod_px = draw.vertex_lod_px;
+        style.thickness_compensation = draw.thickness_compensation;
+        style.thin_hair_aa = draw.thin_hair_aa;
+        settings.lighting.shadows.spacing *= radius;
+        style.validate()?;
+        groom.validate()?;
+        Ok((groom, settings))
+    }
+}

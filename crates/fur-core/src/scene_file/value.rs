@@ -11,7 +11,7 @@ pub enum Value {
     Bool(bool),
     Vector(Vec3),
     Text(String),
-    /// Left unset (see [`Setting::unset`]).
+    /// Left unset (see [`Setting::unset`](super::Setting::unset)).
     Unset,
 }
 

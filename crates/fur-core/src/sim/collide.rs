@@ -24,7 +24,7 @@ pub fn blend_from(vertices: usize) -> usize {
 }
 
 /// The last vertex of a strand of `vertices` that the root's bone carries back
-/// ([`Collider::root_bone`]; `BONE_TO` in `shaders/collide.glsl`): the hair's first
+/// (`Collider::root_bone`; `BONE_TO` in `shaders/collide.glsl`): the hair's first
 /// eighth. Where the skin folds over a crease (an armpit, as the leg swings back), the
 /// root pose, a blend of the root's bones, carries a vertex there back to the sheet the
 /// hair grew from, outside, while the skin folded over it moves with one bone.
@@ -89,7 +89,7 @@ fn segment_parameter<T: Real>(m: V3<T>, a: V3<T>, ab: V3<T>, len2: T) -> T {
 pub const NEAR_CAPSULES: usize = 4;
 
 /// How far, in strand lengths, a capsule's bone must move relative to a strand's root
-/// for the capsule to reach its full radius ([`near_capsules`]). Measured on the walking
+/// for the capsule to reach its full radius (`near_capsules`). Measured on the walking
 /// critter (deepest vertex, in hair lengths): 1 let hair 12.5 % into the skin near
 /// joints; 0.25 and 0.1 both 8.1 %, as every capsule at its full radius does.
 pub const CAPSULE_RAMP: f32 = 0.25;

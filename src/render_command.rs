@@ -196,8 +196,10 @@ fn render_sequence(args: &RenderArgs, dir: &Path, session: &mut FurSession) -> a
     let base = session.settings.style.clone();
     for frame in 0..args.frames {
         fur::interrupt::check()?;
-        if let (Some(budget), Some(&last)) = (&mut budget, frame_ms.last()) {
-            // A sequence is always in motion: the budget never refines.
+        let warm = frame as usize > WARM_UP_FRAMES;
+        if let (Some(budget), Some(&last), true) = (&mut budget, frame_ms.last(), warm) {
+            // A sequence is always in motion: the budget never refines. The warm-up
+            // frames (compiling the default's pipelines) are left out, as from the median.
             let before = budget.rung;
             let rung = budget.observe(last, last / 1e3, true);
             if rung != before {

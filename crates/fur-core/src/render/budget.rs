@@ -4,7 +4,12 @@
 //! that picks the most accurate rung whose cost fits a frame-time budget, predicted from
 //! the frame times it observes on this device and scene.
 //!
-//! The controller holds still against noise: it steps down only when the current rung's
+//! The first descent is quick: from the first frame it observes over the budget, the
+//! controller jumps to the most accurate rung the cost ratios predict to fit, looks once
+//! at the rung above if the prediction was close, and holds there (a device 1× or 10×
+//! slower than the ratios' guess settles within three frames). A rung's first frame
+//! that takes more than twice its prediction is taken as cold (its pipelines compiling)
+//! and not observed. After that the controller holds still against noise: it steps down only when the current rung's
 //! smoothed time is over the budget, up only when the rung above is predicted to fit with
 //! room to spare, and changes at most once every [`Budget::SETTLE_FRAMES`] frames. When no
 //! input has come for [`Budget::IDLE_SECONDS`], it goes back to the default at once,
@@ -111,6 +116,10 @@ pub struct Budget {
     moving_rung: Option<usize>,
     /// The cheapest rung missed the budget (said once).
     pub missed: bool,
+    /// The first descent is under way (no rung has been seen to fit yet).
+    descending: bool,
+    /// The first descent has looked at the rung above the one it jumped to.
+    probed: bool,
 }
 
 impl Budget {
@@ -124,6 +133,12 @@ impl Budget {
     const UNDER: f64 = 0.8;
     /// Smoothing of the observed times (weight of the newest frame).
     const SMOOTHING: f64 = 0.3;
+    /// A rung's first frame over this many times its prediction is taken as cold.
+    const COLD: f64 = 2.0;
+    /// The first descent looks at the rung above the one it jumped to when that is
+    /// predicted under this share of the budget: the first guesses of the ratios can be
+    /// a third off (the fake device of the tests: 0.27 guessed, 0.2 there).
+    const PROBE: f64 = 1.3;
 
     /// A budget of `target_ms` per frame starting at the default rung.
     pub fn new(target_ms: f64) -> Self {
@@ -140,6 +155,8 @@ impl Budget {
             idle_s: 0.0,
             moving_rung: None,
             missed: false,
+            descending: true,
+            probed: false,
         }
     }
 
@@ -159,6 +176,19 @@ impl Budget {
     /// last, with or without input since; returns the rung for the next frame.
     pub fn observe(&mut self, frame_ms: f64, dt_s: f64, input: bool) -> usize {
         let r = self.rung;
+        let cold = self.observed[r].is_none()
+            && self
+                .predicted_ms(r)
+                .is_some_and(|p| frame_ms > Self::COLD * p);
+        if cold {
+            // Its pipelines were compiling: the next frame at this rung tells.
+            self.idle_s = if input {
+                0.0
+            } else {
+                self.idle_s + dt_s.max(0.0)
+            };
+            return r;
+        }
         if frame_ms.is_finite() && frame_ms > 0.0 {
             let smoothed = match self.observed[r] {
                 Some(old) => old + Self::SMOOTHING * (frame_ms - old),
@@ -198,6 +228,9 @@ impl Budget {
                 return self.set(moving);
             }
         }
+        if self.descending {
+            return self.descend(frame_ms);
+        }
         if self.frames_since_change < Self::SETTLE_FRAMES {
             return r;
         }
@@ -216,6 +249,38 @@ impl Budget {
                 }
             }
         }
+        r
+    }
+
+    /// One frame of the first descent at the current rung, which took `frame_ms`.
+    fn descend(&mut self, frame_ms: f64) -> usize {
+        let r = self.rung;
+        let current = self.observed[r].unwrap_or(frame_ms);
+        if current > self.target_ms * Self::OVER {
+            let last = LADDER.len() - 1;
+            if r == last {
+                self.missed = true;
+                self.descending = false;
+                return r;
+            }
+            // The most accurate rung below predicted to fit, else the cheapest.
+            let fits = (r + 1..=last)
+                .find(|&k| self.predicted_ms(k).is_some_and(|p| p <= self.target_ms))
+                .unwrap_or(last);
+            return self.set(fits);
+        }
+        // It fits. The ratios are guesses: once, look at the rung above if it is
+        // predicted near the budget (it is kept only if it fits).
+        if r > 0 && !self.probed && self.observed[r - 1].is_none() {
+            self.probed = true;
+            if self
+                .predicted_ms(r - 1)
+                .is_some_and(|p| p <= self.target_ms * Self::PROBE)
+            {
+                return self.set(r - 1);
+            }
+        }
+        self.descending = false;
         r
     }
 
@@ -303,6 +368,66 @@ mod tests {
             let ms = costs[0];
             assert_eq!(b.observe(ms, ms / 1e3, true), moving, "slow {slow}");
         }
+    }
+
+    /// Frames until the rung in use first fits the budget (or is the cheapest).
+    fn first_descent(costs: &[f64], budget_ms: f64) -> (usize, Budget) {
+        let mut b = Budget::new(budget_ms);
+        for frame in 1..=20 {
+            let ms = costs[b.rung];
+            b.observe(ms, ms / 1e3, true);
+            let r = b.rung;
+            if costs[r] <= budget_ms || r == LADDER.len() - 1 {
+                return (frame, b);
+            }
+        }
+        (usize::MAX, b)
+    }
+
+    /// The first descent takes at most three frames on a device like the ratios' guess
+    /// and on one ten times slower (where only the cheapest rung is left); the old
+    /// controller, one rung per `SETTLE_FRAMES`, took 24 and 40.
+    #[test]
+    fn the_first_descent_takes_at_most_three_frames() {
+        for slow in [1.0, 10.0] {
+            let costs = COSTS.map(|c| c * slow);
+            let (frames, b) = first_descent(&costs, 100.0);
+            assert!(
+                frames <= 3,
+                "slow {slow}: {frames} frames to rung {}",
+                b.rung
+            );
+        }
+        // Where it lands: the most accurate rung that fits (rung 3, 80 ms; the guess
+        // predicted 108 ms for it, so it jumps to 4 and looks back up once).
+        let mut b = Budget::new(100.0);
+        assert_eq!(run(&mut b, &COSTS, 5, true, 0.0), [4, 3, 3, 3, 3]);
+        // A look up that misses goes back down and holds.
+        let mut b = Budget::new(100.0);
+        let costs = [400.0, 250.0, 170.0, 110.0, 66.0, 40.0];
+        assert_eq!(run(&mut b, &costs, 6, true, 0.0), [4, 3, 4, 4, 4, 4]);
+        let mut slow = Budget::new(100.0);
+        let costs = COSTS.map(|c| c * 10.0);
+        assert_eq!(run(&mut slow, &costs, 3, true, 0.0), [5, 5, 5]);
+        assert!(slow.missed);
+    }
+
+    /// A rung's first frame paying for its pipelines (3× its cost) is not taken as its
+    /// cost: the controller waits a frame instead of jumping further down.
+    #[test]
+    fn a_cold_first_frame_at_a_rung_is_not_its_cost() {
+        let mut b = Budget::new(100.0);
+        let mut rungs = Vec::new();
+        // Rung 0 is warm: the callers leave the first frames, which compile the
+        // default's pipelines, out of the budget.
+        let mut seen = [true, false, false, false, false, false];
+        for _ in 0..6 {
+            let r = b.rung;
+            let ms = if seen[r] { COSTS[r] } else { COSTS[r] * 3.0 };
+            seen[r] = true;
+            rungs.push(b.observe(ms, ms / 1e3, true));
+        }
+        assert_eq!(rungs, [4, 4, 3, 3, 3, 3]);
     }
 
     #[test]

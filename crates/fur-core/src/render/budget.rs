@@ -4,8 +4,9 @@
 //! that picks the most accurate rung whose cost fits a frame-time budget, predicted from
 //! the frame times it observes on this device and scene.
 //!
-//! The first descent is quick: from the first frame it observes over the budget, the
-//! controller jumps to the most accurate rung the cost ratios predict to fit, looks once
+//! The first descent is quick: from the default's second frame (the faster of its first
+//! two is its cost: the first may be cold), the controller jumps to the most accurate
+//! rung the cost ratios predict to fit, looks once
 //! at the rung above if the prediction was close, and holds there (a device 1× or 10×
 //! slower than the ratios' guess settles within three frames). A rung's first frame
 //! that takes more than twice its prediction is taken as cold (its pipelines compiling)
@@ -120,6 +121,9 @@ pub struct Budget {
     descending: bool,
     /// The first descent has looked at the rung above the one it jumped to.
     probed: bool,
+    /// The first descent's frames at the default: it decides on the second, taking the
+    /// faster of the two as the default's cost (the first may be cold).
+    first_frames: u32,
 }
 
 impl Budget {
@@ -157,6 +161,7 @@ impl Budget {
             missed: false,
             descending: true,
             probed: false,
+            first_frames: 0,
         }
     }
 
@@ -255,6 +260,19 @@ impl Budget {
     /// One frame of the first descent at the current rung, which took `frame_ms`.
     fn descend(&mut self, frame_ms: f64) -> usize {
         let r = self.rung;
+        if r == 0 && frame_ms.is_finite() && frame_ms > 0.0 {
+            self.first_frames += 1;
+            match self.first_frames {
+                // The first frame may pay for compiling the default's pipelines.
+                1 => {
+                    self.observed[0] = Some(frame_ms);
+                    return r;
+                }
+                // A cold frame is only ever slower: the faster one is the cost.
+                2 => self.observed[0] = self.observed[0].map(|first| first.min(frame_ms)),
+                _ => {}
+            }
+        }
         let current = self.observed[r].unwrap_or(frame_ms);
         if current > self.target_ms * Self::OVER {
             let last = LADDER.len() - 1;
@@ -401,33 +419,34 @@ mod tests {
         // Where it lands: the most accurate rung that fits (rung 3, 80 ms; the guess
         // predicted 108 ms for it, so it jumps to 4 and looks back up once).
         let mut b = Budget::new(100.0);
-        assert_eq!(run(&mut b, &COSTS, 5, true, 0.0), [4, 3, 3, 3, 3]);
+        assert_eq!(run(&mut b, &COSTS, 5, true, 0.0), [0, 4, 3, 3, 3]);
         // A look up that misses goes back down and holds.
         let mut b = Budget::new(100.0);
         let costs = [400.0, 250.0, 170.0, 110.0, 66.0, 40.0];
-        assert_eq!(run(&mut b, &costs, 6, true, 0.0), [4, 3, 4, 4, 4, 4]);
+        assert_eq!(run(&mut b, &costs, 6, true, 0.0), [0, 4, 3, 4, 4, 4]);
         let mut slow = Budget::new(100.0);
         let costs = COSTS.map(|c| c * 10.0);
-        assert_eq!(run(&mut slow, &costs, 3, true, 0.0), [5, 5, 5]);
+        assert_eq!(run(&mut slow, &costs, 3, true, 0.0), [0, 5, 5]);
         assert!(slow.missed);
     }
 
     /// A rung's first frame paying for its pipelines (3× its cost) is not taken as its
-    /// cost: the controller waits a frame instead of jumping further down.
+    /// cost: the controller waits a frame instead of jumping further down (and, at the
+    /// default, decides on the second frame).
     #[test]
     fn a_cold_first_frame_at_a_rung_is_not_its_cost() {
         let mut b = Budget::new(100.0);
         let mut rungs = Vec::new();
-        // Rung 0 is warm: the callers leave the first frames, which compile the
-        // default's pipelines, out of the budget.
-        let mut seen = [true, false, false, false, false, false];
+        // Every rung's first frame is cold, the default's too: its cost is the faster
+        // of its first two frames.
+        let mut seen = [false; 6];
         for _ in 0..6 {
             let r = b.rung;
             let ms = if seen[r] { COSTS[r] } else { COSTS[r] * 3.0 };
             seen[r] = true;
             rungs.push(b.observe(ms, ms / 1e3, true));
         }
-        assert_eq!(rungs, [4, 4, 3, 3, 3, 3]);
+        assert_eq!(rungs, [0, 4, 4, 3, 3, 3]);
     }
 
     #[test]

@@ -124,6 +124,8 @@ pub struct Budget {
     /// The first descent's frames at the default: it decides on the second, taking the
     /// faster of the two as the default's cost (the first may be cold).
     first_frames: u32,
+    /// Per rung, a first frame was already taken as cold.
+    cold_seen: Vec<bool>,
 }
 
 impl Budget {
@@ -162,6 +164,7 @@ impl Budget {
             descending: true,
             probed: false,
             first_frames: 0,
+            cold_seen: vec![false; LADDER.len()],
         }
     }
 
@@ -181,20 +184,15 @@ impl Budget {
     /// last, with or without input since; returns the rung for the next frame.
     pub fn observe(&mut self, frame_ms: f64, dt_s: f64, input: bool) -> usize {
         let r = self.rung;
+        // A rung's first frame far over its prediction paid for compiling its
+        // pipelines: the next frame at this rung tells (once per rung).
         let cold = self.observed[r].is_none()
+            && !self.cold_seen[r]
             && self
                 .predicted_ms(r)
                 .is_some_and(|p| frame_ms > Self::COLD * p);
-        if cold {
-            // Its pipelines were compiling: the next frame at this rung tells.
-            self.idle_s = if input {
-                0.0
-            } else {
-                self.idle_s + dt_s.max(0.0)
-            };
-            return r;
-        }
-        if frame_ms.is_finite() && frame_ms > 0.0 {
+        self.cold_seen[r] |= cold;
+        if !cold && frame_ms.is_finite() && frame_ms > 0.0 {
             let smoothed = match self.observed[r] {
                 Some(old) => old + Self::SMOOTHING * (frame_ms - old),
                 None => frame_ms,
@@ -232,6 +230,9 @@ impl Budget {
             if input {
                 return self.set(moving);
             }
+        }
+        if cold {
+            return r;
         }
         if self.descending {
             return self.descend(frame_ms);
@@ -447,6 +448,23 @@ mod tests {
             rungs.push(b.observe(ms, ms / 1e3, true));
         }
         assert_eq!(rungs, [0, 4, 4, 3, 3, 3]);
+    }
+
+    /// A rung whose frames all take over twice the prediction (a fixed cost the ratios
+    /// do not scale, as a small window's) is taken at its second frame, and stillness
+    /// still brings the default back.
+    #[test]
+    fn a_rung_slower_than_predicted_is_taken_at_its_second_frame() {
+        let costs = [400.0, 300.0, 250.0, 220.0, 200.0, 180.0];
+        let mut b = Budget::new(10.0);
+        assert_eq!(run(&mut b, &costs, 4, true, 0.0), [0, 5, 5, 5]);
+        assert!(b.missed);
+        let mut t = 0.0;
+        while b.rung != 0 {
+            b.observe(costs[b.rung], costs[b.rung] / 1e3, false);
+            t += costs[b.rung] / 1e3;
+            assert!(t < 1.0, "still at rung {} after {t} s", b.rung);
+        }
     }
 
     #[test]

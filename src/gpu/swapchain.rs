@@ -5,7 +5,7 @@ use std::sync::Arc;
 use ash::{khr, vk};
 use raw_window_handle::{HasDisplayHandle, HasWindowHandle};
 
-use super::{Device, Instance};
+use super::{Device, Instance, Semaphore};
 use crate::error::{Error, Result, VkContext};
 
 /// A `VkSurfaceKHR` for a window.
@@ -67,7 +67,7 @@ pub struct Swapchain {
     pub views: Vec<vk::ImageView>,
     /// Signalled when an image's frame is rendered; presentation waits on it. Per image,
     /// not per frame in flight, so a semaphore is never reused before its present.
-    pub render_finished: Vec<vk::Semaphore>,
+    pub render_finished: Vec<Semaphore>,
     pub format: vk::Format,
     pub extent: vk::Extent2D,
 }
@@ -169,14 +169,9 @@ impl Swapchain {
                 unsafe { device.raw.create_image_view(&view_info, None) }
                     .vk("vkCreateImageView")?,
             );
-            let semaphore = unsafe {
-                device
-                    .raw
-                    .create_semaphore(&vk::SemaphoreCreateInfo::default(), None)
-            }
-            .vk("vkCreateSemaphore")?;
-            device.set_name(semaphore, &format!("render_finished[{i}]"));
-            swapchain.render_finished.push(semaphore);
+            swapchain
+                .render_finished
+                .push(Semaphore::new(device, &format!("render_finished[{i}]"))?);
         }
         log::info!(
             "swapchain {}×{} {:?} {:?}",
@@ -203,7 +198,7 @@ impl Swapchain {
     /// Presents image `index` once its render-finished semaphore is signalled. Returns
     /// false when the swapchain is out of date or suboptimal and should be recreated.
     pub fn present(&self, index: u32) -> Result<bool> {
-        let wait = [self.render_finished[index as usize]];
+        let wait = [self.render_finished[index as usize].raw];
         let swapchains = [self.raw];
         let indices = [index];
         let info = vk::PresentInfoKHR::default()
@@ -223,9 +218,6 @@ impl Drop for Swapchain {
         unsafe {
             for &view in &self.views {
                 self.device.raw.destroy_image_view(view, None);
-            }
-            for &semaphore in &self.render_finished {
-                self.device.raw.destroy_semaphore(semaphore, None);
             }
             self.loader.destroy_swapchain(self.raw, None);
         }

@@ -267,7 +267,7 @@ impl Viewer {
             .semaphore(frame.image_available.raw)
             .stage_mask(vk::PipelineStageFlags2::BLIT)];
         let signal = [vk::SemaphoreSubmitInfo::default()
-            .semaphore(swapchain.render_finished[image_index as usize])
+            .semaphore(swapchain.render_finished[image_index as usize].raw)
             .stage_mask(vk::PipelineStageFlags2::ALL_COMMANDS)];
         let cmds = [vk::CommandBufferSubmitInfo::default().command_buffer(cmd)];
         let submit = vk::SubmitInfo2::default()

@@ -64,7 +64,8 @@ fn parse(kind: Kind, text: &str) -> std::result::Result<Value, String> {
             .map_err(|_| format!("expected a whole number, got `{text}`")),
         Kind::Bool => Err("expected on or off".into()),
         Kind::Choice(_) | Kind::Text => Ok(Value::Text(text.to_string())),
-        Kind::Vector { down, .. } => {
+        Kind::Vector { .. } | Kind::Colour { .. } => {
+            let down = matches!(kind, Kind::Vector { down: true, .. });
             let parts: Vec<&str> = text.split(',').collect();
             match parts[..] {
                 [g] if down => Ok(Value::Vector(Vec3::new(0.0, -(number(g)? as f32), 0.0))),
@@ -76,14 +77,6 @@ fn parse(kind: Kind, text: &str) -> std::result::Result<Value, String> {
                 _ => Err(format!("expected {}, got `{text}`", kind.wanted())),
             }
         }
-        Kind::Colour { .. } => parse(
-            Kind::Vector {
-                max: f64::MAX,
-                nonzero: false,
-                down: false,
-            },
-            text,
-        ),
     }
 }
 

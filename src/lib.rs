@@ -8,20 +8,19 @@
 //! - [`geometry`]: the distance fields and maths the scene and the simulation share;
 //! - [`gpu`]: the Vulkan layer underneath.
 //!
-//! Everything without a device (the scene, settings, the CPU references, lighting
-//! models, images) is the `fur-core` crate, re-exported here under the same paths.
+//! Three crates hold it, each layer only using the ones below: `fur-core` (everything
+//! without a device: the scene, settings, the CPU references, lighting models, images),
+//! `fur-gpu` (the Vulkan layer, kernels, passes and the session) and this one, the
+//! application (the command line, the viewer, the benchmark, the frame export). The
+//! lower crates' modules are re-exported here under the same paths.
 
 pub mod bench;
-pub mod error;
 pub mod export;
-pub mod gpu;
-pub mod render;
-pub mod session;
-pub mod sim;
-pub mod skinning;
-pub mod strand_textures;
 pub mod viewer;
 
-pub use fur_core::{colour, files, geometry, interrupt, scene, scene_file};
+pub use fur_gpu::{
+    colour, error, files, geometry, gpu, interrupt, render, scene, scene_file, session, sim,
+    skinning, strand_textures,
+};
 
 pub use error::{Error, Result};

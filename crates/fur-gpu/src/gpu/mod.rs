@@ -9,7 +9,7 @@ mod physical;
 mod pipeline;
 mod query;
 #[cfg(test)]
-pub(crate) mod reflect;
+pub mod reflect;
 mod sampler;
 pub mod shader;
 mod swapchain;
@@ -46,8 +46,8 @@ use crate::error::Result;
 /// there.
 static LOADER: std::sync::Mutex<()> = std::sync::Mutex::new(());
 
-/// Takes [`LOADER`]; a panic elsewhere while it was held leaves nothing to repair.
-pub(crate) fn loader_lock() -> std::sync::MutexGuard<'static, ()> {
+/// Takes the loader's lock; a panic elsewhere while it was held leaves nothing to repair.
+pub fn loader_lock() -> std::sync::MutexGuard<'static, ()> {
     LOADER.lock().unwrap_or_else(|e| e.into_inner())
 }
 

@@ -22,8 +22,8 @@ pub struct ImageDesc {
 /// A `VkImage`, its memory and a view of the whole image.
 pub struct Image {
     device: Arc<Device>,
-    pub(crate) raw: vk::Image,
-    pub(crate) view: vk::ImageView,
+    pub raw: vk::Image,
+    pub view: vk::ImageView,
     allocation: Option<Allocation>,
     pub desc: ImageDesc,
 }

@@ -11,8 +11,8 @@ use crate::error::{Error, Result, VkContext};
 /// A `VkSurfaceKHR` for a window.
 pub struct Surface {
     _instance: Arc<Instance>,
-    pub(crate) loader: khr::surface::Instance,
-    pub(crate) raw: vk::SurfaceKHR,
+    pub loader: khr::surface::Instance,
+    pub raw: vk::SurfaceKHR,
 }
 
 impl Surface {

@@ -37,7 +37,7 @@ pub const SOURCES: &[(&str, &str)] = &[
     ),
 ];
 
-pub(crate) fn source(name: &str) -> Option<&'static str> {
+pub fn source(name: &str) -> Option<&'static str> {
     SOURCES.iter().find(|(n, _)| *n == name).map(|(_, s)| *s)
 }
 
@@ -135,7 +135,7 @@ pub fn compile_source(name: &str, text: &str, defines: &[(&str, String)]) -> Res
 /// A `VkShaderModule` destroyed on drop.
 pub struct ShaderModule {
     device: Arc<Device>,
-    pub(crate) raw: vk::ShaderModule,
+    pub raw: vk::ShaderModule,
 }
 
 impl ShaderModule {

@@ -10,7 +10,7 @@ use crate::error::{Result, VkContext};
 /// A query pool reset from the host and read back with `WAIT`.
 pub struct QueryPool {
     device: Arc<Device>,
-    pub(crate) raw: vk::QueryPool,
+    pub raw: vk::QueryPool,
     count: u32,
     /// Values per query (1 for timestamps, one per statistic otherwise).
     values: u32,

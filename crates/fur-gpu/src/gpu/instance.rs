@@ -42,9 +42,9 @@ pub struct InstanceDesc {
 
 /// Owns the `VkInstance` and its debug messenger.
 pub struct Instance {
-    pub(crate) entry: ash::Entry,
-    pub(crate) raw: ash::Instance,
-    pub(crate) debug_utils: Option<ext::debug_utils::Instance>,
+    pub entry: ash::Entry,
+    pub raw: ash::Instance,
+    pub debug_utils: Option<ext::debug_utils::Instance>,
     messenger: vk::DebugUtilsMessengerEXT,
     /// Kept alive for the messenger's user-data pointer.
     log: Arc<ValidationLog>,

@@ -34,12 +34,12 @@ pub struct DeviceInfo {
 
 /// The logical device. Shared through `Arc` by every resource created from it.
 pub struct Device {
-    pub(crate) instance: Arc<Instance>,
-    pub(crate) physical: vk::PhysicalDevice,
-    pub(crate) raw: ash::Device,
-    pub(crate) queue: vk::Queue,
-    pub(crate) queue_family: u32,
-    pub(crate) info: DeviceInfo,
+    pub instance: Arc<Instance>,
+    pub physical: vk::PhysicalDevice,
+    pub raw: ash::Device,
+    pub queue: vk::Queue,
+    pub queue_family: u32,
+    pub info: DeviceInfo,
     debug_utils: Option<ext::debug_utils::Device>,
     allocator: ManuallyDrop<Arc<Mutex<Allocator>>>,
     command_pool: Mutex<vk::CommandPool>,
@@ -174,7 +174,7 @@ impl Device {
         Arc::clone(&self.allocator)
     }
 
-    pub(crate) fn allocator(&self) -> MutexGuard<'_, Allocator> {
+    pub fn allocator(&self) -> MutexGuard<'_, Allocator> {
         // A poisoned lock only means another thread panicked mid-allocation; the
         // allocator's state is still consistent enough to free memory on shutdown.
         self.allocator.lock().unwrap_or_else(|e| e.into_inner())

@@ -13,7 +13,7 @@ macro_rules! owned_handle {
         $(#[$doc])*
         pub struct $name {
             device: Arc<Device>,
-            pub(crate) raw: $handle,
+            pub raw: $handle,
         }
 
         impl $name {

@@ -22,7 +22,7 @@ pub fn vulkan(call: &'static str, result: vk::Result) -> Error {
 }
 
 /// Attaches the name of the failing Vulkan call to a raw `vk::Result`.
-pub(crate) trait VkContext<T> {
+pub trait VkContext<T> {
     fn vk(self, call: &'static str) -> Result<T>;
 }
 

@@ -12,7 +12,7 @@ use crate::error::{Error, Result, VkContext};
 /// A `VkBuffer` and its memory.
 pub struct Buffer {
     device: Arc<Device>,
-    pub(crate) raw: vk::Buffer,
+    pub raw: vk::Buffer,
     allocation: Option<Allocation>,
     size: vk::DeviceSize,
 }

@@ -14,7 +14,7 @@ use args::{DeviceArgs, SceneArgs};
 use ash::vk;
 use clap::{Args, Parser, Subcommand};
 use fur::scene::ModelSpec;
-use fur::session::FurSession;
+use fur::session::{FurSession, SessionSetup};
 use fur::sim::MotionKind;
 
 /// Real-time fur rendering and simulation on Vulkan: master hairs grown from a mesh,
@@ -44,42 +44,7 @@ enum Command {
     View(ViewArgs),
     /// Measure stage costs, the speed/accuracy trade, scaling and savings on this device;
     /// writes results.csv, results.md and SVG charts.
-    Bench {
-        #[command(flatten)]
-        device: DeviceArgs,
-        /// A small suite that finishes in seconds (for CI).
-        #[arg(long)]
-        quick: bool,
-        /// Run only these sections (comma-separated); `fur bench --list` names them.
-        #[arg(long, value_delimiter = ',', allow_hyphen_values = true)]
-        only: Vec<String>,
-        /// List the sections and exit.
-        #[arg(long)]
-        list: bool,
-        /// Measure this scene file in the frame and render-quality sections instead of
-        /// the blob and the original's sphere.
-        #[arg(long, allow_hyphen_values = true)]
-        scene: Option<PathBuf>,
-        /// Image width of the frame and quality measurements in pixels [1280; quick
-        /// suite: 160].
-        #[arg(long, allow_negative_numbers = true)]
-        width: Option<u32>,
-        /// Image height of the frame and quality measurements in pixels [720; quick
-        /// suite: 90].
-        #[arg(long, allow_negative_numbers = true)]
-        height: Option<u32>,
-        /// Output folder.
-        #[arg(long, default_value = "bench", allow_hyphen_values = true)]
-        out_dir: PathBuf,
-        /// Enable the Khronos validation layer (slows everything down).
-        #[arg(long)]
-        validate: bool,
-        /// Also put the tables into this Markdown file between its `<!-- BEGIN fur
-        /// bench -->` and `<!-- END fur bench -->` lines (a full run only), e.g.
-        /// docs/benchmark.md.
-        #[arg(long, allow_hyphen_values = true)]
-        write_docs: Option<PathBuf>,
-    },
+    Bench(BenchArgs),
     /// List every setting of a scene (section and key in a scene file, flag, values,
     /// units, defaults, meaning) as Markdown tables.
     Settings {
@@ -105,6 +70,44 @@ enum Command {
         #[arg(long, default_value = "blob", allow_hyphen_values = true)]
         model: ModelSpec,
     },
+}
+
+#[derive(Args, Clone)]
+struct BenchArgs {
+    #[command(flatten)]
+    device: DeviceArgs,
+    /// A small suite that finishes in seconds (for CI).
+    #[arg(long)]
+    quick: bool,
+    /// Run only these sections (comma-separated); `fur bench --list` names them.
+    #[arg(long, value_delimiter = ',', allow_hyphen_values = true)]
+    only: Vec<String>,
+    /// List the sections and exit.
+    #[arg(long)]
+    list: bool,
+    /// Measure this scene file in the frame and render-quality sections instead of
+    /// the blob and the original's sphere.
+    #[arg(long, allow_hyphen_values = true)]
+    scene: Option<PathBuf>,
+    /// Image width of the frame and quality measurements in pixels [1280; quick
+    /// suite: 160].
+    #[arg(long, allow_negative_numbers = true)]
+    width: Option<u32>,
+    /// Image height of the frame and quality measurements in pixels [720; quick
+    /// suite: 90].
+    #[arg(long, allow_negative_numbers = true)]
+    height: Option<u32>,
+    /// Output folder.
+    #[arg(long, default_value = "bench", allow_hyphen_values = true)]
+    out_dir: PathBuf,
+    /// Enable the Khronos validation layer (slows everything down).
+    #[arg(long)]
+    validate: bool,
+    /// Also put the tables into this Markdown file between its `<!-- BEGIN fur
+    /// bench -->` and `<!-- END fur bench -->` lines (a full run only), e.g.
+    /// docs/benchmark.md.
+    #[arg(long, allow_hyphen_values = true)]
+    write_docs: Option<PathBuf>,
 }
 
 #[derive(Args, Clone)]
@@ -179,25 +182,7 @@ fn main() -> ExitCode {
         Some(Command::ExportModel { out, model }) => export_model(&out, &model),
         Some(Command::Devices { device }) => devices(&device),
         Some(Command::Settings { write_docs }) => settings(write_docs.as_deref()),
-        Some(Command::Bench {
-            device,
-            quick,
-            only,
-            list,
-            scene,
-            width,
-            height,
-            out_dir,
-            validate,
-            write_docs,
-        }) => bench(
-            &device,
-            (quick, &only, list),
-            (scene.as_deref(), width, height),
-            &out_dir,
-            validate,
-            write_docs.as_deref(),
-        ),
+        Some(Command::Bench(args)) => bench(&args),
         None => render_command::render(&cli.render),
     };
     match result {
@@ -221,14 +206,22 @@ fn main() -> ExitCode {
     }
 }
 
-fn bench(
-    device: &DeviceArgs,
-    (quick, only, list): (bool, &[String], bool),
-    (scene, width, height): (Option<&Path>, Option<u32>, Option<u32>),
-    out_dir: &Path,
-    validate: bool,
-    write_docs: Option<&Path>,
-) -> anyhow::Result<()> {
+fn bench(args: &BenchArgs) -> anyhow::Result<()> {
+    let BenchArgs {
+        device,
+        quick,
+        only,
+        list,
+        scene,
+        width,
+        height,
+        out_dir,
+        validate,
+        write_docs,
+    } = args;
+    let (quick, list, validate) = (*quick, *list, *validate);
+    let (scene, width, height) = (scene.as_deref(), *width, *height);
+    let write_docs = write_docs.as_deref();
     if list {
         for section in fur::bench::Section::ALL {
             println!("{:<16} {}", section.name(), section.about());

@@ -153,15 +153,18 @@ pub(super) fn open(args: &RenderArgs, simulate: bool) -> anyhow::Result<Opened> 
             groom.vertices_per_strand()
         );
     }
-    let session = FurSession::with_rig(
+    let session = FurSession::new(
         &device,
-        (mesh, rig),
-        &groom,
-        scene.sim.clone(),
-        motion,
-        settings,
-        extent,
-        1,
+        SessionSetup {
+            mesh,
+            rig,
+            groom: &groom,
+            sim: scene.sim.clone(),
+            motion,
+            settings,
+            extent,
+            frames_in_flight: 1,
+        },
     )
     .with_context(|| {
         format!(

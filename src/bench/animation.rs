@@ -14,7 +14,7 @@ use super::sim::SimRun;
 use super::Bench;
 use crate::error::Result;
 use crate::scene::{critter, Mesh, Rig, Strands};
-use crate::session::{FurSession, SceneOptions};
+use crate::session::{FurSession, SceneOptions, SessionSetup};
 use crate::sim::{GpuSim, Sdf, SimParams};
 use crate::skinning::{self, Playback, SkinnedBody};
 use crate::strand_textures::StrandTextures;
@@ -92,19 +92,22 @@ const WAYS: [Way; 5] = [
 ];
 
 impl Bench<'_> {
-    /// (mean, max) depth of strand vertices inside the posed critter over the second
-    /// half of a walk cycle, fractions of the hair length, from exact distances.
+    /// (mean, max) depth of strand vertices of `strands` inside the posed critter
+    /// (`mesh` skinned as `body`, its field `field`) over the second half of a walk
+    /// cycle, colliding the `way` says, fractions of the hair length, from exact
+    /// distances.
     fn walk_penetration(
         &self,
-        (mesh, strands): (&Mesh, &Strands),
+        mesh: &Mesh,
+        strands: &Strands,
         body: &Arc<SkinnedBody>,
         field: &Sdf,
-        (collision, skin_blend): (bool, bool),
+        way: &Way,
     ) -> Result<(f64, f64)> {
         let playback = walk(&body.rig);
         let params = SimParams {
-            collision,
-            skin_blend: Some(skin_blend),
+            collision: way.collision,
+            skin_blend: Some(way.skin_blend),
             ..crate::scene_file::Scene::default_sim()
         };
         let mut textures = StrandTextures::new(self.device, strands, glam::Mat4::IDENTITY)?;
@@ -256,24 +259,24 @@ impl Bench<'_> {
         // The whole frame, walking against standing.
         let frame = |clip: Option<usize>| -> Result<f64> {
             let (groom, settings) = SceneOptions::default().resolve(&mesh)?;
-            let mut session = FurSession::with_rig(
+            let mut session = FurSession::new(
                 self.device,
-                (
-                    mesh.clone(),
-                    Some((
+                SessionSetup {
+                    mesh: mesh.clone(),
+                    rig: Some((
                         rig.clone(),
                         Playback {
                             clip,
                             ..playback.clone()
                         },
                     )),
-                ),
-                &groom,
-                params.clone(),
-                crate::sim::Motion::still(),
-                settings,
-                self.frame_extent(),
-                1,
+                    groom: &groom,
+                    sim: params.clone(),
+                    motion: crate::sim::Motion::still(),
+                    settings,
+                    extent: self.frame_extent(),
+                    frames_in_flight: 1,
+                },
             )?;
             Ok(self.time_frames(&mut session)?.wall)
         };
@@ -384,12 +387,7 @@ impl Bench<'_> {
             } else {
                 0.0
             };
-            let (mean, max) = self.walk_penetration(
-                (&mesh, &strands),
-                way_body,
-                field,
-                (way.collision, way.skin_blend),
-            )?;
+            let (mean, max) = self.walk_penetration(&mesh, &strands, way_body, field, way)?;
             for (metric, value, unit) in [
                 ("update_us", update_us, "µs"),
                 ("sampling_ms", sampling, "ms"),

@@ -9,7 +9,7 @@ use std::time::Instant;
 use super::metrics::median;
 use super::{Bench, BenchScene};
 use crate::error::Result;
-use crate::session::{DrawOptions, FurSession, SceneOptions};
+use crate::session::{DrawOptions, FurSession, SceneOptions, SessionSetup};
 
 /// The original OpenGL demo's frame on its own scene, measured on this project's
 /// 2-core machine kind with Mesa's llvmpipe (1,345–1,641 ms; ~1,400 ms typical).
@@ -38,13 +38,16 @@ impl Bench<'_> {
         let motion = scene.motion.motion(mesh.bounds().1);
         FurSession::new(
             self.device,
-            mesh,
-            &groom,
-            scene.sim.clone(),
-            motion,
-            settings,
-            self.frame_extent(),
-            1,
+            SessionSetup {
+                mesh,
+                rig: None,
+                groom: &groom,
+                sim: scene.sim.clone(),
+                motion,
+                settings,
+                extent: self.frame_extent(),
+                frames_in_flight: 1,
+            },
         )
     }
 

@@ -2,49 +2,26 @@
 //! finished frame reports (timings, screenshots), and the panel's changes applied
 //! between frames.
 
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
 use ash::vk;
 use glam::DVec3;
 
 use super::input::controls_view;
 use super::script::Action;
-use super::{ui, Viewer, FRAMES_IN_FLIGHT};
-use crate::error::{Error, Result, VkContext};
-use crate::gpu::{image_barriers, Swapchain};
-use crate::session::FurSession;
+use super::{ui, Frames, Viewer, FRAMES_IN_FLIGHT};
+use crate::error::{Result, VkContext};
+use crate::gpu::image_barriers;
+use crate::session::{FurSession, SessionSetup};
 
 impl Viewer {
-    /// The window's drawable size; zero while minimised.
-    pub(super) fn drawable(&self) -> vk::Extent2D {
-        let size = self.window.inner_size();
-        if self.window.is_minimized() == Some(true) {
-            return vk::Extent2D::default();
-        }
-        vk::Extent2D {
-            width: size.width,
-            height: size.height,
-        }
-    }
-
+    /// Rebuilds the swapchain at the window's size and the render target to match;
+    /// false (nothing done) while the window has no drawable area.
     pub(super) fn recreate_swapchain(&mut self) -> Result<bool> {
-        let extent = self.drawable();
-        if extent.width == 0 || extent.height == 0 {
+        let Some(extent) = self.display.recreate_swapchain(&self.device)? else {
             return Ok(false);
-        }
-        self.device.wait_idle()?;
-        let old = self.swapchain.take();
-        let swapchain = Swapchain::new(
-            &self.device,
-            &self.surface,
-            extent,
-            self.vsync,
-            old.as_ref(),
-        )?;
-        drop(old);
-        self.session.renderer.resize(swapchain.extent)?;
-        self.swapchain = Some(swapchain);
-        self.needs_resize = false;
+        };
+        self.session.renderer.resize(extent)?;
         Ok(true)
     }
 
@@ -53,63 +30,59 @@ impl Viewer {
         if crate::interrupt::requested() {
             return Ok(false);
         }
-        let actions: Vec<Action> = self.script.due(self.frame_index).cloned().collect();
+        let actions: Vec<Action> = self.scripted.due();
         for action in &actions {
             self.apply(action);
         }
-        if let Some(limit) = self.frame_limit {
-            if self.frame_index >= limit {
-                return Ok(false);
-            }
+        if self.scripted.finished() {
+            return Ok(false);
         }
-        self.frame_index += 1;
-        let now = Instant::now();
-        let dt = now.duration_since(self.last_frame).as_secs_f64();
-        self.last_frame = now;
+        let frame_index = self.scripted.begin_frame();
+        let dt = self.clock.tick();
         self.hud.frame_ms = if self.hud.frame_ms == 0.0 {
             dt * 1e3
         } else {
             self.hud.frame_ms * 0.9 + dt * 1e3 * 0.1
         };
-        self.hud_dt = dt;
         self.steer_quality(dt);
         self.measure_rung_error()?;
-        if self.frame_index > 1 {
-            self.frame_times.push(dt * 1e3);
+        if frame_index > 1 {
+            self.clock.frame_times.push(dt * 1e3);
         }
 
-        let extent = self.drawable();
+        let extent = self.display.drawable();
         if extent.width == 0 || extent.height == 0 {
             // Minimised: nothing to draw into. Keep counting frames so --frames ends.
             std::thread::sleep(Duration::from_millis(10));
             return Ok(true);
         }
-        let current = self.swapchain.as_ref().map(|s| s.extent);
-        if (self.needs_resize || current != Some(extent)) && !self.recreate_swapchain()? {
+        let current = self.display.swapchain().map(|s| s.extent);
+        if (self.display.needs_resize || current != Some(extent)) && !self.recreate_swapchain()? {
             return Ok(true);
         }
 
-        let slot = (self.frame_index % FRAMES_IN_FLIGHT as u64) as usize;
-        self.device.wait_fence(self.frames[slot].fence.raw)?;
+        let slot = Frames::slot_of(frame_index);
+        self.device.wait_fence(self.frames.slots[slot].fence.raw)?;
         self.finish_slot(slot)?;
 
         let swapchain = self
-            .swapchain
-            .as_ref()
+            .display
+            .swapchain()
             .expect("swapchain exists while drawing");
-        let Some(image_index) = swapchain.acquire(self.frames[slot].image_available.raw)? else {
-            self.needs_resize = true;
+        let Some(image_index) = swapchain.acquire(self.frames.slots[slot].image_available.raw)?
+        else {
+            self.display.needs_resize = true;
             return Ok(true);
         };
 
         // UI, then the parameter changes it asked for (some need an idle device).
-        let raw_input = self.egui_state.take_egui_input(&self.window);
+        let raw_input = self.panel.state.take_egui_input(&self.display.window);
         let mut changes = ui::Changes::default();
         let mut scene = self.current_scene();
-        let egui_ctx = self.egui_ctx.clone();
+        let egui_ctx = self.panel.ctx.clone();
         let mut output = egui_ctx.run_ui(raw_input, |root| {
             let mut view = controls_view(&mut self.controls);
-            changes = self.ui.show(
+            changes = self.panel.ui.show(
                 root.ctx(),
                 &mut scene,
                 &mut self.session,
@@ -117,8 +90,10 @@ impl Viewer {
                 &mut view,
             );
         });
-        self.egui_state
-            .handle_platform_output(&self.window, std::mem::take(&mut output.platform_output));
+        self.panel.state.handle_platform_output(
+            &self.display.window,
+            std::mem::take(&mut output.platform_output),
+        );
         self.apply_changes(changes)?;
         self.update_scene();
         if self.session.settings.style.samples != self.session.renderer.target.samples {
@@ -126,19 +101,14 @@ impl Viewer {
             self.device.wait_idle()?;
         }
 
-        let frame = &mut self.frames[slot];
-        let mut textures = std::mem::take(&mut output.textures_delta);
-        for (id, deltas) in textures.set.drain() {
-            for delta in &deltas {
-                self.egui_renderer
-                    .set_texture(self.device.queue, self.upload_pool.raw, id, delta)
-                    .map_err(|e| Error::Window(format!("UI texture upload failed: {e}")))?;
-            }
-        }
+        let free_textures = self
+            .panel
+            .set_textures(std::mem::take(&mut output.textures_delta))?;
         // Freed after this frame has finished (see finish_slot).
-        frame.free_textures = textures.free.drain().collect();
+        self.frames.slots[slot].free_textures = free_textures;
         let primitives = self
-            .egui_ctx
+            .panel
+            .ctx
             .tessellate(output.shapes, output.pixels_per_point);
 
         // Fixed simulation steps, decoupled from the frame rate: as many 1/60 s steps as
@@ -146,16 +116,13 @@ impl Viewer {
         // the simulation down rather than spiralling); one when single-stepping.
         let dt = f64::from(self.session.sim.params().dt);
         let sim_frames = if self.controls.paused {
-            self.sim_clock = 0.0;
+            self.clock.pause();
             usize::from(std::mem::take(&mut self.controls.single_step))
-        } else if self.frame_limit.is_some() {
+        } else if self.scripted.counted() {
             // Counted runs (tests, benchmarks) step exactly once per frame.
             1
         } else {
-            self.sim_clock = (self.sim_clock + self.hud_dt).min(4.0 * dt);
-            let n = (self.sim_clock / dt).floor() as usize;
-            self.sim_clock -= n as f64 * dt;
-            n
+            self.clock.steps_owed(dt)
         };
         let simulate = sim_frames > 0;
         let screenshot = if std::mem::take(&mut self.controls.screenshot_requested) {
@@ -165,13 +132,17 @@ impl Viewer {
                     .join(format!("fur_screenshot_{:03}.png", self.screenshots_taken)),
             )
         } else {
-            self.ui.pending_screenshot.take()
+            self.panel.ui.pending_screenshot.take()
         };
 
         let d = self.device.clone();
         let raw = &d.raw;
-        let frame = &mut self.frames[slot];
+        let frame = &mut self.frames.slots[slot];
         let cmd = frame.cmd;
+        // SAFETY: the slot's fence was waited above, so its last submission has
+        // finished: the fence may be reset and `cmd` (from the frames' pool, which
+        // allows resetting single buffers) is no longer pending; nothing else records
+        // into it.
         unsafe {
             raw.reset_fences(&[frame.fence.raw]).vk("vkResetFences")?;
             raw.reset_command_buffer(cmd, vk::CommandBufferResetFlags::empty())
@@ -192,8 +163,8 @@ impl Viewer {
             target.copy_to_readback(&d, cmd);
         }
         let swapchain = self
-            .swapchain
-            .as_ref()
+            .display
+            .swapchain()
             .expect("swapchain exists while drawing");
         let image = swapchain.images[image_index as usize];
         let barrier = |src, dst, old, new| {
@@ -241,10 +212,14 @@ impl Viewer {
             .layer_count(1)
             .color_attachments(&color);
         d.begin_label(cmd, "ui");
+        // SAFETY: `cmd` is recording, outside a rendering; the view is of the acquired
+        // swapchain image, just moved to COLOR_ATTACHMENT_OPTIMAL, and `rendering`
+        // covers the swapchain's extent; dynamic rendering is enabled.
         unsafe { raw.cmd_begin_rendering(cmd, &rendering) };
-        self.egui_renderer
-            .cmd_draw(cmd, swapchain.extent, output.pixels_per_point, &primitives)
-            .map_err(|e| Error::Window(format!("UI drawing failed: {e}")))?;
+        self.panel
+            .draw(cmd, swapchain.extent, output.pixels_per_point, &primitives)?;
+        // SAFETY: `cmd` is inside the rendering begun above (the panel only records
+        // draws into it).
         unsafe { raw.cmd_end_rendering(cmd) };
         d.end_label(cmd);
         image_barriers(
@@ -260,9 +235,11 @@ impl Viewer {
                 vk::ImageLayout::PRESENT_SRC_KHR,
             )],
         );
+        // SAFETY: `cmd` is recording (begun above) and every rendering and label opened
+        // in it was closed.
         unsafe { raw.end_command_buffer(cmd) }.vk("vkEndCommandBuffer")?;
 
-        let frame = &mut self.frames[slot];
+        let frame = &mut self.frames.slots[slot];
         let wait = [vk::SemaphoreSubmitInfo::default()
             .semaphore(frame.image_available.raw)
             .stage_mask(vk::PipelineStageFlags2::BLIT)];
@@ -274,10 +251,15 @@ impl Viewer {
             .wait_semaphore_infos(&wait)
             .command_buffer_infos(&cmds)
             .signal_semaphore_infos(&signal);
+        // SAFETY: `cmd` is executable and the fence was reset above and is unused; the
+        // acquire semaphore is signalled by this slot's acquire, and the
+        // render-finished semaphore is per image, so the image's previous present has
+        // consumed its last signal (see `Swapchain::render_finished`); everything
+        // submitted stays alive until the fence is waited.
         unsafe { raw.queue_submit2(d.queue, &[submit], frame.fence.raw) }.vk("vkQueueSubmit2")?;
         frame.submitted = true;
         if !swapchain.present(image_index)? {
-            self.needs_resize = true;
+            self.display.needs_resize = true;
         }
         Ok(true)
     }
@@ -285,7 +267,7 @@ impl Viewer {
     /// Waits for every frame in flight and finishes it (screenshots included).
     pub(super) fn finish_all(&mut self) -> Result<()> {
         self.device.wait_idle()?;
-        for slot in 0..self.frames.len() {
+        for slot in 0..self.frames.slots.len() {
             self.finish_slot(slot)?;
         }
         Ok(())
@@ -293,7 +275,7 @@ impl Viewer {
 
     /// After slot `slot`'s previous frame finished: HUD timings, screenshot, UI frees.
     pub(super) fn finish_slot(&mut self, slot: usize) -> Result<()> {
-        let frame = &mut self.frames[slot];
+        let frame = &mut self.frames.slots[slot];
         if !frame.submitted {
             return Ok(());
         }
@@ -301,11 +283,7 @@ impl Viewer {
         let textures = std::mem::take(&mut frame.free_textures);
         let screenshot = frame.screenshot.take();
         let simulated = frame.simulated;
-        for id in textures {
-            self.egui_renderer
-                .free_texture(id)
-                .map_err(|e| Error::Window(format!("UI texture free failed: {e}")))?;
-        }
+        self.panel.free(textures)?;
         let timings = self.session.timings(slot, simulated)?;
         if simulated {
             self.hud.sim_ms = timings.simulation_ms;
@@ -369,7 +347,7 @@ impl Viewer {
                     .set_params(params, &self.session.textures)?;
             }
         }
-        if std::mem::take(&mut self.ui.save_requested) {
+        if std::mem::take(&mut self.panel.ui.save_requested) {
             let path = self
                 .save_scene
                 .clone()
@@ -377,7 +355,7 @@ impl Viewer {
             self.current_scene().save(&path)?;
             println!("scene saved to {}", path.display());
         }
-        if std::mem::take(&mut self.ui.reset_requested) {
+        if std::mem::take(&mut self.panel.ui.reset_requested) {
             let (groom, _) = self.scene.resolve(&self.mesh)?;
             self.rebuild_session(&groom, self.session.settings.clone())?;
             self.controls.model_offset = DVec3::ZERO;
@@ -402,19 +380,22 @@ impl Viewer {
             playback.start = playback.clip_time(&s.body.rig, self.session.sim.time);
             (s.body.rig.clone(), playback)
         });
-        self.session = FurSession::with_rig(
+        self.session = FurSession::new(
             &self.device,
-            (self.mesh.clone(), rig),
-            groom,
-            sim,
-            self.session.motion,
-            settings,
-            extent,
-            FRAMES_IN_FLIGHT,
+            SessionSetup {
+                mesh: self.mesh.clone(),
+                rig,
+                groom,
+                sim,
+                motion: self.session.motion,
+                settings,
+                extent,
+                frames_in_flight: FRAMES_IN_FLIGHT,
+            },
         )?;
         self.hud.masters = self.session.strands.count();
         // The new session's query pools hold nothing yet.
-        for frame in &mut self.frames {
+        for frame in &mut self.frames.slots {
             frame.submitted = false;
         }
         Ok(())

@@ -60,7 +60,10 @@ impl Viewer {
 
     /// Handles input; returns true when the viewer should close.
     pub(super) fn input(&mut self, event: &WindowEvent) -> bool {
-        let response = self.egui_state.on_window_event(&self.window, event);
+        let response = self
+            .panel
+            .state
+            .on_window_event(&self.display.window, event);
         // What counts as input for the frame-time budget: anything a person does.
         if matches!(
             event,
@@ -73,7 +76,7 @@ impl Viewer {
             self.quality.input_seen = true;
         }
         match event {
-            WindowEvent::Resized(_) => self.needs_resize = true,
+            WindowEvent::Resized(_) => self.display.needs_resize = true,
             WindowEvent::MouseInput { state, button, .. } => {
                 let pressed = *state == ElementState::Pressed && !response.consumed;
                 match button {
@@ -127,7 +130,7 @@ impl Viewer {
                         "q" => self.controls.model_yaw += 0.15,
                         "e" => self.controls.model_yaw -= 0.15,
                         "n" | "." => self.controls.single_step = true,
-                        "r" => self.ui.reset_requested = true,
+                        "r" => self.panel.ui.reset_requested = true,
                         "f" => self.controls.wind_on = !self.controls.wind_on,
                         "+" | "=" => self.controls.wind_strength *= 1.25,
                         "-" => self.controls.wind_strength /= 1.25,
@@ -152,8 +155,11 @@ impl Viewer {
         let c = &mut self.controls;
         match action {
             Action::Resize(w, h) => {
-                let _ = self.window.request_inner_size(PhysicalSize::new(*w, *h));
-                self.needs_resize = true;
+                let _ = self
+                    .display
+                    .window
+                    .request_inner_size(PhysicalSize::new(*w, *h));
+                self.display.needs_resize = true;
             }
             Action::Orbit(yaw, pitch) => {
                 let camera = &mut self.session.settings.camera;
@@ -165,9 +171,9 @@ impl Viewer {
             Action::Wind(on) => c.wind_on = *on,
             Action::Shake(on) => c.shake_on = *on,
             Action::Pause(on) => c.paused = *on,
-            Action::Minimize(on) => self.window.set_minimized(*on),
+            Action::Minimize(on) => self.display.window.set_minimized(*on),
             Action::Screenshot(path) => {
-                self.ui.pending_screenshot = Some(path.clone());
+                self.panel.ui.pending_screenshot = Some(path.clone());
             }
         }
     }

@@ -3,8 +3,12 @@
 //! and rendering pauses while the window is minimised.
 
 mod animation_ui;
+mod clock;
+mod display;
 mod frame;
+mod in_flight;
 mod input;
+mod panel;
 mod quality;
 mod quality_ui;
 mod script;
@@ -14,22 +18,26 @@ mod ui;
 
 use std::path::PathBuf;
 use std::sync::Arc;
-use std::time::Instant;
 
-use ash::vk;
 use glam::{DVec3, Vec3};
 use winit::application::ApplicationHandler;
-use winit::dpi::PhysicalSize;
 use winit::event::WindowEvent;
 use winit::event_loop::{ActiveEventLoop, ControlFlow, EventLoop};
-use winit::window::{Window, WindowId};
+use winit::window::WindowId;
 
 pub use script::{Action, Script};
 
+use clock::Clock;
+use display::Display;
+use in_flight::Frames;
+use panel::Panel;
+use quality::Quality;
+use script::Scripted;
+
 use crate::error::{Error, Result};
-use crate::gpu::{CommandPool, Device, Fence, Semaphore, Surface, Swapchain};
+use crate::gpu::Device;
 use crate::scene::Mesh;
-use crate::session::{FurSession, SceneOptions};
+use crate::session::{FurSession, SceneOptions, SessionSetup};
 use crate::sim::{Motion, MotionKind, SimParams};
 
 const FRAMES_IN_FLIGHT: usize = 2;
@@ -96,11 +104,11 @@ pub fn run(options: ViewerOptions) -> Result<()> {
         }
     }
     if let Some(v) = &viewer {
-        if !v.frame_times.is_empty() {
+        if !v.clock.frame_times.is_empty() {
             println!(
                 "{} frames: median frame time {:.1} ms; last GPU timings: frame {:.2} ms, simulation {:.2} ms; {} hairs drawn in {} segments",
-                v.frame_times.len() + 1,
-                crate::bench::metrics::median(&v.frame_times),
+                v.clock.frame_times.len() + 1,
+                crate::bench::metrics::median(&v.clock.frame_times),
                 v.hud.gpu_frame_ms,
                 v.hud.sim_ms,
                 v.hud.hairs,
@@ -196,22 +204,9 @@ impl ApplicationHandler for App {
 
     fn about_to_wait(&mut self, _event_loop: &ActiveEventLoop) {
         if let Some(viewer) = &self.viewer {
-            viewer.window.request_redraw();
+            viewer.display.window.request_redraw();
         }
     }
-}
-
-/// Per frame in flight: command buffer, fence, acquire semaphore and what to do once
-/// the frame is done.
-struct FrameSync {
-    /// Allocated from the viewer's command pool, freed with it.
-    cmd: vk::CommandBuffer,
-    fence: Fence,
-    image_available: Semaphore,
-    submitted: bool,
-    simulated: bool,
-    screenshot: Option<PathBuf>,
-    free_textures: Vec<egui::TextureId>,
 }
 
 /// Interaction state.
@@ -233,27 +228,6 @@ struct Controls {
     shake_on: bool,
     /// A ladder rung the panel pinned (the budget keeps it).
     quality_pin: Option<usize>,
-}
-
-/// The frame-time budget and the styles it steers between.
-struct Quality {
-    /// None: `--target-fps 0`, always the scene's drawing.
-    budget: Option<crate::render::budget::Budget>,
-    /// The drawing the scene (and the panel) asks for: rung 0.
-    base: crate::render::FurStyle,
-    /// The drawing last applied (a change from it is the panel's).
-    applied: crate::render::FurStyle,
-    /// Input (camera, model, parameters) came since the last frame.
-    input_seen: bool,
-    /// Every change of rung: (frame, rung).
-    log: Vec<(u64, usize)>,
-    /// Seconds since the last input.
-    still_s: f64,
-    /// The rung drawn at the last frame with input.
-    moving_rung: usize,
-    /// Per rung, its ꟻLIP against the default drawing, measured at a still view (None:
-    /// not yet; reset when the panel changes the drawing).
-    errors: Vec<Option<f64>>,
 }
 
 /// Live numbers for the HUD.
@@ -281,23 +255,23 @@ pub(crate) struct Hud {
     pub binning: bool,
 }
 
-// Every Vulkan object here frees itself (its type holds the device); the one order that
-// matters is the window's, last, since the surface refers to it. `Drop` waits for the
-// device first, so nothing is destroyed while a frame is in flight.
+// The viewer in parts, each freeing what it holds itself, in the order its own fields
+// give (and every Vulkan object holds the device, so none outlives it): the panel (egui
+// and its renderer), the frames in flight (command pool, fences, semaphores), the
+// session (the scene on the GPU), the display (swapchain, surface, window). Once the
+// device is idle, which `Drop` waits for first, no part's objects are in use through
+// another's, so the order of the parts below does not matter.
 struct Viewer {
-    egui_renderer: egui_ash_renderer::Renderer<egui_ash_renderer::allocator::GpuAllocator>,
-    egui_state: egui_winit::State,
-    egui_ctx: egui::Context,
-    ui: ui::PanelState,
-    frames: Vec<FrameSync>,
-    /// Held for what it frees: the frames' command buffers come from it.
-    #[allow(dead_code)]
-    command_pool: CommandPool,
-    upload_pool: CommandPool,
-    swapchain: Option<Swapchain>,
+    panel: Panel,
+    frames: Frames,
     session: FurSession,
-    surface: Surface,
+    display: Display,
     device: Arc<Device>,
+    /// The frame-time budget.
+    quality: Quality,
+    /// Scripted input and the frame count.
+    scripted: Scripted,
+    clock: Clock,
     mesh: Mesh,
     /// The scene's texture (the panel turns it off and on).
     scene_texture: Option<crate::scene::TextureSpec>,
@@ -305,27 +279,14 @@ struct Viewer {
     scene: SceneOptions,
     controls: Controls,
     hud: Hud,
-    quality: Quality,
-    script: Script,
-    frame_limit: Option<u64>,
-    frame_index: u64,
-    last_frame: Instant,
-    /// Seconds of the last frame, and simulation time owed to the clock.
-    hud_dt: f64,
-    sim_clock: f64,
-    /// Wall-clock milliseconds of every frame after the first (for the exit summary).
-    frame_times: Vec<f64>,
-    vsync: bool,
-    needs_resize: bool,
     screenshot_dir: PathBuf,
     save_scene: Option<PathBuf>,
     screenshots_taken: u32,
-    window: Arc<Window>,
 }
 
 impl Drop for Viewer {
     fn drop(&mut self) {
-        // Wait for every frame in flight before the fields free their objects.
+        // Wait for every frame in flight before the parts free their objects.
         let _ = self.device.wait_idle();
     }
 }

@@ -5,6 +5,44 @@
 use super::Viewer;
 use crate::error::Result;
 use crate::render::budget::{Budget, LADDER};
+use crate::render::FurStyle;
+
+/// The frame-time budget and the styles it steers between.
+pub(super) struct Quality {
+    /// None: `--target-fps 0`, always the scene's drawing.
+    pub budget: Option<Budget>,
+    /// The drawing the scene (and the panel) asks for: rung 0.
+    pub base: FurStyle,
+    /// The drawing last applied (a change from it is the panel's).
+    pub applied: FurStyle,
+    /// Input (camera, model, parameters) came since the last frame.
+    pub input_seen: bool,
+    /// Every change of rung: (frame, rung).
+    pub log: Vec<(u64, usize)>,
+    /// Seconds since the last input.
+    pub still_s: f64,
+    /// The rung drawn at the last frame with input.
+    pub moving_rung: usize,
+    /// Per rung, its ꟻLIP against the default drawing, measured at a still view (None:
+    /// not yet; reset when the panel changes the drawing).
+    pub errors: Vec<Option<f64>>,
+}
+
+impl Quality {
+    /// A budget holding `target_fps` (0: none), starting from the drawing `style`.
+    pub fn new(target_fps: f64, style: &FurStyle) -> Self {
+        Self {
+            budget: (target_fps > 0.0).then(|| Budget::new(1000.0 / target_fps)),
+            base: style.clone(),
+            applied: style.clone(),
+            input_seen: false,
+            log: Vec::new(),
+            still_s: 0.0,
+            moving_rung: 0,
+            errors: vec![None; LADDER.len()],
+        }
+    }
+}
 
 impl Viewer {
     /// Chooses this frame's rung from the last frame's time `dt` (seconds) and applies it.
@@ -22,7 +60,7 @@ impl Viewer {
             self.quality.still_s += dt;
         }
         let rung = match &mut self.quality.budget {
-            Some(budget) if self.frame_index > 2 => {
+            Some(budget) if self.scripted.frame_index > 2 => {
                 budget.pinned = self.controls.quality_pin;
                 budget.observe(dt * 1e3, dt, input)
             }
@@ -30,7 +68,7 @@ impl Viewer {
             None => self.controls.quality_pin.unwrap_or(0),
         };
         if rung != self.hud.rung {
-            self.quality.log.push((self.frame_index, rung));
+            self.quality.log.push((self.scripted.frame_index, rung));
         }
         let style = LADDER[rung].apply(&self.quality.base);
         self.session.settings.style = style.clone();

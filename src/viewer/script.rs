@@ -105,6 +105,48 @@ impl Script {
     }
 }
 
+/// The viewer's scripted input and the frame count it is keyed by, with the count the
+/// run closes at.
+pub(super) struct Scripted {
+    script: Script,
+    /// Close after this many frames (`--frames`); None: run until closed.
+    limit: Option<u64>,
+    /// Frames begun so far (minimised ones too).
+    pub frame_index: u64,
+}
+
+impl Scripted {
+    pub fn new(script: Script, limit: Option<u64>) -> Self {
+        Self {
+            script,
+            limit,
+            frame_index: 0,
+        }
+    }
+
+    /// The actions due before the next frame.
+    pub fn due(&self) -> Vec<Action> {
+        self.script.due(self.frame_index).cloned().collect()
+    }
+
+    /// Every frame the run was to show has begun: the viewer closes.
+    pub fn finished(&self) -> bool {
+        self.limit.is_some_and(|limit| self.frame_index >= limit)
+    }
+
+    /// The run counts its frames (tests, benchmarks): the simulation steps once per
+    /// frame rather than by the clock.
+    pub fn counted(&self) -> bool {
+        self.limit.is_some()
+    }
+
+    /// A frame begins; returns its number (from 1).
+    pub fn begin_frame(&mut self) -> u64 {
+        self.frame_index += 1;
+        self.frame_index
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

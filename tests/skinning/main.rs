@@ -150,18 +150,21 @@ fn hairs_per_triangle_stay_the_same_as_the_body_walks() {
     options.draw.lod_distance = 1e4;
     let (groom, mut settings) = options.resolve(&mesh).unwrap();
     settings.count_hairs = true;
-    let mut session = fur::session::FurSession::with_rig(
+    let mut session = fur::session::FurSession::new(
         &device,
-        (mesh.clone(), Some((rig, playback))),
-        &groom,
-        SimParams::default(),
-        fur::sim::Motion::still(),
-        settings,
-        ash::vk::Extent2D {
-            width: 96,
-            height: 64,
+        fur::session::SessionSetup {
+            mesh: mesh.clone(),
+            rig: Some((rig, playback)),
+            groom: &groom,
+            sim: SimParams::default(),
+            motion: fur::sim::Motion::still(),
+            settings,
+            extent: ash::vk::Extent2D {
+                width: 96,
+                height: 64,
+            },
+            frames_in_flight: 1,
         },
-        1,
     )
     .unwrap();
     let mut seen = Vec::new();

@@ -1,6 +1,6 @@
 // Step 6 of simulate.comp, collision with the body, included where the step's state
 // (the strand's private arrays, its root pose and length) is declared. The CPU
-// reference is src/sim/collide.rs, with the same arithmetic.
+// reference is crates/fur-core/src/sim/collide.rs, with the same arithmetic.
 #ifndef COLLIDE_GLSL
 #define COLLIDE_GLSL
 
@@ -17,7 +17,7 @@
 // A rigid body's surface is its field. A skinned body's is the rest pose's field
 // carried by this strand's root pose (with the skin's blend: the hair's first eighth by
 // its root's bone, its outer eighth by the blend), and the bones' capsules of substep
-// k; each is a constraint of its own, projected in turn (src/sim/collide.rs:
+// k; each is a constraint of its own, projected in turn (crates/fur-core/src/sim/collide.rs:
 // `Collider::push_out_skinned`).
 
 // The capsules a strand collides with in a substep: the NEAR_CAPSULES nearest to its
@@ -26,7 +26,7 @@
 // far end of its child bone, which the skin at its end bends with) moved relative to
 // the strand's root pose, over CAPSULE_RAMP strand lengths, up to 1: the rest field
 // carried by the root pose already holds what moved with the root
-// (src/sim/collide.rs: `near_capsules`).
+// (crates/fur-core/src/sim/collide.rs: `near_capsules`).
 vec4 near_a[NEAR_CAPSULES];    // a, radius
 vec4 near_ab[NEAR_CAPSULES];   // b − a, |b − a|²
 float near_root[NEAR_CAPSULES]; // the root's distance from the axis
@@ -98,17 +98,17 @@ void select_capsules(uint k, float reach) {
     }
 }
 
-// Blend grid points per field cell along each axis: BLEND_REFINE (src/skinning/blend.rs:
+// Blend grid points per field cell along each axis: BLEND_REFINE (crates/fur-core/src/skinning/blend.rs:
 // REFINE, defined from Rust).
 
 // The first vertex carried back through the skin's blend: from seven eighths of the hair
 // out. The root pose is exact at the root and drifts from the skin with distance along
 // the hair; the blend's reads are dear on a CPU driver, and vertices nearer the root
-// measured the same depths with it and without (src/sim/collide.rs: BLEND_FROM).
+// measured the same depths with it and without (crates/fur-core/src/sim/collide.rs: BLEND_FROM).
 const uint BLEND_FROM = (7u * (V - 1u)) / 8u;
 
 // A blended matrix's determinant below which it is taken as degenerate: MIN_DETERMINANT
-// (src/sim/collide.rs, defined from Rust).
+// (crates/fur-core/src/sim/collide.rs, defined from Rust).
 
 // How a vertex is carried back to the rest pose (`collide`'s loops).
 const uint CARRY_ROOT = 0u;  // by the strand's root pose
@@ -119,7 +119,7 @@ const uint CARRY_BLEND = 2u; // by the skin's blend at the root pose's point
 // skin folds over a crease (an armpit, as the leg swings back), the blend of the root's
 // bones (the root pose) carries a vertex there back to the sheet the hair grew from,
 // outside, while the skin folded over it moves with one bone; the vertices beyond it
-// measured the same depths either way (src/sim/collide.rs: BONE_TO).
+// measured the same depths either way (crates/fur-core/src/sim/collide.rs: BONE_TO).
 const uint BONE_TO = (V - 1u) / 8u;
 
 // Substep k's blended matrix w K_a + (1 − w) K_b of the bones in blend grid texel `b`
@@ -174,7 +174,7 @@ bool blend_texel(vec3 rest, out uvec2 b) {
 
 // The root's bone in substep k: the heaviest bone of the skin at the strand's rest root
 // (its blend grid point), as the map rest = transpose(bone_back) · (m − bone_t); where
-// there is none, the root pose as the same map (src/sim/collide.rs: `root_bone`).
+// there is none, the root pose as the same map (crates/fur-core/src/sim/collide.rs: `root_bone`).
 mat3 bone_back;
 vec3 bone_t;
 void select_root_bone(uint k) {
@@ -188,7 +188,7 @@ void select_root_bone(uint k) {
 // Where model-space point m lies at the rest pose (returned), with the map taking the
 // rest field's gradient there to model space (`back`), carried as `carry` says (each
 // of `collide`'s loops passes one constant: CARRY_ROOT alone without BODY_BLEND)
-// (src/sim/collide.rs: `carry_back`): by the root pose; by the root's bone; or, where
+// (crates/fur-core/src/sim/collide.rs: `carry_back`): by the root pose; by the root's bone; or, where
 // the blend grid point nearest to the root pose's point holds a blend of bones, by the
 // inverse of the skin's blended matrix of substep k.
 vec3 blend_back(vec3 m, uint k, uint carry, out mat3 back) {
@@ -294,7 +294,7 @@ void collide_vertex(Step st, uint k, float margin, uint i, uint carry) {
             // The contact's normal is the direction of the whole push: with the
             // field and a capsule both touching, the first one's normal would leave
             // the velocity into the other, and hair squeezed between them would
-            // creep (src/sim/collide.rs: `push_out_skinned`).
+            // creep (crates/fur-core/src/sim/collide.rs: `push_out_skinned`).
             vec3 push = m - m0;
             float len = length(push);
             if (len > MIN_LENGTH) {

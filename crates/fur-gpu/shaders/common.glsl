@@ -1,8 +1,13 @@
 // Declarations shared by the mesh and fur passes. `Frame` is `FrameUniforms` of
-// src/render/uniforms.rs (std140) and the bindings are src/render/bindings.rs's: a test
-// there checks both against the compiled SPIR-V.
+// crates/fur-core/src/render/uniforms.rs (std140); the set and binding numbers are
+// defines from crates/fur-gpu/src/render/bindings.rs. A test there checks both against
+// the compiled SPIR-V.
 #ifndef COMMON_GLSL
 #define COMMON_GLSL
+
+#ifndef B_FRAME_UNIFORMS
+#error "render shaders are compiled with binding_defines() (crates/fur-gpu/src/render/bindings.rs)"
+#endif
 
 #include "strands.glsl"
 
@@ -20,7 +25,7 @@
 #define COVERAGE_SAMPLES 0
 #endif
 
-layout(set = 0, binding = 0, std140) uniform Frame {
+layout(set = SET_FRAME, binding = B_FRAME_UNIFORMS, std140) uniform Frame {
     mat4 view_proj;
     mat4 model;          // head transform H
     mat4 light_view_proj; // world to the shadow map's clip space (orthographic)
@@ -43,14 +48,14 @@ layout(set = 0, binding = 0, std140) uniform Frame {
 
 // The flags of strands.w (FLAG_CULL, FLAG_THICKNESS_COMPENSATION, FLAG_COUNT,
 // FLAG_SECONDARY_HIGHLIGHT, FLAG_THIN_HAIR_AA) are defined for every render shader from
-// the Rust constants (src/render/uniforms.rs: shader_defines), never typed here.
+// the Rust constants (crates/fur-core/src/render/uniforms.rs: shader_defines), never typed here.
 #ifndef FLAG_CULL
-#error "render shaders are compiled with shader_defines() (src/render/uniforms.rs)"
+#error "render shaders are compiled with shader_defines() (crates/fur-core/src/render/uniforms.rs)"
 #endif
 
-layout(set = 0, binding = 1, rgba32f) uniform readonly image2D strand_positions;
+layout(set = SET_FRAME, binding = B_STRAND_POSITIONS, rgba32f) uniform readonly image2D strand_positions;
 
-layout(set = 0, binding = 2, std430) readonly buffer Ownership {
+layout(set = SET_BODY, binding = B_OWNERSHIP, std430) readonly buffer Ownership {
     uint owner_mask[];
 };
 

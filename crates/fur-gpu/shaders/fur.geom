@@ -65,9 +65,9 @@ layout(location = 4) flat out uint g_seed;        // the hair's, for its coverag
 #if COUNT_HAIRS
 // What the pass drew. With a capture buffer bound (`fur export-frame`; `captured` is
 // empty otherwise), every counted hair is also written out as drawn: per hair
-// 2 · STRAND_VERTICES + 1 vec4s (src/render/renderer/capture.rs reads them), in the order the
+// 2 · STRAND_VERTICES + 1 vec4s (crates/fur-gpu/src/render/renderer/capture.rs reads them), in the order the
 // atomic hands out.
-layout(set = 0, binding = 3, std430) buffer Counters {
+layout(set = SET_FRAME, binding = B_HAIR_COUNTERS, std430) buffer Counters {
     uint hairs_drawn;
     uint segments_drawn;
     uint unused0;

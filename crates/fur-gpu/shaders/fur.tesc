@@ -20,7 +20,7 @@ layout(vertices = 3) out;
 #if BODY_SKINNED
 // Per triangle of the rest pose: edge lengths opposite corners 0, 1, 2 and the area. A
 // skinned body's triangles stretch as its joints bend; its hair count must not follow.
-layout(set = 0, binding = 8, std430) readonly buffer RestTriangles {
+layout(set = SET_BODY, binding = B_REST_TRIANGLES, std430) readonly buffer RestTriangles {
     vec4 rest_triangles[];
 };
 #endif

@@ -22,7 +22,7 @@ layout(location = 1) out vec3 e_bary;
 layout(location = 2) out uint e_keep;
 
 #if TEXTURED
-layout(set = 0, binding = 6, std430) readonly buffer CornerUvs {
+layout(set = SET_BODY, binding = B_CORNER_UVS, std430) readonly buffer CornerUvs {
     vec2 corner_uv[];   // three per triangle
 };
 layout(location = 3) out vec3 e_uv_lod;

@@ -5,7 +5,11 @@
 // in the tessellation stages every few hundred patches, so a triangle's per-triangle
 // data (ownership mask, corner UVs, rest lengths) cannot be found through it.
 
-layout(set = 0, binding = 9, std430) readonly buffer Indices {
+#ifndef B_INDICES
+#error "render shaders are compiled with binding_defines() (crates/fur-gpu/src/render/bindings.rs)"
+#endif
+
+layout(set = SET_BODY, binding = B_INDICES, std430) readonly buffer Indices {
     uint mesh_indices[];
 };
 

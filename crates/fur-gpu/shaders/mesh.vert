@@ -21,11 +21,11 @@ layout(location = 2) out vec2 v_uv;
 
 #if BODY_SKINNED
 // The posed body of the skinning pass (shaders/skin.comp): position, normal per vertex.
-layout(set = 0, binding = 7, std430) readonly buffer Posed {
+layout(set = SET_BODY, binding = B_POSED, std430) readonly buffer Posed {
     vec4 posed[];
 };
 // The triangle list: a textured mesh is drawn one vertex per corner, unindexed.
-layout(set = 0, binding = 9, std430) readonly buffer Indices {
+layout(set = SET_BODY, binding = B_INDICES, std430) readonly buffer Indices {
     uint mesh_indices[];
 };
 #endif

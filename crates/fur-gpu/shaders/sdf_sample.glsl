@@ -1,11 +1,11 @@
-// Sampling the body's signed distance field (src/geometry/sdf.rs), included by
+// Sampling the body's signed distance field (crates/fur-core/src/geometry/sdf.rs), included by
 // simulate.comp after sim_common.glsl: the grid, its cell and its origin are in `sim`.
 #ifndef SDF_SAMPLE_GLSL
 #define SDF_SAMPLE_GLSL
 
 // The distance at model-space point m to first order from its nearest grid point, and
 // the gradient there; false outside the grid. The arithmetic, step by step, is
-// `Sdf::sample` in src/geometry/sdf.rs.
+// `Sdf::sample` in crates/fur-core/src/geometry/sdf.rs.
 bool sdf_sample(vec3 m, out float value, out vec3 gradient) {
     vec3 g = (m - sim.sdf_origin.xyz) * sim.collision.z;
     vec3 last = vec3(sim.sdf_dims.xyz - 1u);
@@ -23,7 +23,7 @@ bool sdf_sample(vec3 m, out float value, out vec3 gradient) {
 // The distance and gradient at model-space point m: the trilinear blend of the eight
 // grid points' first-order expansions at m, and of their gradients (continuous across
 // cells, never above the distance where the field is convex); false outside the grid.
-// `Sdf::sample_trilinear` in src/geometry/sdf.rs, step by step.
+// `Sdf::sample_trilinear` in crates/fur-core/src/geometry/sdf.rs, step by step.
 bool sdf_sample_trilinear(vec3 m, out float value, out vec3 gradient) {
     vec3 g = (m - sim.sdf_origin.xyz) * sim.collision.z;
     vec3 last = vec3(sim.sdf_dims.xyz - 1u);

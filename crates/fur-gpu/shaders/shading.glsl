@@ -18,12 +18,12 @@
 
 #if TEXTURED
 // The model's colour texture (sRGB, with mips), for the fur's roots and the skin.
-layout(set = 0, binding = 4) uniform sampler2D albedo;
+layout(set = SET_BODY, binding = B_ALBEDO) uniform sampler2D albedo;
 #endif
 
 #if SHADOWS
 // The fur's depth seen from the light (orthographic, 0 near .. 1 far).
-layout(set = 0, binding = 5) uniform sampler2D shadow_map;
+layout(set = SET_FRAME, binding = B_SHADOW_MAP) uniform sampler2D shadow_map;
 
 // The fraction of the light that reaches world point p through the hair in front of
 // it: (1 − α)^(Δz / spacing), bilinearly filtered over the map's four nearest texels.
@@ -77,7 +77,7 @@ vec3 kajiya_kay(vec3 t, vec3 world, float light) {
 #endif
 
 #if MARSCHNER
-// The Marschner-family fibre model (MARSCHNER = 1; src/render/marschner.rs is its CPU
+// The Marschner-family fibre model (MARSCHNER = 1; crates/fur-core/src/render/marschner.rs is its CPU
 // twin and says where each term comes from): R, TT and TRT lobes with Gaussian
 // longitudinal terms on the fibre's roughness and cuticle tilt, Karis 2016's azimuthal
 // terms and attenuations, absorption from the colour by Chiang et al.'s mapping, and

@@ -1,6 +1,6 @@
 // Declarations shared by the simulation kernels. The bindings and the SimStatic and
-// Step layouts are checked against src/sim/kernel.rs by its test (SPIR-V reflection);
-// the constants shared with Rust are defined from it (src/sim/gpu.rs: kernel_defines).
+// Step layouts are checked against crates/fur-gpu/src/sim/kernel.rs by its test (SPIR-V reflection);
+// the constants shared with Rust are defined from it (crates/fur-gpu/src/sim/gpu.rs: kernel_defines).
 //
 // One invocation per master strand; GROUP_SIZE strands per workgroup.
 #ifndef SIM_COMMON_GLSL
@@ -9,7 +9,7 @@
 #include "strands.glsl"
 
 layout(constant_id = 1) const uint V = 17u;   // vertices per strand
-layout(local_size_x = GROUP_SIZE) in;         // strands per workgroup (src/gpu/shader.rs)
+layout(local_size_x = GROUP_SIZE) in;         // strands per workgroup (crates/fur-gpu/src/gpu/shader.rs)
 
 layout(set = 0, binding = 0, std140) uniform SimStatic {
     vec4 stiffness;     // S_G, S_L
@@ -43,7 +43,7 @@ layout(set = 0, binding = 4, std430) REST_ACCESS buffer RootFrames {
 };
 layout(set = 0, binding = 5, rgba32f) uniform image2D previous_positions;
 layout(set = 0, binding = 6, rgba32f) uniform image2D current_positions;
-// The body's signed distance field (src/sim/sdf.rs, on the device src/sim/field.rs):
+// The body's signed distance field (crates/fur-core/src/sim/sdf.rs, on the device crates/fur-gpu/src/sim/field.rs):
 // per grid point, the distance and the field's gradient there. An image, not a buffer:
 // a CPU driver reads an image at lane-varying points in one gather.
 layout(set = 0, binding = 7, rgba32f) uniform readonly image3D sdf;
@@ -54,8 +54,8 @@ layout(set = 0, binding = 8, rgba32f) uniform readonly imageBuffer root_poses;
 
 // A skinned body's bone capsules at the bind pose, then for each substep of the
 // submission: (a, radius), (b, the child bone's capsule or −1) in model space,
-// sim.counts2.y of them per pose (src/skinning/capsules.rs). A texel buffer, not a
-// storage buffer: a CPU driver reads it in one gather (src/gpu/buffer.rs).
+// sim.counts2.y of them per pose (crates/fur-core/src/skinning/capsules.rs). A texel buffer, not a
+// storage buffer: a CPU driver reads it in one gather (crates/fur-gpu/src/gpu/buffer.rs).
 layout(set = 0, binding = 9, rgba32f) uniform readonly imageBuffer capsules;
 
 vec4 capsule(uint i) {
@@ -66,7 +66,7 @@ vec4 capsule(uint i) {
 // w), so the next substep can carry the strand along with the body.
 layout(set = 0, binding = 10, rgba32f) uniform imageBuffer last_poses;
 
-// A skinned body's blend of bones at each grid point of the field (src/skinning/blend.rs):
+// A skinned body's blend of bones at each grid point of the field (crates/fur-core/src/skinning/blend.rs):
 // two grid points along x per texel, each the heaviest and second heaviest joint's
 // indices (16-bit halves of one word) and the heaviest's share of their weights (f32
 // bits); all zero where no skin is near.
@@ -83,7 +83,7 @@ layout(push_constant) uniform Push {
 } push;
 
 
-// The rotation taking the x axis to unit u along the shortest arc (src/sim/cpu.rs).
+// The rotation taking the x axis to unit u along the shortest arc (crates/fur-core/src/sim/cpu.rs).
 mat3 rotation_from_x(vec3 u) {
     float c = u.x;
     if (c < -0.9999) {

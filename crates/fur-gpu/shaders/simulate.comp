@@ -14,20 +14,20 @@
 
 layout(constant_id = 2) const uint STEPS = 0x1fu;
 // Shared with Rust, defined for this shader from the Rust constants
-// (src/sim/gpu.rs: kernel_defines), never typed here: the STEPS bits STEP_GLOBAL,
+// (crates/fur-gpu/src/sim/gpu.rs: kernel_defines), never typed here: the STEPS bits STEP_GLOBAL,
 // STEP_LOCAL, STEP_LENGTH, STEP_WIND, STEP_COLLISION; BODY_SKINNED (the body is skinned:
 // each strand's rest shape follows its own root pose from the skinning pass before the
 // head transform); SLEEP (strands at rest sleep, see the end of main; compiled out with
 // wind, which never stops); BODY_BLEND (a skinned body's collision carries vertices back
 // through the skin's blend of bones, not the root pose alone); PROJECTIONS and
 // PROJECTIONS_SKINNED (projections onto the collision margin per vertex and substep on a
-// rigid and a skinned body, src/sim/collide.rs); SLEEP_ULPS, REST_MOTION (of the
+// rigid and a skinned body, crates/fur-core/src/sim/collide.rs); SLEEP_ULPS, REST_MOTION (of the
 // strand's own length a frame) and REST_GRAVITY (of g Δt², a free vertex's first frame
 // from rest): a strand whose root stayed put to SLEEP_ULPS of its coordinates and whose
 // other vertices moved by no more than that, or than the slow motion, sleeps
-// (src/sim/cpu.rs).
+// (crates/fur-core/src/sim/cpu.rs).
 #if !defined(STEP_GLOBAL) || !defined(SLEEP_ULPS) || !defined(PROJECTIONS)
-#error "simulate.comp is compiled with kernel_defines() (src/sim/gpu.rs)"
+#error "simulate.comp is compiled with kernel_defines() (crates/fur-gpu/src/sim/gpu.rs)"
 #endif
 
 vec3 x[V];   // current positions, world space
@@ -44,7 +44,7 @@ float strand_length;   // this strand's rest length (collision and sleep only)
 // this substep's head transform, before the forces act. The body's motion then never
 // stretches the hair (a paw moves many times a short hair's segment in one step); the
 // simulation keeps the hair's own motion in the root's frame (TressFX's velocity shock
-// propagation at full strength). src/sim/cpu.rs: `ride`.
+// propagation at full strength). crates/fur-core/src/sim/cpu.rs: `ride`.
 void ride(uint strand, Step st) {
     uint o = 3u * strand;
     vec4 c0 = imageLoad(last_poses, int(o));
@@ -81,7 +81,7 @@ void load_pose(uint strand, uint k) {
 }
 
 // Rest point `rest` of this strand carried by the body to world space: H x for a rigid
-// body, H (R (x − r) + q) for a skinned one (src/sim/cpu.rs: `Carrier::point`).
+// body, H (R (x − r) + q) for a skinned one (crates/fur-core/src/sim/cpu.rs: `Carrier::point`).
 vec3 body_point(Step st, vec3 rest) {
     if ((STEPS & BODY_SKINNED) != 0u) {
         return (st.head * vec4(pose_rotation * (rest - rest_root) + pose_root, 1.0)).xyz;
@@ -261,7 +261,7 @@ void main() {
     // motion (REST_MOTION of its length, REST_GRAVITY of what gravity moves a free
     // vertex in a frame from rest) goes back where it started, not moving. Constant
     // targets otherwise leave it dithering by an ulp forever, and hair pressed into a
-    // crease by gravity creeping (src/sim/cpu.rs: `sleep`).
+    // crease by gravity creeping (crates/fur-core/src/sim/cpu.rs: `sleep`).
     bool asleep = false;
     if ((STEPS & SLEEP) != 0u) {
         float root_moved = 0.0;

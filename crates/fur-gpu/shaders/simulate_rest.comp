@@ -1,7 +1,7 @@
 #version 450
 // Once, at start-up: the rest data of the local and length constraints, computed with
 // the very arithmetic the simulation steps use, so that the rest pose is an exact
-// fixed point of a step on this device (src/sim/rest.rs is the CPU twin).
+// fixed point of a step on this device (crates/fur-core/src/sim/rest.rs is the CPU twin).
 // One invocation per strand walks it root to tip:
 //   F₀ = R(x → x̂₁ − x̂₀),  vᵢ = Fᵢᵀ (xᵢ₊₁ − xᵢ),  Fᵢ₊₁ = Fᵢ R(x → v̂ᵢ),
 //   rest length of segment i = |xᵢ₊₁ − xᵢ| (stored in rest_positions[i + 1].w).

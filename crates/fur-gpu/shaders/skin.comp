@@ -1,6 +1,6 @@
 #version 450
 // The skinning pass: linear blend skinning of the body's vertices, and one rigid root
-// pose per master strand, for every substep of one simulated frame (src/skinning/cpu.rs
+// pose per master strand, for every substep of one simulated frame (crates/fur-core/src/skinning/cpu.rs
 // is the CPU twin, with the same arithmetic in the same order).
 //
 // Per vertex v and substep k, with the joints' skinning matrices J of that substep:
@@ -11,7 +11,7 @@
 // its root lands on the skinned vertex exactly and its shape turns rigidly.
 // The last substep's positions and normals are the posed body the mesh pass draws.
 
-layout(local_size_x = GROUP_SIZE) in;   // src/gpu/shader.rs
+layout(local_size_x = GROUP_SIZE) in;   // crates/fur-gpu/src/gpu/shader.rs
 
 // Every table but the posed body is a texel buffer: a CPU driver reads and writes one
 // at lane-varying indices in one gather or scatter, a storage buffer lane by lane.

@@ -28,6 +28,29 @@ pub struct FrameTimings {
     pub simulation_ms: f64,
 }
 
+/// What a session is built from: the body and the fur grown on it, how the fur moves
+/// and is drawn, and the frames it renders.
+pub struct SessionSetup<'a> {
+    /// The body the fur grows on.
+    pub mesh: Mesh,
+    /// For a skinned body: its rig (vertex-aligned with `mesh`) and the clip it plays.
+    /// The body is then skinned on the device every frame, each master hair follows
+    /// its own root pose, and the default comb follows the bones. None: a rigid body.
+    pub rig: Option<(Rig, Playback)>,
+    /// How the master hairs are grown.
+    pub groom: &'a GroomParams,
+    /// The strand simulation's parameters.
+    pub sim: SimParams,
+    /// The scripted motion of the head (the whole model).
+    pub motion: Motion,
+    /// Camera, lighting and drawing of each frame.
+    pub settings: FrameSettings,
+    /// The size of the rendered image, in pixels.
+    pub extent: vk::Extent2D,
+    /// Frames recorded ahead of the device: 1 for headless use, 2 for the viewer.
+    pub frames_in_flight: usize,
+}
+
 pub struct FurSession {
     device: Arc<Device>,
     pub mesh: Mesh,
@@ -59,45 +82,18 @@ impl FurSession {
             .collect()
     }
 
-    /// Builds the scene; `frames_in_flight` is 1 for headless use, 2 for the viewer.
-    #[allow(clippy::too_many_arguments)]
-    pub fn new(
-        device: &Arc<Device>,
-        mesh: Mesh,
-        groom: &GroomParams,
-        sim_params: SimParams,
-        motion: Motion,
-        settings: FrameSettings,
-        extent: vk::Extent2D,
-        frames_in_flight: usize,
-    ) -> Result<Self> {
-        Self::with_rig(
-            device,
-            (mesh, None),
+    /// Builds the scene `setup` describes.
+    pub fn new(device: &Arc<Device>, setup: SessionSetup<'_>) -> Result<Self> {
+        let SessionSetup {
+            mesh,
+            rig,
             groom,
-            sim_params,
+            sim: sim_params,
             motion,
             settings,
             extent,
             frames_in_flight,
-        )
-    }
-
-    /// [`FurSession::new`] for a body that may be skinned: with a rig (vertex-aligned
-    /// with the mesh) and the clip it plays, the body is skinned on the device every
-    /// frame, each master hair follows its own root pose, and the default comb follows
-    /// the bones.
-    #[allow(clippy::too_many_arguments)]
-    pub fn with_rig(
-        device: &Arc<Device>,
-        (mesh, rig): (Mesh, Option<(Rig, Playback)>),
-        groom: &GroomParams,
-        sim_params: SimParams,
-        motion: Motion,
-        settings: FrameSettings,
-        extent: vk::Extent2D,
-        frames_in_flight: usize,
-    ) -> Result<Self> {
+        } = setup;
         settings.style.validate()?;
         motion.validate()?;
         sim_params.validate()?;

@@ -230,6 +230,10 @@ impl StrandTextures {
             image_barriers(d, cmd, &to_dst);
             for (image, k) in images {
                 let region = whole_image_copy(extent, offsets[*k]);
+                // SAFETY: `cmd` is recording (inside `submit_once`); the image is in
+                // TRANSFER_DST_OPTIMAL (barrier above), and the region, `extent` texels
+                // from `offsets[k]`, lies within the staging buffer, which holds every
+                // data set back to back; both outlive the submission, which waits.
                 unsafe {
                     d.raw
                         .cmd_copy_buffer_to_image(cmd, staging.raw(), image.raw(), dst, &[region])
@@ -286,6 +290,9 @@ impl StrandTextures {
             let src = vk::ImageLayout::TRANSFER_SRC_OPTIMAL;
             image_barriers(d, cmd, &[image.barrier(all, copy_read, general, src)]);
             let region = whole_image_copy(extent, 0);
+            // SAFETY: `cmd` is recording (inside `submit_once`); the image was moved to
+            // TRANSFER_SRC_OPTIMAL by the barrier above, and the buffer holds exactly
+            // its `extent` of 16-byte texels; both outlive the submission, which waits.
             unsafe {
                 d.raw
                     .cmd_copy_image_to_buffer(cmd, image.raw(), src, buffer.raw(), &[region])

@@ -48,6 +48,20 @@ pub(super) enum Carry<T> {
 /// A strand's root pose: rotation, rest root, skinned root (model space).
 pub(super) type Pose<T> = (M3<T>, V3<T>, V3<T>);
 
+/// A strand on a skinned body in one substep, as the collision of each of its vertices
+/// sees it ([`Collider::push_out_skinned`]).
+#[derive(Clone, Copy)]
+pub(super) struct SkinnedStrand<'a, T> {
+    /// The strand's root pose.
+    pub pose: &'a Pose<T>,
+    /// The bones' motions of this substep (three rows each), for the skin's blend.
+    pub bones: &'a [[glam::Vec4; 3]],
+    /// The capsules near the root ([`near_capsules`]).
+    pub capsules: &'a [NearCapsule<T>],
+    /// How far outside the body its vertices are kept (a fraction of its length).
+    pub margin: T,
+}
+
 /// The body as the collision step sees it.
 pub(super) struct Collider<'a, T> {
     pub sdf: &'a Sdf,
@@ -324,8 +338,8 @@ impl<T: Real> Collider<'_, T> {
         self.respond(contact, velocity, *x, previous);
     }
 
-    /// [`Collider::push_out`] on a skinned body: the rest pose's field carried by the
-    /// strand's root `pose` (sampled trilinearly: creases open and close as the body
+    /// [`Collider::push_out`] on a skinned body: the rest pose's field carried as
+    /// `carry` says from the `strand`'s root pose (sampled trilinearly: creases open and close as the body
     /// moves, and the nearest-point sample jumps in them), and the bone capsules near it
     /// ([`near_capsules`]), each a constraint projected in turn, in model space; the
     /// contact's normal is the direction of the whole push. For a vertex `arc` along
@@ -336,11 +350,18 @@ impl<T: Real> Collider<'_, T> {
     pub fn push_out_skinned(
         &self,
         head: &Head<T>,
-        (pose, bones, capsules): (&Pose<T>, &[[glam::Vec4; 3]], &[NearCapsule<T>]),
-        (arc, margin, carry): (T, T, Carry<T>),
+        strand: &SkinnedStrand<'_, T>,
+        arc: T,
+        carry: Carry<T>,
         x: &mut V3<T>,
         previous: &mut V3<T>,
     ) {
+        let SkinnedStrand {
+            pose,
+            bones,
+            capsules,
+            margin,
+        } = *strand;
         let velocity = *x - *previous;
         let m0 = self.to_model.point(*x);
         let mut m = m0;

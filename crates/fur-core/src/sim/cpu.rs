@@ -295,6 +295,12 @@ impl<T: Real> CpuSim<T> {
                     Some(pose) if blends && bone_to > 0 => collider.root_bone(pose, bones),
                     _ => Carry::Root,
                 };
+                let skinned = carrier.pose.as_ref().map(|pose| collide::SkinnedStrand {
+                    pose,
+                    bones,
+                    capsules: &near,
+                    margin,
+                });
                 for i in 1..v {
                     let carry = if !blends {
                         Carry::Root
@@ -305,11 +311,12 @@ impl<T: Real> CpuSim<T> {
                     } else {
                         Carry::Root
                     };
-                    match &carrier.pose {
-                        Some(pose) => collider.push_out_skinned(
+                    match &skinned {
+                        Some(strand) => collider.push_out_skinned(
                             &head,
-                            (pose, bones, &near),
-                            (T::from_f32(i as f32) * length / segments, margin, carry),
+                            strand,
+                            T::from_f32(i as f32) * length / segments,
+                            carry,
                             &mut x[i],
                             &mut prev[i],
                         ),

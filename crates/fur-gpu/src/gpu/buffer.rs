@@ -30,7 +30,10 @@ impl Buffer {
             .size(size)
             .usage(usage)
             .sharing_mode(vk::SharingMode::EXCLUSIVE);
+        // SAFETY: a plain create info on a live device; the buffer is destroyed on the
+        // error path below or by Drop.
         let raw = unsafe { device.raw.create_buffer(&info, None) }.vk("vkCreateBuffer")?;
+        // SAFETY: `raw` was just created from this device.
         let requirements = unsafe { device.raw.get_buffer_memory_requirements(raw) };
         let allocation = device.allocator().allocate(&AllocationCreateDesc {
             name,
@@ -42,6 +45,8 @@ impl Buffer {
         let allocation = match allocation {
             Ok(a) => a,
             Err(source) => {
+                // SAFETY: `raw` was just created, has no memory bound and was never
+                // used.
                 unsafe { device.raw.destroy_buffer(raw, None) };
                 return Err(Error::Allocation {
                     name: name.into(),
@@ -58,6 +63,8 @@ impl Buffer {
             size,
         };
         let a = buffer.allocation.as_ref().expect("allocation was just set");
+        // SAFETY: the allocation was made for `raw`'s own memory requirements, so it is
+        // large and aligned enough; the buffer has no memory bound yet.
         unsafe { device.raw.bind_buffer_memory(raw, a.memory(), a.offset()) }
             .vk("vkBindBufferMemory")?;
         device.set_name(raw, name);
@@ -153,6 +160,8 @@ impl Drop for Buffer {
             // Freeing can only fail on a corrupt allocator; there is nothing to recover.
             let _ = self.device.allocator().free(allocation);
         }
+        // SAFETY: the buffer is owned here and freed once; its owners wait for the
+        // device before dropping it, so no submission still uses it.
         unsafe { self.device.raw.destroy_buffer(self.raw, None) };
     }
 }
@@ -196,6 +205,9 @@ impl TexelBuffer {
             .offset(0)
             .range(vk::WHOLE_SIZE);
         let view =
+            // SAFETY: `buffer` has STORAGE_TEXEL_BUFFER usage and bound memory, and its
+            // size is a whole number of texels, within the device's limit (checked
+            // above).
             unsafe { device.raw.create_buffer_view(&info, None) }.vk("vkCreateBufferView")?;
         device.set_name(view, name);
         Ok(Self { view, buffer })
@@ -228,6 +240,9 @@ impl TexelBuffer {
 impl Drop for TexelBuffer {
     fn drop(&mut self) {
         // The view goes first; the buffer is dropped after this.
+        // SAFETY: the view is owned here and destroyed once, before its buffer; owners
+        // wait for the device before dropping it, so no descriptor in use still refers
+        // to it.
         unsafe { self.buffer.device.raw.destroy_buffer_view(self.view, None) };
     }
 }

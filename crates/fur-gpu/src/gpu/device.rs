@@ -93,8 +93,13 @@ impl Device {
         // Held until the device and its debug-utils functions are loaded (see
         // `loader_lock`).
         let _loader = super::loader_lock();
+        // SAFETY: `physical` was enumerated from this instance and offers
+        // `queue_family`; the create info, its feature chain and the extension names
+        // live on this stack frame through the call, and the loader lock is held.
         let raw = unsafe { instance.raw.create_device(physical, &create_info, None) }
             .vk("vkCreateDevice")?;
+        // SAFETY: the device was just created with one queue of `queue_family`
+        // (queue_infos above).
         let queue = unsafe { raw.get_device_queue(queue_family, 0) };
 
         let allocator = Allocator::new(&AllocatorCreateDesc {
@@ -108,6 +113,8 @@ impl Device {
         let allocator = match allocator {
             Ok(a) => a,
             Err(source) => {
+                // SAFETY: the allocator failed, so nothing was created from the device
+                // yet and it is not used after this.
                 unsafe { raw.destroy_device(None) };
                 return Err(Error::Allocation {
                     name: "allocator".into(),
@@ -119,10 +126,14 @@ impl Device {
         let pool_info = vk::CommandPoolCreateInfo::default()
             .queue_family_index(queue_family)
             .flags(vk::CommandPoolCreateFlags::TRANSIENT);
+        // SAFETY: the device is alive and `queue_family` is the family its queue came
+        // from.
         let command_pool = match unsafe { raw.create_command_pool(&pool_info, None) } {
             Ok(pool) => pool,
             Err(result) => {
                 drop(allocator);
+                // SAFETY: the allocator, the only object created from the device, was
+                // dropped above; the device is not used after this.
                 unsafe { raw.destroy_device(None) };
                 return Err(crate::error::vulkan("vkCreateCommandPool", result));
             }
@@ -193,6 +204,9 @@ impl Device {
             .object_name(&name);
         let _loader = super::loader_lock();
         // Naming is best-effort diagnostics: a failure is not worth aborting for.
+        // SAFETY: callers name objects they created from this device and still hold;
+        // `name` is a NUL-terminated CString that outlives the call, and the loader
+        // lock is held.
         let _ = unsafe { debug_utils.set_debug_utils_object_name(&info) };
     }
 
@@ -201,6 +215,9 @@ impl Device {
         if let (Some(debug_utils), Ok(name)) = (&self.debug_utils, std::ffi::CString::new(name)) {
             let label = vk::DebugUtilsLabelEXT::default().label_name(&name);
             let _loader = super::loader_lock();
+            // SAFETY: callers pass a command buffer of this device in the recording
+            // state; `label` and the CString it points at outlive the call; the loader
+            // lock is held.
             unsafe { debug_utils.cmd_begin_debug_utils_label(cmd, &label) };
         }
     }
@@ -208,6 +225,8 @@ impl Device {
     pub fn end_label(&self, cmd: vk::CommandBuffer) {
         if let Some(debug_utils) = &self.debug_utils {
             let _loader = super::loader_lock();
+            // SAFETY: `cmd` is recording and has a label open from `begin_label`
+            // (callers pair the two); the loader lock is held.
             unsafe { debug_utils.cmd_end_debug_utils_label(cmd) };
         }
     }
@@ -219,30 +238,47 @@ impl Device {
             .command_pool(*pool)
             .level(vk::CommandBufferLevel::PRIMARY)
             .command_buffer_count(1);
+        // SAFETY: the pool belongs to this device, and its mutex (held until the buffer
+        // is freed below) keeps any other thread from using the pool meanwhile.
         let cmd = unsafe { self.raw.allocate_command_buffers(&alloc_info) }
             .vk("vkAllocateCommandBuffers")?[0];
         let result = (|| {
             let begin = vk::CommandBufferBeginInfo::default()
                 .flags(vk::CommandBufferUsageFlags::ONE_TIME_SUBMIT);
+            // SAFETY: `cmd` was just allocated, so it is in the initial state; the pool
+            // lock is held.
             unsafe { self.raw.begin_command_buffer(cmd, &begin) }.vk("vkBeginCommandBuffer")?;
             let value = record(cmd)?;
+            // SAFETY: `cmd` is in the recording state: begun above, and `record` only
+            // records into it.
             unsafe { self.raw.end_command_buffer(cmd) }.vk("vkEndCommandBuffer")?;
+            // SAFETY: a plain create info on a live device; the fence is destroyed
+            // below on every path.
             let fence = unsafe { self.raw.create_fence(&vk::FenceCreateInfo::default(), None) }
                 .vk("vkCreateFence")?;
             let cmds = [cmd];
             let submit = vk::SubmitInfo::default().command_buffers(&cmds);
+            // SAFETY: `cmd` has ended recording (executable), the fence is new and
+            // unsignalled, and the queue is this device's; `cmds` outlives the call.
             let submitted = unsafe { self.raw.queue_submit(self.queue, &[submit], fence) }
                 .vk("vkQueueSubmit")
                 .and_then(|_| self.wait_fence(fence));
+            // SAFETY: the fence was never submitted (the submit failed) or the wait for
+            // it returned; after a wait timeout the device counts as hung and the error
+            // ends the run.
             unsafe { self.raw.destroy_fence(fence, None) };
             submitted.map(|_| value)
         })();
+        // SAFETY: `cmd` came from `pool`, whose lock is still held, and is no longer
+        // pending (as for the fence above); recording may have stopped half-way, which
+        // freeing allows.
         unsafe { self.raw.free_command_buffers(*pool, &[cmd]) };
         result
     }
 
     /// Waits for a fence with the project's hang timeout.
     pub fn wait_fence(&self, fence: vk::Fence) -> Result<()> {
+        // SAFETY: callers pass a fence created from this device that they still hold.
         match unsafe {
             self.raw
                 .wait_for_fences(&[fence], true, SUBMIT_TIMEOUT_S * 1_000_000_000)
@@ -255,12 +291,18 @@ impl Device {
 
     /// Waits until the device has finished all work.
     pub fn wait_idle(&self) -> Result<()> {
+        // SAFETY: the device is alive for as long as `self` is borrowed; the call takes
+        // no other handle.
         unsafe { self.raw.device_wait_idle() }.vk("vkDeviceWaitIdle")
     }
 }
 
 impl Drop for Device {
     fn drop(&mut self) {
+        // SAFETY: every object created from the device holds an `Arc` of it, so none is
+        // left: the device is idle (waited here) and unused; the pool and the
+        // allocator, its last two children, go before it, and the loader lock is held
+        // around vkDestroyDevice.
         unsafe {
             // Nothing useful can be done about a lost device while tearing down.
             let _ = self.raw.device_wait_idle();

@@ -76,7 +76,10 @@ impl Image {
             .usage(desc.usage)
             .sharing_mode(vk::SharingMode::EXCLUSIVE)
             .initial_layout(vk::ImageLayout::UNDEFINED);
+        // SAFETY: a create info on a live device; the image is destroyed on the error
+        // path below or by Drop.
         let raw = unsafe { device.raw.create_image(&info, None) }.vk("vkCreateImage")?;
+        // SAFETY: `raw` was just created from this device.
         let requirements = unsafe { device.raw.get_image_memory_requirements(raw) };
         let allocation = device.allocator().allocate(&AllocationCreateDesc {
             name,
@@ -88,6 +91,8 @@ impl Image {
         let allocation = match allocation {
             Ok(a) => a,
             Err(source) => {
+                // SAFETY: `raw` was just created, has no memory bound and was never
+                // used.
                 unsafe { device.raw.destroy_image(raw, None) };
                 return Err(Error::Allocation {
                     name: name.into(),
@@ -104,6 +109,8 @@ impl Image {
             desc,
         };
         let a = image.allocation.as_ref().expect("allocation was just set");
+        // SAFETY: the allocation was made for `raw`'s own memory requirements (size,
+        // alignment, memory types); the image has no memory bound yet.
         unsafe { device.raw.bind_image_memory(raw, a.memory(), a.offset()) }
             .vk("vkBindImageMemory")?;
         let view_info = vk::ImageViewCreateInfo::default()
@@ -112,6 +119,8 @@ impl Image {
             .format(desc.format)
             .subresource_range(subresource_range(desc.aspect));
         image.view =
+            // SAFETY: `raw` has its memory bound, and the view matches it: its format,
+            // a view type of its image type, and every level of its single layer.
             unsafe { device.raw.create_image_view(&view_info, None) }.vk("vkCreateImageView")?;
         device.set_name(raw, name);
         device.set_name(image.view, name);
@@ -163,6 +172,9 @@ pub fn image_barrier(
 
 impl Drop for Image {
     fn drop(&mut self) {
+        // SAFETY: the view was created from this image (or is null, skipped) and is
+        // destroyed once; owners wait for the device before dropping an image, so no
+        // command or descriptor in use refers to it.
         unsafe {
             if self.view != vk::ImageView::null() {
                 self.device.raw.destroy_image_view(self.view, None);
@@ -171,6 +183,8 @@ impl Drop for Image {
         if let Some(allocation) = self.allocation.take() {
             let _ = self.device.allocator().free(allocation);
         }
+        // SAFETY: the image is owned here, its view is gone and its memory freed above;
+        // no submission still uses it (owners wait for the device first).
         unsafe { self.device.raw.destroy_image(self.raw, None) };
     }
 }
@@ -228,6 +242,9 @@ pub fn image_barriers(
     barriers: &[vk::ImageMemoryBarrier2],
 ) {
     let dependency = vk::DependencyInfo::default().image_memory_barriers(barriers);
+    // SAFETY: callers pass a command buffer of `device` in the recording state, outside
+    // a rendering, and barriers on images they keep alive until it has executed;
+    // `dependency` borrows `barriers` through the call (synchronization2 is enabled).
     unsafe { device.raw.cmd_pipeline_barrier2(cmd, &dependency) };
 }
 
@@ -244,5 +261,8 @@ pub fn memory_barrier(
         .dst_stage_mask(dst_stage)
         .dst_access_mask(dst_access)];
     let dependency = vk::DependencyInfo::default().memory_barriers(&barrier);
+    // SAFETY: callers pass a command buffer of `device` in the recording state, outside
+    // a rendering; the barrier names no resource and `dependency` borrows it through
+    // the call (synchronization2 is enabled).
     unsafe { device.raw.cmd_pipeline_barrier2(cmd, &dependency) };
 }

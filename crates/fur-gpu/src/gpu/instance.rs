@@ -58,8 +58,11 @@ impl Instance {
         // The loader may load and unload drivers and layers while it answers these
         // (see `loader_lock`).
         let loader = super::loader_lock();
+        // SAFETY: `entry` holds the loaded Vulkan loader, and these global queries take
+        // no handles; the loader lock is held.
         let layers = unsafe { entry.enumerate_instance_layer_properties() }
             .vk("vkEnumerateInstanceLayerProperties");
+        // SAFETY: as above: a global query on the loaded loader, under the loader lock.
         let available = unsafe { entry.enumerate_instance_extension_properties(None) }
             .vk("vkEnumerateInstanceExtensionProperties");
         drop(loader);
@@ -109,15 +112,24 @@ impl Instance {
             create_info = create_info.push_next(&mut messenger_info);
         }
         let loader = super::loader_lock();
+        // SAFETY: the create info and all it points at (application info, layer and
+        // extension names, the pNext chain whose messenger info carries a pointer to
+        // `log`, which the Instance keeps) live on this stack frame through the call;
+        // the loader lock is held.
         let raw = unsafe { entry.create_instance(&create_info, None) }.vk("vkCreateInstance")?;
         drop(loader);
 
         let (debug_utils, messenger) = if has_debug_utils {
             let debug_utils = ext::debug_utils::Instance::new(&entry, &raw);
             let info = messenger_create_info(&log);
+            // SAFETY: `raw` was just created with VK_EXT_debug_utils enabled
+            // (`has_debug_utils`); the user data in `info` points at `log`, which the
+            // Instance holds for as long as the messenger lives.
             match unsafe { debug_utils.create_debug_utils_messenger(&info, None) } {
                 Ok(messenger) => (Some(debug_utils), messenger),
                 Err(result) => {
+                    // SAFETY: `raw` was just created and nothing else was created from
+                    // it (the messenger failed); it is not used after this.
                     unsafe { raw.destroy_instance(None) };
                     return Err(crate::error::vulkan(
                         "vkCreateDebugUtilsMessengerEXT",
@@ -182,6 +194,9 @@ impl Instance {
 impl Drop for Instance {
     fn drop(&mut self) {
         let loader = super::loader_lock();
+        // SAFETY: every device and surface holds an `Arc<Instance>`, so none is left;
+        // the messenger was created from this instance and goes first; the loader lock
+        // is held.
         unsafe {
             if let Some(debug_utils) = &self.debug_utils {
                 debug_utils.destroy_debug_utils_messenger(self.messenger, None);
@@ -216,6 +231,13 @@ fn messenger_create_info(
 }
 
 /// Records validation messages. Never panics and always returns `VK_FALSE`.
+///
+/// # Safety
+///
+/// Only for the validation layer to call, as `messenger_create_info` registers it:
+/// `data` is null or a valid callback-data struct for the call's duration, and
+/// `user_data` is null or the `ValidationLog` that the `Instance` owning the messenger
+/// keeps alive.
 unsafe extern "system" fn debug_callback(
     severity: vk::DebugUtilsMessageSeverityFlagsEXT,
     kind: vk::DebugUtilsMessageTypeFlagsEXT,
@@ -231,6 +253,8 @@ unsafe extern "system" fn debug_callback(
         let message = if data.p_message.is_null() {
             String::from("(no message)")
         } else {
+            // SAFETY: non-null (checked above); the layer passes a NUL-terminated
+            // message that stays valid for the callback's duration.
             unsafe { CStr::from_ptr(data.p_message) }
                 .to_string_lossy()
                 .into_owned()

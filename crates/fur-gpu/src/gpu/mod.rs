@@ -1,5 +1,6 @@
 //! The Vulkan layer: one module per Vulkan concept, every handle owned by one value.
 
+mod access;
 mod buffer;
 mod choice;
 mod device;
@@ -17,6 +18,7 @@ mod sync;
 
 use std::sync::Arc;
 
+pub use access::{barrier, Access, Barrier, State, Tracker};
 pub use buffer::{Buffer, TexelBuffer};
 pub use choice::{choose, Candidate, DeviceEntry, DeviceKind, DeviceList};
 pub use device::{Device, DeviceInfo, PresentTarget};

@@ -65,6 +65,7 @@ fn probe_all(instance: &Instance, present: Option<&PresentTarget<'_>>) -> Result
     // `loader_lock`).
     let loader = super::loader_lock();
     let devices =
+        // SAFETY: the instance is alive (borrowed) and the loader lock is held.
         unsafe { instance.raw.enumerate_physical_devices() }.vk("vkEnumeratePhysicalDevices")?;
     drop(loader);
     Ok(devices
@@ -82,6 +83,7 @@ fn probe(
     physical: vk::PhysicalDevice,
 ) -> Probe {
     let raw = &instance.raw;
+    // SAFETY: `physical` was enumerated from this instance, which is alive (borrowed).
     let props = unsafe { raw.get_physical_device_properties(physical) };
     let name = props
         .device_name_as_c_str()
@@ -93,6 +95,9 @@ fn probe(
     let driver = if at_least(2) {
         let mut driver = vk::PhysicalDeviceDriverProperties::default();
         let mut props2 = vk::PhysicalDeviceProperties2::default().push_next(&mut driver);
+        // SAFETY: `physical` comes from this instance and reports Vulkan 1.2 or later,
+        // so the driver-properties struct is a valid link of the chain; `props2` and
+        // `driver` live through the call.
         unsafe { raw.get_physical_device_properties2(physical, &mut props2) };
         let text = |t: std::result::Result<&std::ffi::CStr, _>| {
             t.map(|s| s.to_string_lossy().into_owned())
@@ -110,6 +115,7 @@ fn probe(
     } else {
         "unknown (Vulkan 1.1 or older)".into()
     };
+    // SAFETY: `physical` was enumerated from this instance.
     let features = unsafe { raw.get_physical_device_features(physical) };
     let mut f13 = vk::PhysicalDeviceVulkan13Features::default();
     let mut f12 = vk::PhysicalDeviceVulkan12Features::default();
@@ -118,13 +124,20 @@ fn probe(
         .push_next(&mut f12);
     let supports_13 = at_least(3);
     if supports_13 {
+        // SAFETY: `physical` reports Vulkan 1.3, so the 1.2 and 1.3 feature structs are
+        // valid links of the chain; the chain lives on this stack frame through the
+        // call.
         unsafe { raw.get_physical_device_features2(physical, &mut features2) };
     }
     let mut missing = missing_features(supports_13, &features, &f12, &f13);
+    // SAFETY: `physical` was enumerated from this instance.
     let families = unsafe { raw.get_physical_device_queue_family_properties(physical) };
     let family = families.iter().enumerate().find_map(|(i, f)| {
         let i = i as u32;
         let flags = vk::QueueFlags::GRAPHICS | vk::QueueFlags::COMPUTE;
+        // SAFETY: `i` indexes `physical`'s queue families; the surface and its loader
+        // come from this instance, and the caller keeps the surface alive while devices
+        // are probed.
         let presents = present.is_none_or(|p| unsafe {
             p.surface_fn
                 .get_physical_device_surface_support(physical, i, p.surface)

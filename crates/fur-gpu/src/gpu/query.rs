@@ -73,8 +73,13 @@ impl QueryPool {
             .query_type(kind)
             .query_count(count)
             .pipeline_statistics(statistics);
+        // SAFETY: a create info on a live device; statistics are only asked of a
+        // PIPELINE_STATISTICS pool, made only where the device enabled
+        // pipelineStatisticsQuery. The pool is destroyed in Drop.
         let raw = unsafe { device.raw.create_query_pool(&info, None) }.vk("vkCreateQueryPool")?;
         device.set_name(raw, name);
+        // SAFETY: hostQueryReset is enabled at device creation, the pool was just
+        // created (nothing uses it) and `0..count` is its whole range.
         unsafe { device.raw.reset_query_pool(raw, 0, count) };
         Ok(Self {
             device: device.clone(),
@@ -99,6 +104,9 @@ impl QueryPool {
 
     /// Resets the first `count` queries from the host.
     pub fn reset_first(&self, count: u32) {
+        // SAFETY: hostQueryReset is enabled; the range is clamped to the pool; callers
+        // reset only queries of a frame slot whose last submission has finished (its
+        // fence was waited) and before recording the next.
         unsafe {
             self.device
                 .raw
@@ -110,6 +118,9 @@ impl QueryPool {
     fn results<const N: usize>(&self, count: u32) -> Result<Vec<[u64; N]>> {
         debug_assert_eq!(N as u32, self.values);
         let mut data = vec![[0u64; N]; count.min(self.count) as usize];
+        // SAFETY: the range is clamped to the pool and `data` holds `N` 64-bit values
+        // per query, the pool's own count (asserted), as TYPE_64 asks; callers read
+        // only queries their finished submission wrote, so WAIT returns.
         unsafe {
             self.device.raw.get_query_pool_results(
                 self.raw,
@@ -148,6 +159,8 @@ impl QueryPool {
 
 impl Drop for QueryPool {
     fn drop(&mut self) {
+        // SAFETY: the pool is owned here and destroyed once; owners wait for the device
+        // first, so no command buffer in flight writes it.
         unsafe { self.device.raw.destroy_query_pool(self.raw, None) };
     }
 }

@@ -170,16 +170,18 @@ fn descriptor_type(
     }
 }
 
-/// Checks that every binding `reflection` uses exists in `layout` (index = binding,
-/// set 0) with the same type; the message names the shader and the binding.
+/// Checks that every binding `reflection` uses exists in `sets` (`sets[set][binding]`)
+/// with the same type; the message names the shader and the binding.
 pub fn check_bindings(
     shader: &str,
     reflection: &Reflection,
-    layout: &[vk::DescriptorType],
+    sets: &[&[vk::DescriptorType]],
 ) -> Result<(), String> {
     for (&(set, binding), (name, ty)) in &reflection.bindings {
-        let declared = layout.get(binding as usize);
-        if set != 0 || declared != Some(ty) {
+        let declared = sets
+            .get(set as usize)
+            .and_then(|layout| layout.get(binding as usize));
+        if declared != Some(ty) {
             return Err(format!(
                 "{shader}: `{name}` at set {set}, binding {binding} is {ty:?}; the Rust layout has {declared:?}"
             ));

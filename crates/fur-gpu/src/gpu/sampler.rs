@@ -16,6 +16,8 @@ pub struct Sampler {
 
 impl Sampler {
     pub fn new(device: &Arc<Device>, name: &str, info: &vk::SamplerCreateInfo) -> Result<Self> {
+        // SAFETY: the device is alive; callers pass a complete create info (a builder
+        // from `vk::SamplerCreateInfo::default()`); the sampler is destroyed in Drop.
         let raw = unsafe { device.raw.create_sampler(info, None) }.vk("vkCreateSampler")?;
         device.set_name(raw, name);
         Ok(Self {
@@ -31,6 +33,8 @@ impl Sampler {
 
 impl Drop for Sampler {
     fn drop(&mut self) {
+        // SAFETY: the sampler is owned here and destroyed once; owners wait for the
+        // device first, so no descriptor set in use by a submission still refers to it.
         unsafe { self.device.raw.destroy_sampler(self.raw, None) };
     }
 }

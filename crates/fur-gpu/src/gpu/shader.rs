@@ -144,6 +144,8 @@ impl ShaderModule {
         let code = compile(name, defines)?;
         let info = vk::ShaderModuleCreateInfo::default().code(&code);
         let raw =
+            // SAFETY: `code` is a whole SPIR-V module (u32 words) just compiled by
+            // shaderc, and it outlives the call.
             unsafe { device.raw.create_shader_module(&info, None) }.vk("vkCreateShaderModule")?;
         device.set_name(raw, name);
         Ok(Self {
@@ -155,6 +157,8 @@ impl ShaderModule {
 
 impl Drop for ShaderModule {
     fn drop(&mut self) {
+        // SAFETY: the module is owned here and destroyed once; pipelines built from it
+        // keep nothing of it, so it may go whenever its owner does.
         unsafe { self.device.raw.destroy_shader_module(self.raw, None) };
     }
 }

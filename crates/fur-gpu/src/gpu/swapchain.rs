@@ -26,6 +26,10 @@ impl Surface {
         let handle = window
             .window_handle()
             .map_err(|e| Error::Window(format!("no window handle: {e}")))?;
+        // SAFETY: the display and window handles come from a live window that the
+        // caller keeps alive longer than the surface (the viewer's display drops the
+        // surface before the window), and the instance enabled the extensions
+        // ash_window requires for this display (`gpu::windowed`).
         let raw = unsafe {
             ash_window::create_surface(
                 &instance.entry,
@@ -54,6 +58,8 @@ impl Surface {
 
 impl Drop for Surface {
     fn drop(&mut self) {
+        // SAFETY: the surface is owned here; owners drop the swapchain built on it
+        // first, and `_instance` keeps the instance alive until after this.
         unsafe { self.loader.destroy_surface(self.raw, None) };
     }
 }
@@ -82,18 +88,24 @@ impl Swapchain {
         old: Option<&Swapchain>,
     ) -> Result<Self> {
         let physical = device.physical;
+        // SAFETY: `physical` is the device's, chosen to present to this surface, and
+        // the surface is alive (borrowed).
         let caps = unsafe {
             surface
                 .loader
                 .get_physical_device_surface_capabilities(physical, surface.raw)
         }
         .vk("vkGetPhysicalDeviceSurfaceCapabilitiesKHR")?;
+        // SAFETY: as above: the device's physical device and a live surface of the same
+        // instance.
         let formats = unsafe {
             surface
                 .loader
                 .get_physical_device_surface_formats(physical, surface.raw)
         }
         .vk("vkGetPhysicalDeviceSurfaceFormatsKHR")?;
+        // SAFETY: as above: the device's physical device and a live surface of the same
+        // instance.
         let modes = unsafe {
             surface
                 .loader
@@ -145,6 +157,9 @@ impl Swapchain {
             .clipped(true)
             .old_swapchain(old.map_or(vk::SwapchainKHR::null(), |o| o.raw));
         let loader = khr::swapchain::Device::new(&device.instance.raw, &device.raw);
+        // SAFETY: `info` names the live surface with a format, extent, transform and
+        // present mode the surface reported, and the image count within its limits;
+        // `old`, if any, is the live swapchain of this surface, retired by this call.
         let raw = unsafe { loader.create_swapchain(&info, None) }.vk("vkCreateSwapchainKHR")?;
         let mut swapchain = Self {
             device: device.clone(),
@@ -157,6 +172,8 @@ impl Swapchain {
             extent,
         };
         swapchain.images =
+            // SAFETY: `raw` was just created by this loader and is owned by
+            // `swapchain`.
             unsafe { swapchain.loader.get_swapchain_images(raw) }.vk("vkGetSwapchainImagesKHR")?;
         for (i, &image) in swapchain.images.clone().iter().enumerate() {
             device.set_name(image, &format!("swapchain[{i}]"));
@@ -166,6 +183,9 @@ impl Swapchain {
                 .format(format.format)
                 .subresource_range(super::subresource_range(vk::ImageAspectFlags::COLOR));
             swapchain.views.push(
+                // SAFETY: `image` is one of this swapchain's images, of
+                // `format.format`, single-layer; the view is destroyed in Drop before
+                // the swapchain.
                 unsafe { device.raw.create_image_view(&view_info, None) }
                     .vk("vkCreateImageView")?,
             );
@@ -185,6 +205,9 @@ impl Swapchain {
 
     /// Acquires the next image; `None` when the swapchain must be recreated.
     pub fn acquire(&self, signal: vk::Semaphore) -> Result<Option<u32>> {
+        // SAFETY: the swapchain is alive (borrowed); callers pass a semaphore with no
+        // pending signal (the viewer waits for its frame slot's fence first, whose
+        // submission consumed the last one) and no fence.
         match unsafe {
             self.loader
                 .acquire_next_image(self.raw, u64::MAX, signal, vk::Fence::null())
@@ -205,6 +228,9 @@ impl Swapchain {
             .wait_semaphores(&wait)
             .swapchains(&swapchains)
             .image_indices(&indices);
+        // SAFETY: `index` was acquired from this swapchain and the submission that
+        // signals its render-finished semaphore was queued first on the same queue; the
+        // arrays `info` points at outlive the call.
         match unsafe { self.loader.queue_present(self.device.queue, &info) } {
             Ok(suboptimal) => Ok(!suboptimal),
             Err(vk::Result::ERROR_OUT_OF_DATE_KHR) => Ok(false),
@@ -215,6 +241,9 @@ impl Swapchain {
 
 impl Drop for Swapchain {
     fn drop(&mut self) {
+        // SAFETY: owners wait for the device before dropping or recreating the
+        // swapchain, so no command uses its views; the views were made here from its
+        // images (which the swapchain frees itself), so they go first.
         unsafe {
             for &view in &self.views {
                 self.device.raw.destroy_image_view(view, None);

@@ -1,144 +1,230 @@
-//! The render passes' descriptor set: its bindings (`shaders/common.glsl`,
-//! `shaders/shading.glsl`, `shaders/fur.geom`, `shaders/fur.tese`) and how one set is
-//! pointed at its resources.
+//! The render passes' descriptor sets, defined once here: set 0 holds what changes per
+//! frame and per view (the uniforms, the strand positions, the hair counters, the
+//! shadow map), set 1 the body (ownership masks, texture, corner UVs, posed vertices,
+//! rest triangles, the triangle list), written once. The shaders take the set and
+//! binding numbers as defines ([`binding_defines`]: `SET_FRAME`, `B_SHADOW_MAP`, …), so
+//! no number is typed twice; a test checks the compiled SPIR-V against the types.
 
 use ash::vk;
 
 use super::texture::{GpuTexture, ShadowMap};
-use crate::gpu::{Buffer, Device};
+use crate::gpu::{Buffer, Device, Image};
 
-/// The model's texture and its UVs per triangle corner.
-pub(super) struct TextureBinding<'a> {
-    pub texture: &'a GpuTexture,
-    pub corner_uvs: &'a Buffer,
+/// The set numbers.
+pub(super) const SET_FRAME: u32 = 0;
+pub(super) const SET_BODY: u32 = 1;
+
+/// The hair stages: vertex, tessellation control and evaluation, geometry.
+const HAIR_STAGES: vk::ShaderStageFlags = vk::ShaderStageFlags::from_raw(
+    vk::ShaderStageFlags::VERTEX.as_raw()
+        | vk::ShaderStageFlags::TESSELLATION_CONTROL.as_raw()
+        | vk::ShaderStageFlags::TESSELLATION_EVALUATION.as_raw()
+        | vk::ShaderStageFlags::GEOMETRY.as_raw(),
+);
+
+/// The stages that shade: geometry (per-vertex lighting) and fragment.
+const SHADING_STAGES: vk::ShaderStageFlags = vk::ShaderStageFlags::from_raw(
+    vk::ShaderStageFlags::GEOMETRY.as_raw() | vk::ShaderStageFlags::FRAGMENT.as_raw(),
+);
+
+/// Declares a set's bindings: an enum numbered in order, with each binding's define,
+/// descriptor type and stages.
+macro_rules! bindings {
+    ($(#[$doc:meta])* $set:ident { $($(#[$bdoc:meta])* $name:ident = ($define:literal, $ty:ident, $stages:expr)),+ $(,)? }) => {
+        $(#[$doc])*
+        #[derive(Clone, Copy, Debug, PartialEq, Eq)]
+        pub(super) enum $set { $($(#[$bdoc])* $name),+ }
+
+        impl $set {
+            pub(super) const ALL: &'static [$set] = &[$($set::$name),+];
+
+            /// The GLSL define that names its binding number.
+            pub(super) fn define(self) -> &'static str {
+                match self { $($set::$name => $define),+ }
+            }
+
+            /// Its descriptor type and the stages that read it.
+            pub(super) fn layout(self) -> (vk::DescriptorType, vk::ShaderStageFlags) {
+                match self { $($set::$name => (vk::DescriptorType::$ty, $stages)),+ }
+            }
+
+            /// The whole set's layout, in binding order.
+            pub(super) fn set_layout() -> Vec<(vk::DescriptorType, vk::ShaderStageFlags)> {
+                Self::ALL.iter().map(|b| b.layout()).collect()
+            }
+        }
+    };
 }
 
-/// The body as the passes read it: the posed vertices of a skinned body (written by the
-/// skinning pass; a placeholder for a rigid one), each triangle's rest-pose edge lengths
-/// and area (the density's source), and the triangle list.
-pub(super) struct BodyBinding<'a> {
+bindings!(
+    /// Set 0: one per frame in flight, per position image and per view (the camera's
+    /// and the light's).
+    FrameBinding {
+        /// The `Frame` uniform block (`FrameUniforms`).
+        Uniforms = ("B_FRAME_UNIFORMS", UNIFORM_BUFFER, vk::ShaderStageFlags::ALL_GRAPHICS),
+        /// The strand positions the simulation last wrote.
+        Positions = ("B_STRAND_POSITIONS", STORAGE_IMAGE, HAIR_STAGES),
+        /// Hairs and segments drawn (and the capture behind them).
+        Counters = ("B_HAIR_COUNTERS", STORAGE_BUFFER, vk::ShaderStageFlags::GEOMETRY),
+        /// The shadow map (read by the frames with shadows).
+        ShadowMap = ("B_SHADOW_MAP", COMBINED_IMAGE_SAMPLER, SHADING_STAGES),
+    }
+);
+
+bindings!(
+    /// Set 1: the body, one per renderer. The texture and UVs are read only by the
+    /// pipelines of a textured model, the posed vertices and rest triangles only by
+    /// those of a skinned one.
+    BodyBinding {
+        /// Which triangle draws each shared edge and corner.
+        Ownership = ("B_OWNERSHIP", STORAGE_BUFFER, HAIR_STAGES),
+        /// The model's texture.
+        Albedo = ("B_ALBEDO", COMBINED_IMAGE_SAMPLER, SHADING_STAGES),
+        /// Its UVs per triangle corner.
+        CornerUvs = ("B_CORNER_UVS", STORAGE_BUFFER, vk::ShaderStageFlags::TESSELLATION_EVALUATION),
+        /// A skinned body's posed vertices (written by the skinning pass).
+        Posed = ("B_POSED", STORAGE_BUFFER, vk::ShaderStageFlags::from_raw(
+            vk::ShaderStageFlags::VERTEX.as_raw() | vk::ShaderStageFlags::TESSELLATION_CONTROL.as_raw())),
+        /// Per triangle, its rest edge lengths and area.
+        RestTriangles = ("B_REST_TRIANGLES", STORAGE_BUFFER, vk::ShaderStageFlags::TESSELLATION_CONTROL),
+        /// The triangle list.
+        Indices = ("B_INDICES", STORAGE_BUFFER, vk::ShaderStageFlags::VERTEX),
+    }
+);
+
+/// The defines every render shader is compiled with: the set numbers and each
+/// binding's number.
+pub(super) fn binding_defines() -> Vec<(&'static str, String)> {
+    let mut defines = vec![
+        ("SET_FRAME", SET_FRAME.to_string()),
+        ("SET_BODY", SET_BODY.to_string()),
+    ];
+    defines.extend(
+        FrameBinding::ALL
+            .iter()
+            .map(|b| (b.define(), (*b as u32).to_string())),
+    );
+    defines.extend(
+        BodyBinding::ALL
+            .iter()
+            .map(|b| (b.define(), (*b as u32).to_string())),
+    );
+    defines
+}
+
+/// Every define a render shader takes from Rust: the drawing's flags
+/// ([`super::uniforms::shader_defines`]) and the set and binding numbers.
+pub(super) fn render_defines() -> Vec<(&'static str, String)> {
+    let mut defines = super::uniforms::shader_defines();
+    defines.extend(binding_defines());
+    defines
+}
+
+/// The body as the passes read it.
+pub(super) struct BodyResources<'a> {
+    pub ownership: &'a Buffer,
+    pub texture: &'a GpuTexture,
+    pub corner_uvs: &'a Buffer,
+    /// The posed vertices of a skinned body (a placeholder for a rigid one).
     pub posed: vk::Buffer,
     pub rest_triangles: &'a Buffer,
     pub indices: &'a Buffer,
 }
 
-/// Points one render descriptor set at its uniforms, position image, ownership masks,
-/// hair counters, the model's texture and the body.
-pub(super) fn write_render_set(
+fn buffer_info(buffer: vk::Buffer) -> [vk::DescriptorBufferInfo; 1] {
+    [vk::DescriptorBufferInfo::default()
+        .buffer(buffer)
+        .range(vk::WHOLE_SIZE)]
+}
+
+fn sampled(sampler: vk::Sampler, view: vk::ImageView) -> [vk::DescriptorImageInfo; 1] {
+    [vk::DescriptorImageInfo::default()
+        .sampler(sampler)
+        .image_view(view)
+        .image_layout(vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL)]
+}
+
+fn write_frame(set: vk::DescriptorSet, binding: FrameBinding) -> vk::WriteDescriptorSet<'static> {
+    vk::WriteDescriptorSet::default()
+        .dst_set(set)
+        .dst_binding(binding as u32)
+        .descriptor_type(binding.layout().0)
+}
+
+/// Points the body set at its resources.
+pub(super) fn write_body_set(device: &Device, set: vk::DescriptorSet, body: &BodyResources<'_>) {
+    let write = |binding: BodyBinding| {
+        vk::WriteDescriptorSet::default()
+            .dst_set(set)
+            .dst_binding(binding as u32)
+            .descriptor_type(binding.layout().0)
+    };
+    let ownership = buffer_info(body.ownership.raw());
+    let albedo = sampled(body.texture.sampler.raw(), body.texture.image.view());
+    let uvs = buffer_info(body.corner_uvs.raw());
+    let posed = buffer_info(body.posed);
+    let rest = buffer_info(body.rest_triangles.raw());
+    let indices = buffer_info(body.indices.raw());
+    let writes = [
+        write(BodyBinding::Ownership).buffer_info(&ownership),
+        write(BodyBinding::Albedo).image_info(&albedo),
+        write(BodyBinding::CornerUvs).buffer_info(&uvs),
+        write(BodyBinding::Posed).buffer_info(&posed),
+        write(BodyBinding::RestTriangles).buffer_info(&rest),
+        write(BodyBinding::Indices).buffer_info(&indices),
+    ];
+    // SAFETY: the set is not in use by the device (just allocated) and every resource
+    // written into it outlives it (the renderer owns them all).
+    unsafe { device.raw.update_descriptor_sets(&writes, &[]) };
+}
+
+/// Points a frame set at its uniforms, position image, hair counters and shadow map.
+pub(super) fn write_frame_set(
     device: &Device,
     set: vk::DescriptorSet,
     uniforms: &Buffer,
-    positions: &crate::gpu::Image,
-    (ownership, counters): (&Buffer, &Buffer),
-    texture: &TextureBinding<'_>,
-    body: &BodyBinding<'_>,
+    positions: &Image,
+    counters: &Buffer,
+    shadow: &ShadowMap,
 ) {
-    let buffer = |b: &Buffer| {
-        [vk::DescriptorBufferInfo::default()
-            .buffer(b.raw())
-            .range(vk::WHOLE_SIZE)]
-    };
-    let (ubo, owners, counts) = (buffer(uniforms), buffer(ownership), buffer(counters));
+    let ubo = buffer_info(uniforms.raw());
     let image = [vk::DescriptorImageInfo::default()
         .image_view(positions.view())
         .image_layout(vk::ImageLayout::GENERAL)];
-    let albedo = [vk::DescriptorImageInfo::default()
-        .sampler(texture.texture.sampler.raw())
-        .image_view(texture.texture.image.view())
-        .image_layout(vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL)];
-    let uvs = buffer(texture.corner_uvs);
-    let posed = [vk::DescriptorBufferInfo::default()
-        .buffer(body.posed)
-        .range(vk::WHOLE_SIZE)];
-    let (rest_triangles, indices) = (buffer(body.rest_triangles), buffer(body.indices));
-    let write = |binding: u32| write(set, binding);
+    let counts = buffer_info(counters.raw());
+    let map = sampled(shadow.sampler.raw(), shadow.image.view());
     let writes = [
-        write(0).buffer_info(&ubo),
-        write(1).image_info(&image),
-        write(2).buffer_info(&owners),
-        write(3).buffer_info(&counts),
-        write(4).image_info(&albedo),
-        write(6).buffer_info(&uvs),
-        write(7).buffer_info(&posed),
-        write(8).buffer_info(&rest_triangles),
-        write(9).buffer_info(&indices),
+        write_frame(set, FrameBinding::Uniforms).buffer_info(&ubo),
+        write_frame(set, FrameBinding::Positions).image_info(&image),
+        write_frame(set, FrameBinding::Counters).buffer_info(&counts),
+        write_frame(set, FrameBinding::ShadowMap).image_info(&map),
     ];
+    // SAFETY: the set belongs to a slot whose frames have finished (or never run); the
+    // resources outlive it.
     unsafe { device.raw.update_descriptor_sets(&writes, &[]) };
 }
 
-/// Points binding 3 of `set` (the hair counters, and the capture after them) at
-/// `counters`.
+/// Points the hair counters of `set` (and the capture after them) at `counters`.
 pub(super) fn write_counters(device: &Device, set: vk::DescriptorSet, counters: &Buffer) {
-    let info = [vk::DescriptorBufferInfo::default()
-        .buffer(counters.raw())
-        .range(vk::WHOLE_SIZE)];
-    let writes = [write(set, 3).buffer_info(&info)];
+    let info = buffer_info(counters.raw());
+    let writes = [write_frame(set, FrameBinding::Counters).buffer_info(&info)];
+    // SAFETY: as for `write_frame_set`: the slot's frames have finished.
     unsafe { device.raw.update_descriptor_sets(&writes, &[]) };
 }
 
-/// Points binding 5 of `set` at a shadow map.
+/// Points the shadow map of `set` at `map`.
 pub(super) fn write_shadow_map(device: &Device, set: vk::DescriptorSet, map: &ShadowMap) {
-    let info = [vk::DescriptorImageInfo::default()
-        .sampler(map.sampler.raw())
-        .image_view(map.image.view())
-        .image_layout(vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL)];
-    let writes = [write(set, 5).image_info(&info)];
+    let info = sampled(map.sampler.raw(), map.image.view());
+    let writes = [write_frame(set, FrameBinding::ShadowMap).image_info(&info)];
+    // SAFETY: as for `write_frame_set`: the slot's frames have finished.
     unsafe { device.raw.update_descriptor_sets(&writes, &[]) };
-}
-
-fn write(set: vk::DescriptorSet, binding: u32) -> vk::WriteDescriptorSet<'static> {
-    vk::WriteDescriptorSet::default()
-        .dst_set(set)
-        .dst_binding(binding)
-        .descriptor_type(bindings()[binding as usize].0)
-}
-
-/// Bindings of descriptor set 0. The texture (4, 6) and the shadow map (5) are read
-/// only by the pipelines of a textured model or a frame with shadows, the body (7–9)
-/// only by those of a skinned one.
-pub(super) fn bindings() -> [(vk::DescriptorType, vk::ShaderStageFlags); 10] {
-    let hair_stages = vk::ShaderStageFlags::VERTEX
-        | vk::ShaderStageFlags::TESSELLATION_CONTROL
-        | vk::ShaderStageFlags::TESSELLATION_EVALUATION
-        | vk::ShaderStageFlags::GEOMETRY;
-    let shaded = vk::ShaderStageFlags::GEOMETRY | vk::ShaderStageFlags::FRAGMENT;
-    [
-        (
-            vk::DescriptorType::UNIFORM_BUFFER,
-            vk::ShaderStageFlags::ALL_GRAPHICS,
-        ),
-        (vk::DescriptorType::STORAGE_IMAGE, hair_stages),
-        (vk::DescriptorType::STORAGE_BUFFER, hair_stages),
-        (
-            vk::DescriptorType::STORAGE_BUFFER,
-            vk::ShaderStageFlags::GEOMETRY,
-        ),
-        (vk::DescriptorType::COMBINED_IMAGE_SAMPLER, shaded),
-        (vk::DescriptorType::COMBINED_IMAGE_SAMPLER, shaded),
-        (
-            vk::DescriptorType::STORAGE_BUFFER,
-            vk::ShaderStageFlags::TESSELLATION_EVALUATION,
-        ),
-        (
-            vk::DescriptorType::STORAGE_BUFFER,
-            vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::TESSELLATION_CONTROL,
-        ),
-        (
-            vk::DescriptorType::STORAGE_BUFFER,
-            vk::ShaderStageFlags::TESSELLATION_CONTROL,
-        ),
-        (
-            vk::DescriptorType::STORAGE_BUFFER,
-            vk::ShaderStageFlags::VERTEX,
-        ),
-    ]
 }
 
 #[cfg(test)]
 mod tests {
     use std::mem::offset_of;
 
-    use super::bindings;
+    use super::{binding_defines, BodyBinding, FrameBinding, SET_BODY, SET_FRAME};
     use crate::gpu::reflect::{check_bindings, check_struct, reflect};
     use crate::gpu::shader::compile;
     use crate::render::uniforms::{shader_defines, FrameUniforms};
@@ -176,7 +262,17 @@ mod tests {
     /// Swapping two members in GLSL, or adding a field in Rust only, fails here.
     #[test]
     fn the_render_shaders_agree_with_the_rust_layouts() {
-        let layout: Vec<_> = bindings().iter().map(|b| b.0).collect();
+        let types = |layout: Vec<(ash::vk::DescriptorType, _)>| -> Vec<_> {
+            layout.into_iter().map(|b| b.0).collect()
+        };
+        let (frame, body) = (
+            types(FrameBinding::set_layout()),
+            types(BodyBinding::set_layout()),
+        );
+        let mut sets = vec![Vec::new(); 2];
+        sets[SET_FRAME as usize] = frame;
+        sets[SET_BODY as usize] = body;
+        let layout: Vec<&[ash::vk::DescriptorType]> = sets.iter().map(Vec::as_slice).collect();
         let mut used = std::collections::BTreeSet::new();
         for lines in ["0", "1"] {
             let mut defines: Vec<(&str, String)> = [
@@ -193,6 +289,7 @@ mod tests {
             .map(|(k, v)| (k, v.to_string()))
             .collect();
             defines.extend(shader_defines());
+            defines.extend(binding_defines());
             for shader in [
                 "fur.vert",
                 "fur.tesc",
@@ -208,10 +305,11 @@ mod tests {
                 if found.structs.contains_key("Frame") {
                     check_struct(shader, &found, "Frame", &frame_fields()).unwrap();
                 }
-                used.extend(found.bindings.keys().map(|&(_, b)| b));
+                used.extend(found.bindings.keys().copied());
             }
         }
-        assert_eq!(used.len(), layout.len(), "bindings used: {used:?}");
+        let declared: usize = layout.iter().map(|s| s.len()).sum();
+        assert_eq!(used.len(), declared, "bindings used: {used:?}");
         assert_eq!(
             std::mem::size_of::<FrameUniforms>(),
             frame_fields().last().unwrap().1 + 16,
@@ -224,5 +322,10 @@ mod tests {
     fn render_shaders_take_their_flags_from_rust() {
         let error = compile("fur.tesc", &[]).unwrap_err().to_string();
         assert!(error.contains("shader_defines"), "{error}");
+        let flags_only = shader_defines();
+        for shader in ["fur.vert", "fur.tesc", "mesh.vert", "mesh.frag"] {
+            let error = compile(shader, &flags_only).unwrap_err().to_string();
+            assert!(error.contains("binding_defines"), "{shader}: {error}");
+        }
     }
 }

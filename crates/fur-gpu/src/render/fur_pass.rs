@@ -10,12 +10,13 @@ use std::sync::Arc;
 
 use ash::vk;
 
-use super::pipeline::{graphics_pipeline, Blend, GraphicsDesc};
-use super::target::sample_flag;
+use super::graph::{uses, Attachments, FrameContext, Pass, Resource, Use};
+use super::pipeline::{graphics_pipeline, Blend, ColourAttachment, DepthAttachment, GraphicsDesc};
+use super::target::{sample_flag, COLOR_FORMAT, DEPTH_FORMAT};
 use super::uniforms::{FrameSettings, FurStyle, Primitive, Shading};
 use super::LightingModel;
 use crate::error::Result;
-use crate::gpu::{Device, Pipeline, PipelineLayout, ShaderModule};
+use crate::gpu::{Access, Device, Pipeline, PipelineLayout, ShaderModule};
 
 /// One compiled form of the fur pipeline.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -59,6 +60,9 @@ pub struct FurPass {
 }
 
 impl FurPass {
+    /// The pass's name (its debug label; the frame's timestamps follow it).
+    pub const NAME: &'static str = "fur pass";
+
     /// A pass for strands of `vertices_per_strand` vertices (the geometry shader's
     /// output size is fixed at compile time) into a target of `samples` per pixel,
     /// coloured by the model's texture when `textured`.
@@ -141,6 +145,11 @@ impl FurPass {
         (lo, hi)
     }
 
+    /// Whether the body is skinned.
+    pub fn skinned(&self) -> bool {
+        self.skinned
+    }
+
     /// Builds the pipelines of `variants` that do not exist yet.
     pub fn prepare(&mut self, layout: &PipelineLayout, variants: &[Variant]) -> Result<()> {
         for &variant in variants {
@@ -163,7 +172,7 @@ impl FurPass {
         } else {
             0
         };
-        let shared = super::uniforms::shader_defines();
+        let shared = super::bindings::render_defines();
         let mut common = vec![
             ("VERTEX_SHADING", flag(variant.shading == Shading::Vertex)),
             ("TEXTURED", textured.clone()),
@@ -200,6 +209,10 @@ impl FurPass {
         } else {
             Blend::Opaque
         };
+        let colour = [ColourAttachment {
+            format: COLOR_FORMAT,
+            blend,
+        }];
         let name = if variant.caster {
             "fur shadow pass".to_string()
         } else {
@@ -236,18 +249,14 @@ impl FurPass {
                 } else {
                     sample_flag(self.samples)
                 },
-                blend: if variant.caster {
-                    Blend::DepthOnly
-                } else {
-                    blend
-                },
-                depth_write: true,
+                colour: if variant.caster { &[] } else { &colour },
+                depth: Some(DepthAttachment::nearest(DEPTH_FORMAT)),
             },
         )
     }
 
     /// Records the draws of `variants` (prepared before); the caller has bound the
-    /// descriptor set and index buffer.
+    /// descriptor set.
     pub fn draw(
         &self,
         device: &Device,
@@ -268,5 +277,44 @@ impl FurPass {
                 device.raw.cmd_draw(cmd, index_count, 1, 0, 0);
             }
         }
+    }
+}
+
+/// The hair stages read the strands and the posed body; the geometry stage counts
+/// what it draws (when the frame counts) and the shading samples the shadow map.
+pub(super) fn hair_uses(skinned: bool) -> Vec<Use> {
+    let mut list = vec![uses(Resource::Positions, Access::HairStagesRead)];
+    if skinned {
+        list.push(uses(Resource::Posed, Access::HairStagesRead));
+    }
+    list
+}
+
+impl Pass for FurPass {
+    fn name(&self) -> &'static str {
+        FurPass::NAME
+    }
+
+    fn attachments(&self) -> Attachments {
+        Attachments::Target
+    }
+
+    fn uses(&self, frame: &FrameContext<'_>) -> Vec<Use> {
+        let mut list = hair_uses(self.skinned);
+        if frame.settings.count_hairs {
+            list.push(uses(Resource::Counters, Access::GeometryReadWrite));
+        }
+        if frame.slot.shadows {
+            list.push(uses(Resource::ShadowMap, Access::ShadingSampled));
+        }
+        list
+    }
+
+    fn record(&self, frame: &FrameContext<'_>, cmd: vk::CommandBuffer) {
+        if !frame.settings.draw_fur {
+            return;
+        }
+        frame.bind_sets(cmd, frame.slot.sets[frame.current]);
+        self.draw(frame.device, cmd, frame.index_count, &frame.slot.variants);
     }
 }

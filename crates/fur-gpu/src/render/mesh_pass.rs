@@ -7,10 +7,11 @@ use std::sync::Arc;
 use ash::vk;
 use glam::{Vec2, Vec3};
 
-use super::pipeline::{graphics_pipeline, Blend, GraphicsDesc};
-use super::target::sample_flag;
+use super::graph::{uses, Attachments, FrameContext, Pass, Resource, Use};
+use super::pipeline::{graphics_pipeline, Blend, ColourAttachment, DepthAttachment, GraphicsDesc};
+use super::target::{sample_flag, COLOR_FORMAT, DEPTH_FORMAT};
 use crate::error::Result;
-use crate::gpu::{Buffer, Device, Pipeline, PipelineLayout, ShaderModule};
+use crate::gpu::{Access, Buffer, Device, Pipeline, PipelineLayout, ShaderModule};
 use crate::scene::Mesh;
 
 /// Interleaved position, normal and texture coordinates.
@@ -36,6 +37,9 @@ pub struct MeshPass {
 }
 
 impl MeshPass {
+    /// The pass's name (its debug label; the frame's timestamps follow it).
+    pub const NAME: &'static str = "mesh pass";
+
     /// The pass for `mesh` into a target of `samples` per pixel; `textured` draws the
     /// model's texture through its corner UVs, `skinned` the posed body of the skinning
     /// pass instead of the mesh's rest pose.
@@ -125,7 +129,7 @@ impl MeshPass {
             ("SHADOWS", flag(shadows)),
             ("BODY_SKINNED", flag(skinned)),
         ];
-        defines.extend(super::uniforms::shader_defines());
+        defines.extend(super::bindings::render_defines());
         let vert = ShaderModule::new(device, "mesh.vert", &defines)?;
         let frag = ShaderModule::new(device, "mesh.frag", &defines)?;
         let stride = std::mem::size_of::<MeshVertex>() as u32;
@@ -175,8 +179,11 @@ impl MeshPass {
                 },
                 patch_control_points: None,
                 samples: sample_flag(samples),
-                blend: Blend::Opaque,
-                depth_write: true,
+                colour: &[ColourAttachment {
+                    format: COLOR_FORMAT,
+                    blend: Blend::Opaque,
+                }],
+                depth: Some(DepthAttachment::nearest(DEPTH_FORMAT)),
             },
         )
     }
@@ -184,7 +191,7 @@ impl MeshPass {
     /// Binds the mesh's vertex buffer. The renderer binds it once per frame, even when
     /// only the fur (which reads no vertex attributes) is drawn: Mesa 22.3's lavapipe
     /// crashes on an indexed draw with no vertex buffer ever bound.
-    pub fn bind_vertices(&self, device: &Device, cmd: vk::CommandBuffer) {
+    fn bind_vertices(&self, device: &Device, cmd: vk::CommandBuffer) {
         unsafe {
             device
                 .raw
@@ -192,9 +199,9 @@ impl MeshPass {
         };
     }
 
-    /// Records the draw (prepared before for `shadows`); the caller has bound the
-    /// descriptor set, index and vertex buffers.
-    pub fn draw(&self, device: &Device, cmd: vk::CommandBuffer, index_count: u32, shadows: bool) {
+    /// Records the draw (prepared before for `shadows`) once the set, index and vertex
+    /// buffers are bound.
+    fn draw(&self, device: &Device, cmd: vk::CommandBuffer, index_count: u32, shadows: bool) {
         let Some(pipeline) = &self.pipelines[usize::from(shadows)] else {
             return;
         };
@@ -207,6 +214,46 @@ impl MeshPass {
             } else {
                 device.raw.cmd_draw_indexed(cmd, index_count, 1, 0, 0, 0);
             }
+        }
+    }
+}
+
+impl Pass for MeshPass {
+    fn name(&self) -> &'static str {
+        MeshPass::NAME
+    }
+
+    fn attachments(&self) -> Attachments {
+        Attachments::Target
+    }
+
+    fn uses(&self, frame: &FrameContext<'_>) -> Vec<Use> {
+        let mut list = Vec::new();
+        if self.skinned {
+            list.push(uses(Resource::Posed, Access::HairStagesRead));
+        }
+        if frame.slot.shadows {
+            list.push(uses(Resource::ShadowMap, Access::ShadingSampled));
+        }
+        list
+    }
+
+    /// Binds the frame's set, the indices and the vertices, and draws the skin when
+    /// the frame asks for it. It opens the target's scope either way (the fur pass
+    /// follows in it).
+    fn record(&self, frame: &FrameContext<'_>, cmd: vk::CommandBuffer) {
+        let device = frame.device;
+        frame.bind_sets(cmd, frame.slot.sets[frame.current]);
+        // SAFETY: recording inside the target's scope; the index buffer belongs to the
+        // renderer, which outlives the frame.
+        unsafe {
+            device
+                .raw
+                .cmd_bind_index_buffer(cmd, frame.indices, 0, vk::IndexType::UINT32);
+        }
+        self.bind_vertices(device, cmd);
+        if frame.settings.draw_mesh {
+            self.draw(device, cmd, frame.index_count, frame.slot.shadows);
         }
     }
 }

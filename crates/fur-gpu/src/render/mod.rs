@@ -5,6 +5,7 @@ pub use fur_core::render::*;
 
 mod bindings;
 mod fur_pass;
+mod graph;
 mod mesh_pass;
 mod pipeline;
 mod renderer;

@@ -1,11 +1,12 @@
-//! The graphics-pipeline state both passes share: dynamic rendering into the render
-//! target at its sample count, depth tested, dynamic viewport and scissor.
+//! Graphics pipelines for dynamic rendering: a description of what differs between the
+//! passes (stages, topology, vertex input, sample count, the colour attachments with
+//! their blending, the depth attachment with its test), the rest shared: no culling,
+//! dynamic viewport and scissor.
 
 use std::sync::Arc;
 
 use ash::vk;
 
-use super::target::{COLOR_FORMAT, DEPTH_FORMAT};
 use crate::error::Result;
 use crate::gpu::{Device, Pipeline, PipelineLayout, ShaderModule};
 
@@ -19,19 +20,61 @@ pub struct GraphicsDesc<'a> {
     /// Control points per patch when the pipeline tessellates.
     pub patch_control_points: Option<u32>,
     pub samples: vk::SampleCountFlags,
-    pub blend: Blend,
-    pub depth_write: bool,
+    /// The colour attachments, in location order (none: depth only).
+    pub colour: &'a [ColourAttachment],
+    /// The depth attachment and its test (None: no depth).
+    pub depth: Option<DepthAttachment>,
 }
 
-/// How fragments combine with the target.
+/// A colour attachment: its format and how fragments combine with it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct ColourAttachment {
+    pub format: vk::Format,
+    pub blend: Blend,
+}
+
+/// How fragments combine with a colour attachment.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Blend {
     /// Overwrite (alpha ignored).
     Opaque,
     /// `src · α + dst · (1 − α)`; the target's alpha stays 1.
     Alpha,
-    /// No colour attachment: depth only (the shadow map).
-    DepthOnly,
+}
+
+/// The depth attachment: its format, the test and whether fragments write it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct DepthAttachment {
+    pub format: vk::Format,
+    pub compare: vk::CompareOp,
+    pub write: bool,
+}
+
+impl DepthAttachment {
+    /// Tested with `LESS` and written: the nearest surface wins.
+    pub fn nearest(format: vk::Format) -> Self {
+        Self {
+            format,
+            compare: vk::CompareOp::LESS,
+            write: true,
+        }
+    }
+}
+
+fn blend_state(blend: Blend) -> vk::PipelineColorBlendAttachmentState {
+    let attachment = vk::PipelineColorBlendAttachmentState::default()
+        .color_write_mask(vk::ColorComponentFlags::RGBA);
+    match blend {
+        Blend::Opaque => attachment,
+        Blend::Alpha => attachment
+            .blend_enable(true)
+            .src_color_blend_factor(vk::BlendFactor::SRC_ALPHA)
+            .dst_color_blend_factor(vk::BlendFactor::ONE_MINUS_SRC_ALPHA)
+            .color_blend_op(vk::BlendOp::ADD)
+            .src_alpha_blend_factor(vk::BlendFactor::ZERO)
+            .dst_alpha_blend_factor(vk::BlendFactor::ONE)
+            .alpha_blend_op(vk::BlendOp::ADD),
+    }
 }
 
 pub fn graphics_pipeline(
@@ -66,35 +109,21 @@ pub fn graphics_pipeline(
         .line_width(1.0);
     let multisample =
         vk::PipelineMultisampleStateCreateInfo::default().rasterization_samples(desc.samples);
-    let depth = vk::PipelineDepthStencilStateCreateInfo::default()
-        .depth_test_enable(true)
-        .depth_write_enable(desc.depth_write)
-        .depth_compare_op(vk::CompareOp::LESS);
-    let mut attachment = vk::PipelineColorBlendAttachmentState::default()
-        .color_write_mask(vk::ColorComponentFlags::RGBA);
-    if desc.blend == Blend::Alpha {
-        attachment = attachment
-            .blend_enable(true)
-            .src_color_blend_factor(vk::BlendFactor::SRC_ALPHA)
-            .dst_color_blend_factor(vk::BlendFactor::ONE_MINUS_SRC_ALPHA)
-            .color_blend_op(vk::BlendOp::ADD)
-            .src_alpha_blend_factor(vk::BlendFactor::ZERO)
-            .dst_alpha_blend_factor(vk::BlendFactor::ONE)
-            .alpha_blend_op(vk::BlendOp::ADD);
-    }
-    let depth_only = desc.blend == Blend::DepthOnly;
-    let blend_attachments = [attachment];
-    let blend = vk::PipelineColorBlendStateCreateInfo::default().attachments(if depth_only {
-        &[]
-    } else {
-        &blend_attachments
-    });
+    let depth = match desc.depth {
+        Some(d) => vk::PipelineDepthStencilStateCreateInfo::default()
+            .depth_test_enable(true)
+            .depth_write_enable(d.write)
+            .depth_compare_op(d.compare),
+        None => vk::PipelineDepthStencilStateCreateInfo::default(),
+    };
+    let blend_attachments: Vec<_> = desc.colour.iter().map(|c| blend_state(c.blend)).collect();
+    let blend = vk::PipelineColorBlendStateCreateInfo::default().attachments(&blend_attachments);
     let dynamic_states = [vk::DynamicState::VIEWPORT, vk::DynamicState::SCISSOR];
     let dynamic = vk::PipelineDynamicStateCreateInfo::default().dynamic_states(&dynamic_states);
-    let color_formats = [COLOR_FORMAT];
+    let color_formats: Vec<_> = desc.colour.iter().map(|c| c.format).collect();
     let mut rendering = vk::PipelineRenderingCreateInfo::default()
-        .color_attachment_formats(if depth_only { &[] } else { &color_formats })
-        .depth_attachment_format(DEPTH_FORMAT);
+        .color_attachment_formats(&color_formats)
+        .depth_attachment_format(desc.depth.map_or(vk::Format::UNDEFINED, |d| d.format));
     let mut info = vk::GraphicsPipelineCreateInfo::default()
         .stages(&stages)
         .vertex_input_state(&vertex_input)

@@ -1,6 +1,7 @@
-//! One frame: the mesh pass then the fur pass into the offscreen target, with
-//! timestamps around each pass, pipeline statistics over the fur pass and, on request,
-//! counts of the hairs and segments drawn.
+//! One frame: the shadow pass (with shadows), then the mesh pass and the fur pass into
+//! the offscreen target, recorded as a list of passes (`super::graph`), with
+//! timestamps around each pass, pipeline statistics over the target's passes and, on
+//! request, counts of the hairs and segments drawn.
 //!
 //! On a tiled or binning rasteriser (lavapipe) a timestamp between the passes of one
 //! rendering scope lands part-way through the next pass's binning, so the per-pass
@@ -10,11 +11,12 @@ use std::sync::Arc;
 
 use ash::vk;
 
-use super::bindings::{bindings, write_shadow_map, BodyBinding, TextureBinding};
-use super::fur_pass::{FurPass, Variant};
+use super::bindings::{
+    write_body_set, write_shadow_map, BodyBinding, BodyResources, FrameBinding, SET_BODY, SET_FRAME,
+};
+use super::fur_pass::FurPass;
 use super::mesh_pass::MeshPass;
-use super::pipeline::begin_rendering;
-use super::shadow_pass::{self, LightView};
+use super::shadow_pass::{LightView, ShadowPass};
 use super::slot::{RenderSlot, TIMESTAMPS, TS_FRAME, TS_FUR, TS_MESH, TS_START};
 use super::target::{check_samples, RenderTarget};
 use super::texture::{GpuTexture, ShadowMap};
@@ -23,8 +25,7 @@ use super::RgbaImage;
 use crate::error::Error;
 use crate::error::Result;
 use crate::gpu::{
-    memory_barrier, Buffer, DescriptorPool, DescriptorSetLayout, Device, FurStatistics,
-    PipelineLayout,
+    Buffer, DescriptorPool, DescriptorSetLayout, Device, FurStatistics, PipelineLayout,
 };
 use crate::scene::{Mesh, Texture};
 use crate::strand_textures::StrandTextures;
@@ -60,7 +61,10 @@ pub struct FrameReport {
 
 pub struct Renderer {
     device: Arc<Device>,
-    _set_layout: DescriptorSetLayout,
+    /// The frame set's layout and the body set's.
+    _set_layouts: (DescriptorSetLayout, DescriptorSetLayout),
+    /// The body's descriptor set (set 1), written once.
+    body_set: vk::DescriptorSet,
     pipeline_layout: PipelineLayout,
     _pool: DescriptorPool,
     /// Per frame in flight: what the host writes or reads back while other frames run.
@@ -82,6 +86,7 @@ pub struct Renderer {
     bounds: (glam::Vec3, f32),
     /// The longest master hair at rest (the light's view holds the fur with it).
     hair_length: f32,
+    shadow_pass: ShadowPass,
     mesh_pass: MeshPass,
     fur_pass: FurPass,
     pub target: RenderTarget,
@@ -169,16 +174,33 @@ impl Renderer {
             )?,
         );
         let target = RenderTarget::new(device, extent, samples)?;
-        let bindings = bindings();
-        let set_layout = DescriptorSetLayout::new(device, "render.set_layout", &bindings)?;
-        let pipeline_layout =
-            PipelineLayout::new(device, "render.pipeline_layout", &[&set_layout], &[])?;
-        let set_count = 4 * frames_in_flight.max(1);
+        let (frame_bindings, body_bindings) =
+            (FrameBinding::set_layout(), BodyBinding::set_layout());
+        let frame_layout =
+            DescriptorSetLayout::new(device, "render.frame_set_layout", &frame_bindings)?;
+        let body_layout =
+            DescriptorSetLayout::new(device, "render.body_set_layout", &body_bindings)?;
+        // In set order: SET_FRAME, SET_BODY.
+        const _: () = assert!(SET_FRAME == 0 && SET_BODY == 1);
+        let pipeline_layout = PipelineLayout::new(
+            device,
+            "render.pipeline_layout",
+            &[&frame_layout, &body_layout],
+            &[],
+        )?;
+        // Four frame sets per slot (two position images, two views), one body set; the
+        // pool holds enough of every descriptor type for all of them.
+        let set_count = 4 * frames_in_flight.max(1) + 1;
+        let all_bindings: Vec<_> = frame_bindings
+            .iter()
+            .chain(&body_bindings)
+            .copied()
+            .collect();
         let pool = DescriptorPool::new(
             device,
             "render.descriptor_pool",
             set_count as u32,
-            &bindings,
+            &all_bindings,
         )?;
         let ownership = Buffer::with_data(
             device,
@@ -198,34 +220,31 @@ impl Renderer {
             vk::BufferUsageFlags::STORAGE_BUFFER,
             &rest_triangles(mesh),
         )?;
-        let binding = TextureBinding {
-            texture: &texture.0,
-            corner_uvs: &texture.1,
-        };
-        let body = BodyBinding {
-            posed: posed.unwrap_or(rest_triangles.raw()),
-            rest_triangles: &rest_triangles,
-            indices: &indices,
-        };
+        let body_set = pool.allocate(&body_layout, 1)?[0];
+        write_body_set(
+            device,
+            body_set,
+            &BodyResources {
+                ownership: &ownership,
+                texture: &texture.0,
+                corner_uvs: &texture.1,
+                posed: posed.unwrap_or(rest_triangles.raw()),
+                rest_triangles: &rest_triangles,
+                indices: &indices,
+            },
+        );
         let slots = (0..frames_in_flight.max(1))
-            .map(|slot| {
-                RenderSlot::new(
-                    device,
-                    slot,
-                    (&pool, &set_layout),
-                    strands,
-                    &ownership,
-                    (&binding, &body),
-                )
-            })
+            .map(|slot| RenderSlot::new(device, slot, (&pool, &frame_layout), strands))
             .collect::<Result<Vec<_>>>()?;
         let vertices_per_strand = strands.layout.vertices_per_strand;
         let skinned = posed.is_some();
         let mesh_pass = MeshPass::new(device, mesh, samples, (textured, skinned))?;
         let fur_pass = FurPass::new(device, vertices_per_strand, samples, (textured, skinned));
+        let shadow_pass = ShadowPass::new(device, vertices_per_strand, skinned);
         Ok(Self {
             device: device.clone(),
-            _set_layout: set_layout,
+            _set_layouts: (frame_layout, body_layout),
+            body_set,
             pipeline_layout,
             _pool: pool,
             slots,
@@ -242,6 +261,7 @@ impl Renderer {
             },
             bounds: mesh.bounds(),
             hair_length: strands.hair_length,
+            shadow_pass,
             mesh_pass,
             fur_pass,
             target,
@@ -300,16 +320,15 @@ impl Renderer {
         }
         // The fur casts shadows even when it is not drawn (the skin shows them).
         let shadows = settings.lighting.shadows.enabled;
-        let mut variants = FurPass::variants(
+        let variants = FurPass::variants(
             &settings.style,
             (shadows, settings.lighting.model),
             FurPass::root_pixel_range(settings, self.bounds, self.target.extent.height),
         );
-        if shadows {
-            variants.push(Variant::CASTER);
-        }
         self.fur_pass.prepare(&self.pipeline_layout, &variants)?;
-        variants.retain(|v| !v.caster);
+        if shadows {
+            self.shadow_pass.prepare(&self.pipeline_layout)?;
+        }
         self.mesh_pass
             .prepare(&self.device, &self.pipeline_layout, shadows)?;
         let max_level = self.device.info.limits.max_tessellation_generation_level as f32;

@@ -7,14 +7,16 @@
 //! only, at a fraction of the frame's density ([`CASTER_DENSITY`]): the map needs the
 //! nearest hair, not every hair.
 
+use std::sync::Arc;
+
 use ash::vk;
 use glam::{Mat4, Vec3};
 
-use super::fur_pass::{FurPass, Variant};
-use super::pipeline::begin_rendering;
-use super::texture::ShadowMap;
+use super::fur_pass::{hair_uses, FurPass, Variant};
+use super::graph::{Attachments, FrameContext, Pass, Use};
 use super::uniforms::{FrameSettings, FrameUniforms, FLAG_COUNT};
-use crate::gpu::{image_barriers, Device};
+use crate::error::Result;
+use crate::gpu::{Device, PipelineLayout};
 
 /// The fraction of the frame's hair density drawn into the shadow map.
 pub const CASTER_DENSITY: f32 = 0.5;
@@ -73,75 +75,48 @@ impl LightView {
     }
 }
 
-/// Records the shadow pass into `map`: the fur's caster form drawn with the descriptor
-/// set of the light's uniforms (bound by the caller), then the
-/// map made readable by the fur and skin passes.
-pub fn record(
-    device: &Device,
-    cmd: vk::CommandBuffer,
-    map: &ShadowMap,
-    fur_pass: &FurPass,
-    index_count: u32,
-) {
-    // The previous frame's reads of this map are done before it is cleared.
-    image_barriers(
-        device,
-        cmd,
-        &[map.image.barrier(
-            (
-                vk::PipelineStageFlags2::GEOMETRY_SHADER | vk::PipelineStageFlags2::FRAGMENT_SHADER,
-                vk::AccessFlags2::SHADER_SAMPLED_READ,
-            ),
-            (
-                vk::PipelineStageFlags2::EARLY_FRAGMENT_TESTS
-                    | vk::PipelineStageFlags2::LATE_FRAGMENT_TESTS,
-                vk::AccessFlags2::DEPTH_STENCIL_ATTACHMENT_READ
-                    | vk::AccessFlags2::DEPTH_STENCIL_ATTACHMENT_WRITE,
-            ),
-            vk::ImageLayout::UNDEFINED,
-            vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL,
-        )],
-    );
-    let extent = vk::Extent2D {
-        width: map.resolution,
-        height: map.resolution,
-    };
-    let depth = vk::RenderingAttachmentInfo::default()
-        .image_view(map.image.view())
-        .image_layout(vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL)
-        .load_op(vk::AttachmentLoadOp::CLEAR)
-        .store_op(vk::AttachmentStoreOp::STORE)
-        .clear_value(vk::ClearValue {
-            depth_stencil: vk::ClearDepthStencilValue {
-                depth: 1.0,
-                stencil: 0,
-            },
-        });
-    let rendering = vk::RenderingInfo::default()
-        .render_area(extent.into())
-        .layer_count(1)
-        .depth_attachment(&depth);
-    let raw = &device.raw;
-    device.begin_label(cmd, "shadow pass");
-    begin_rendering(device, cmd, &rendering, extent);
-    fur_pass.draw(device, cmd, index_count, &[Variant::CASTER]);
-    unsafe { raw.cmd_end_rendering(cmd) };
-    device.end_label(cmd);
-    image_barriers(
-        device,
-        cmd,
-        &[map.image.barrier(
-            (
-                vk::PipelineStageFlags2::EARLY_FRAGMENT_TESTS
-                    | vk::PipelineStageFlags2::LATE_FRAGMENT_TESTS,
-                vk::AccessFlags2::DEPTH_STENCIL_ATTACHMENT_WRITE,
-            ),
-            (
-                vk::PipelineStageFlags2::GEOMETRY_SHADER | vk::PipelineStageFlags2::FRAGMENT_SHADER,
-                vk::AccessFlags2::SHADER_SAMPLED_READ,
-            ),
-            vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL,
-            vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
-        )],
-    );
+/// The fur seen from the light, depth only, into the slot's shadow map. It owns its
+/// pipeline: the fur pipeline's caster form (lines, one sample, no fragment stage).
+pub struct ShadowPass {
+    casters: FurPass,
+}
+
+impl ShadowPass {
+    /// The pass's name (its debug label).
+    pub const NAME: &'static str = "shadow pass";
+
+    /// The pass for strands of `vertices_per_strand` vertices on a body that is
+    /// `skinned` or not.
+    pub fn new(device: &Arc<Device>, vertices_per_strand: u32, skinned: bool) -> Self {
+        Self {
+            casters: FurPass::new(device, vertices_per_strand, 1, (false, skinned)),
+        }
+    }
+
+    /// Builds its pipeline if it does not exist yet.
+    pub fn prepare(&mut self, layout: &PipelineLayout) -> Result<()> {
+        self.casters.prepare(layout, &[Variant::CASTER])
+    }
+}
+
+impl Pass for ShadowPass {
+    fn name(&self) -> &'static str {
+        ShadowPass::NAME
+    }
+
+    fn attachments(&self) -> Attachments {
+        Attachments::ShadowMap
+    }
+
+    fn uses(&self, _frame: &FrameContext<'_>) -> Vec<Use> {
+        hair_uses(self.casters.skinned())
+    }
+
+    /// Draws the fur's caster form with the light's uniforms. The fur reads its
+    /// triangles from a storage buffer: no vertex or index buffers to bind.
+    fn record(&self, frame: &FrameContext<'_>, cmd: vk::CommandBuffer) {
+        frame.bind_sets(cmd, frame.slot.light_sets[frame.current]);
+        self.casters
+            .draw(frame.device, cmd, frame.index_count, &[Variant::CASTER]);
+    }
 }

@@ -5,7 +5,7 @@ use std::sync::Arc;
 
 use ash::vk;
 
-use super::bindings::{write_render_set, write_shadow_map, BodyBinding, TextureBinding};
+use super::bindings::write_frame_set;
 use super::fur_pass::Variant;
 use super::texture::ShadowMap;
 use super::uniforms::FrameUniforms;
@@ -49,15 +49,13 @@ pub(super) struct RenderSlot {
 }
 
 impl RenderSlot {
-    /// Slot number `slot`'s resources, its descriptor sets (two for the frame, two for
-    /// the light, one per position image) allocated from `pool`.
+    /// Slot number `slot`'s resources, its frame sets (two for the camera, two for the
+    /// light, one per position image) allocated from `pool` with `set_layout`.
     pub(super) fn new(
         device: &Arc<Device>,
         slot: usize,
         (pool, set_layout): (&DescriptorPool, &DescriptorSetLayout),
         strands: &StrandTextures,
-        ownership: &Buffer,
-        (binding, body): (&TextureBinding<'_>, &BodyBinding<'_>),
     ) -> Result<Self> {
         let uniforms = Buffer::new(
             device,
@@ -85,16 +83,14 @@ impl RenderSlot {
         let sets = pool.allocate(set_layout, 4)?;
         for (i, set) in sets.iter().enumerate() {
             let ubo = if i < 2 { &uniforms } else { &light_uniforms };
-            write_render_set(
+            write_frame_set(
                 device,
                 *set,
                 ubo,
                 &strands.positions[i % 2],
-                (ownership, &counters),
-                binding,
-                body,
+                &counters,
+                &shadow,
             );
-            write_shadow_map(device, *set, &shadow);
         }
         let timestamps = if device.info.timestamps {
             Some(QueryPool::timestamps(

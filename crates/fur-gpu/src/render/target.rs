@@ -10,7 +10,9 @@ use gpu_allocator::MemoryLocation;
 
 use super::RgbaImage;
 use crate::error::{Error, Result};
-use crate::gpu::{image_barriers, whole_image_copy, Buffer, Device, Image, ImageDesc};
+use crate::gpu::{
+    barrier, image_barriers, whole_image_copy, Access, Buffer, Device, Image, ImageDesc, State,
+};
 
 pub const COLOR_FORMAT: vk::Format = vk::Format::R8G8B8A8_SRGB;
 pub const DEPTH_FORMAT: vk::Format = vk::Format::D32_SFLOAT;
@@ -127,61 +129,6 @@ impl RenderTarget {
         })
     }
 
-    /// Transitions the attachments for rendering (contents discarded). The source
-    /// scopes cover the previous frame's use of the same images, which may still be in
-    /// flight: its attachment writes and the copy or blit that read the resolve image.
-    pub fn begin(&self, device: &Device, cmd: vk::CommandBuffer) {
-        let color_out = (
-            vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT,
-            vk::AccessFlags2::COLOR_ATTACHMENT_WRITE | vk::AccessFlags2::COLOR_ATTACHMENT_READ,
-        );
-        let depth_out = (
-            vk::PipelineStageFlags2::EARLY_FRAGMENT_TESTS
-                | vk::PipelineStageFlags2::LATE_FRAGMENT_TESTS,
-            vk::AccessFlags2::DEPTH_STENCIL_ATTACHMENT_WRITE
-                | vk::AccessFlags2::DEPTH_STENCIL_ATTACHMENT_READ,
-        );
-        let earlier_color = (
-            vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT,
-            vk::AccessFlags2::COLOR_ATTACHMENT_WRITE,
-        );
-        let earlier_depth = (
-            vk::PipelineStageFlags2::EARLY_FRAGMENT_TESTS
-                | vk::PipelineStageFlags2::LATE_FRAGMENT_TESTS,
-            vk::AccessFlags2::DEPTH_STENCIL_ATTACHMENT_WRITE,
-        );
-        let earlier_resolve = (
-            vk::PipelineStageFlags2::COPY
-                | vk::PipelineStageFlags2::BLIT
-                | vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT,
-            vk::AccessFlags2::TRANSFER_READ | vk::AccessFlags2::COLOR_ATTACHMENT_WRITE,
-        );
-        let undefined = vk::ImageLayout::UNDEFINED;
-        let mut barriers = vec![
-            self.depth.barrier(
-                earlier_depth,
-                depth_out,
-                undefined,
-                vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL,
-            ),
-            self.resolve.barrier(
-                earlier_resolve,
-                color_out,
-                undefined,
-                vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
-            ),
-        ];
-        if let Some(color) = &self.color {
-            barriers.push(color.barrier(
-                earlier_color,
-                color_out,
-                undefined,
-                vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
-            ));
-        }
-        image_barriers(device, cmd, &barriers);
-    }
-
     /// The colour attachment of a rendering scope: the multisampled image resolved
     /// into the single-sample one, or the single-sample image itself.
     pub fn color_attachment(&self, clear: vk::ClearValue) -> vk::RenderingAttachmentInfo<'static> {
@@ -208,23 +155,17 @@ impl RenderTarget {
         self.copy_to_readback(device, cmd);
     }
 
-    /// Makes the resolved image a transfer source (for copies and blits).
+    /// Makes the resolved image a transfer source (for copies and blits), after the
+    /// frame's passes drew into it.
     pub fn finish(&self, device: &Device, cmd: vk::CommandBuffer) {
+        let drawn = State::after(&[Access::ColorAttachment]);
+        let b = barrier(&drawn, &[Access::TransferRead], true).expect("a layout change");
         image_barriers(
             device,
             cmd,
-            &[self.resolve.barrier(
-                (
-                    vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT,
-                    vk::AccessFlags2::COLOR_ATTACHMENT_WRITE,
-                ),
-                (
-                    vk::PipelineStageFlags2::COPY | vk::PipelineStageFlags2::BLIT,
-                    vk::AccessFlags2::TRANSFER_READ,
-                ),
-                vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
-                vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
-            )],
+            &[self
+                .resolve
+                .barrier(b.src, b.dst, b.old_layout, b.new_layout)],
         );
     }
 

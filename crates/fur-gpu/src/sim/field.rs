@@ -157,6 +157,10 @@ fn volume(
             cmd,
             &[image.barrier(none, copy_write, vk::ImageLayout::UNDEFINED, dst)],
         );
+        // SAFETY: `cmd` is recording (inside `submit_once`); the staging buffer holds
+        // all of `bytes`, which is the whole volume of `region`, and the image, of
+        // those dimensions, was just moved to TRANSFER_DST_OPTIMAL by the barrier
+        // above; both outlive the submission, which waits.
         unsafe {
             device
                 .raw

@@ -24,7 +24,7 @@ use crate::gpu::{
     memory_barrier, Buffer, DescriptorPool, DescriptorSetLayout, Device, Pipeline, PipelineLayout,
     QueryPool, Specialization, TexelBuffer,
 };
-use crate::skinning::{GpuSkin, Playback, SkinnedBody};
+use crate::skinning::{GpuSkin, Playback, SkinCapacity, SkinnedBody};
 use crate::strand_textures::StrandTextures;
 
 /// Strands per workgroup (one invocation each).
@@ -211,9 +211,12 @@ impl GpuSim {
                 let skin = GpuSkin::new(
                     device,
                     &body,
-                    params.substeps,
-                    STEP_CAPACITY,
-                    (frames_in_flight, blend_wanted),
+                    SkinCapacity {
+                        substeps: params.substeps,
+                        step_capacity: STEP_CAPACITY,
+                        frames_in_flight,
+                        bones: blend_wanted,
+                    },
                 )?;
                 Some(Skinned {
                     skin,
@@ -281,7 +284,7 @@ impl GpuSim {
                     blend: &blend_field,
                     bones: bones(slot),
                 };
-                write_sim_set(device, *set, k, (&statics, &steps), textures, &views);
+                write_sim_set(device, *set, k, &statics, &steps, textures, &views);
             }
             let timestamps = if device.info.timestamps {
                 Some(QueryPool::timestamps(

@@ -88,12 +88,14 @@ pub(super) struct BodyViews<'a> {
     pub(super) bones: &'a TexelBuffer,
 }
 
-/// Points simulation descriptor set `k` (current = `positions[k]`) at its resources.
+/// Points simulation descriptor set `k` (current = `positions[k]`) at its resources:
+/// the static tables, the step constants, the strand images and the body.
 pub(super) fn write_sim_set(
     device: &Device,
     set: vk::DescriptorSet,
     k: usize,
-    (statics, steps): (&Buffer, &Buffer),
+    statics: &Buffer,
+    steps: &Buffer,
     textures: &StrandTextures,
     body: &BodyViews,
 ) {
@@ -150,6 +152,10 @@ pub(super) fn write_sim_set(
         write(11).image_info(&i11),
         write(12).texel_buffer_view(&t12),
     ];
+    // SAFETY: `set` was allocated from this device with the simulation's layout, whose
+    // bindings 0..=12 have the types written here; every view and buffer is alive (the
+    // simulation owns them) and the info arrays outlive the call; the sets are written
+    // once, at creation, before any submission uses them.
     unsafe { device.raw.update_descriptor_sets(&writes, &[]) };
 }
 
@@ -185,7 +191,7 @@ mod tests {
             let words = compile(kernel, &crate::sim::gpu::kernel_defines())
                 .unwrap_or_else(|e| panic!("{kernel}: {e}"));
             let found = reflect(&words);
-            check_bindings(kernel, &found, &layout).unwrap();
+            check_bindings(kernel, &found, &[&layout]).unwrap();
             check_struct(kernel, &found, "SimStatic", &sim_static).unwrap();
             if kernel == "simulate.comp" || found.structs.contains_key("Step") {
                 check_struct(kernel, &found, "Step", &step).unwrap();

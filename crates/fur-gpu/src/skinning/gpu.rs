@@ -72,17 +72,29 @@ fn bindings() -> [(vk::DescriptorType, vk::ShaderStageFlags); 7] {
     })
 }
 
+/// How much room a [`GpuSkin`] allocates.
+#[derive(Clone, Copy, Debug)]
+pub struct SkinCapacity {
+    /// Substeps per dispatch (a frame's substeps).
+    pub substeps: u32,
+    /// Substeps (of joint matrices, capsules and bone motions) per submission.
+    pub step_capacity: usize,
+    /// Submissions in flight, each with its own per-substep buffers.
+    pub frames_in_flight: usize,
+    /// Room for every joint's motion of each substep, which the skin's blend of bones
+    /// reads (a placeholder otherwise).
+    pub bones: bool,
+}
+
 impl GpuSkin {
-    /// Uploads `body` and allocates room for `substeps` substeps per dispatch and
-    /// `step_capacity` substeps (of joint matrices) per submission, `frames_in_flight`
-    /// deep.
-    pub fn new(
-        device: &Arc<Device>,
-        body: &SkinnedBody,
-        substeps: u32,
-        step_capacity: usize,
-        (frames_in_flight, with_bones): (usize, bool),
-    ) -> Result<Self> {
+    /// Uploads `body` and allocates the room `capacity` asks for.
+    pub fn new(device: &Arc<Device>, body: &SkinnedBody, capacity: SkinCapacity) -> Result<Self> {
+        let SkinCapacity {
+            substeps,
+            step_capacity,
+            frames_in_flight,
+            bones: with_bones,
+        } = capacity;
         let rig = &body.rig;
         let n = body.vertex_count();
         let vertex_count = u32::try_from(n).map_err(|_| {
@@ -244,6 +256,10 @@ impl GpuSkin {
                     .descriptor_type(vk::DescriptorType::STORAGE_BUFFER)
                     .buffer_info(&posed_info),
             );
+            // SAFETY: `set` was just allocated from `pool` with `set_layout`, whose
+            // bindings have the types written here, and no submission uses it yet; the
+            // texel views and the posed buffer are alive (moved into `Self` below) and
+            // `views` and `posed_info` outlive the call.
             unsafe { device.raw.update_descriptor_sets(&writes, &[]) };
         }
         let pipeline =
@@ -331,6 +347,10 @@ impl GpuSkin {
             ),
         );
         let push = [first, count, self.vertex_count, self.joint_count];
+        // SAFETY: callers pass a command buffer of this device in the recording state,
+        // outside a rendering; the pipeline was built with `self.layout`, the push
+        // constants fill its 16-byte COMPUTE range, and `self.sets[slot]` was written
+        // at creation with resources `self` keeps alive.
         unsafe {
             d.raw
                 .cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, self.pipeline.raw());
@@ -392,7 +412,7 @@ mod tests {
         let layout: Vec<_> = super::bindings().iter().map(|b| b.0).collect();
         let words = crate::gpu::shader::compile("skin.comp", &[]).unwrap();
         let found = reflect(&words);
-        check_bindings("skin.comp", &found, &layout).unwrap();
+        check_bindings("skin.comp", &found, &[&layout]).unwrap();
         assert_eq!(found.bindings.len(), layout.len(), "{:?}", found.bindings);
     }
 }

@@ -5,4 +5,4 @@ pub use fur_core::skinning::*;
 
 pub mod gpu;
 
-pub use gpu::GpuSkin;
+pub use gpu::{GpuSkin, SkinCapacity};

@@ -22,6 +22,10 @@ impl GpuSim {
         push: [u32; 3],
     ) {
         let raw = &self.device.raw;
+        // SAFETY: callers pass a command buffer of this device in the recording state,
+        // outside a rendering; `pipeline` was built with `self.layout`, the push
+        // constants fit its 12-byte COMPUTE range, and `set` is one of this
+        // simulation's sets, written at creation, whose resources `self` keeps alive.
         unsafe {
             raw.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, pipeline.raw());
             raw.cmd_bind_descriptor_sets(
@@ -98,6 +102,9 @@ impl GpuSim {
         // One timestamp before the first dispatch and one after every dispatch.
         if let Some(q) = &frame.timestamps {
             q.reset_first(1 + frames as u32);
+            // SAFETY: `cmd` is recording; the slot's timestamp pool has room for `1 +
+            // frames` queries (at most STEP_CAPACITY frames, checked above) and query 0
+            // was just reset.
             unsafe {
                 raw.cmd_write_timestamp2(cmd, vk::PipelineStageFlags2::COMPUTE_SHADER, q.raw(), 0)
             };
@@ -120,6 +127,8 @@ impl GpuSim {
             }
             if let Some(q) = &frame.timestamps {
                 let stage = vk::PipelineStageFlags2::COMPUTE_SHADER;
+                // SAFETY: `cmd` is recording and query `1 + index` lies within the
+                // range reset above (`index < frames`).
                 unsafe { raw.cmd_write_timestamp2(cmd, stage, q.raw(), 1 + index as u32) };
             }
         }

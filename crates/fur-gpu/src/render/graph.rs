@@ -1,0 +1,361 @@
+//! The frame as a list of passes. Each pass says where it draws ([`Attachments`]) and
+//! what else it reads and writes ([`Use`]); [`record_frame`] derives the barriers
+//! between them from those declarations (through [`crate::gpu::Tracker`]), opens one
+//! rendering scope for consecutive passes drawing into the same attachments (the mesh
+//! and the fur share the target's, as a frame graph merges passes), and records them.
+//! No pass writes a barrier of its own.
+
+use ash::vk;
+
+use super::bindings::{SET_BODY, SET_FRAME};
+use super::pipeline::begin_rendering;
+use super::slot::RenderSlot;
+use super::target::RenderTarget;
+use super::uniforms::FrameSettings;
+use crate::gpu::{Access, Barrier, Device, PipelineLayout, State, Tracker};
+
+/// The images and buffers a frame's passes share.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Resource {
+    /// The strand positions the simulation last wrote (a storage image in `GENERAL`).
+    Positions,
+    /// A skinned body's posed vertices, written by the skinning kernel.
+    Posed,
+    /// The hair counters (and the capture behind them).
+    Counters,
+    /// The slot's shadow map.
+    ShadowMap,
+    /// The target's depth, its multisampled colour (with MSAA) and its single-sample
+    /// colour (resolved into, or drawn into without MSAA).
+    Depth,
+    Color,
+    Resolve,
+}
+
+impl Resource {
+    /// Whether it is an image with layouts (storage images stay in `GENERAL` and are
+    /// ordered like buffers).
+    fn is_image(self) -> bool {
+        matches!(
+            self,
+            Resource::ShadowMap | Resource::Depth | Resource::Color | Resource::Resolve
+        )
+    }
+}
+
+/// A pass's use of a resource.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Use {
+    pub resource: Resource,
+    pub access: Access,
+}
+
+/// `resource` used by `access`.
+pub const fn uses(resource: Resource, access: Access) -> Use {
+    Use { resource, access }
+}
+
+/// The attachments a pass draws into; consecutive passes with the same ones share a
+/// rendering scope, the first one clearing them.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Attachments {
+    /// No rendering scope (transfer or compute work).
+    None,
+    /// The render target: colour (resolved with MSAA) and depth.
+    Target,
+    /// The slot's shadow map, depth only.
+    ShadowMap,
+}
+
+impl Attachments {
+    /// The uses drawing into these attachments makes.
+    fn uses(self, target: &RenderTarget) -> Vec<Use> {
+        match self {
+            Attachments::None => Vec::new(),
+            Attachments::ShadowMap => vec![uses(Resource::ShadowMap, Access::DepthAttachment)],
+            Attachments::Target => {
+                let mut list = vec![
+                    uses(Resource::Depth, Access::DepthAttachment),
+                    uses(Resource::Resolve, Access::ColorAttachment),
+                ];
+                if target.color.is_some() {
+                    list.push(uses(Resource::Color, Access::ColorAttachment));
+                }
+                list
+            }
+        }
+    }
+}
+
+/// What the passes of one frame record with.
+pub struct FrameContext<'a> {
+    pub device: &'a Device,
+    pub layout: &'a PipelineLayout,
+    pub slot: &'a RenderSlot,
+    /// Which of the two position images the simulation last wrote.
+    pub current: usize,
+    pub target: &'a RenderTarget,
+    pub settings: &'a FrameSettings,
+    /// Corners of the body's triangles (the draws' vertex count).
+    pub index_count: u32,
+    pub indices: vk::Buffer,
+    /// The body's descriptor set.
+    pub body_set: vk::DescriptorSet,
+}
+
+impl FrameContext<'_> {
+    /// Binds `frame_set` (the camera's or the light's view of this frame) and the
+    /// body's set for the graphics pipelines.
+    pub fn bind_sets(&self, cmd: vk::CommandBuffer, frame_set: vk::DescriptorSet) {
+        let mut sets = [vk::DescriptorSet::null(); 2];
+        sets[SET_FRAME as usize] = frame_set;
+        sets[SET_BODY as usize] = self.body_set;
+        // SAFETY: the command buffer is recording; the sets and the layout belong to the
+        // renderer, which outlives the frame.
+        unsafe {
+            self.device.raw.cmd_bind_descriptor_sets(
+                cmd,
+                vk::PipelineBindPoint::GRAPHICS,
+                self.layout.raw(),
+                0,
+                &sets,
+                &[],
+            );
+        }
+    }
+
+    /// The image behind `resource`, with its aspect (None for buffers and storage
+    /// images, which are ordered by memory barriers).
+    fn image(&self, resource: Resource) -> Option<(vk::Image, vk::ImageAspectFlags)> {
+        let colour = vk::ImageAspectFlags::COLOR;
+        match resource {
+            Resource::ShadowMap => {
+                Some((self.slot.shadow.image.raw(), vk::ImageAspectFlags::DEPTH))
+            }
+            Resource::Depth => Some((self.target.depth.raw(), vk::ImageAspectFlags::DEPTH)),
+            Resource::Color => self.target.color.as_ref().map(|c| (c.raw(), colour)),
+            Resource::Resolve => Some((self.target.resolve.raw(), colour)),
+            Resource::Positions | Resource::Posed | Resource::Counters => None,
+        }
+    }
+
+    /// Where each resource stands when the frame starts: what last used it (the
+    /// previous frame's use of a slot's images may still be in flight; the simulation
+    /// and skinning of this frame were recorded before it).
+    pub fn initial_states(&self) -> Vec<(Resource, State)> {
+        vec![
+            (Resource::Positions, State::after(&[Access::ComputeWrite])),
+            (Resource::Posed, State::after(&[Access::ComputeWrite])),
+            // Read by the host after the previous frame's fence: nothing to wait for.
+            (Resource::Counters, State::after(&[])),
+            (
+                Resource::ShadowMap,
+                State::discarded_after(&[Access::ShadingSampled]),
+            ),
+            (
+                Resource::Depth,
+                State::discarded_after(&[Access::DepthAttachment]),
+            ),
+            (
+                Resource::Color,
+                State::discarded_after(&[Access::ColorAttachment]),
+            ),
+            (
+                Resource::Resolve,
+                State::discarded_after(&[Access::TransferRead, Access::ColorAttachment]),
+            ),
+        ]
+    }
+}
+
+/// A unit of a frame: what it draws into, what else it uses, how it records.
+pub trait Pass {
+    /// Its name, as debug labels and timings show it.
+    fn name(&self) -> &'static str;
+    /// Where it draws.
+    fn attachments(&self) -> Attachments;
+    /// What it reads and writes besides its attachments, this frame.
+    fn uses(&self, frame: &FrameContext<'_>) -> Vec<Use>;
+    /// Records its commands (inside its rendering scope when it has attachments).
+    fn record(&self, frame: &FrameContext<'_>, cmd: vk::CommandBuffer);
+}
+
+/// What [`record_frame`] tells its caller, for the queries around the passes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Event {
+    /// A rendering scope is about to begin (its barriers recorded).
+    ScopeOpening(Attachments),
+    /// A rendering scope has begun.
+    ScopeOpened(Attachments),
+    /// The named pass has been recorded.
+    PassRecorded(&'static str),
+    /// A rendering scope has ended.
+    ScopeClosed(Attachments),
+}
+
+/// Records `passes` in order with the barriers their declarations need, calling
+/// `event` around them.
+pub fn record_frame(
+    frame: &FrameContext<'_>,
+    cmd: vk::CommandBuffer,
+    passes: &[&dyn Pass],
+    event: &mut dyn FnMut(Event),
+) {
+    let mut tracker = Tracker::new(frame.initial_states());
+    let mut i = 0;
+    while i < passes.len() {
+        let attachments = passes[i].attachments();
+        // A pass without attachments is a group of its own; others join their
+        // neighbours drawing into the same attachments.
+        let end = if attachments == Attachments::None {
+            i + 1
+        } else {
+            i + passes[i..]
+                .iter()
+                .take_while(|p| p.attachments() == attachments)
+                .count()
+        };
+        let group = &passes[i..end];
+        let mut all = attachments.uses(frame.target);
+        for pass in group {
+            all.extend(pass.uses(frame));
+        }
+        record_barriers(frame, cmd, &mut tracker, &all);
+        if attachments != Attachments::None {
+            event(Event::ScopeOpening(attachments));
+            begin_scope(frame, cmd, attachments);
+            event(Event::ScopeOpened(attachments));
+        }
+        for pass in group {
+            frame.device.begin_label(cmd, pass.name());
+            pass.record(frame, cmd);
+            frame.device.end_label(cmd);
+            event(Event::PassRecorded(pass.name()));
+        }
+        if attachments != Attachments::None {
+            // SAFETY: the scope was begun above in this command buffer, which is recording.
+            unsafe { frame.device.raw.cmd_end_rendering(cmd) };
+            event(Event::ScopeClosed(attachments));
+        }
+        i = end;
+    }
+    // The shadow map ends readable by the passes (and the next frame's placeholder
+    // binding) whatever the frame did with it.
+    let mut tail = Vec::new();
+    if tracker
+        .state(Resource::ShadowMap)
+        .is_some_and(|s| s.accesses.first() == Some(&Access::DepthAttachment))
+    {
+        tail.push(uses(Resource::ShadowMap, Access::ShadingSampled));
+    }
+    record_barriers(frame, cmd, &mut tracker, &tail);
+}
+
+/// The barriers `list` (one group's uses) needs, recorded as one dependency.
+fn record_barriers(
+    frame: &FrameContext<'_>,
+    cmd: vk::CommandBuffer,
+    tracker: &mut Tracker<Resource>,
+    list: &[Use],
+) {
+    let mut resources: Vec<Resource> = Vec::new();
+    for u in list {
+        if !resources.contains(&u.resource) {
+            resources.push(u.resource);
+        }
+    }
+    let mut memory = Vec::new();
+    let mut images = Vec::new();
+    for resource in resources {
+        let accesses: Vec<Access> = list
+            .iter()
+            .filter(|u| u.resource == resource)
+            .map(|u| u.access)
+            .collect();
+        let image = frame.image(resource);
+        let Some(b) = tracker.access(resource, &accesses, resource.is_image()) else {
+            continue;
+        };
+        match image {
+            Some((raw, aspect)) => images.push(image_barrier(raw, aspect, &b)),
+            None => memory.push(memory_barrier(&b)),
+        }
+    }
+    if memory.is_empty() && images.is_empty() {
+        return;
+    }
+    let dependency = vk::DependencyInfo::default()
+        .memory_barriers(&memory)
+        .image_memory_barriers(&images);
+    // SAFETY: the command buffer is recording outside a rendering scope; the images
+    // belong to the frame's slot and target, alive while the frame is.
+    unsafe { frame.device.raw.cmd_pipeline_barrier2(cmd, &dependency) };
+}
+
+fn memory_barrier(b: &Barrier) -> vk::MemoryBarrier2<'static> {
+    vk::MemoryBarrier2::default()
+        .src_stage_mask(b.src.0)
+        .src_access_mask(b.src.1)
+        .dst_stage_mask(b.dst.0)
+        .dst_access_mask(b.dst.1)
+}
+
+fn image_barrier(
+    image: vk::Image,
+    aspect: vk::ImageAspectFlags,
+    b: &Barrier,
+) -> vk::ImageMemoryBarrier2<'static> {
+    crate::gpu::image_barrier(image, aspect, b.src, b.dst, b.old_layout, b.new_layout)
+}
+
+/// Begins the rendering scope of `attachments`, cleared.
+fn begin_scope(frame: &FrameContext<'_>, cmd: vk::CommandBuffer, attachments: Attachments) {
+    let depth_clear = vk::ClearValue {
+        depth_stencil: vk::ClearDepthStencilValue {
+            depth: 1.0,
+            stencil: 0,
+        },
+    };
+    match attachments {
+        Attachments::None => {}
+        Attachments::ShadowMap => {
+            let map = &frame.slot.shadow;
+            let extent = vk::Extent2D {
+                width: map.resolution,
+                height: map.resolution,
+            };
+            let depth = vk::RenderingAttachmentInfo::default()
+                .image_view(map.image.view())
+                .image_layout(vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL)
+                .load_op(vk::AttachmentLoadOp::CLEAR)
+                .store_op(vk::AttachmentStoreOp::STORE)
+                .clear_value(depth_clear);
+            let rendering = vk::RenderingInfo::default()
+                .render_area(extent.into())
+                .layer_count(1)
+                .depth_attachment(&depth);
+            begin_rendering(frame.device, cmd, &rendering, extent);
+        }
+        Attachments::Target => {
+            let target = frame.target;
+            let background = vk::ClearValue {
+                color: vk::ClearColorValue {
+                    float32: super::renderer::BACKGROUND.extend(1.0).to_array(),
+                },
+            };
+            let color = [target.color_attachment(background)];
+            let depth = vk::RenderingAttachmentInfo::default()
+                .image_view(target.depth.view())
+                .image_layout(vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL)
+                .load_op(vk::AttachmentLoadOp::CLEAR)
+                .store_op(vk::AttachmentStoreOp::DONT_CARE)
+                .clear_value(depth_clear);
+            let rendering = vk::RenderingInfo::default()
+                .render_area(target.extent.into())
+                .layer_count(1)
+                .color_attachments(&color)
+                .depth_attachment(&depth);
+            begin_rendering(frame.device, cmd, &rendering, target.extent);
+        }
+    }
+}

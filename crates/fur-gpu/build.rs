@@ -1,4 +1,9 @@
-//! Links the system's shaderc with the glslang and SPIRV-Tools libraries it needs.
+//! Embeds the shaders and links the system's shaderc with the glslang and SPIRV-Tools
+//! libraries it needs.
+//!
+//! Every file of `shaders/` is embedded: the script writes the table of them
+//! (`$OUT_DIR/shaders.rs`, included by `src/gpu/shader.rs`), so a new shader is a new
+//! file and nothing else.
 //!
 //! `fur` links Debian's static `libshaderc_combined.a`, which leaves glslang's and
 //! SPIRV-Tools' symbols undefined, so this script adds those static libraries: the ones
@@ -11,7 +16,8 @@
 //! this script does nothing.
 
 use std::env;
-use std::path::Path;
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
 
 /// A static library the link needs, and the Debian/Ubuntu package that ships it.
 struct Lib {
@@ -43,8 +49,40 @@ const SYSTEM_LIBS: &[Lib] = &[
     lib("SPIRV-Tools", "spirv-tools", false),
 ];
 
+/// Writes `$OUT_DIR/shaders.rs`: `SOURCES`, every file of `shaders/` by name, sorted.
+fn embed_shaders() {
+    let dir = PathBuf::from(env::var("CARGO_MANIFEST_DIR").expect("cargo sets it")).join("shaders");
+    println!("cargo:rerun-if-changed={}", dir.display());
+    let mut files: Vec<PathBuf> = std::fs::read_dir(&dir)
+        .unwrap_or_else(|e| panic!("cannot list {}: {e}", dir.display()))
+        .map(|entry| entry.expect("a directory entry").path())
+        .filter(|path| path.is_file())
+        .collect();
+    files.sort();
+    let mut table = String::from(
+        "/// Every shader source shipped in `shaders/`, by file name.\n\
+         pub const SOURCES: &[(&str, &str)] = &[\n",
+    );
+    for path in &files {
+        let name = path
+            .file_name()
+            .and_then(|n| n.to_str())
+            .expect("a UTF-8 name");
+        writeln!(
+            table,
+            "    ({name:?}, include_str!({:?})),",
+            path.display().to_string()
+        )
+        .expect("writing to a String");
+    }
+    table.push_str("];\n");
+    let out = PathBuf::from(env::var("OUT_DIR").expect("cargo sets it")).join("shaders.rs");
+    std::fs::write(&out, table).unwrap_or_else(|e| panic!("cannot write {}: {e}", out.display()));
+}
+
 fn main() {
     println!("cargo:rerun-if-changed=build.rs");
+    embed_shaders();
     println!("cargo:rerun-if-env-changed=SHADERC_LIB_DIR");
     if env::var_os("CARGO_FEATURE_SHADERC_FROM_SOURCE").is_some() {
         return;

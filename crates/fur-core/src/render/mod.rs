@@ -11,4 +11,6 @@ pub mod uniforms;
 
 pub use image::{flip, RgbaImage};
 pub use lighting::{kajiya_kay, Fibre, Highlights, Lighting, LightingModel, Shade, Shadows};
-pub use uniforms::{FrameSettings, FrameUniforms, FurStyle, Primitive, Shading, StrandShape};
+pub use uniforms::{
+    FrameSettings, FrameUniforms, FurStyle, Primitive, Shading, Stage, StrandShape,
+};

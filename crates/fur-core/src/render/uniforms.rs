@@ -43,6 +43,38 @@ impl std::str::FromStr for Primitive {
     }
 }
 
+/// Which stage of the pipeline an image shows.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum Stage {
+    /// The final image: the interpolated hairs, lit.
+    #[default]
+    Lit,
+    /// Only the master hairs, as lines coloured by master index, with the body: what
+    /// the simulation moves and the tessellation interpolates between.
+    Masters,
+}
+
+impl Stage {
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Lit => "lit",
+            Self::Masters => "masters",
+        }
+    }
+}
+
+impl std::str::FromStr for Stage {
+    type Err = String;
+
+    fn from_str(s: &str) -> std::result::Result<Self, String> {
+        match s {
+            "lit" => Ok(Self::Lit),
+            "masters" => Ok(Self::Masters),
+            _ => Err(format!("expected lit or masters, got `{s}`")),
+        }
+    }
+}
+
 /// Where Kajiya–Kay is evaluated.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 pub enum Shading {
@@ -244,6 +276,8 @@ pub struct FrameSettings {
     pub head: Mat4,
     pub draw_mesh: bool,
     pub draw_fur: bool,
+    /// The stage the image shows.
+    pub show: Stage,
     /// Count the hairs and segments the fur pass draws (an atomic per hair; for tests
     /// and reports, off when timing).
     pub count_hairs: bool,
@@ -270,6 +304,7 @@ impl Default for FrameSettings {
             head: Mat4::IDENTITY,
             draw_mesh: true,
             draw_fur: true,
+            show: Stage::Lit,
             count_hairs: false,
             supersample: 1,
         }

@@ -32,6 +32,8 @@ pub struct SceneOptions {
     pub lighting: crate::render::Lighting,
     /// The colour texture, over the model's own (its OBJ material's map_Kd).
     pub texture: Option<TextureSpec>,
+    /// The stage of the pipeline the image shows.
+    pub show: crate::render::Stage,
 }
 
 /// How the fur is drawn: the levers that trade speed for image quality (measured by
@@ -115,6 +117,7 @@ impl Default for SceneOptions {
             draw: DrawOptions::default(),
             lighting: crate::render::Lighting::default(),
             texture: None,
+            show: crate::render::Stage::Lit,
         }
     }
 }
@@ -267,6 +270,7 @@ impl SceneOptions {
         style.thickness_compensation = draw.thickness_compensation;
         style.thin_hair_aa = draw.thin_hair_aa;
         settings.lighting.shadows.spacing *= radius;
+        settings.show = self.show;
         style.validate()?;
         groom.validate()?;
         Ok((groom, settings))

@@ -168,6 +168,7 @@ named_choice!(
     crate::render::Primitive,
     crate::render::Shading,
     crate::render::LightingModel,
+    crate::render::Stage,
     crate::sim::MotionKind
 );
 

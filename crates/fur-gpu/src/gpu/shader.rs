@@ -8,34 +8,9 @@ use ash::vk;
 use super::Device;
 use crate::error::{Error, Result, VkContext};
 
-/// Every shader source shipped in `shaders/`, by file name.
-pub const SOURCES: &[(&str, &str)] = &[
-    ("common.glsl", include_str!("../../shaders/common.glsl")),
-    ("shading.glsl", include_str!("../../shaders/shading.glsl")),
-    ("strands.glsl", include_str!("../../shaders/strands.glsl")),
-    (
-        "sim_common.glsl",
-        include_str!("../../shaders/sim_common.glsl"),
-    ),
-    (
-        "sdf_sample.glsl",
-        include_str!("../../shaders/sdf_sample.glsl"),
-    ),
-    ("collide.glsl", include_str!("../../shaders/collide.glsl")),
-    ("mesh.vert", include_str!("../../shaders/mesh.vert")),
-    ("mesh.frag", include_str!("../../shaders/mesh.frag")),
-    ("fur.vert", include_str!("../../shaders/fur.vert")),
-    ("fur.tesc", include_str!("../../shaders/fur.tesc")),
-    ("fur.tese", include_str!("../../shaders/fur.tese")),
-    ("fur.geom", include_str!("../../shaders/fur.geom")),
-    ("fur.frag", include_str!("../../shaders/fur.frag")),
-    ("simulate.comp", include_str!("../../shaders/simulate.comp")),
-    ("skin.comp", include_str!("../../shaders/skin.comp")),
-    (
-        "simulate_rest.comp",
-        include_str!("../../shaders/simulate_rest.comp"),
-    ),
-];
+// `SOURCES`: every file of `shaders/` by name, embedded (the table is written by
+// build.rs).
+include!(concat!(env!("OUT_DIR"), "/shaders.rs"));
 
 pub fn source(name: &str) -> Option<&'static str> {
     SOURCES.iter().find(|(n, _)| *n == name).map(|(_, s)| *s)

@@ -6,6 +6,7 @@ pub use fur_core::render::*;
 mod bindings;
 mod fur_pass;
 mod graph;
+mod masters_pass;
 mod mesh_pass;
 mod pipeline;
 mod renderer;

@@ -15,12 +15,14 @@ use super::bindings::{
     write_body_set, write_shadow_map, BodyBinding, BodyResources, FrameBinding, SET_BODY, SET_FRAME,
 };
 use super::fur_pass::FurPass;
+use super::graph::Pass;
+use super::masters_pass::MastersPass;
 use super::mesh_pass::MeshPass;
 use super::shadow_pass::{LightView, ShadowPass};
 use super::slot::{RenderSlot, TIMESTAMPS, TS_FRAME, TS_FUR, TS_MESH, TS_START};
 use super::target::{check_samples, RenderTarget};
 use super::texture::{GpuTexture, ShadowMap};
-use super::uniforms::{FrameSettings, FrameUniforms, StrandShape};
+use super::uniforms::{FrameSettings, FrameUniforms, Stage, StrandShape};
 use super::RgbaImage;
 use crate::error::Error;
 use crate::error::Result;
@@ -89,6 +91,7 @@ pub struct Renderer {
     shadow_pass: ShadowPass,
     mesh_pass: MeshPass,
     fur_pass: FurPass,
+    masters_pass: MastersPass,
     pub target: RenderTarget,
     /// The target and fur pass of the sample count in use before the last change, kept
     /// so that changing back (as the frame-time budget does) builds nothing.
@@ -241,6 +244,7 @@ impl Renderer {
         let mesh_pass = MeshPass::new(device, mesh, samples, (textured, skinned))?;
         let fur_pass = FurPass::new(device, vertices_per_strand, samples, (textured, skinned));
         let shadow_pass = ShadowPass::new(device, vertices_per_strand, skinned);
+        let masters_pass = MastersPass::new(device, &strands.layout);
         Ok(Self {
             device: device.clone(),
             _set_layouts: (frame_layout, body_layout),
@@ -264,6 +268,7 @@ impl Renderer {
             shadow_pass,
             mesh_pass,
             fur_pass,
+            masters_pass,
             target,
             spare: None,
         })
@@ -318,14 +323,22 @@ impl Renderer {
         if settings.style.samples != self.target.samples {
             self.set_samples(settings.style.samples)?;
         }
-        // The fur casts shadows even when it is not drawn (the skin shows them).
-        let shadows = settings.lighting.shadows.enabled;
-        let variants = FurPass::variants(
-            &settings.style,
-            (shadows, settings.lighting.model),
-            FurPass::root_pixel_range(settings, self.bounds, self.target.extent.height),
-        );
-        self.fur_pass.prepare(&self.pipeline_layout, &variants)?;
+        // The fur casts shadows even when it is not drawn (the skin shows them); the
+        // masters view draws no fur, hence no shadows of it.
+        let lit = settings.show == Stage::Lit;
+        let shadows = settings.lighting.shadows.enabled && lit;
+        let mut variants = Vec::new();
+        if lit {
+            variants = FurPass::variants(
+                &settings.style,
+                (shadows, settings.lighting.model),
+                FurPass::root_pixel_range(settings, self.bounds, self.target.extent.height),
+            );
+            self.fur_pass.prepare(&self.pipeline_layout, &variants)?;
+        } else {
+            self.masters_pass
+                .prepare(&self.pipeline_layout, self.target.samples)?;
+        }
         if shadows {
             self.shadow_pass.prepare(&self.pipeline_layout)?;
         }
@@ -366,6 +379,26 @@ impl Renderer {
         Ok(())
     }
 
+    /// The frame's passes, in order: the hair counters' reset when the frame counts,
+    /// the shadow pass when it draws shadows, then the body and the stage the frame
+    /// shows (the fur, or the master hairs alone), which share the target's rendering
+    /// scope. Only what the frame needs is in the list.
+    fn passes(&self, settings: &FrameSettings, shadows: bool) -> Vec<&dyn Pass> {
+        let mut passes: Vec<&dyn Pass> = Vec::new();
+        if settings.count_hairs && settings.show == Stage::Lit {
+            passes.push(&record::CounterReset);
+        }
+        if shadows {
+            passes.push(&self.shadow_pass);
+        }
+        passes.push(&self.mesh_pass);
+        match settings.show {
+            Stage::Lit => passes.push(&self.fur_pass),
+            Stage::Masters => passes.push(&self.masters_pass),
+        }
+        passes
+    }
+
     /// Reads the queries of slot `slot`'s last submitted frame (waits for them).
     pub fn report(&self, slot: usize, settings: &FrameSettings) -> Result<FrameReport> {
         let frame = &self.slots[slot];
@@ -382,7 +415,9 @@ impl Renderer {
             (Some(q), true) => Some(q.fur_statistics_result()?),
             _ => None,
         };
-        let counts = (settings.count_hairs && self.device.info.vertex_pipeline_stores).then(|| {
+        // The master hairs' view draws no interpolated hairs and counts none.
+        let counted = settings.count_hairs && settings.show == Stage::Lit;
+        let counts = (counted && self.device.info.vertex_pipeline_stores).then(|| {
             let words: &[u32] = bytemuck::cast_slice(&frame.counters.mapped()[..8]);
             HairCounts {
                 hairs: u64::from(words[0]),

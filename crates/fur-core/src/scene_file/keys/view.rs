@@ -27,6 +27,17 @@ pub const IMAGE: Group = Group {
             effect: Effect::Restart,
             ..field!(height)
         },
+        Setting {
+            key: "show",
+            flag: Flag::Long("show"),
+            label: "show",
+            help: "Which stage of the pipeline the image shows: `lit` (the final image) or \
+                   `masters` (only the master hairs, as lines coloured by master index, with \
+                   the body)",
+            kind: Kind::Choice(&["lit", "masters"]),
+            panel: Panel::Plain,
+            ..field!(options.show)
+        },
     ],
 };
 

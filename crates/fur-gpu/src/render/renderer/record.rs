@@ -4,6 +4,7 @@
 use super::super::graph::{
     record_frame, uses, Attachments, Event, FrameContext, Pass, Resource, Use,
 };
+use super::super::masters_pass::MastersPass;
 use super::super::slot::COUNTERS_BYTES;
 use super::*;
 use crate::gpu::Access;
@@ -11,7 +12,7 @@ use crate::gpu::Access;
 /// Zeroes the hair counters' header before the fur pass counts into it. The previous
 /// frame's counts have been read (its fence waited on); a capture behind the header is
 /// written whole by the frame.
-struct CounterReset;
+pub(in super::super) struct CounterReset;
 
 impl Pass for CounterReset {
     fn name(&self) -> &'static str {
@@ -52,13 +53,11 @@ impl Renderer {
         self.timestamp(cmd, slot, TS_FRAME);
     }
 
-    /// Records the frame's passes into the target, after [`Renderer::begin_frame`]; the
-    /// resolved image is left in `COLOR_ATTACHMENT_OPTIMAL` for
-    /// [`RenderTarget::copy_out`] or a blit. `current` selects the position image the
-    /// simulation last wrote. The passes are a list (`super::super::graph`): the hair
-    /// counters' reset when the frame counts, the shadow pass when it draws shadows,
-    /// then the mesh and the fur in one rendering scope; the barriers between them come
-    /// from what each declares it uses.
+    /// Records the frame's passes ([`Renderer::passes`]) into the target, after
+    /// [`Renderer::begin_frame`]; the resolved image is left in
+    /// `COLOR_ATTACHMENT_OPTIMAL` for [`RenderTarget::copy_out`] or a blit. `current`
+    /// selects the position image the simulation last wrote. The barriers between the
+    /// passes come from what each declares it uses (`super::super::graph`).
     pub fn record(
         &self,
         cmd: vk::CommandBuffer,
@@ -79,15 +78,7 @@ impl Renderer {
             indices: self.indices.raw(),
             body_set: self.body_set,
         };
-        let mut passes: Vec<&dyn Pass> = Vec::new();
-        if settings.count_hairs {
-            passes.push(&CounterReset);
-        }
-        if frame.shadows {
-            passes.push(&self.shadow_pass);
-        }
-        passes.push(&self.mesh_pass);
-        passes.push(&self.fur_pass);
+        let passes = self.passes(settings, frame.shadows);
         d.begin_label(cmd, "frame");
         record_frame(&context, cmd, &passes, &mut |event| match event {
             Event::ScopeOpening(Attachments::Target) => {
@@ -104,7 +95,9 @@ impl Renderer {
                 }
             }
             Event::PassRecorded(MeshPass::NAME) => self.timestamp(cmd, slot, TS_MESH),
-            Event::PassRecorded(FurPass::NAME) => self.timestamp(cmd, slot, TS_FUR),
+            Event::PassRecorded(FurPass::NAME | MastersPass::NAME) => {
+                self.timestamp(cmd, slot, TS_FUR)
+            }
             Event::ScopeClosed(Attachments::Target) => {
                 if let Some(q) = &frame.statistics {
                     // SAFETY: the query was begun before this scope, in this command buffer.

@@ -1,0 +1,9 @@
+#version 450
+// Stage view `masters`: each master hair in its flat colour.
+
+layout(location = 0) in vec3 v_colour;
+layout(location = 0) out vec4 out_colour;
+
+void main() {
+    out_colour = vec4(v_colour, 1.0);
+}

@@ -1,0 +1,101 @@
+//! The masters view (`--show masters`): the master hairs alone, as line strips
+//! coloured by master index, over the body; the seed's picture of the groom before
+//! interpolation. The same positions the fur pass interpolates (the simulation's
+//! current state), drawn without tessellation or geometry stages.
+
+use std::sync::Arc;
+
+use ash::vk;
+
+use super::graph::{uses, Attachments, FrameContext, Pass, Resource, Use};
+use super::pipeline::{graphics_pipeline, Blend, ColourAttachment, DepthAttachment, GraphicsDesc};
+use super::target::{sample_flag, COLOR_FORMAT, DEPTH_FORMAT};
+use crate::error::Result;
+use crate::gpu::{Access, Device, Pipeline, PipelineLayout, ShaderModule};
+use crate::strand_textures::StrandLayout;
+
+pub struct MastersPass {
+    device: Arc<Device>,
+    vertices_per_strand: u32,
+    strand_count: u32,
+    /// Per sample count of the target, built on first use.
+    pipelines: Vec<(u32, Pipeline)>,
+}
+
+impl MastersPass {
+    /// The pass's name (its debug label).
+    pub const NAME: &'static str = "masters pass";
+
+    /// The pass for the master hairs laid out as `layout`.
+    pub fn new(device: &Arc<Device>, layout: &StrandLayout) -> Self {
+        Self {
+            device: device.clone(),
+            vertices_per_strand: layout.vertices_per_strand,
+            strand_count: layout.strand_count,
+            pipelines: Vec::new(),
+        }
+    }
+
+    /// Builds the pipeline for a target of `samples` per pixel if it does not exist.
+    pub fn prepare(&mut self, layout: &PipelineLayout, samples: u32) -> Result<()> {
+        if self.pipelines.iter().any(|(s, _)| *s == samples) {
+            return Ok(());
+        }
+        let defines = super::bindings::render_defines();
+        let vert = ShaderModule::new(&self.device, "masters.vert", &defines)?;
+        let frag = ShaderModule::new(&self.device, "masters.frag", &defines)?;
+        let pipeline = graphics_pipeline(
+            &self.device,
+            layout,
+            &GraphicsDesc {
+                name: "masters pass",
+                stages: &[
+                    (vk::ShaderStageFlags::VERTEX, &vert),
+                    (vk::ShaderStageFlags::FRAGMENT, &frag),
+                ],
+                topology: vk::PrimitiveTopology::LINE_STRIP,
+                vertex_bindings: &[],
+                vertex_attributes: &[],
+                patch_control_points: None,
+                samples: sample_flag(samples),
+                colour: &[ColourAttachment {
+                    format: COLOR_FORMAT,
+                    blend: Blend::Opaque,
+                }],
+                depth: Some(DepthAttachment::nearest(DEPTH_FORMAT)),
+            },
+        )?;
+        self.pipelines.push((samples, pipeline));
+        Ok(())
+    }
+}
+
+impl Pass for MastersPass {
+    fn name(&self) -> &'static str {
+        MastersPass::NAME
+    }
+
+    fn attachments(&self) -> Attachments {
+        Attachments::Target
+    }
+
+    fn uses(&self, _frame: &FrameContext<'_>) -> Vec<Use> {
+        vec![uses(Resource::Positions, Access::HairStagesRead)]
+    }
+
+    /// One line strip per master hair: an instance each, a vertex per strand vertex.
+    fn record(&self, frame: &FrameContext<'_>, cmd: vk::CommandBuffer) {
+        let samples = frame.target.samples;
+        let Some((_, pipeline)) = self.pipelines.iter().find(|(s, _)| *s == samples) else {
+            return;
+        };
+        frame.bind_sets(cmd, frame.slot.sets[frame.current]);
+        // SAFETY: recording inside the target's scope; the pipeline was built for its
+        // sample count and lives as long as the pass.
+        unsafe {
+            let raw = &frame.device.raw;
+            raw.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, pipeline.raw());
+            raw.cmd_draw(cmd, self.vertices_per_strand, self.strand_count, 0, 0);
+        }
+    }
+}

@@ -7,7 +7,7 @@ use std::time::Instant;
 pub(super) struct Clock {
     last_frame: Instant,
     /// Seconds of the last frame.
-    pub frame_dt: f64,
+    frame_dt: f64,
     /// Simulation time owed to the clock (seconds, under one step after each frame).
     sim_owed: f64,
     /// Wall-clock milliseconds of every frame after the first (for the exit summary).

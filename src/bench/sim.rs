@@ -235,7 +235,7 @@ impl Bench<'_> {
 
     /// Median milliseconds per simulated frame for `strands` under `params`, each
     /// frame its own submission: (GPU from timestamps, wall clock from submission to
-    /// fence). The tables use the wall clock: it includes the submission (about 0.2 ms
+    /// fence). The tables use the wall clock: it includes the submission (small
     /// on lavapipe) but cannot misattribute, while lavapipe's compute timestamps do once
     /// other work has run on the device.
     pub(super) fn sim_ms_per_frame(

@@ -239,7 +239,7 @@ void push_field(inout vec3 m, uint k, float margin, uint carry, inout bool touch
 // capsule overfills, would otherwise have its first vertices pushed into the skin
 // beside it). Returns the first contact's normal (model space) in `contact`, or false
 // without contact. The round stays a loop at one round: written straight, the
-// same arithmetic measured 4 points more of the step on lavapipe (docs/benchmark.md).
+// same arithmetic measured slower on lavapipe.
 bool push_out_skinned(inout vec3 m, uint k, float arc, float margin, uint carry, out vec3 contact) {
     bool touched = false;
     contact = vec3(0.0);

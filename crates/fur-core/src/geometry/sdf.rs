@@ -11,8 +11,8 @@
 //! the cell size. CPU (here) and GPU (`shaders/simulate.comp`) use the same arithmetic
 //! on the same values, read from a storage buffer with plain loads (a filtered 3D
 //! texture would round its weights to a few bits on common GPUs and break parity with
-//! the CPU reference). Measured on the default scene, trilinear sampling made collision
-//! cost 45 % of the simulation step.
+//! the CPU reference). On the default scene trilinear sampling made collision a large
+//! share of the simulation step (its eight reads per sample).
 //!
 //! The nearest-point expansion jumps where the nearest grid point changes, by up to a
 //! cell's worth of distance in a crease (two surfaces' gradients meet there), and hair

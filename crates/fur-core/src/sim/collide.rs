@@ -103,9 +103,9 @@ fn segment_parameter<T: Real>(m: V3<T>, a: V3<T>, ab: V3<T>, len2: T) -> T {
 pub const NEAR_CAPSULES: usize = 4;
 
 /// How far, in strand lengths, a capsule's bone must move relative to a strand's root
-/// for the capsule to reach its full radius (`near_capsules`). Measured on the walking
-/// critter (deepest vertex, in hair lengths): 1 let hair 12.5 % into the skin near
-/// joints; 0.25 and 0.1 both 8.1 %, as every capsule at its full radius does.
+/// for the capsule to reach its full radius (`near_capsules`). Chosen by the walking
+/// critter's deepest vertex: a whole strand length lets hair into the skin near
+/// joints, while a quarter or a tenth leave it as deep as capsules at full radius do.
 pub const CAPSULE_RAMP: f32 = 0.25;
 
 /// A capsule as the collision loop reads it: `a`, radius, `b − a`, `|b − a|²`, and the

@@ -13,9 +13,9 @@ pub use crate::geometry::sdf::RESOLUTION_RANGE as SDF_RESOLUTION_RANGE;
 /// benchmark's pressing case stays within half a percent of the hair length.
 pub const CELLS_PER_HAIR: f32 = 3.0;
 /// The same on a skinned body, whose thin parts (ears, paws) the field carried by each
-/// root pose must resolve: on the walking critter (63 cells), ear hair no longer ends up
-/// inside the ear (2.1 % of its length at 3 cells per hair) and the mean depth falls
-/// about 5× (docs/benchmark.md).
+/// root pose must resolve: on the walking critter, ear hair no longer ends up inside
+/// the ear as it does at 3 cells per hair, and the mean depth falls (the benchmark's
+/// collision section, docs/benchmark.md, measures the depths at this resolution).
 pub const CELLS_PER_HAIR_SKINNED: f32 = 6.0;
 
 /// Han & Harada strand simulation parameters. Units: metres, seconds.

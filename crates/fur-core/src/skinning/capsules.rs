@@ -13,13 +13,13 @@
 //! a capsule's far end bends with the next bone, so the next bone's motion counts for it
 //! too: a knee bending under a thigh that stays put relative to the rump's hair.
 //!
-//! Measured on the walking critter, the deepest strand vertex inside the skin (hair
-//! lengths, CPU reference): inscribed capsules (10th percentile; a leaf from its joint
-//! to twice its vertices' centroid) that skip the strand's own bone: 8.6 %; median
-//! radius, leaves on their principal axis, skipping the own bone: 8.1 % (hair in the
-//! armpit enters the upper leg it is half bound to); the same with the own bone: 3.0 %
-//! (with the 65th or 80th percentile: 3.9 % and 5.8 %; every bone on its principal
-//! axis: 6.8 %).
+//! The fit was chosen by the deepest strand vertex inside the walking critter's skin
+//! (CPU reference) against the alternatives: inscribed capsules (a low percentile of
+//! the distances, leaves from the joint to twice the centroid), skipping the strand's
+//! own bone (hair in the armpit then enters the upper leg it is half bound to), higher
+//! percentiles, every bone on its principal axis; each left hair deeper. The
+//! benchmark's collision section measures the depth of the fit in use
+//! (docs/benchmark.md).
 
 use glam::{Mat4, Vec3, Vec4};
 

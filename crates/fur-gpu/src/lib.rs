@@ -18,3 +18,6 @@ pub mod strand_textures;
 pub use fur_core::{colour, files, geometry, interrupt, scene, scene_file};
 
 pub use error::{Error, Result};
+
+#[cfg(test)]
+mod tests;

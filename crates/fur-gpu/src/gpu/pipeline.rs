@@ -24,6 +24,8 @@ macro_rules! owned_handle {
 
         impl Drop for $name {
             fn drop(&mut self) {
+                // SAFETY: the handle was created by this device, is owned by this value alone, and
+                // its users finished before the owner dropped it (the device was waited on).
                 unsafe { self.device.raw.$destroy(self.raw, None) };
             }
         }
@@ -74,6 +76,7 @@ impl DescriptorSetLayout {
             })
             .collect();
         let info = vk::DescriptorSetLayoutCreateInfo::default().bindings(&bindings);
+        // SAFETY: `info` and the bindings it points at live until the call returns.
         let raw = unsafe { device.raw.create_descriptor_set_layout(&info, None) }
             .vk("vkCreateDescriptorSetLayout")?;
         device.set_name(raw, name);
@@ -102,6 +105,7 @@ impl DescriptorPool {
         let info = vk::DescriptorPoolCreateInfo::default()
             .max_sets(sets)
             .pool_sizes(&sizes);
+        // SAFETY: `info` and the pool sizes it points at live until the call returns.
         let raw = unsafe { device.raw.create_descriptor_pool(&info, None) }
             .vk("vkCreateDescriptorPool")?;
         device.set_name(raw, name);
@@ -120,6 +124,8 @@ impl DescriptorPool {
         let info = vk::DescriptorSetAllocateInfo::default()
             .descriptor_pool(self.raw)
             .set_layouts(&layouts);
+        // SAFETY: the pool and the layout are valid handles of this device; the pool was
+        // sized for the sets its owner allocates.
         unsafe { self.device.raw.allocate_descriptor_sets(&info) }.vk("vkAllocateDescriptorSets")
     }
 }
@@ -135,6 +141,7 @@ impl PipelineLayout {
         let info = vk::PipelineLayoutCreateInfo::default()
             .set_layouts(&layouts)
             .push_constant_ranges(push_constants);
+        // SAFETY: `info` and the set layouts it points at live until the call returns.
         let raw = unsafe { device.raw.create_pipeline_layout(&info, None) }
             .vk("vkCreatePipelineLayout")?;
         device.set_name(raw, name);
@@ -194,6 +201,8 @@ impl Pipeline {
         let info = vk::ComputePipelineCreateInfo::default()
             .stage(stage)
             .layout(layout.raw);
+        // SAFETY: `info`, its stage and specialisation data live until the call returns; the
+        // module and the layout are valid handles of this device.
         let raw = unsafe {
             device
                 .raw

@@ -142,32 +142,6 @@ impl Drop for ShaderModule {
 mod tests {
     use super::*;
 
-    /// Every shader but those that take constants shared with a layer above (the
-    /// simulation kernels from `sim::gpu::kernel_defines`, the render shaders from
-    /// `render::uniforms::shader_defines`): their layers' own tests compile them.
-    #[test]
-    fn every_embedded_shader_compiles() {
-        let kernels = [
-            "simulate.comp",
-            "simulate_rest.comp",
-            "fur.vert",
-            "fur.tesc",
-            "fur.tese",
-            "fur.geom",
-            "fur.frag",
-            "mesh.vert",
-            "mesh.frag",
-        ];
-        for (name, _) in SOURCES
-            .iter()
-            .filter(|(n, _)| !n.ends_with(".glsl") && !kernels.contains(n))
-        {
-            let defines = [("STRAND_VERTICES", "17".to_string())];
-            let words = compile(name, &defines).unwrap_or_else(|e| panic!("{name}: {e}"));
-            assert_eq!(words[0], 0x0723_0203, "{name}: not SPIR-V");
-        }
-    }
-
     #[test]
     fn compile_errors_name_the_file_and_line() {
         let text = "#version 450\nvoid main() {\n    float x = undefined_thing;\n}\n";

@@ -114,7 +114,7 @@ pub(super) fn binding_defines() -> Vec<(&'static str, String)> {
 
 /// Every define a render shader takes from Rust: the drawing's flags
 /// ([`super::uniforms::shader_defines`]) and the set and binding numbers.
-pub(super) fn render_defines() -> Vec<(&'static str, String)> {
+pub(crate) fn render_defines() -> Vec<(&'static str, String)> {
     let mut defines = super::uniforms::shader_defines();
     defines.extend(binding_defines());
     defines
@@ -298,6 +298,8 @@ mod tests {
                 "fur.frag",
                 "mesh.vert",
                 "mesh.frag",
+                "masters.vert",
+                "masters.frag",
             ] {
                 let words = compile(shader, &defines).unwrap_or_else(|e| panic!("{shader}: {e}"));
                 let found = reflect(&words);

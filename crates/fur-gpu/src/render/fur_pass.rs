@@ -268,6 +268,8 @@ impl FurPass {
             let Some((_, pipeline)) = self.pipelines.iter().find(|(v, _)| v == variant) else {
                 continue;
             };
+            // SAFETY: recording inside a rendering scope with the sets bound; the pipeline lives
+            // as long as the pass, which outlives the frame (the renderer waits before dropping it).
             unsafe {
                 device
                     .raw

@@ -192,6 +192,7 @@ impl MeshPass {
     /// only the fur (which reads no vertex attributes) is drawn: Mesa 22.3's lavapipe
     /// crashes on an indexed draw with no vertex buffer ever bound.
     fn bind_vertices(&self, device: &Device, cmd: vk::CommandBuffer) {
+        // SAFETY: the command buffer is recording; the vertex buffer lives as long as the pass.
         unsafe {
             device
                 .raw
@@ -205,6 +206,8 @@ impl MeshPass {
         let Some(pipeline) = &self.pipelines[usize::from(shadows)] else {
             return;
         };
+        // SAFETY: recording inside the target's scope with the sets, index and vertex buffers
+        // bound; the pipeline lives as long as the pass.
         unsafe {
             device
                 .raw

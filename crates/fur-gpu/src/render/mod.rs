@@ -15,6 +15,8 @@ mod slot;
 mod target;
 mod texture;
 
+#[cfg(test)]
+pub(crate) use bindings::render_defines;
 pub use renderer::{
     CapturedHairs, FrameReport, HairCounts, Renderer, BACKGROUND, MAX_CAPTURE_BYTES,
 };

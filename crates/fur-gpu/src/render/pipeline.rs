@@ -139,6 +139,8 @@ pub fn graphics_pipeline(
     if desc.patch_control_points.is_some() {
         info = info.tessellation_state(&tessellation);
     }
+    // SAFETY: every structure `info` points at (stages, states, formats) lives until the
+    // call returns; the modules and the layout are valid handles of this device.
     let raw = unsafe {
         device
             .raw
@@ -156,6 +158,8 @@ pub fn begin_rendering(
     extent: vk::Extent2D,
 ) {
     let raw = &device.raw;
+    // SAFETY: the command buffer is recording outside a rendering scope; the attachments
+    // named in `rendering` are the caller's images, alive while the frame is.
     unsafe {
         raw.cmd_begin_rendering(cmd, rendering);
         raw.cmd_set_viewport(

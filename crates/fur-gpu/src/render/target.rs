@@ -172,6 +172,8 @@ impl RenderTarget {
     /// Copies the finished resolved image into the readback buffer.
     pub fn copy_to_readback(&self, device: &Device, cmd: vk::CommandBuffer) {
         let region = whole_image_copy(self.extent, 0);
+        // SAFETY: recording; `finish` left the resolved image in TRANSFER_SRC_OPTIMAL, and the
+        // readback buffer holds width × height × 4 bytes, the whole copy.
         unsafe {
             device.raw.cmd_copy_image_to_buffer(
                 cmd,
@@ -201,6 +203,8 @@ impl RenderTarget {
             .src_offsets([vk::Offset3D::default(), corner])
             .dst_subresource(layers)
             .dst_offsets([vk::Offset3D::default(), corner]);
+        // SAFETY: recording; the resolved image is a transfer source (`finish`) and `dst` is in
+        // TRANSFER_DST_OPTIMAL and as large, as the caller guarantees.
         unsafe {
             device.raw.cmd_blit_image(
                 cmd,

@@ -89,6 +89,8 @@ impl GpuTexture {
                     vk::ImageLayout::TRANSFER_DST_OPTIMAL,
                 )],
             );
+            // SAFETY: the one-time command buffer is recording; the image was just transitioned to
+            // TRANSFER_DST_OPTIMAL and the staging buffer holds every level the regions name.
             unsafe {
                 device.raw.cmd_copy_buffer_to_image(
                     cmd,

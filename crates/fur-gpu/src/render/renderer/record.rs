@@ -53,7 +53,7 @@ impl Renderer {
         self.timestamp(cmd, slot, TS_FRAME);
     }
 
-    /// Records the frame's passes ([`Renderer::passes`]) into the target, after
+    /// Records the frame's passes (`Renderer::passes`) into the target, after
     /// [`Renderer::begin_frame`]; the resolved image is left in
     /// `COLOR_ATTACHMENT_OPTIMAL` for [`RenderTarget::copy_out`] or a blit. `current`
     /// selects the position image the simulation last wrote. The barriers between the
@@ -114,6 +114,8 @@ impl Renderer {
             // Written once every command before it has finished (BOTTOM_OF_PIPE in the
             // first scope is every stage): the passes' ends, not a stage of them.
             let stage = vk::PipelineStageFlags2::BOTTOM_OF_PIPE;
+            // SAFETY: the command buffer is recording; the pool holds TIMESTAMPS queries, reset in
+            // `begin_frame`, and `query` is one of them.
             unsafe {
                 self.device
                     .raw

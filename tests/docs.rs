@@ -110,6 +110,7 @@ fn links_between_the_documents_lead_to_files() {
     for doc in [
         "README.md",
         "docs/design.md",
+        "docs/pipeline.md",
         "docs/benchmark.md",
         "docs/robustness.md",
         "docs/testing.md",
@@ -170,6 +171,7 @@ fn the_files_the_documents_name_exist() {
     for doc in [
         "README.md",
         "docs/design.md",
+        "docs/pipeline.md",
         "docs/benchmark.md",
         "docs/ground-truth.md",
         "docs/robustness.md",

@@ -5,7 +5,7 @@ mod common;
 
 use ash::vk;
 use fur::colour::linear_to_srgb8;
-use fur::render::{FrameSettings, Renderer, Stage};
+use fur::render::{FrameSettings, FurStyle, Lighting, Primitive, Renderer, RgbaImage, Stage};
 use fur::scene::{Camera, GroomParams, Mesh, Strands};
 use fur::strand_textures::StrandTextures;
 use glam::{Vec3, Vec4Swizzles};
@@ -110,6 +110,276 @@ fn the_masters_view_draws_each_master_hair_where_it_is_and_nothing_else() {
          ({control} in the next master's colour)"
     );
     common::assert_clean(&device);
+}
+
+/// The GLSL `hash_u32` (`shaders/common.glsl`).
+fn hash_u32(mut x: u32) -> u32 {
+    x ^= x >> 16;
+    x = x.wrapping_mul(0x7feb_352d);
+    x ^= x >> 15;
+    x = x.wrapping_mul(0x846c_a68b);
+    x ^= x >> 16;
+    x
+}
+
+/// The GLSL `hue` (linear RGB).
+fn hue(h: f32) -> [f32; 3] {
+    let channel = |offset: f32| {
+        let x = (h * 6.0 + offset).rem_euclid(6.0);
+        ((x - 3.0).abs() - 1.0).clamp(0.0, 1.0)
+    };
+    [channel(0.0), channel(4.0), channel(2.0)]
+}
+
+fn srgb(linear: [f32; 3]) -> [u8; 3] {
+    linear.map(linear_to_srgb8)
+}
+
+/// Draws the standing hairs (no skin) as opaque ribbons at one sample per pixel, so
+/// every fur pixel is exactly one hair's colour, in stage view `show` with `style`.
+fn standing_hairs(show: Stage, style: FurStyle, camera: Camera) -> (RgbaImage, Vec<u32>) {
+    standing_hairs_lit(show, style, camera, Lighting::default())
+}
+
+/// [`standing_hairs`] under `lighting`.
+fn standing_hairs_lit(
+    show: Stage,
+    style: FurStyle,
+    camera: Camera,
+    lighting: Lighting,
+) -> (RgbaImage, Vec<u32>) {
+    let device = common::device();
+    let (mesh, groom) = common::standing_hairs_scene();
+    let settings = FrameSettings {
+        camera,
+        style: FurStyle {
+            primitive: Primitive::Ribbons,
+            thin_hair_aa: false,
+            samples: 1,
+            ..style
+        },
+        lighting,
+        show,
+        draw_mesh: false,
+        ..Default::default()
+    };
+    let strands = Strands::grow(&mesh, &groom).unwrap();
+    let textures = StrandTextures::new(&device, &strands, settings.head).unwrap();
+    let extent = vk::Extent2D {
+        width: SIZE.0,
+        height: SIZE.1,
+    };
+    let mut renderer = Renderer::new(&device, &mesh, &textures, extent, 1, 1).unwrap();
+    let (image, _) = renderer.render(&textures, &settings).unwrap();
+    common::assert_clean(&device);
+    (image, mesh.indices)
+}
+
+fn side_camera(distance: f32) -> Camera {
+    Camera {
+        target: Vec3::new(0.0, 0.2, 0.0),
+        pitch_deg: 20.0,
+        distance,
+        ..Default::default()
+    }
+}
+
+/// The colours of the pixels the fur covers.
+fn fur_pixels(image: &RgbaImage) -> Vec<[u8; 3]> {
+    let covered = common::covered(image);
+    (0..image.height)
+        .flat_map(|y| (0..image.width).map(move |x| (x, y)))
+        .zip(covered)
+        .filter(|(_, c)| *c)
+        .map(|((x, y), _)| {
+            let p = image.pixel(x, y);
+            [p[0], p[1], p[2]]
+        })
+        .collect()
+}
+
+fn near(a: [u8; 3], b: [u8; 3], tolerance: u8) -> bool {
+    (0..3).all(|c| a[c].abs_diff(b[c]) <= tolerance)
+}
+
+/// The interpolated view paints every hair in its source triangle's colour (the GLSL
+/// hash of the triangle's three master hairs, worked out here on the CPU): nearly every
+/// fur pixel is one of those colours, and many triangles' colours show. The lit image
+/// has none of them.
+#[test]
+fn the_interpolated_view_paints_each_hair_in_its_triangles_colour() {
+    let (image, indices) =
+        standing_hairs(Stage::Interpolated, FurStyle::default(), side_camera(2.0));
+    let colours: Vec<[u8; 3]> = indices
+        .chunks_exact(3)
+        .map(|t| {
+            // hash_unit(hash_u32(a ^ hash_u32(b ^ hash_u32(c)))), as fur.geom has it.
+            let seed = hash_u32(t[0] ^ hash_u32(t[1] ^ hash_u32(t[2])));
+            srgb(hue((hash_u32(seed) >> 8) as f32 / 16_777_216.0))
+        })
+        .collect();
+    let pixels = fur_pixels(&image);
+    assert!(pixels.len() > 1000, "{} fur pixels", pixels.len());
+    let mut seen = vec![false; colours.len()];
+    let mut matched = 0;
+    for p in &pixels {
+        if let Some(t) = colours.iter().position(|c| near(*p, *c, 2)) {
+            seen[t] = true;
+            matched += 1;
+        }
+    }
+    let share = matched as f64 / pixels.len() as f64;
+    let triangles = seen.iter().filter(|s| **s).count();
+    if share < 0.98 {
+        common::keep(&image, "interpolated_view");
+    }
+    assert!(
+        share >= 0.98,
+        "{matched} of {} fur pixels in a triangle's colour",
+        pixels.len()
+    );
+    assert!(
+        triangles * 2 >= colours.len(),
+        "{triangles} of {} triangles' colours seen",
+        colours.len()
+    );
+    let (lit, _) = standing_hairs(Stage::Lit, FurStyle::default(), side_camera(2.0));
+    let lit_matched = fur_pixels(&lit)
+        .iter()
+        .filter(|p| colours.iter().any(|c| near(**p, *c, 2)))
+        .count();
+    assert!(
+        lit_matched * 20 < matched,
+        "the lit image matches {lit_matched}"
+    );
+}
+
+/// The LOD view: with every segment kept and every hair drawn, the fur is pure red;
+/// when the vertex LOD leaves the straight hairs one segment each, blue; and where the
+/// density LOD draws a quarter of the hairs, red at the brightness
+/// `0.25 + 0.75 · lod` the view gives (lod = (D / d)², worked out from the camera).
+#[test]
+fn the_lod_view_colours_hairs_by_segments_kept_and_density_thinned() {
+    let full = FurStyle {
+        vertex_lod_px: 0.0,
+        lod_distance: 100.0,
+        ..Default::default()
+    };
+    let (image, _) = standing_hairs(Stage::Lod, full.clone(), side_camera(2.0));
+    let pixels = fur_pixels(&image);
+    let red = srgb(hue(0.0));
+    let reds = pixels.iter().filter(|p| near(**p, red, 2)).count();
+    assert!(
+        reds * 100 >= pixels.len() * 98,
+        "{reds} of {} pixels red with every segment kept",
+        pixels.len()
+    );
+
+    let one_segment = FurStyle {
+        vertex_lod_px: 2.0,
+        ..full.clone()
+    };
+    let (image, _) = standing_hairs(Stage::Lod, one_segment, side_camera(2.0));
+    let pixels = fur_pixels(&image);
+    let blue = srgb(hue(0.66));
+    let blues = pixels.iter().filter(|p| near(**p, blue, 2)).count();
+    assert!(
+        blues * 100 >= pixels.len() * 95,
+        "{blues} of {} pixels blue with straight hairs at one segment",
+        pixels.len()
+    );
+
+    // A camera 6 units out with the full-density distance at 3: lod ≈ (3 / 6)² = 1/4
+    // at the plane (its hairs are within 0.7 of the target).
+    let camera = side_camera(6.0);
+    let thinned = FurStyle {
+        lod_distance: 3.0,
+        ..full
+    };
+    let (image, _) = standing_hairs(Stage::Lod, thinned, camera);
+    let mut reds: Vec<u8> = fur_pixels(&image)
+        .iter()
+        .filter(|p| p[1] < 8 && p[2] < 8)
+        .map(|p| p[0])
+        .collect();
+    assert!(reds.len() > 50, "{} thinned red pixels", reds.len());
+    reds.sort_unstable();
+    let median = reds[reds.len() / 2];
+    let d = camera.eye().distance(Vec3::ZERO);
+    let lod = (3.0 / d).powi(2);
+    let want = linear_to_srgb8(0.25 + 0.75 * lod);
+    assert!(
+        median.abs_diff(want) <= 12,
+        "median red {median}, want {want} (lod {lod:.3})"
+    );
+}
+
+/// The shadow view shows the self-shadowing term alone, in grey: with the light above
+/// standing hairs, the light reaching the hairs falls from their tips (the top of the
+/// fur in the image) to their roots; with hair that stops no light, every hair is
+/// white. The scene's shadows are off: the view draws them anyway.
+#[test]
+fn the_shadow_view_shows_the_light_falling_into_the_fur() {
+    let lighting = |opacity: f32| {
+        let mut l = Lighting {
+            light_direction: Vec3::Y,
+            ..Default::default()
+        };
+        l.shadows.enabled = false;
+        l.shadows.opacity = opacity;
+        l
+    };
+    let (image, _) = standing_hairs_lit(
+        Stage::Shadow,
+        FurStyle::default(),
+        side_camera(2.0),
+        lighting(0.8),
+    );
+    let covered = common::covered(&image);
+    let mut rows: Vec<(u32, f64)> = Vec::new();
+    for y in 0..image.height {
+        let (mut sum, mut n) = (0.0, 0);
+        for x in 0..image.width {
+            if !covered[(y * image.width + x) as usize] {
+                continue;
+            }
+            let p = image.pixel(x, y);
+            let spread = p[0].max(p[1]).max(p[2]) - p[0].min(p[1]).min(p[2]);
+            assert!(spread <= 2, "pixel ({x}, {y}) is {p:?}, not grey");
+            sum += f64::from(p[0]);
+            n += 1;
+        }
+        if n > 0 {
+            rows.push((y, sum / f64::from(n)));
+        }
+    }
+    assert!(rows.len() > 30, "{} rows of fur", rows.len());
+    let third = rows.len() / 3;
+    let mean = |r: &[(u32, f64)]| r.iter().map(|(_, v)| v).sum::<f64>() / r.len() as f64;
+    let (top, bottom) = (mean(&rows[..third]), mean(&rows[rows.len() - third..]));
+    if top < bottom + 40.0 {
+        common::keep(&image, "shadow_view");
+    }
+    assert!(
+        top >= bottom + 40.0,
+        "the tips' rows average {top:.0}, the roots' {bottom:.0}"
+    );
+    let (clear, _) = standing_hairs_lit(
+        Stage::Shadow,
+        FurStyle::default(),
+        side_camera(2.0),
+        lighting(0.0),
+    );
+    let pixels = fur_pixels(&clear);
+    let white = pixels
+        .iter()
+        .filter(|p| p.iter().all(|c| *c >= 253))
+        .count();
+    assert!(
+        white * 100 >= pixels.len() * 99,
+        "{white} of {} pixels white where hair stops no light",
+        pixels.len()
+    );
 }
 
 /// `--show` on the command line: the masters view names what it drew, an unknown

@@ -323,6 +323,7 @@ impl Viewer {
             self.session.settings.lighting = settings.lighting;
             self.session.settings.lighting.light_direction = direction;
             self.session.settings.style = settings.style;
+            self.session.settings.show = settings.show;
             self.scene = scene;
         }
         if let Some(on) = changes.texture {

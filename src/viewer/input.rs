@@ -138,7 +138,17 @@ impl Viewer {
                         "m" => self.controls.shake_on = !self.controls.shake_on,
                         "p" => self.controls.screenshot_requested = true,
                         "c" | "[" | "]" => super::animation_ui::key(&mut self.session, c),
-                        _ => {}
+                        digit => {
+                            // 1, 2, …: the stage views, in `Stage::ALL`'s order.
+                            let stages = crate::render::Stage::ALL;
+                            let chosen = digit.parse::<usize>().ok().and_then(|n| {
+                                n.checked_sub(1).and_then(|i| stages.get(i).copied())
+                            });
+                            if let Some(stage) = chosen {
+                                self.scene.show = stage;
+                                self.session.settings.show = stage;
+                            }
+                        }
                     },
                     _ => {}
                 }

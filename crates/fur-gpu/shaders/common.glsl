@@ -24,6 +24,15 @@
 #ifndef COVERAGE_SAMPLES
 #define COVERAGE_SAMPLES 0
 #endif
+// The stage view (`--show`): 0 lit (the final image), STAGE_INTERPOLATED, STAGE_LOD or
+// STAGE_SHADOW
+// (crates/fur-core/src/render/uniforms.rs: Stage::code).
+#ifndef STAGE_VIEW
+#define STAGE_VIEW 0
+#endif
+#define STAGE_INTERPOLATED 1
+#define STAGE_LOD 2
+#define STAGE_SHADOW 3
 
 layout(set = SET_FRAME, binding = B_FRAME_UNIFORMS, std140) uniform Frame {
     mat4 view_proj;
@@ -78,6 +87,11 @@ uint hash_u32(uint x) {
     x *= 0x846ca68bu;
     x ^= x >> 16;
     return x;
+}
+
+// A saturated colour for hue h in [0, 1) (the stage views' colour scales).
+vec3 hue(float h) {
+    return clamp(abs(mod(h * 6.0 + vec3(0.0, 4.0, 2.0), 6.0) - 3.0) - 1.0, 0.0, 1.0);
 }
 
 // Uniform in [0, 1).

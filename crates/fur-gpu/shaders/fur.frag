@@ -35,7 +35,10 @@ void main() {
 #else
     vec3 texel = vec3(1.0);
 #endif
-#if MARSCHNER
+#if STAGE_VIEW != 0
+    // A stage view: the geometry stage's colour, unlit (always per vertex).
+    vec3 color = g_lit_along.xyz;
+#elif MARSCHNER
     // The fibre model's radiance (per vertex: interpolated), darkened at the root.
 #if VERTEX_SHADING
     vec3 radiance = g_lit_along.xyz;

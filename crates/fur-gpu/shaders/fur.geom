@@ -116,6 +116,9 @@ bool skippable(uint a, uint c, float tolerance) {
 #if !SHADOW_CASTER && VERTEX_SHADING
 vec4 lit_along;                // the lit vertex, computed once for both ribbon sides
 #endif
+#if STAGE_VIEW != 0 && STAGE_VIEW != STAGE_SHADOW
+vec3 view_colour;              // the stage view's colour of this hair
+#endif
 
 // The texture at the hair's root (white without one).
 vec3 root_texel() {
@@ -147,7 +150,11 @@ void write_outputs(uint k, vec3 t) {
 }
 
 void emit_vertex(uint k, vec3 t) {
-#if !SHADOW_CASTER && VERTEX_SHADING && MARSCHNER
+#if STAGE_VIEW == STAGE_SHADOW
+    lit_along = vec4(vec3(light_through_fur(P[k])), along(k));
+#elif STAGE_VIEW != 0
+    lit_along = vec4(view_colour, along(k));
+#elif !SHADOW_CASTER && VERTEX_SHADING && MARSCHNER
     lit_along = vec4(marschner(t, P[k], hair_base(along(k), root_texel()), light_through_fur(P[k])),
                      along(k));
 #elif !SHADOW_CASTER && VERTEX_SHADING
@@ -252,6 +259,27 @@ void main() {
         P[0] = P[1];
 #endif
     }
+#endif
+#if STAGE_VIEW == STAGE_INTERPOLATED
+    // Flat per source triangle: its three master hairs name it.
+    view_colour = hue(hash_unit(hash_u32(h.x ^ hash_u32(h.y ^ hash_u32(h.z)))));
+#elif STAGE_VIEW == STAGE_LOD
+    // Hue: the share of the strand's segments the vertex LOD keeps (red all, through
+    // yellow and green, to blue for one); brightness: the density LOD's thinning here
+    // (full where every hair is drawn, darker as distance thins them).
+    uint kept = 0u;
+    for (uint at = 0u; at + 1u < V;) {
+        uint next = at + 1u;
+        if (tolerance > 0.0) {
+            while (next + 1u < V && skippable(at, next + 1u, tolerance)) {
+                next += 1u;
+            }
+        }
+        at = next;
+        kept += 1u;
+    }
+    float share = V > 2u ? float(kept - 1u) / float(V - 2u) : 1.0;
+    view_colour = hue(0.66 * (1.0 - share)) * mix(0.25, 1.0, lod_factor(root));
 #endif
     vec3 t = vec3(0.0, 1.0, 0.0);
     uint segments = 0u;

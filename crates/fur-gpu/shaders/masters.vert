@@ -6,11 +6,6 @@
 
 layout(location = 0) out vec3 v_colour;
 
-// A saturated colour for hue h in [0, 1).
-vec3 hue(float h) {
-    return clamp(abs(mod(h * 6.0 + vec3(0.0, 4.0, 2.0), 6.0) - 3.0) - 1.0, 0.0, 1.0);
-}
-
 void main() {
     uint strand = uint(gl_InstanceIndex);
     gl_Position = frame.view_proj * vec4(strand_vertex(strand, uint(gl_VertexIndex)), 1.0);

@@ -52,14 +52,53 @@ pub enum Stage {
     /// Only the master hairs, as lines coloured by master index, with the body: what
     /// the simulation moves and the tessellation interpolates between.
     Masters,
+    /// Every interpolated hair, unlit, in a flat colour per source triangle: the
+    /// interpolation between each triangle's three master hairs made visible.
+    Interpolated,
+    /// Every interpolated hair coloured by the levels of detail: its hue by the share
+    /// of its segments the vertex LOD keeps, its brightness by the density LOD's
+    /// thinning with distance.
+    Lod,
+    /// Every interpolated hair in grey by the self-shadowing term alone: the fraction
+    /// of the light the deep-shadow map lets through to each point (white: lit, black:
+    /// deep in the fur). The shadow pass runs whatever the scene's shadow setting.
+    Shadow,
 }
 
 impl Stage {
+    /// Every stage view, in the order the viewer's number keys and the docs list them.
+    pub const ALL: [Stage; 5] = [
+        Stage::Lit,
+        Stage::Masters,
+        Stage::Interpolated,
+        Stage::Lod,
+        Stage::Shadow,
+    ];
+
     pub fn name(self) -> &'static str {
         match self {
             Self::Lit => "lit",
             Self::Masters => "masters",
+            Self::Interpolated => "interpolated",
+            Self::Lod => "lod",
+            Self::Shadow => "shadow",
         }
+    }
+
+    /// The fur pass's `STAGE_VIEW` define for this view (0: lit; the masters view
+    /// draws no fur).
+    pub fn code(self) -> u32 {
+        match self {
+            Self::Lit | Self::Masters => 0,
+            Self::Interpolated => 1,
+            Self::Lod => 2,
+            Self::Shadow => 3,
+        }
+    }
+
+    /// Whether the fur pass draws the interpolated hairs in this view.
+    pub fn draws_fur(self) -> bool {
+        self != Self::Masters
     }
 }
 
@@ -67,11 +106,10 @@ impl std::str::FromStr for Stage {
     type Err = String;
 
     fn from_str(s: &str) -> std::result::Result<Self, String> {
-        match s {
-            "lit" => Ok(Self::Lit),
-            "masters" => Ok(Self::Masters),
-            _ => Err(format!("expected lit or masters, got `{s}`")),
-        }
+        Self::ALL
+            .into_iter()
+            .find(|stage| stage.name() == s)
+            .ok_or_else(|| format!("expected lit, masters, interpolated, lod or shadow, got `{s}`"))
     }
 }
 

@@ -13,7 +13,7 @@ use ash::vk;
 use super::graph::{uses, Attachments, FrameContext, Pass, Resource, Use};
 use super::pipeline::{graphics_pipeline, Blend, ColourAttachment, DepthAttachment, GraphicsDesc};
 use super::target::{sample_flag, COLOR_FORMAT, DEPTH_FORMAT};
-use super::uniforms::{FrameSettings, FurStyle, Primitive, Shading};
+use super::uniforms::{FrameSettings, FurStyle, Primitive, Shading, Stage};
 use super::LightingModel;
 use crate::error::Result;
 use crate::gpu::{Access, Device, Pipeline, PipelineLayout, ShaderModule};
@@ -31,6 +31,8 @@ pub struct Variant {
     pub caster: bool,
     /// How the hair is lit.
     pub model: LightingModel,
+    /// The stage view it draws (`Stage::code`: 0 lit).
+    pub view: u32,
 }
 
 impl Variant {
@@ -42,6 +44,7 @@ impl Variant {
         shadows: false,
         caster: true,
         model: LightingModel::KajiyaKay,
+        view: 0,
     };
 }
 
@@ -84,12 +87,15 @@ impl FurPass {
     }
 
     /// The forms `style` draws with hairs `root_px` pixels wide at the root (the range
-    /// over the model), lit by `model`: ribbons first, then the blended lines over them.
+    /// over the model), lit by `model` or coloured by the stage view `stage`: ribbons
+    /// first, then the blended lines over them. A stage view is unlit and unshadowed,
+    /// its colour made per vertex.
     pub fn variants(
         style: &FurStyle,
-        (shadows, model): (bool, LightingModel),
+        (shadows, model, stage): (bool, LightingModel, Stage),
         root_px: (f32, f32),
     ) -> Vec<Variant> {
+        let view = stage.code();
         let (lines, ribbons) = match style.primitive {
             Primitive::Lines => (true, false),
             Primitive::Ribbons => (false, true),
@@ -103,11 +109,21 @@ impl FurPass {
             .filter(|(wanted, _)| *wanted)
             .map(|(_, lines)| Variant {
                 lines,
-                shading: style.shading,
+                shading: if view == 0 {
+                    style.shading
+                } else {
+                    Shading::Vertex
+                },
                 coverage: style.thin_hair_aa,
-                shadows,
+                // The shadow view shows the shadowing term: it reads the map.
+                shadows: shadows && (view == 0 || stage == Stage::Shadow),
                 caster: false,
-                model,
+                model: if view == 0 {
+                    model
+                } else {
+                    LightingModel::KajiyaKay
+                },
+                view,
             })
             .collect()
     }
@@ -179,6 +195,7 @@ impl FurPass {
             ("SHADOWS", flag(variant.shadows)),
             ("MARSCHNER", flag(variant.model == LightingModel::Marschner)),
             ("COVERAGE_SAMPLES", coverage_samples.to_string()),
+            ("STAGE_VIEW", variant.view.to_string()),
         ];
         common.extend(shared.iter().cloned());
         let mut geometry_defines = vec![
@@ -223,7 +240,11 @@ impl FurPass {
                 variant.model.label(),
                 if variant.coverage { ", coverage" } else { "" },
                 if variant.shadows { ", shadows" } else { "" },
-            )
+            ) + if variant.view == 0 {
+                ""
+            } else {
+                ", stage view"
+            }
         };
         let mut stages = vec![
             (vk::ShaderStageFlags::VERTEX, &vert),
@@ -316,7 +337,6 @@ impl Pass for FurPass {
         if !frame.settings.draw_fur {
             return;
         }
-        frame.bind_sets(cmd, frame.slot.sets[frame.current]);
         self.draw(frame.device, cmd, frame.index_count, &frame.slot.variants);
     }
 }

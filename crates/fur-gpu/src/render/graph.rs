@@ -104,9 +104,12 @@ pub struct FrameContext<'a> {
 }
 
 impl FrameContext<'_> {
-    /// Binds `frame_set` (the camera's or the light's view of this frame) and the
-    /// body's set for the graphics pipelines.
-    pub fn bind_sets(&self, cmd: vk::CommandBuffer, frame_set: vk::DescriptorSet) {
+    /// Binds the frame set of `view` and the body's set for the graphics pipelines.
+    fn bind_sets(&self, cmd: vk::CommandBuffer, view: View) {
+        let frame_set = match view {
+            View::Camera => self.slot.sets[self.current],
+            View::Light => self.slot.light_sets[self.current],
+        };
         let mut sets = [vk::DescriptorSet::null(); 2];
         sets[SET_FRAME as usize] = frame_set;
         sets[SET_BODY as usize] = self.body_set;
@@ -168,12 +171,25 @@ impl FrameContext<'_> {
     }
 }
 
+/// Whose view of the frame a pass draws, which decides its frame set: the camera's
+/// uniforms or the light's.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum View {
+    Camera,
+    Light,
+}
+
 /// A unit of a frame: what it draws into, what else it uses, how it records.
 pub trait Pass {
     /// Its name, as debug labels and timings show it.
     fn name(&self) -> &'static str;
     /// Where it draws.
     fn attachments(&self) -> Attachments;
+    /// Whose view it draws; [`record_frame`] binds the frame set of that view and the
+    /// body's set before the pass, unless they are bound already.
+    fn view(&self) -> View {
+        View::Camera
+    }
     /// What it reads and writes besides its attachments, this frame.
     fn uses(&self, frame: &FrameContext<'_>) -> Vec<Use>;
     /// Records its commands (inside its rendering scope when it has attachments).
@@ -202,6 +218,7 @@ pub fn record_frame(
     event: &mut dyn FnMut(Event),
 ) {
     let mut tracker = Tracker::new(frame.initial_states());
+    let mut bound: Option<View> = None;
     let mut i = 0;
     while i < passes.len() {
         let attachments = passes[i].attachments();
@@ -227,6 +244,12 @@ pub fn record_frame(
             event(Event::ScopeOpened(attachments));
         }
         for pass in group {
+            // Sets stay bound across passes (and scopes) of the same view: rebinding
+            // between draws costs a binning rasteriser a flush of its state.
+            if attachments != Attachments::None && bound != Some(pass.view()) {
+                frame.bind_sets(cmd, pass.view());
+                bound = Some(pass.view());
+            }
             frame.device.begin_label(cmd, pass.name());
             pass.record(frame, cmd);
             frame.device.end_label(cmd);

@@ -89,7 +89,6 @@ impl Pass for MastersPass {
         let Some((_, pipeline)) = self.pipelines.iter().find(|(s, _)| *s == samples) else {
             return;
         };
-        frame.bind_sets(cmd, frame.slot.sets[frame.current]);
         // SAFETY: recording inside the target's scope; the pipeline was built for its
         // sample count and lives as long as the pass.
         unsafe {

@@ -241,12 +241,11 @@ impl Pass for MeshPass {
         list
     }
 
-    /// Binds the frame's set, the indices and the vertices, and draws the skin when
-    /// the frame asks for it. It opens the target's scope either way (the fur pass
+    /// Binds the indices and the vertices (the graph has bound the sets), and draws the
+    /// skin when the frame asks for it. It opens the target's scope either way (the fur pass
     /// follows in it).
     fn record(&self, frame: &FrameContext<'_>, cmd: vk::CommandBuffer) {
         let device = frame.device;
-        frame.bind_sets(cmd, frame.slot.sets[frame.current]);
         // SAFETY: recording inside the target's scope; the index buffer belongs to the
         // renderer, which outlives the frame.
         unsafe {

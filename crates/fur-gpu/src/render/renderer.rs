@@ -324,14 +324,24 @@ impl Renderer {
             self.set_samples(settings.style.samples)?;
         }
         // The fur casts shadows even when it is not drawn (the skin shows them); the
-        // masters view draws no fur, hence no shadows of it.
-        let lit = settings.show == Stage::Lit;
-        let shadows = settings.lighting.shadows.enabled && lit;
+        // stage views are unlit and unshadowed but for the shadow view, which draws
+        // shadows whatever the scene says.
+        let forced;
+        let settings = if settings.show == Stage::Shadow && !settings.lighting.shadows.enabled {
+            let mut s = settings.clone();
+            s.lighting.shadows.enabled = true;
+            forced = s;
+            &forced
+        } else {
+            settings
+        };
+        let shadows = settings.lighting.shadows.enabled
+            && matches!(settings.show, Stage::Lit | Stage::Shadow);
         let mut variants = Vec::new();
-        if lit {
+        if settings.show.draws_fur() {
             variants = FurPass::variants(
                 &settings.style,
-                (shadows, settings.lighting.model),
+                (shadows, settings.lighting.model, settings.show),
                 FurPass::root_pixel_range(settings, self.bounds, self.target.extent.height),
             );
             self.fur_pass.prepare(&self.pipeline_layout, &variants)?;
@@ -385,16 +395,17 @@ impl Renderer {
     /// scope. Only what the frame needs is in the list.
     fn passes(&self, settings: &FrameSettings, shadows: bool) -> Vec<&dyn Pass> {
         let mut passes: Vec<&dyn Pass> = Vec::new();
-        if settings.count_hairs && settings.show == Stage::Lit {
+        if settings.count_hairs && settings.show.draws_fur() {
             passes.push(&record::CounterReset);
         }
         if shadows {
             passes.push(&self.shadow_pass);
         }
         passes.push(&self.mesh_pass);
-        match settings.show {
-            Stage::Lit => passes.push(&self.fur_pass),
-            Stage::Masters => passes.push(&self.masters_pass),
+        if settings.show.draws_fur() {
+            passes.push(&self.fur_pass);
+        } else {
+            passes.push(&self.masters_pass);
         }
         passes
     }
@@ -416,7 +427,7 @@ impl Renderer {
             _ => None,
         };
         // The master hairs' view draws no interpolated hairs and counts none.
-        let counted = settings.count_hairs && settings.show == Stage::Lit;
+        let counted = settings.count_hairs && settings.show.draws_fur();
         let counts = (counted && self.device.info.vertex_pipeline_stores).then(|| {
             let words: &[u32] = bytemuck::cast_slice(&frame.counters.mapped()[..8]);
             HairCounts {

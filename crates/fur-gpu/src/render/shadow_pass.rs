@@ -13,7 +13,7 @@ use ash::vk;
 use glam::{Mat4, Vec3};
 
 use super::fur_pass::{hair_uses, FurPass, Variant};
-use super::graph::{Attachments, FrameContext, Pass, Use};
+use super::graph::{Attachments, FrameContext, Pass, Use, View};
 use super::uniforms::{FrameSettings, FrameUniforms, FLAG_COUNT};
 use crate::error::Result;
 use crate::gpu::{Device, PipelineLayout};
@@ -108,14 +108,17 @@ impl Pass for ShadowPass {
         Attachments::ShadowMap
     }
 
+    fn view(&self) -> View {
+        View::Light
+    }
+
     fn uses(&self, _frame: &FrameContext<'_>) -> Vec<Use> {
         hair_uses(self.casters.skinned())
     }
 
-    /// Draws the fur's caster form with the light's uniforms. The fur reads its
-    /// triangles from a storage buffer: no vertex or index buffers to bind.
+    /// Draws the fur's caster form (the graph has bound the light's sets). The fur reads
+    /// its triangles from a storage buffer: no vertex or index buffers to bind.
     fn record(&self, frame: &FrameContext<'_>, cmd: vk::CommandBuffer) {
-        frame.bind_sets(cmd, frame.slot.light_sets[frame.current]);
         self.casters
             .draw(frame.device, cmd, frame.index_count, &[Variant::CASTER]);
     }

@@ -31,10 +31,13 @@ pub const IMAGE: Group = Group {
             key: "show",
             flag: Flag::Long("show"),
             label: "show",
-            help: "Which stage of the pipeline the image shows: `lit` (the final image) or \
+            help: "Which stage of the pipeline the image shows: `lit` (the final image), \
                    `masters` (only the master hairs, as lines coloured by master index, with \
-                   the body)",
-            kind: Kind::Choice(&["lit", "masters"]),
+                   the body), `interpolated` (every hair unlit, a flat colour per source \
+                   triangle), `lod` (hue: the share of segments the vertex LOD keeps, red \
+                   all to blue one; darker where the density LOD thins the hairs) or \
+                   `shadow` (every hair in grey by the self-shadowing term alone)",
+            kind: Kind::Choice(&["lit", "masters", "interpolated", "lod", "shadow"]),
             panel: Panel::Plain,
             ..field!(options.show)
         },

@@ -254,6 +254,47 @@ fn the_interpolated_view_paints_each_hair_in_its_triangles_colour() {
     );
 }
 
+/// The ownership view paints each hair in the colour of the triangle that draws it,
+/// dimmed inside the triangle, bright on an edge, white at a corner: nearly every fur
+/// pixel is one of those, and all three kinds of point show.
+#[test]
+fn the_ownership_view_tells_interior_edge_and_corner_points_apart() {
+    let (image, indices) = standing_hairs(Stage::Ownership, FurStyle::default(), side_camera(2.0));
+    let bright: Vec<[f32; 3]> = indices
+        .chunks_exact(3)
+        .map(|t| {
+            let seed = hash_u32(t[0] ^ hash_u32(t[1] ^ hash_u32(t[2])));
+            hue((hash_u32(seed) >> 8) as f32 / 16_777_216.0)
+        })
+        .collect();
+    let edge: Vec<[u8; 3]> = bright.iter().map(|c| srgb(*c)).collect();
+    let inside: Vec<[u8; 3]> = bright.iter().map(|c| srgb(c.map(|v| 0.3 * v))).collect();
+    let pixels = fur_pixels(&image);
+    let (mut corners, mut edges, mut interiors) = (0, 0, 0);
+    for p in &pixels {
+        if p.iter().all(|c| *c >= 253) {
+            corners += 1;
+        } else if edge.iter().any(|c| near(*p, *c, 2)) {
+            edges += 1;
+        } else if inside.iter().any(|c| near(*p, *c, 2)) {
+            interiors += 1;
+        }
+    }
+    let classified = corners + edges + interiors;
+    if classified * 100 < pixels.len() * 98 {
+        common::keep(&image, "ownership_view");
+    }
+    assert!(
+        classified * 100 >= pixels.len() * 98,
+        "{classified} of {} pixels classified ({corners} corner, {edges} edge, {interiors} interior)",
+        pixels.len()
+    );
+    assert!(
+        corners > 0 && edges > corners && interiors > edges,
+        "{corners} corner, {edges} edge, {interiors} interior pixels"
+    );
+}
+
 /// The LOD view: with every segment kept and every hair drawn, the fur is pure red;
 /// when the vertex LOD leaves the straight hairs one segment each, blue; and where the
 /// density LOD draws a quarter of the hairs, red at the brightness

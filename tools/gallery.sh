@@ -21,6 +21,9 @@ shot() {
 for stage in masters interpolated lod shadow lit; do
     shot "$stage" --show "$stage"
 done
+# Ownership at four times the density: triangles with points inside as well as on
+# their edges.
+shot ownership --show ownership --density-scale 4
 # Try this: one parameter changed, one stage shown.
 shot masters-comb --show masters --comb 0
 shot interpolated-dense --show interpolated --density-scale 3

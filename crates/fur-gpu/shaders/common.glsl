@@ -24,8 +24,8 @@
 #ifndef COVERAGE_SAMPLES
 #define COVERAGE_SAMPLES 0
 #endif
-// The stage view (`--show`): 0 lit (the final image), STAGE_INTERPOLATED, STAGE_LOD or
-// STAGE_SHADOW
+// The stage view (`--show`): 0 lit (the final image), STAGE_INTERPOLATED, STAGE_LOD,
+// STAGE_SHADOW or STAGE_OWNERSHIP
 // (crates/fur-core/src/render/uniforms.rs: Stage::code).
 #ifndef STAGE_VIEW
 #define STAGE_VIEW 0
@@ -33,6 +33,7 @@
 #define STAGE_INTERPOLATED 1
 #define STAGE_LOD 2
 #define STAGE_SHADOW 3
+#define STAGE_OWNERSHIP 4
 
 layout(set = SET_FRAME, binding = B_FRAME_UNIFORMS, std140) uniform Frame {
     mat4 view_proj;

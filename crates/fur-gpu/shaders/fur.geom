@@ -260,9 +260,17 @@ void main() {
 #endif
     }
 #endif
-#if STAGE_VIEW == STAGE_INTERPOLATED
+#if STAGE_VIEW == STAGE_INTERPOLATED || STAGE_VIEW == STAGE_OWNERSHIP
     // Flat per source triangle: its three master hairs name it.
     view_colour = hue(hash_unit(hash_u32(h.x ^ hash_u32(h.y ^ hash_u32(h.z)))));
+#if STAGE_VIEW == STAGE_OWNERSHIP
+    // Where the point lies, from its barycentric coordinates (exact zeros on the
+    // patch's edges): inside dim, on an edge bright, at a corner white. Only the
+    // owner of a shared edge or corner draws its points, so the colour there is the
+    // owner's.
+    uint zeros = uint(b.x == 0.0) + uint(b.y == 0.0) + uint(b.z == 0.0);
+    view_colour = zeros >= 2u ? vec3(1.0) : zeros == 1u ? view_colour : 0.3 * view_colour;
+#endif
 #elif STAGE_VIEW == STAGE_LOD
     // Hue: the share of the strand's segments the vertex LOD keeps (red all, through
     // yellow and green, to blue for one); brightness: the density LOD's thinning here

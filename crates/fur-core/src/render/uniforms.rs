@@ -63,16 +63,22 @@ pub enum Stage {
     /// of the light the deep-shadow map lets through to each point (white: lit, black:
     /// deep in the fur). The shadow pass runs whatever the scene's shadow setting.
     Shadow,
+    /// Every interpolated hair in the colour of the triangle that draws it, by where
+    /// its point lies: dim inside the triangle, bright on an edge (a shared edge's
+    /// points are drawn by its owner only), white at a corner (drawn by one owner
+    /// among the triangles around it).
+    Ownership,
 }
 
 impl Stage {
     /// Every stage view, in the order the viewer's number keys and the docs list them.
-    pub const ALL: [Stage; 5] = [
+    pub const ALL: [Stage; 6] = [
         Stage::Lit,
         Stage::Masters,
         Stage::Interpolated,
         Stage::Lod,
         Stage::Shadow,
+        Stage::Ownership,
     ];
 
     pub fn name(self) -> &'static str {
@@ -82,6 +88,7 @@ impl Stage {
             Self::Interpolated => "interpolated",
             Self::Lod => "lod",
             Self::Shadow => "shadow",
+            Self::Ownership => "ownership",
         }
     }
 
@@ -93,6 +100,7 @@ impl Stage {
             Self::Interpolated => 1,
             Self::Lod => 2,
             Self::Shadow => 3,
+            Self::Ownership => 4,
         }
     }
 
@@ -109,7 +117,9 @@ impl std::str::FromStr for Stage {
         Self::ALL
             .into_iter()
             .find(|stage| stage.name() == s)
-            .ok_or_else(|| format!("expected lit, masters, interpolated, lod or shadow, got `{s}`"))
+            .ok_or_else(|| {
+                format!("expected lit, masters, interpolated, lod, shadow or ownership, got `{s}`")
+            })
     }
 }
 

@@ -35,9 +35,18 @@ pub const IMAGE: Group = Group {
                    `masters` (only the master hairs, as lines coloured by master index, with \
                    the body), `interpolated` (every hair unlit, a flat colour per source \
                    triangle), `lod` (hue: the share of segments the vertex LOD keeps, red \
-                   all to blue one; darker where the density LOD thins the hairs) or \
-                   `shadow` (every hair in grey by the self-shadowing term alone)",
-            kind: Kind::Choice(&["lit", "masters", "interpolated", "lod", "shadow"]),
+                   all to blue one; darker where the density LOD thins the hairs), \
+                   `shadow` (every hair in grey by the self-shadowing term alone) or \
+                   `ownership` (each hair in its drawing triangle's colour: dim inside, \
+                   bright on an edge, white at a corner)",
+            kind: Kind::Choice(&[
+                "lit",
+                "masters",
+                "interpolated",
+                "lod",
+                "shadow",
+                "ownership",
+            ]),
             panel: Panel::Plain,
             ..field!(options.show)
         },

@@ -137,7 +137,7 @@ fn srgb(linear: [f32; 3]) -> [u8; 3] {
 
 /// Draws the standing hairs (no skin) as opaque ribbons at one sample per pixel, so
 /// every fur pixel is exactly one hair's colour, in stage view `show` with `style`.
-fn standing_hairs(show: Stage, style: FurStyle, camera: Camera) -> (RgbaImage, Vec<u32>) {
+fn standing_hairs(show: Stage, style: FurStyle, camera: Camera) -> (RgbaImage, Vec<u32>, u64) {
     standing_hairs_lit(show, style, camera, Lighting::default())
 }
 
@@ -147,7 +147,7 @@ fn standing_hairs_lit(
     style: FurStyle,
     camera: Camera,
     lighting: Lighting,
-) -> (RgbaImage, Vec<u32>) {
+) -> (RgbaImage, Vec<u32>, u64) {
     let device = common::device();
     let (mesh, groom) = common::standing_hairs_scene();
     let settings = FrameSettings {
@@ -161,6 +161,7 @@ fn standing_hairs_lit(
         lighting,
         show,
         draw_mesh: false,
+        count_hairs: true,
         ..Default::default()
     };
     let strands = Strands::grow(&mesh, &groom).unwrap();
@@ -170,9 +171,10 @@ fn standing_hairs_lit(
         height: SIZE.1,
     };
     let mut renderer = Renderer::new(&device, &mesh, &textures, extent, 1, 1).unwrap();
-    let (image, _) = renderer.render(&textures, &settings).unwrap();
+    let (image, report) = renderer.render(&textures, &settings).unwrap();
     common::assert_clean(&device);
-    (image, mesh.indices)
+    let counts = report.counts.expect("lavapipe counts hairs");
+    (image, mesh.indices, counts.hairs)
 }
 
 fn side_camera(distance: f32) -> Camera {
@@ -205,10 +207,10 @@ fn near(a: [u8; 3], b: [u8; 3], tolerance: u8) -> bool {
 /// The interpolated view paints every hair in its source triangle's colour (the GLSL
 /// hash of the triangle's three master hairs, worked out here on the CPU): nearly every
 /// fur pixel is one of those colours, and many triangles' colours show. The lit image
-/// has none of them.
+/// has none of them, and both draw the same hairs.
 #[test]
 fn the_interpolated_view_paints_each_hair_in_its_triangles_colour() {
-    let (image, indices) =
+    let (image, indices, hairs) =
         standing_hairs(Stage::Interpolated, FurStyle::default(), side_camera(2.0));
     let colours: Vec<[u8; 3]> = indices
         .chunks_exact(3)
@@ -243,7 +245,11 @@ fn the_interpolated_view_paints_each_hair_in_its_triangles_colour() {
         "{triangles} of {} triangles' colours seen",
         colours.len()
     );
-    let (lit, _) = standing_hairs(Stage::Lit, FurStyle::default(), side_camera(2.0));
+    let (lit, _, lit_hairs) = standing_hairs(Stage::Lit, FurStyle::default(), side_camera(2.0));
+    assert_eq!(
+        hairs, lit_hairs,
+        "the interpolated view draws the lit image's hairs"
+    );
     let lit_matched = fur_pixels(&lit)
         .iter()
         .filter(|p| colours.iter().any(|c| near(**p, *c, 2)))
@@ -259,7 +265,8 @@ fn the_interpolated_view_paints_each_hair_in_its_triangles_colour() {
 /// pixel is one of those, and all three kinds of point show.
 #[test]
 fn the_ownership_view_tells_interior_edge_and_corner_points_apart() {
-    let (image, indices) = standing_hairs(Stage::Ownership, FurStyle::default(), side_camera(2.0));
+    let (image, indices, _) =
+        standing_hairs(Stage::Ownership, FurStyle::default(), side_camera(2.0));
     let bright: Vec<[f32; 3]> = indices
         .chunks_exact(3)
         .map(|t| {
@@ -306,7 +313,7 @@ fn the_lod_view_colours_hairs_by_segments_kept_and_density_thinned() {
         lod_distance: 100.0,
         ..Default::default()
     };
-    let (image, _) = standing_hairs(Stage::Lod, full.clone(), side_camera(2.0));
+    let (image, _, _) = standing_hairs(Stage::Lod, full.clone(), side_camera(2.0));
     let pixels = fur_pixels(&image);
     let red = srgb(hue(0.0));
     let reds = pixels.iter().filter(|p| near(**p, red, 2)).count();
@@ -320,7 +327,7 @@ fn the_lod_view_colours_hairs_by_segments_kept_and_density_thinned() {
         vertex_lod_px: 2.0,
         ..full.clone()
     };
-    let (image, _) = standing_hairs(Stage::Lod, one_segment, side_camera(2.0));
+    let (image, _, _) = standing_hairs(Stage::Lod, one_segment, side_camera(2.0));
     let pixels = fur_pixels(&image);
     let blue = srgb(hue(0.66));
     let blues = pixels.iter().filter(|p| near(**p, blue, 2)).count();
@@ -337,7 +344,7 @@ fn the_lod_view_colours_hairs_by_segments_kept_and_density_thinned() {
         lod_distance: 3.0,
         ..full
     };
-    let (image, _) = standing_hairs(Stage::Lod, thinned, camera);
+    let (image, _, _) = standing_hairs(Stage::Lod, thinned, camera);
     let mut reds: Vec<u8> = fur_pixels(&image)
         .iter()
         .filter(|p| p[1] < 8 && p[2] < 8)
@@ -370,7 +377,7 @@ fn the_shadow_view_shows_the_light_falling_into_the_fur() {
         l.shadows.opacity = opacity;
         l
     };
-    let (image, _) = standing_hairs_lit(
+    let (image, _, _) = standing_hairs_lit(
         Stage::Shadow,
         FurStyle::default(),
         side_camera(2.0),
@@ -405,7 +412,7 @@ fn the_shadow_view_shows_the_light_falling_into_the_fur() {
         top >= bottom + 40.0,
         "the tips' rows average {top:.0}, the roots' {bottom:.0}"
     );
-    let (clear, _) = standing_hairs_lit(
+    let (clear, _, _) = standing_hairs_lit(
         Stage::Shadow,
         FurStyle::default(),
         side_camera(2.0),

@@ -14,11 +14,7 @@ use ash::vk;
 use super::bindings::{
     write_body_set, write_shadow_map, BodyBinding, BodyResources, FrameBinding, SET_BODY, SET_FRAME,
 };
-use super::fur_pass::FurPass;
 use super::graph::Pass;
-use super::masters_pass::MastersPass;
-use super::mesh_pass::MeshPass;
-use super::shadow_pass::{LightView, ShadowPass};
 use super::slot::{RenderSlot, TIMESTAMPS, TS_FRAME, TS_FUR, TS_MESH, TS_START};
 use super::target::{check_samples, RenderTarget};
 use super::texture::{GpuTexture, ShadowMap};
@@ -31,9 +27,23 @@ use crate::gpu::{
 };
 use crate::scene::{Mesh, Texture};
 use crate::strand_textures::StrandTextures;
+use fur_pass::FurPass;
+use masters_pass::MastersPass;
+use mesh_pass::MeshPass;
+use shadow_pass::{LightView, ShadowPass};
 
 mod capture;
 mod record;
+
+// The frame's passes: each a module here, built and listed by the renderer
+// (`Renderer::passes`).
+mod fur_pass;
+mod masters_pass;
+mod mesh_pass;
+mod shadow_pass;
+
+pub use fur_pass::Variant;
+pub use shadow_pass::CASTER_DENSITY;
 
 pub use capture::{CapturedHairs, MAX_CAPTURE_BYTES};
 

@@ -6,7 +6,7 @@ use std::sync::Arc;
 use ash::vk;
 
 use super::bindings::write_frame_set;
-use super::fur_pass::Variant;
+use super::renderer::Variant;
 use super::texture::ShadowMap;
 use super::uniforms::FrameUniforms;
 use crate::error::Result;

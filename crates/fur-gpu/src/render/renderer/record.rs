@@ -4,8 +4,8 @@
 use super::super::graph::{
     record_frame, uses, Attachments, Event, FrameContext, Pass, Resource, Use,
 };
-use super::super::masters_pass::MastersPass;
 use super::super::slot::COUNTERS_BYTES;
+use super::masters_pass::MastersPass;
 use super::*;
 use crate::gpu::Access;
 

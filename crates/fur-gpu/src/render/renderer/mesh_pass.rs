@@ -7,9 +7,11 @@ use std::sync::Arc;
 use ash::vk;
 use glam::{Vec2, Vec3};
 
-use super::graph::{uses, Attachments, FrameContext, Pass, Resource, Use};
-use super::pipeline::{graphics_pipeline, Blend, ColourAttachment, DepthAttachment, GraphicsDesc};
-use super::target::{sample_flag, COLOR_FORMAT, DEPTH_FORMAT};
+use super::super::graph::{uses, Attachments, FrameContext, Pass, Resource, Use};
+use super::super::pipeline::{
+    graphics_pipeline, Blend, ColourAttachment, DepthAttachment, GraphicsDesc,
+};
+use super::super::target::{sample_flag, COLOR_FORMAT, DEPTH_FORMAT};
 use crate::error::Result;
 use crate::gpu::{Access, Buffer, Device, Pipeline, PipelineLayout, ShaderModule};
 use crate::scene::Mesh;
@@ -129,7 +131,7 @@ impl MeshPass {
             ("SHADOWS", flag(shadows)),
             ("BODY_SKINNED", flag(skinned)),
         ];
-        defines.extend(super::bindings::render_defines());
+        defines.extend(super::super::bindings::render_defines());
         let vert = ShaderModule::new(device, "mesh.vert", &defines)?;
         let frag = ShaderModule::new(device, "mesh.frag", &defines)?;
         let stride = std::mem::size_of::<MeshVertex>() as u32;

@@ -12,9 +12,9 @@ use std::sync::Arc;
 use ash::vk;
 use glam::{Mat4, Vec3};
 
+use super::super::graph::{Attachments, FrameContext, Pass, Use, View};
+use super::super::uniforms::{FrameSettings, FrameUniforms, FLAG_COUNT};
 use super::fur_pass::{hair_uses, FurPass, Variant};
-use super::graph::{Attachments, FrameContext, Pass, Use, View};
-use super::uniforms::{FrameSettings, FrameUniforms, FLAG_COUNT};
 use crate::error::Result;
 use crate::gpu::{Device, PipelineLayout};
 

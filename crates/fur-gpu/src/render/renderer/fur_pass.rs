@@ -10,11 +10,13 @@ use std::sync::Arc;
 
 use ash::vk;
 
-use super::graph::{uses, Attachments, FrameContext, Pass, Resource, Use};
-use super::pipeline::{graphics_pipeline, Blend, ColourAttachment, DepthAttachment, GraphicsDesc};
-use super::target::{sample_flag, COLOR_FORMAT, DEPTH_FORMAT};
-use super::uniforms::{FrameSettings, FurStyle, Primitive, Shading, Stage};
-use super::LightingModel;
+use super::super::graph::{uses, Attachments, FrameContext, Pass, Resource, Use};
+use super::super::pipeline::{
+    graphics_pipeline, Blend, ColourAttachment, DepthAttachment, GraphicsDesc,
+};
+use super::super::target::{sample_flag, COLOR_FORMAT, DEPTH_FORMAT};
+use super::super::uniforms::{FrameSettings, FurStyle, Primitive, Shading, Stage};
+use super::super::LightingModel;
 use crate::error::Result;
 use crate::gpu::{Access, Device, Pipeline, PipelineLayout, ShaderModule};
 
@@ -188,7 +190,7 @@ impl FurPass {
         } else {
             0
         };
-        let shared = super::bindings::render_defines();
+        let shared = super::super::bindings::render_defines();
         let mut common = vec![
             ("VERTEX_SHADING", flag(variant.shading == Shading::Vertex)),
             ("TEXTURED", textured.clone()),

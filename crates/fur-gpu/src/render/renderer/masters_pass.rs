@@ -7,9 +7,11 @@ use std::sync::Arc;
 
 use ash::vk;
 
-use super::graph::{uses, Attachments, FrameContext, Pass, Resource, Use};
-use super::pipeline::{graphics_pipeline, Blend, ColourAttachment, DepthAttachment, GraphicsDesc};
-use super::target::{sample_flag, COLOR_FORMAT, DEPTH_FORMAT};
+use super::super::graph::{uses, Attachments, FrameContext, Pass, Resource, Use};
+use super::super::pipeline::{
+    graphics_pipeline, Blend, ColourAttachment, DepthAttachment, GraphicsDesc,
+};
+use super::super::target::{sample_flag, COLOR_FORMAT, DEPTH_FORMAT};
 use crate::error::Result;
 use crate::gpu::{Access, Device, Pipeline, PipelineLayout, ShaderModule};
 use crate::strand_textures::StrandLayout;
@@ -41,7 +43,7 @@ impl MastersPass {
         if self.pipelines.iter().any(|(s, _)| *s == samples) {
             return Ok(());
         }
-        let defines = super::bindings::render_defines();
+        let defines = super::super::bindings::render_defines();
         let vert = ShaderModule::new(&self.device, "masters.vert", &defines)?;
         let frag = ShaderModule::new(&self.device, "masters.frag", &defines)?;
         let pipeline = graphics_pipeline(

@@ -68,8 +68,9 @@ pub(super) fn render(args: &RenderArgs) -> anyhow::Result<()> {
             .counts
             .map(|c| {
                 format!(
-                    ", {} hairs drawn in {} segments (points shared by two triangles are drawn once)",
-                    c.hairs, c.segments
+                    ", {} hairs drawn in {} segments (points shared by two triangles are drawn \
+                     once), {} triangles culled",
+                    c.hairs, c.segments, c.triangles_culled
                 )
             })
             .unwrap_or_default();

@@ -247,12 +247,17 @@ fn hair_count_grows_as_the_camera_approaches_and_culled_triangles_cost_nothing()
         },
         ..Default::default()
     };
-    let (_, stats, _) = common::render(&device, &mesh, &groom, &away, (96, 96));
+    let (_, stats, counted) = common::render(&device, &mesh, &groom, &away, (96, 96));
     let stats = common::statistics(stats);
     assert_eq!(stats.patches, mesh.triangle_count() as u64);
     assert_eq!(
         stats.tess_eval_invocations, 0,
         "off-screen triangles generated hairs"
+    );
+    assert_eq!(
+        counted.triangles_culled,
+        mesh.triangle_count() as u64,
+        "every off-screen triangle is counted as culled"
     );
 
     // A flat patch of fur seen from behind: back-facing, culled.
@@ -262,16 +267,20 @@ fn hair_count_grows_as_the_camera_approaches_and_culled_triangles_cost_nothing()
         distance: 2.0,
         ..Default::default()
     };
-    let (_, from_below, _) = common::render(&device, &plane, &groom, &away, (96, 96));
+    let (_, from_below, below) = common::render(&device, &plane, &groom, &away, (96, 96));
     let from_below = common::statistics(from_below);
     away.camera.pitch_deg = 60.0;
-    let (_, from_above, _) = common::render(&device, &plane, &groom, &away, (96, 96));
+    let (_, from_above, above) = common::render(&device, &plane, &groom, &away, (96, 96));
     let from_above = common::statistics(from_above);
     assert_eq!(
         from_below.tess_eval_invocations, 0,
         "back-facing triangles generated hairs"
     );
     assert!(from_above.tess_eval_invocations > 0);
+    // The count of culled triangles (the viewer's HUD shows it) is every triangle from
+    // below and none from above, where the whole patch is in view.
+    assert_eq!(below.triangles_culled, plane.triangle_count() as u64);
+    assert_eq!(above.triangles_culled, 0);
     common::assert_clean(&device);
 }
 

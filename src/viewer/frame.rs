@@ -295,6 +295,7 @@ impl Viewer {
         if let Some(c) = timings.render.counts {
             self.hud.hairs = c.hairs;
             self.hud.segments = c.segments;
+            self.hud.culled = c.triangles_culled;
         }
         if let Some(path) = screenshot {
             self.session.renderer.target.pixels().write_png(&path)?;

@@ -239,6 +239,8 @@ pub(crate) struct Hud {
     pub sim_ms: f64,
     pub hairs: u64,
     pub segments: u64,
+    /// Triangles the tessellation control stage gave no hairs.
+    pub culled: u64,
     pub points: u64,
     pub masters: usize,
     /// The scene has a texture the panel can turn on.

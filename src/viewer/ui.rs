@@ -84,8 +84,9 @@ impl PanelState {
                 }
                 super::quality_ui::show(ui, hud, controls.quality_pin);
                 ui.label(format!(
-                    "{} master hairs, {} tessellated points, {} hairs drawn in {} segments",
-                    hud.masters, hud.points, hud.hairs, hud.segments
+                    "{} master hairs, {} tessellated points, {} hairs drawn in {} segments, \
+                     {} triangles culled",
+                    hud.masters, hud.points, hud.hairs, hud.segments, hud.culled
                 ));
                 ui.horizontal(|ui| {
                     ui.checkbox(controls.paused, "paused (space)");

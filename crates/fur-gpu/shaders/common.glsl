@@ -69,6 +69,22 @@ layout(set = SET_BODY, binding = B_OWNERSHIP, std430) readonly buffer Ownership 
     uint owner_mask[];
 };
 
+#if COUNT_HAIRS
+// What the fur pass drew (its geometry stage counts hairs and segments, its
+// tessellation control stage the triangles it culls). With a capture buffer bound
+// (`fur export-frame`; `captured` is empty otherwise), every counted hair is also
+// written out as drawn: per hair 2 · STRAND_VERTICES + 1 vec4s
+// (crates/fur-gpu/src/render/renderer/capture.rs reads them), in the order the atomic
+// hands out.
+layout(set = SET_FRAME, binding = B_HAIR_COUNTERS, std430) buffer Counters {
+    uint hairs_drawn;
+    uint segments_drawn;
+    uint triangles_culled;
+    uint unused;
+    vec4 captured[];
+} counters;
+#endif
+
 vec3 strand_vertex(uint strand, uint vertex) {
     return imageLoad(strand_positions, strand_texel(strand, vertex, frame.strands.x, frame.strands.y)).xyz;
 }

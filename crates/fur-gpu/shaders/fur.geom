@@ -62,19 +62,6 @@ layout(location = 4) flat out uint g_seed;        // the hair's, for its coverag
 #endif
 #endif
 
-#if COUNT_HAIRS
-// What the pass drew. With a capture buffer bound (`fur export-frame`; `captured` is
-// empty otherwise), every counted hair is also written out as drawn: per hair
-// 2 · STRAND_VERTICES + 1 vec4s (crates/fur-gpu/src/render/renderer/capture.rs reads them), in the order the
-// atomic hands out.
-layout(set = SET_FRAME, binding = B_HAIR_COUNTERS, std430) buffer Counters {
-    uint hairs_drawn;
-    uint segments_drawn;
-    uint unused0;
-    uint unused1;
-    vec4 captured[];
-} counters;
-#endif
 
 const uint V = uint(STRAND_VERTICES);
 #if TEXTURED && !SHADOW_CASTER

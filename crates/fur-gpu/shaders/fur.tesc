@@ -98,6 +98,11 @@ void main() {
         culled = facing < -frame.lod.w || outside_view(h0, h1, h2);
     }
     if (culled) {
+#if COUNT_HAIRS
+        if ((frame.strands.w & FLAG_COUNT) != 0u) {
+            atomicAdd(counters.triangles_culled, 1u);
+        }
+#endif
         gl_TessLevelOuter[0] = 0.0;
         gl_TessLevelOuter[1] = 0.0;
         gl_TessLevelOuter[2] = 0.0;

@@ -19,8 +19,9 @@ pub enum Access {
     /// Read as storage by the hair stages (vertex, tessellation control and evaluation,
     /// geometry): the strand positions, the posed body.
     HairStagesRead,
-    /// Read and written as storage by the geometry stage: the hair counters.
-    GeometryReadWrite,
+    /// Read and written as storage by the tessellation control and geometry stages:
+    /// the hair counters.
+    CounterStagesReadWrite,
     /// Written by a transfer command (a fill or a copy into it).
     TransferWrite,
     /// Read by a transfer command (a copy or a blit out of it).
@@ -46,7 +47,7 @@ impl Access {
                     | S::TESSELLATION_EVALUATION_SHADER
                     | S::GEOMETRY_SHADER
             }
-            Access::GeometryReadWrite => S::GEOMETRY_SHADER,
+            Access::CounterStagesReadWrite => S::TESSELLATION_CONTROL_SHADER | S::GEOMETRY_SHADER,
             Access::TransferWrite => S::ALL_TRANSFER,
             Access::TransferRead => S::COPY | S::BLIT,
             Access::DepthAttachment => S::EARLY_FRAGMENT_TESTS | S::LATE_FRAGMENT_TESTS,
@@ -61,7 +62,7 @@ impl Access {
         match self {
             Access::ComputeWrite => A::SHADER_STORAGE_WRITE | A::SHADER_STORAGE_READ,
             Access::HairStagesRead => A::SHADER_STORAGE_READ,
-            Access::GeometryReadWrite => A::SHADER_STORAGE_READ | A::SHADER_STORAGE_WRITE,
+            Access::CounterStagesReadWrite => A::SHADER_STORAGE_READ | A::SHADER_STORAGE_WRITE,
             Access::TransferWrite => A::TRANSFER_WRITE,
             Access::TransferRead => A::TRANSFER_READ,
             Access::DepthAttachment => {
@@ -86,7 +87,9 @@ impl Access {
     pub fn layout(self) -> vk::ImageLayout {
         use vk::ImageLayout as L;
         match self {
-            Access::ComputeWrite | Access::HairStagesRead | Access::GeometryReadWrite => L::GENERAL,
+            Access::ComputeWrite | Access::HairStagesRead | Access::CounterStagesReadWrite => {
+                L::GENERAL
+            }
             Access::TransferWrite => L::TRANSFER_DST_OPTIMAL,
             Access::TransferRead => L::TRANSFER_SRC_OPTIMAL,
             Access::DepthAttachment => L::DEPTH_ATTACHMENT_OPTIMAL,

@@ -64,8 +64,9 @@ bindings!(
         Uniforms = ("B_FRAME_UNIFORMS", UNIFORM_BUFFER, vk::ShaderStageFlags::ALL_GRAPHICS),
         /// The strand positions the simulation last wrote.
         Positions = ("B_STRAND_POSITIONS", STORAGE_IMAGE, HAIR_STAGES),
-        /// Hairs and segments drawn (and the capture behind them).
-        Counters = ("B_HAIR_COUNTERS", STORAGE_BUFFER, vk::ShaderStageFlags::GEOMETRY),
+        /// Hairs, segments and culled triangles counted (and the capture behind them).
+        Counters = ("B_HAIR_COUNTERS", STORAGE_BUFFER, vk::ShaderStageFlags::from_raw(
+            vk::ShaderStageFlags::TESSELLATION_CONTROL.as_raw() | vk::ShaderStageFlags::GEOMETRY.as_raw())),
         /// The shadow map (read by the frames with shadows).
         ShadowMap = ("B_SHADOW_MAP", COMBINED_IMAGE_SAMPLER, SHADING_STAGES),
     }

@@ -50,11 +50,14 @@ pub use capture::{CapturedHairs, MAX_CAPTURE_BYTES};
 /// The colour behind the model (linear RGB), where nothing is drawn.
 pub const BACKGROUND: glam::Vec3 = glam::Vec3::new(0.02, 0.025, 0.035);
 
-/// What the fur pass drew (counted by its geometry stage).
+/// What the fur pass drew (counted by its geometry stage) and culled (counted by its
+/// tessellation control stage).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct HairCounts {
     pub hairs: u64,
     pub segments: u64,
+    /// Triangles given no hairs: facing away past the cull margin, or off screen.
+    pub triangles_culled: u64,
 }
 
 /// What a rendered frame reports.
@@ -439,10 +442,11 @@ impl Renderer {
         // The master hairs' view draws no interpolated hairs and counts none.
         let counted = settings.count_hairs && settings.show.draws_fur();
         let counts = (counted && self.device.info.vertex_pipeline_stores).then(|| {
-            let words: &[u32] = bytemuck::cast_slice(&frame.counters.mapped()[..8]);
+            let words: &[u32] = bytemuck::cast_slice(&frame.counters.mapped()[..12]);
             HairCounts {
                 hairs: u64::from(words[0]),
                 segments: u64::from(words[1]),
+                triangles_culled: u64::from(words[2]),
             }
         });
         Ok(FrameReport {

@@ -21,8 +21,8 @@ pub(super) const TS_MESH: u32 = 2;
 pub(super) const TS_FUR: u32 = 3;
 pub(super) const TIMESTAMPS: u32 = 4;
 
-/// The counters' header: hairs drawn, segments drawn, two unused words (the capture
-/// that follows it in `shaders/fur.geom` is 16-byte aligned).
+/// The counters' header: hairs drawn, segments drawn, triangles culled, one unused word
+/// (the capture that follows it in `shaders/common.glsl` is 16-byte aligned).
 pub(super) const COUNTERS_BYTES: u64 = 16;
 
 /// The resources of one frame in flight.
@@ -32,7 +32,7 @@ pub(super) struct RenderSlot {
     pub(super) sets: [vk::DescriptorSet; 2],
     pub(super) timestamps: Option<QueryPool>,
     pub(super) statistics: Option<QueryPool>,
-    /// Hairs and segments drawn (two u32, then two unused), reset at the start of
+    /// Hairs and segments drawn and triangles culled (three u32, then one unused), reset at the start of
     /// every frame; `fur export-frame` swaps in a larger one that captures the hairs.
     pub(super) counters: Buffer,
     /// The fur pipelines this slot's frame draws, chosen by `update`.

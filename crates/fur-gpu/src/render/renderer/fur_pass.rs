@@ -210,6 +210,7 @@ impl FurPass {
         let device = &self.device;
         let vert = ShaderModule::new(device, "fur.vert", &shared)?;
         let mut tesc_defines = vec![
+            ("COUNT_HAIRS", flag(self.counts && !variant.caster)),
             ("BODY_SKINNED", flag(self.skinned)),
             ("TEXTURED", textured.clone()),
         ];
@@ -327,7 +328,7 @@ impl Pass for FurPass {
     fn uses(&self, frame: &FrameContext<'_>) -> Vec<Use> {
         let mut list = hair_uses(self.skinned);
         if frame.settings.count_hairs {
-            list.push(uses(Resource::Counters, Access::GeometryReadWrite));
+            list.push(uses(Resource::Counters, Access::CounterStagesReadWrite));
         }
         if frame.slot.shadows {
             list.push(uses(Resource::ShadowMap, Access::ShadingSampled));

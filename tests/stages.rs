@@ -5,12 +5,31 @@ mod common;
 
 use ash::vk;
 use fur::colour::linear_to_srgb8;
-use fur::render::{FrameSettings, FurStyle, Lighting, Primitive, Renderer, RgbaImage, Stage};
+use fur::render::{
+    FrameReport, FrameSettings, FurStyle, Lighting, Primitive, Renderer, RgbaImage, Stage,
+};
 use fur::scene::{Camera, GroomParams, Mesh, Strands};
 use fur::strand_textures::StrandTextures;
 use glam::{Vec3, Vec4Swizzles};
 
 const SIZE: (u32, u32) = (256, 192);
+
+/// Draws `strands` on `mesh` once, at `SIZE` and one frame in flight.
+fn draw(
+    device: &std::sync::Arc<fur::gpu::Device>,
+    mesh: &Mesh,
+    strands: &Strands,
+    settings: &FrameSettings,
+) -> (RgbaImage, FrameReport) {
+    let textures = StrandTextures::new(device, strands, settings.head).unwrap();
+    let extent = vk::Extent2D {
+        width: SIZE.0,
+        height: SIZE.1,
+    };
+    let samples = settings.style.samples;
+    let mut renderer = Renderer::new(device, mesh, &textures, extent, 1, samples).unwrap();
+    renderer.render(&textures, settings).unwrap()
+}
 
 /// The colour `shaders/masters.vert` gives master `index`, as the sRGB target stores it.
 fn master_colour(index: usize) -> [u8; 3] {
@@ -48,13 +67,7 @@ fn the_masters_view_draws_each_master_hair_where_it_is_and_nothing_else() {
         ..Default::default()
     };
     let strands = Strands::grow(&mesh, &groom).unwrap();
-    let textures = StrandTextures::new(&device, &strands, settings.head).unwrap();
-    let extent = vk::Extent2D {
-        width: SIZE.0,
-        height: SIZE.1,
-    };
-    let mut renderer = Renderer::new(&device, &mesh, &textures, extent, 1, 1).unwrap();
-    let (image, report) = renderer.render(&textures, &settings).unwrap();
+    let (image, report) = draw(&device, &mesh, &strands, &settings);
     let statistics = common::statistics(report.statistics);
     assert_eq!(
         statistics.tess_eval_invocations, 0,
@@ -165,13 +178,7 @@ fn standing_hairs_lit(
         ..Default::default()
     };
     let strands = Strands::grow(&mesh, &groom).unwrap();
-    let textures = StrandTextures::new(&device, &strands, settings.head).unwrap();
-    let extent = vk::Extent2D {
-        width: SIZE.0,
-        height: SIZE.1,
-    };
-    let mut renderer = Renderer::new(&device, &mesh, &textures, extent, 1, 1).unwrap();
-    let (image, report) = renderer.render(&textures, &settings).unwrap();
+    let (image, report) = draw(&device, &mesh, &strands, &settings);
     common::assert_clean(&device);
     let counts = report.counts.expect("lavapipe counts hairs");
     (image, mesh.indices, counts.hairs)

@@ -48,6 +48,14 @@ macro_rules! bindings {
                 match self { $($set::$name => (vk::DescriptorType::$ty, $stages)),+ }
             }
 
+            /// A write of this binding of `set` (its info still to add).
+            pub(super) fn write(self, set: vk::DescriptorSet) -> vk::WriteDescriptorSet<'static> {
+                vk::WriteDescriptorSet::default()
+                    .dst_set(set)
+                    .dst_binding(self as u32)
+                    .descriptor_type(self.layout().0)
+            }
+
             /// The whole set's layout, in binding order.
             pub(super) fn set_layout() -> Vec<(vk::DescriptorType, vk::ShaderStageFlags)> {
                 Self::ALL.iter().map(|b| b.layout()).collect()
@@ -145,21 +153,9 @@ fn sampled(sampler: vk::Sampler, view: vk::ImageView) -> [vk::DescriptorImageInf
         .image_layout(vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL)]
 }
 
-fn write_frame(set: vk::DescriptorSet, binding: FrameBinding) -> vk::WriteDescriptorSet<'static> {
-    vk::WriteDescriptorSet::default()
-        .dst_set(set)
-        .dst_binding(binding as u32)
-        .descriptor_type(binding.layout().0)
-}
-
 /// Points the body set at its resources.
 pub(super) fn write_body_set(device: &Device, set: vk::DescriptorSet, body: &BodyResources<'_>) {
-    let write = |binding: BodyBinding| {
-        vk::WriteDescriptorSet::default()
-            .dst_set(set)
-            .dst_binding(binding as u32)
-            .descriptor_type(binding.layout().0)
-    };
+    let write = |binding: BodyBinding| binding.write(set);
     let ownership = buffer_info(body.ownership.raw());
     let albedo = sampled(body.texture.sampler.raw(), body.texture.image.view());
     let uvs = buffer_info(body.corner_uvs.raw());
@@ -195,10 +191,10 @@ pub(super) fn write_frame_set(
     let counts = buffer_info(counters.raw());
     let map = sampled(shadow.sampler.raw(), shadow.image.view());
     let writes = [
-        write_frame(set, FrameBinding::Uniforms).buffer_info(&ubo),
-        write_frame(set, FrameBinding::Positions).image_info(&image),
-        write_frame(set, FrameBinding::Counters).buffer_info(&counts),
-        write_frame(set, FrameBinding::ShadowMap).image_info(&map),
+        FrameBinding::Uniforms.write(set).buffer_info(&ubo),
+        FrameBinding::Positions.write(set).image_info(&image),
+        FrameBinding::Counters.write(set).buffer_info(&counts),
+        FrameBinding::ShadowMap.write(set).image_info(&map),
     ];
     // SAFETY: the set belongs to a slot whose frames have finished (or never run); the
     // resources outlive it.
@@ -208,7 +204,7 @@ pub(super) fn write_frame_set(
 /// Points the hair counters of `set` (and the capture after them) at `counters`.
 pub(super) fn write_counters(device: &Device, set: vk::DescriptorSet, counters: &Buffer) {
     let info = buffer_info(counters.raw());
-    let writes = [write_frame(set, FrameBinding::Counters).buffer_info(&info)];
+    let writes = [FrameBinding::Counters.write(set).buffer_info(&info)];
     // SAFETY: as for `write_frame_set`: the slot's frames have finished.
     unsafe { device.raw.update_descriptor_sets(&writes, &[]) };
 }
@@ -216,7 +212,7 @@ pub(super) fn write_counters(device: &Device, set: vk::DescriptorSet, counters: 
 /// Points the shadow map of `set` at `map`.
 pub(super) fn write_shadow_map(device: &Device, set: vk::DescriptorSet, map: &ShadowMap) {
     let info = sampled(map.sampler.raw(), map.image.view());
-    let writes = [write_frame(set, FrameBinding::ShadowMap).image_info(&info)];
+    let writes = [FrameBinding::ShadowMap.write(set).image_info(&info)];
     // SAFETY: as for `write_frame_set`: the slot's frames have finished.
     unsafe { device.raw.update_descriptor_sets(&writes, &[]) };
 }

@@ -262,16 +262,6 @@ pub fn record_frame(
         }
         i = end;
     }
-    // The shadow map ends readable by the passes (and the next frame's placeholder
-    // binding) whatever the frame did with it.
-    let mut tail = Vec::new();
-    if tracker
-        .state(Resource::ShadowMap)
-        .is_some_and(|s| s.accesses.first() == Some(&Access::DepthAttachment))
-    {
-        tail.push(uses(Resource::ShadowMap, Access::ShadingSampled));
-    }
-    record_barriers(frame, cmd, &mut tracker, &tail);
 }
 
 /// The barriers `list` (one group's uses) needs, recorded as one dependency.

@@ -94,6 +94,19 @@ fn the_figures_the_readme_quotes_come_from_the_benchmark_document() {
     assert!(copied >= 10, "only {copied} README rows checked row by row");
 }
 
+/// Whether git would leave `path` out of a commit (false where git or the
+/// repository is absent, as in a packaged source tree).
+fn git_ignores(path: &Path) -> bool {
+    std::process::Command::new("git")
+        .arg("check-ignore")
+        .arg("--quiet")
+        .arg(path)
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .status()
+        .map(|status| status.success())
+        .unwrap_or(false)
+}
+
 /// The part of docs/benchmark.md that `fur bench --write-docs` writes.
 fn generated(benchmark: &str) -> &str {
     let begin = benchmark
@@ -135,6 +148,10 @@ fn links_between_the_documents_lead_to_files() {
             assert!(
                 dir.join(file).exists(),
                 "{doc} links to {target}, which is not there"
+            );
+            assert!(
+                !git_ignores(&dir.join(file)),
+                "{doc} links to {target}, which git ignores: a fresh clone will not have it"
             );
         }
     }

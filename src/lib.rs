@@ -16,6 +16,7 @@
 
 pub mod bench;
 pub mod export;
+pub mod legend;
 pub mod viewer;
 
 pub use fur_gpu::{

@@ -56,8 +56,9 @@ pub(super) fn render(args: &RenderArgs) -> anyhow::Result<()> {
             .render()
             .with_context(|| format!("drawing the frame ({width}×{height})"))?;
         let elapsed = start.elapsed();
+        let image = with_legend(image, &session);
         image.write_png(&args.out)?;
-        if report.counts.is_some_and(|c| c.hairs == 0) {
+        if session.settings.show.draws_fur() && report.counts.is_some_and(|c| c.hairs == 0) {
             eprintln!("warning: {NO_FUR}");
         }
         let points = report
@@ -67,6 +68,9 @@ pub(super) fn render(args: &RenderArgs) -> anyhow::Result<()> {
         let hairs = report
             .counts
             .map(|c| {
+                if !session.settings.show.draws_fur() {
+                    return format!(", {} triangles culled", c.triangles_culled);
+                }
                 format!(
                     ", {} hairs drawn in {} segments (points shared by two triangles are drawn \
                      once), {} triangles culled",
@@ -92,6 +96,16 @@ pub(super) fn render(args: &RenderArgs) -> anyhow::Result<()> {
     drop(session);
     fur::gpu::shut_down(device)?;
     Ok(())
+}
+
+/// `image` with the colour key of the stage it shows in its corner, when that stage
+/// has one (`fur::legend`).
+fn with_legend(mut image: fur::render::RgbaImage, session: &FurSession) -> fur::render::RgbaImage {
+    let max_level = session.renderer.max_level();
+    if let Some(legend) = fur::legend::Legend::of(session.settings.show, max_level) {
+        legend.draw(&mut image);
+    }
+    image
 }
 
 /// A scene built and ready to draw.
@@ -222,10 +236,12 @@ fn render_sequence(args: &RenderArgs, dir: &Path, session: &mut FurSession) -> a
         let (image, timings) = session
             .step_and_render()
             .with_context(|| format!("simulating and drawing frame {frame}"))?;
-        if timings.render.counts.is_some_and(|c| c.hairs == 0) {
+        if session.settings.show.draws_fur() && timings.render.counts.is_some_and(|c| c.hairs == 0)
+        {
             eprintln!("warning: {NO_FUR}");
         }
         frame_ms.push(start.elapsed().as_secs_f64() * 1e3);
+        let image = with_legend(image, session);
         image.write_png(&dir.join(format!("frame_{frame:04}.png")))?;
         bar.set_message(format!("{:.1} ms", frame_ms[frame_ms.len() - 1]));
         bar.inc(1);

@@ -8,6 +8,7 @@ mod display;
 mod frame;
 mod in_flight;
 mod input;
+mod legend_ui;
 mod panel;
 mod quality;
 mod quality_ui;

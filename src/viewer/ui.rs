@@ -88,6 +88,10 @@ impl PanelState {
                      {} triangles culled",
                     hud.masters, hud.points, hud.hairs, hud.segments, hud.culled
                 ));
+                let max_level = session.renderer.max_level();
+                if let Some(legend) = crate::legend::Legend::of(session.settings.show, max_level) {
+                    super::legend_ui::show(ui, &legend);
+                }
                 ui.horizontal(|ui| {
                     ui.checkbox(controls.paused, "paused (space)");
                     if ui.button("step (n)").clicked() {

@@ -24,16 +24,16 @@
 #ifndef COVERAGE_SAMPLES
 #define COVERAGE_SAMPLES 0
 #endif
-// The stage view (`--show`): 0 lit (the final image), STAGE_INTERPOLATED, STAGE_LOD,
-// STAGE_SHADOW or STAGE_OWNERSHIP
-// (crates/fur-core/src/render/uniforms.rs: Stage::code).
+// The stage view (`--show`): 0 lit (the final image), or one of STAGE_MASTERS,
+// STAGE_INTERPOLATED, STAGE_DENSITY, STAGE_LOD, STAGE_SIMULATION, STAGE_SHADOW,
+// STAGE_OWNERSHIP, defined from the Rust numbers
+// (crates/fur-core/src/render/stage.rs: stage_defines), never typed here.
 #ifndef STAGE_VIEW
 #define STAGE_VIEW 0
 #endif
-#define STAGE_INTERPOLATED 1
-#define STAGE_LOD 2
-#define STAGE_SHADOW 3
-#define STAGE_OWNERSHIP 4
+#ifndef STAGE_OWNERSHIP
+#error "render shaders are compiled with shader_defines() (crates/fur-core/src/render/uniforms.rs)"
+#endif
 
 layout(set = SET_FRAME, binding = B_FRAME_UNIFORMS, std140) uniform Frame {
     mat4 view_proj;

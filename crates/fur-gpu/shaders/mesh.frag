@@ -17,6 +17,15 @@ layout(location = 0) out vec4 out_color;
 
 void main() {
     vec3 n = normalize(v_normal);
+#if STAGE_VIEW == STAGE_DENSITY
+    // The density view: grey diagonal stripes, four pixels wide, lit only enough to
+    // read the shape. The density pass covers every triangle that gets hairs, so the
+    // stripes that show are the triangles the tessellation control stage culled.
+    float stripe = mod(floor((gl_FragCoord.x + gl_FragCoord.y) * 0.25), 2.0);
+    float shape = 0.6 + 0.4 * abs(dot(n, frame.light.xyz));
+    out_color = vec4(vec3(0.1 + 0.2 * stripe) * shape, 1.0);
+    return;
+#endif
     float lambert = max(dot(n, frame.light.xyz), 0.0) * frame.light.w * light_through_fur(v_world);
     vec3 skin = frame.skin_color.rgb;
 #if TEXTURED

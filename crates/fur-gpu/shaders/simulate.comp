@@ -25,7 +25,7 @@ layout(constant_id = 2) const uint STEPS = 0x1fu;
 // strand's own length a frame) and REST_GRAVITY (of g Δt², a free vertex's first frame
 // from rest): a strand whose root stayed put to SLEEP_ULPS of its coordinates and whose
 // other vertices moved by no more than that, or than the slow motion, sleeps
-// (crates/fur-core/src/sim/cpu.rs).
+// (crates/fur-core/src/sim/cpu.rs); PROBE (the simulation view: see `probe` below).
 #if !defined(STEP_GLOBAL) || !defined(SLEEP_ULPS) || !defined(PROJECTIONS)
 #error "simulate.comp is compiled with kernel_defines() (crates/fur-gpu/src/sim/gpu.rs)"
 #endif
@@ -197,6 +197,20 @@ void wind(uint strand, Step st) {
 
 #include "collide.glsl"
 
+bool pushed[V];   // PROBE: whether collision moved the vertex this frame
+
+// PROBE: the w the simulation view reads for vertex i, 1 + its distance from its rest
+// shape carried by the body (this frame's last pose) as a fraction of the strand's
+// rest length, negated when collision pushed it this frame; 1 without the probe.
+float probe(uint strand, uint i, Step st) {
+    if ((STEPS & PROBE) == 0u) {
+        return 1.0;
+    }
+    vec3 rest = body_point(st, imageLoad(rest_positions, strand_texel(strand, i, V, sim.counts.y)).xyz);
+    float w = 1.0 + distance(x[i], rest) / max(strand_length, MIN_LENGTH);
+    return pushed[i] ? -w : w;
+}
+
 void main() {
     uint strand = gl_GlobalInvocationID.x;
     if (strand >= sim.counts.x) {
@@ -225,13 +239,16 @@ void main() {
         x[i] = imageLoad(current_positions, t).xyz;
         p[i] = imageLoad(previous_positions, t).xyz;
     }
-    if ((STEPS & (STEP_COLLISION | SLEEP)) != 0u) {
+    if ((STEPS & (STEP_COLLISION | SLEEP | PROBE)) != 0u) {
         // The collision margin and the slow motion at rest are fractions of this
         // strand's own rest length.
         strand_length = 0.0;
         for (uint i = 1u; i < V; ++i) {
             strand_length += imageLoad(rest_positions, strand_texel(strand, i, V, sim.counts.y)).w;
         }
+    }
+    for (uint i = 0u; i < V; ++i) {
+        pushed[i] = false;
     }
     for (uint s = 0u; s < push.count; ++s) {
         Step st = steps[push.step + s];
@@ -253,7 +270,18 @@ void main() {
             wind(strand, st);
         }
         if ((STEPS & STEP_COLLISION) != 0u) {
-            collide(st, push.step + s, sim.collision.x * strand_length);
+            if ((STEPS & PROBE) != 0u) {
+                vec3 before[V];
+                for (uint i = 0u; i < V; ++i) {
+                    before[i] = x[i];
+                }
+                collide(st, push.step + s, sim.collision.x * strand_length);
+                for (uint i = 0u; i < V; ++i) {
+                    pushed[i] = pushed[i] || any(notEqual(x[i], before[i]));
+                }
+            } else {
+                collide(st, push.step + s, sim.collision.x * strand_length);
+            }
         }
     }
     // Sleep: a strand whose root did not move this frame and whose other vertices moved
@@ -294,7 +322,7 @@ void main() {
             // there (current_positions holds the frame's start).
             imageStore(previous_positions, t, imageLoad(current_positions, t));
         } else {
-            imageStore(previous_positions, t, vec4(x[i], 1.0));
+            imageStore(previous_positions, t, vec4(x[i], probe(strand, i, steps[push.step + push.count - 1u])));
             imageStore(current_positions, t, vec4(p[i], 1.0));
         }
     }

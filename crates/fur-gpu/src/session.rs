@@ -9,7 +9,7 @@ use glam::DMat4;
 use crate::error::Error;
 use crate::error::Result;
 use crate::gpu::Device;
-use crate::render::{FrameReport, FrameSettings, Renderer, RgbaImage};
+use crate::render::{FrameReport, FrameSettings, Renderer, RgbaImage, Stage};
 use crate::scene::{GroomParams, Mesh, Rig, Strands};
 use crate::sim::{GpuSim, Motion, Sdf, SdfReport, SimParams};
 use crate::skinning::{Playback, SkinnedBody};
@@ -211,6 +211,12 @@ impl FurSession {
         let constants = self
             .sim
             .next_constants(sim_frames, |t| user * motion.head(t));
+        // The simulation view reads the kernel's probe; switching it rebuilds the kernel.
+        let probe = self.settings.show == Stage::Simulation;
+        if self.sim.probe() != probe {
+            self.device.wait_idle()?;
+            self.sim.set_probe(probe, &self.textures)?;
+        }
         self.settings.head = self.head_at(self.sim.time).as_mat4();
         self.renderer.update(slot, &self.settings)?;
         self.renderer.begin_frame(cmd, slot);

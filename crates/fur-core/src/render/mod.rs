@@ -7,6 +7,7 @@ pub mod budget;
 mod image;
 mod lighting;
 pub mod marschner;
+pub mod stage;
 pub mod uniforms;
 
 pub use image::{flip, RgbaImage};

@@ -4,6 +4,7 @@
 use glam::{Mat4, UVec4, Vec3, Vec4};
 
 use super::lighting::Lighting;
+pub use super::stage::Stage;
 use crate::error::{Error, Result};
 use crate::scene::Camera;
 
@@ -40,86 +41,6 @@ impl std::str::FromStr for Primitive {
             "ribbons" => Ok(Self::Ribbons),
             _ => Err(format!("expected auto, lines or ribbons, got `{s}`")),
         }
-    }
-}
-
-/// Which stage of the pipeline an image shows.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
-pub enum Stage {
-    /// The final image: the interpolated hairs, lit.
-    #[default]
-    Lit,
-    /// Only the master hairs, as lines coloured by master index, with the body: what
-    /// the simulation moves and the tessellation interpolates between.
-    Masters,
-    /// Every interpolated hair, unlit, in a flat colour per source triangle: the
-    /// interpolation between each triangle's three master hairs made visible.
-    Interpolated,
-    /// Every interpolated hair coloured by the levels of detail: its hue by the share
-    /// of its segments the vertex LOD keeps, its brightness by the density LOD's
-    /// thinning with distance.
-    Lod,
-    /// Every interpolated hair in grey by the self-shadowing term alone: the fraction
-    /// of the light the deep-shadow map lets through to each point (white: lit, black:
-    /// deep in the fur). The shadow pass runs whatever the scene's shadow setting.
-    Shadow,
-    /// Every interpolated hair in the colour of the triangle that draws it, by where
-    /// its point lies: dim inside the triangle, bright on an edge (a shared edge's
-    /// points are drawn by its owner only), white at a corner (drawn by one owner
-    /// among the triangles around it).
-    Ownership,
-}
-
-impl Stage {
-    /// Every stage view, in the order the viewer's number keys and the docs list them.
-    pub const ALL: [Stage; 6] = [
-        Stage::Lit,
-        Stage::Masters,
-        Stage::Interpolated,
-        Stage::Lod,
-        Stage::Shadow,
-        Stage::Ownership,
-    ];
-
-    pub fn name(self) -> &'static str {
-        match self {
-            Self::Lit => "lit",
-            Self::Masters => "masters",
-            Self::Interpolated => "interpolated",
-            Self::Lod => "lod",
-            Self::Shadow => "shadow",
-            Self::Ownership => "ownership",
-        }
-    }
-
-    /// The fur pass's `STAGE_VIEW` define for this view (0: lit; the masters view
-    /// draws no fur).
-    pub fn code(self) -> u32 {
-        match self {
-            Self::Lit | Self::Masters => 0,
-            Self::Interpolated => 1,
-            Self::Lod => 2,
-            Self::Shadow => 3,
-            Self::Ownership => 4,
-        }
-    }
-
-    /// Whether the fur pass draws the interpolated hairs in this view.
-    pub fn draws_fur(self) -> bool {
-        self != Self::Masters
-    }
-}
-
-impl std::str::FromStr for Stage {
-    type Err = String;
-
-    fn from_str(s: &str) -> std::result::Result<Self, String> {
-        Self::ALL
-            .into_iter()
-            .find(|stage| stage.name() == s)
-            .ok_or_else(|| {
-                format!("expected lit, masters, interpolated, lod, shadow or ownership, got `{s}`")
-            })
     }
 }
 
@@ -311,6 +232,7 @@ pub fn shader_defines() -> Vec<(&'static str, String)> {
     ]
     .into_iter()
     .map(|(name, bit)| (name, format!("{bit}u")))
+    .chain(super::stage::stage_defines())
     .collect()
 }
 

@@ -287,17 +287,16 @@ mod tests {
             .collect();
             defines.extend(shader_defines());
             defines.extend(binding_defines());
-            for shader in [
-                "fur.vert",
-                "fur.tesc",
-                "fur.tese",
-                "fur.geom",
-                "fur.frag",
-                "mesh.vert",
-                "mesh.frag",
-                "masters.vert",
-                "masters.frag",
-            ] {
+            // Every render shader embedded (all but the compute kernels and includes).
+            let render_shaders = crate::gpu::shader::SOURCES
+                .iter()
+                .map(|(name, _)| *name)
+                .filter(|name| {
+                    [".vert", ".tesc", ".tese", ".geom", ".frag"]
+                        .iter()
+                        .any(|e| name.ends_with(e))
+                });
+            for shader in render_shaders {
                 let words = compile(shader, &defines).unwrap_or_else(|e| panic!("{shader}: {e}"));
                 let found = reflect(&words);
                 check_bindings(shader, &found, &layout).unwrap();

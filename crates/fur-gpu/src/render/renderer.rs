@@ -27,9 +27,10 @@ use crate::gpu::{
 };
 use crate::scene::{Mesh, Texture};
 use crate::strand_textures::StrandTextures;
+use density_pass::DensityPass;
 use fur_pass::FurPass;
 use masters_pass::MastersPass;
-use mesh_pass::MeshPass;
+use mesh_pass::{MeshLook, MeshPass};
 use shadow_pass::{LightView, ShadowPass};
 
 mod capture;
@@ -37,6 +38,7 @@ mod record;
 
 // The frame's passes: each a module here, built and listed by the renderer
 // (`Renderer::passes`).
+mod density_pass;
 mod fur_pass;
 mod masters_pass;
 mod mesh_pass;
@@ -105,6 +107,7 @@ pub struct Renderer {
     mesh_pass: MeshPass,
     fur_pass: FurPass,
     masters_pass: MastersPass,
+    density_pass: DensityPass,
     pub target: RenderTarget,
     /// The target and fur pass of the sample count in use before the last change, kept
     /// so that changing back (as the frame-time budget does) builds nothing.
@@ -258,6 +261,7 @@ impl Renderer {
         let fur_pass = FurPass::new(device, vertices_per_strand, samples, (textured, skinned));
         let shadow_pass = ShadowPass::new(device, vertices_per_strand, skinned);
         let masters_pass = MastersPass::new(device, &strands.layout);
+        let density_pass = DensityPass::new(device, skinned);
         Ok(Self {
             device: device.clone(),
             _set_layouts: (frame_layout, body_layout),
@@ -282,6 +286,7 @@ impl Renderer {
             mesh_pass,
             fur_pass,
             masters_pass,
+            density_pass,
             target,
             spare: None,
         })
@@ -358,16 +363,22 @@ impl Renderer {
                 FurPass::root_pixel_range(settings, self.bounds, self.target.extent.height),
             );
             self.fur_pass.prepare(&self.pipeline_layout, &variants)?;
-        } else {
+        } else if settings.show.draws_masters() {
             self.masters_pass
+                .prepare(&self.pipeline_layout, self.target.samples, settings.show)?;
+        } else {
+            self.density_pass
                 .prepare(&self.pipeline_layout, self.target.samples)?;
         }
         if shadows {
             self.shadow_pass.prepare(&self.pipeline_layout)?;
         }
-        self.mesh_pass
-            .prepare(&self.device, &self.pipeline_layout, shadows)?;
-        let max_level = self.device.info.limits.max_tessellation_generation_level as f32;
+        self.mesh_pass.prepare(
+            &self.device,
+            &self.pipeline_layout,
+            MeshLook::of(settings.show, shadows),
+        )?;
+        let max_level = self.max_level();
         let extent = self.target.extent;
         let mut uniforms = FrameUniforms::new(
             settings,
@@ -402,13 +413,19 @@ impl Renderer {
         Ok(())
     }
 
+    /// The largest tessellation level the device generates (the density view's scale
+    /// ends there).
+    pub fn max_level(&self) -> f32 {
+        self.device.info.limits.max_tessellation_generation_level as f32
+    }
+
     /// The frame's passes, in order: the hair counters' reset when the frame counts,
     /// the shadow pass when it draws shadows, then the body and the stage the frame
     /// shows (the fur, or the master hairs alone), which share the target's rendering
     /// scope. Only what the frame needs is in the list.
     fn passes(&self, settings: &FrameSettings, shadows: bool) -> Vec<&dyn Pass> {
         let mut passes: Vec<&dyn Pass> = Vec::new();
-        if settings.count_hairs && settings.show.draws_fur() {
+        if settings.count_hairs && !settings.show.draws_masters() {
             passes.push(&record::CounterReset);
         }
         if shadows {
@@ -417,8 +434,10 @@ impl Renderer {
         passes.push(&self.mesh_pass);
         if settings.show.draws_fur() {
             passes.push(&self.fur_pass);
-        } else {
+        } else if settings.show.draws_masters() {
             passes.push(&self.masters_pass);
+        } else {
+            passes.push(&self.density_pass);
         }
         passes
     }
@@ -439,8 +458,9 @@ impl Renderer {
             (Some(q), true) => Some(q.fur_statistics_result()?),
             _ => None,
         };
-        // The master hairs' view draws no interpolated hairs and counts none.
-        let counted = settings.count_hairs && settings.show.draws_fur();
+        // The master hairs' views draw no interpolated hairs and count nothing; the
+        // density view counts the triangles it culls (and draws no hairs).
+        let counted = settings.count_hairs && !settings.show.draws_masters();
         let counts = (counted && self.device.info.vertex_pipeline_stores).then(|| {
             let words: &[u32] = bytemuck::cast_slice(&frame.counters.mapped()[..12]);
             HairCounts {

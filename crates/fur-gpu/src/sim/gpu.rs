@@ -41,6 +41,10 @@ const SLEEP: u32 = 128;
 /// The kernel's `STEPS` bit for carrying vertices back through the skin's blend of
 /// bones (`BODY_BLEND` in `simulate.comp`, [`SimParams::skin_blend`]).
 const BODY_BLEND: u32 = 256;
+/// The kernel's `STEPS` bit for the simulation view's probe (`PROBE` in
+/// `simulate.comp`): each vertex's displacement from rest, and whether collision pushed
+/// it, written into its position's w ([`GpuSim::set_probe`]).
+const PROBE: u32 = 512;
 
 /// What the simulation kernels share with Rust, given to them as `#define`s so no
 /// constant is typed twice: the `STEPS` bits, the projections per substep and the rest
@@ -58,6 +62,7 @@ pub fn kernel_defines() -> Vec<(&'static str, String)> {
         ("BODY_SKINNED", uint(BODY_SKINNED)),
         ("SLEEP", uint(SLEEP)),
         ("BODY_BLEND", uint(BODY_BLEND)),
+        ("PROBE", uint(PROBE)),
         ("PROJECTIONS", uint(super::collide::PROJECTIONS)),
         (
             "PROJECTIONS_SKINNED",
@@ -101,6 +106,8 @@ pub struct GpuSim {
     /// Steps to compile in even when the parameters do not need them (the benchmark
     /// measures steps alone this way); `None`: exactly the needed ones.
     forced_steps: Option<u32>,
+    /// Whether the kernel writes the simulation view's probe ([`GpuSim::set_probe`]).
+    probe: bool,
     /// The body's distance field (a 3D image, per grid point its value and gradient; a
     /// placeholder without a body) and its grid.
     _body: crate::gpu::Image,
@@ -313,6 +320,7 @@ impl GpuSim {
             statics,
             pipeline: None,
             forced_steps: None,
+            probe: false,
             _body: body_field,
             _blend: blend_field,
             has_blend: blend.is_some(),
@@ -384,6 +392,20 @@ impl GpuSim {
         self.set_params(self.params.clone(), textures)
     }
 
+    /// Whether the kernel writes the simulation view's probe.
+    pub fn probe(&self) -> bool {
+        self.probe
+    }
+
+    /// Has the kernel write, into the w of each vertex's new position, 1 + its
+    /// distance from its rest shape carried by the body as a fraction of its strand's
+    /// rest length, negated when collision pushed it during the frame (the simulation
+    /// view reads it; w is 1 otherwise). Rebuilds the kernel: no frame may be in flight.
+    pub fn set_probe(&mut self, on: bool, textures: &StrandTextures) -> Result<()> {
+        self.probe = on;
+        self.set_params(self.params.clone(), textures)
+    }
+
     /// Changes parameters; rebuilds the kernel when the set of needed steps changes.
     pub fn set_params(&mut self, params: SimParams, textures: &StrandTextures) -> Result<()> {
         params.validate()?;
@@ -430,6 +452,9 @@ impl GpuSim {
         }
         if params.hair_can_rest() {
             mask |= SLEEP;
+        }
+        if self.probe {
+            mask |= PROBE;
         }
         if let Some(skinned) = &self.skinned {
             if params.substeps > skinned.skin.max_substeps {

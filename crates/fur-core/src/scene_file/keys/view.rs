@@ -34,8 +34,13 @@ pub const IMAGE: Group = Group {
             help: "Which stage of the pipeline the image shows: `lit` (the final image), \
                    `masters` (only the master hairs, as lines coloured by master index, with \
                    the body), `interpolated` (every hair unlit, a flat colour per source \
-                   triangle), `lod` (hue: the share of segments the vertex LOD keeps, red \
-                   all to blue one; darker where the density LOD thins the hairs), \
+                   triangle), `density` (the body as the tessellator divides it, each \
+                   triangle coloured by its inner level, blue 1 to red the device's \
+                   largest, with a legend; culled triangles hatched grey), `lod` (hue: the \
+                   share of segments the vertex LOD keeps, red all to blue one; darker \
+                   where the density LOD thins the hairs), `simulation` (the master hairs \
+                   coloured by how far the simulation moved them from rest, blue none to \
+                   red a quarter of their length; white where collision pushed them), \
                    `shadow` (every hair in grey by the self-shadowing term alone) or \
                    `ownership` (each hair in its drawing triangle's colour: dim inside, \
                    bright on an edge, white at a corner)",
@@ -43,7 +48,9 @@ pub const IMAGE: Group = Group {
                 "lit",
                 "masters",
                 "interpolated",
+                "density",
                 "lod",
+                "simulation",
                 "shadow",
                 "ownership",
             ]),

@@ -1,7 +1,9 @@
-//! The masters view (`--show masters`): the master hairs alone, as line strips
-//! coloured by master index, over the body; the seed's picture of the groom before
-//! interpolation. The same positions the fur pass interpolates (the simulation's
-//! current state), drawn without tessellation or geometry stages.
+//! The master hairs' views: `--show masters`, the master hairs alone as line strips
+//! coloured by master index over the body (the seed's picture of the groom before
+//! interpolation), and `--show simulation`, the same lines coloured by how far the
+//! simulation moved each vertex from rest (the kernel's probe, see
+//! `GpuSim::set_probe`). The same positions the fur pass interpolates (the
+//! simulation's current state), drawn without tessellation or geometry stages.
 
 use std::sync::Arc;
 
@@ -14,14 +16,15 @@ use super::super::pipeline::{
 use super::super::target::{sample_flag, COLOR_FORMAT, DEPTH_FORMAT};
 use crate::error::Result;
 use crate::gpu::{Access, Device, Pipeline, PipelineLayout, ShaderModule};
+use crate::render::Stage;
 use crate::strand_textures::StrandLayout;
 
 pub struct MastersPass {
     device: Arc<Device>,
     vertices_per_strand: u32,
     strand_count: u32,
-    /// Per sample count of the target, built on first use.
-    pipelines: Vec<(u32, Pipeline)>,
+    /// Per sample count of the target and view, built on first use.
+    pipelines: Vec<((u32, Stage), Pipeline)>,
 }
 
 impl MastersPass {
@@ -38,12 +41,18 @@ impl MastersPass {
         }
     }
 
-    /// Builds the pipeline for a target of `samples` per pixel if it does not exist.
-    pub fn prepare(&mut self, layout: &PipelineLayout, samples: u32) -> Result<()> {
-        if self.pipelines.iter().any(|(s, _)| *s == samples) {
+    /// Builds the pipeline of view `stage` for a target of `samples` per pixel if it
+    /// does not exist.
+    pub fn prepare(&mut self, layout: &PipelineLayout, samples: u32, stage: Stage) -> Result<()> {
+        if self
+            .pipelines
+            .iter()
+            .any(|(key, _)| *key == (samples, stage))
+        {
             return Ok(());
         }
-        let defines = super::super::bindings::render_defines();
+        let mut defines = super::super::bindings::render_defines();
+        defines.push(("STAGE_VIEW", stage.code().to_string()));
         let vert = ShaderModule::new(&self.device, "masters.vert", &defines)?;
         let frag = ShaderModule::new(&self.device, "masters.frag", &defines)?;
         let pipeline = graphics_pipeline(
@@ -67,7 +76,7 @@ impl MastersPass {
                 depth: Some(DepthAttachment::nearest(DEPTH_FORMAT)),
             },
         )?;
-        self.pipelines.push((samples, pipeline));
+        self.pipelines.push(((samples, stage), pipeline));
         Ok(())
     }
 }
@@ -87,8 +96,8 @@ impl Pass for MastersPass {
 
     /// One line strip per master hair: an instance each, a vertex per strand vertex.
     fn record(&self, frame: &FrameContext<'_>, cmd: vk::CommandBuffer) {
-        let samples = frame.target.samples;
-        let Some((_, pipeline)) = self.pipelines.iter().find(|(s, _)| *s == samples) else {
+        let key = (frame.target.samples, frame.settings.show);
+        let Some((_, pipeline)) = self.pipelines.iter().find(|(k, _)| *k == key) else {
             return;
         };
         // SAFETY: recording inside the target's scope; the pipeline was built for its

@@ -14,6 +14,7 @@ use super::super::pipeline::{
 use super::super::target::{sample_flag, COLOR_FORMAT, DEPTH_FORMAT};
 use crate::error::Result;
 use crate::gpu::{Access, Buffer, Device, Pipeline, PipelineLayout, ShaderModule};
+use crate::render::Stage;
 use crate::scene::Mesh;
 
 /// Interleaved position, normal and texture coordinates.
@@ -25,11 +26,38 @@ struct MeshVertex {
     uv: Vec2,
 }
 
+/// How the mesh pass draws the body.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum MeshLook {
+    /// Lambert plus ambient.
+    Plain,
+    /// Lambert plus ambient, shaded by the fur's shadow.
+    Shadowed,
+    /// Grey stripes for the density view: the density pass draws over every triangle
+    /// that gets hairs, so what shows is the culled ones.
+    Hatched,
+}
+
+impl MeshLook {
+    const COUNT: usize = 3;
+
+    /// The look of a frame showing `stage`, with or without `shadows`.
+    pub fn of(stage: Stage, shadows: bool) -> Self {
+        match (stage, shadows) {
+            (Stage::Density, _) => Self::Hatched,
+            (_, true) => Self::Shadowed,
+            (_, false) => Self::Plain,
+        }
+    }
+}
+
+type Pipelines = [Option<Pipeline>; MeshLook::COUNT];
+
 pub struct MeshPass {
-    /// Without and with shadows, built on first use.
-    pipelines: [Option<Pipeline>; 2],
+    /// One per look, built on first use.
+    pipelines: Pipelines,
     /// The pipelines of the sample count in use before the last change, with it.
-    spare: Option<(u32, [Option<Pipeline>; 2])>,
+    spare: Option<(u32, Pipelines)>,
     vertices: Buffer,
     samples: u32,
     /// Textured: one vertex per triangle corner, drawn unindexed.
@@ -74,7 +102,7 @@ impl MeshPass {
             &data,
         )?;
         Ok(Self {
-            pipelines: [None, None],
+            pipelines: Default::default(),
             spare: None,
             vertices,
             samples,
@@ -91,28 +119,28 @@ impl MeshPass {
         }
         let pipelines = match self.spare.take() {
             Some((s, pipelines)) if s == samples => pipelines,
-            _ => [None, None],
+            _ => Default::default(),
         };
         let old = std::mem::replace(&mut self.pipelines, pipelines);
         self.spare = Some((self.samples, old));
         self.samples = samples;
     }
 
-    /// Builds the pipeline for frames with or without `shadows` if it does not exist.
+    /// Builds the pipeline for frames drawing the body with `look` if it does not exist.
     pub fn prepare(
         &mut self,
         device: &Arc<Device>,
         layout: &PipelineLayout,
-        shadows: bool,
+        look: MeshLook,
     ) -> Result<()> {
-        let slot = &mut self.pipelines[usize::from(shadows)];
+        let slot = &mut self.pipelines[look as usize];
         if slot.is_none() {
             *slot = Some(Self::pipeline(
                 device,
                 layout,
                 self.samples,
                 (self.textured, self.skinned),
-                shadows,
+                look,
             )?);
         }
         Ok(())
@@ -123,13 +151,19 @@ impl MeshPass {
         layout: &PipelineLayout,
         samples: u32,
         (textured, skinned): (bool, bool),
-        shadows: bool,
+        look: MeshLook,
     ) -> Result<Pipeline> {
         let flag = |on: bool| u32::from(on).to_string();
+        let stage = if look == MeshLook::Hatched {
+            Stage::Density
+        } else {
+            Stage::Lit
+        };
         let mut defines = vec![
             ("TEXTURED", flag(textured)),
-            ("SHADOWS", flag(shadows)),
+            ("SHADOWS", flag(look == MeshLook::Shadowed)),
             ("BODY_SKINNED", flag(skinned)),
+            ("STAGE_VIEW", stage.code().to_string()),
         ];
         defines.extend(super::super::bindings::render_defines());
         let vert = ShaderModule::new(device, "mesh.vert", &defines)?;
@@ -202,10 +236,10 @@ impl MeshPass {
         };
     }
 
-    /// Records the draw (prepared before for `shadows`) once the set, index and vertex
+    /// Records the draw (prepared before for `look`) once the set, index and vertex
     /// buffers are bound.
-    fn draw(&self, device: &Device, cmd: vk::CommandBuffer, index_count: u32, shadows: bool) {
-        let Some(pipeline) = &self.pipelines[usize::from(shadows)] else {
+    fn draw(&self, device: &Device, cmd: vk::CommandBuffer, index_count: u32, look: MeshLook) {
+        let Some(pipeline) = &self.pipelines[look as usize] else {
             return;
         };
         // SAFETY: recording inside the target's scope with the sets, index and vertex buffers
@@ -257,7 +291,8 @@ impl Pass for MeshPass {
         }
         self.bind_vertices(device, cmd);
         if frame.settings.draw_mesh {
-            self.draw(device, cmd, frame.index_count, frame.slot.shadows);
+            let look = MeshLook::of(frame.settings.show, frame.slot.shadows);
+            self.draw(device, cmd, frame.index_count, look);
         }
     }
 }

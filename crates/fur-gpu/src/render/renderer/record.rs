@@ -5,6 +5,7 @@ use super::super::graph::{
     record_frame, uses, Attachments, Event, FrameContext, Pass, Resource, Use,
 };
 use super::super::slot::COUNTERS_BYTES;
+use super::density_pass::DensityPass;
 use super::masters_pass::MastersPass;
 use super::*;
 use crate::gpu::Access;
@@ -95,7 +96,7 @@ impl Renderer {
                 }
             }
             Event::PassRecorded(MeshPass::NAME) => self.timestamp(cmd, slot, TS_MESH),
-            Event::PassRecorded(FurPass::NAME | MastersPass::NAME) => {
+            Event::PassRecorded(FurPass::NAME | MastersPass::NAME | DensityPass::NAME) => {
                 self.timestamp(cmd, slot, TS_FUR)
             }
             Event::ScopeClosed(Attachments::Target) => {

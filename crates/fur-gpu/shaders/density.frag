@@ -15,9 +15,9 @@ void main() {
     // Inner edges: one pixel, faded out as the generated triangles shrink.
     float inner = 1.0 - smoothstep(0.0, 1.0, min(pixels.x, min(pixels.y, pixels.z)));
     inner *= 1.0 - smoothstep(0.25, 0.4, max(width.x, max(width.y, width.z)));
-    // The body triangle's edges: a pixel and a half.
+    // The body triangle's edges it owns: a pixel and a half, on its side.
     vec3 far = mix(vec3(1e9), pixels, g_outer);
-    float outer = 1.0 - smoothstep(0.5, 1.5, min(far.x, min(far.y, far.z)));
+    float outer = 1.0 - smoothstep(1.0, 2.0, min(far.x, min(far.y, far.z)));
     outer *= smoothstep(4.0, 8.0, g_pixels);
     float dark = max(0.35 * inner, 0.7 * outer);
     out_colour = vec4(g_colour * (1.0 - dark), 1.0);

@@ -9,10 +9,12 @@
 layout(triangles, equal_spacing, ccw) in;
 
 layout(location = 0) in uint c_hair[];
+layout(location = 1) patch in uint p_mask;   // the edges this triangle draws (fur.tesc)
 
 layout(location = 0) out float e_level;    // the patch's inner level
 layout(location = 1) out vec3 e_coord;     // where in the patch (gl_TessCoord)
 layout(location = 2) out float e_pixels;   // the patch's shortest edge on screen, pixels
+layout(location = 3) out uint e_mask;
 
 vec2 screen(vec3 p) {
     vec4 c = frame.view_proj * vec4(p, 1.0);
@@ -29,6 +31,7 @@ void main() {
     e_pixels = min(distance(s0, s1), min(distance(s1, s2), distance(s2, s0)));
     e_level = gl_TessLevelInner[0];
     e_coord = b;
+    e_mask = p_mask;
     // A thousandth of the way to the eye: drawn over the body it lies on (the mesh
     // pass, which shows the culled triangles), never behind it.
     root += (frame.eye.xyz - root) * 1e-3;

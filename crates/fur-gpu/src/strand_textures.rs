@@ -251,12 +251,22 @@ impl StrandTextures {
     /// Reads back the current (`which = current`) or other position image as one
     /// position per strand vertex. For tests and tools; waits for the GPU.
     pub fn read_positions(&self, which: usize) -> Result<Vec<Vec3>> {
+        Ok(self
+            .read_vertices(which)?
+            .into_iter()
+            .map(Vec4::truncate)
+            .collect())
+    }
+
+    /// [`StrandTextures::read_positions`] with each texel's w: 1, or the simulation
+    /// kernel's probe where it writes one (`GpuSim::set_probe`).
+    pub fn read_vertices(&self, which: usize) -> Result<Vec<Vec4>> {
         let texel_data = self.read_texels(which)?;
         let l = self.layout;
         Ok((0..l.strand_count * l.vertices_per_strand)
             .map(|i| {
                 let (x, y) = l.texel(i / l.vertices_per_strand, i % l.vertices_per_strand);
-                texel_data[(y * l.width + x) as usize].truncate()
+                texel_data[(y * l.width + x) as usize]
             })
             .collect())
     }

@@ -19,7 +19,8 @@ pub struct QueryPool {
 /// The pipeline statistics the fur pass reports, in Vulkan's bit order.
 pub const FUR_STATISTICS: vk::QueryPipelineStatisticFlags =
     vk::QueryPipelineStatisticFlags::from_raw(
-        vk::QueryPipelineStatisticFlags::TESSELLATION_EVALUATION_SHADER_INVOCATIONS.as_raw()
+        vk::QueryPipelineStatisticFlags::INPUT_ASSEMBLY_PRIMITIVES.as_raw()
+            | vk::QueryPipelineStatisticFlags::TESSELLATION_EVALUATION_SHADER_INVOCATIONS.as_raw()
             | vk::QueryPipelineStatisticFlags::GEOMETRY_SHADER_INVOCATIONS.as_raw()
             | vk::QueryPipelineStatisticFlags::GEOMETRY_SHADER_PRIMITIVES.as_raw()
             | vk::QueryPipelineStatisticFlags::TESSELLATION_CONTROL_SHADER_PATCHES.as_raw(),
@@ -28,6 +29,9 @@ pub const FUR_STATISTICS: vk::QueryPipelineStatisticFlags =
 /// Fur-pass counters read from [`FUR_STATISTICS`].
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct FurStatistics {
+    /// Primitives the input assembler made over the target's passes: the body's
+    /// triangles, the fur's patches, the master hairs' line segments.
+    pub input_primitives: u64,
     /// Patches (mesh triangles) the tessellation control shader ran for.
     pub patches: u64,
     /// Tessellation-evaluation invocations: generated hair points.
@@ -146,13 +150,14 @@ impl QueryPool {
 
     /// Reads a [`FurStatistics`] pool.
     pub fn fur_statistics_result(&self) -> Result<FurStatistics> {
-        let v = self.results::<4>(1)?[0];
+        let v = self.results::<5>(1)?[0];
         // Vulkan returns statistics in increasing bit order.
         Ok(FurStatistics {
-            geometry_invocations: v[0],
-            geometry_primitives: v[1],
-            patches: v[2],
-            tess_eval_invocations: v[3],
+            input_primitives: v[0],
+            geometry_invocations: v[1],
+            geometry_primitives: v[2],
+            patches: v[3],
+            tess_eval_invocations: v[4],
         })
     }
 }

@@ -10,7 +10,7 @@ use crate::colour::linear_to_srgb8;
 use crate::render::stage::{
     displacement_colour, legend_levels, level_colour, DISPLACEMENT_FULL_SCALE,
 };
-use crate::render::{RgbaImage, Stage};
+use crate::render::{FrameSettings, RgbaImage, Stage};
 
 /// A swatch beside the scale: a colour, or the density view's grey stripes.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -27,14 +27,14 @@ pub struct Legend {
     /// Labels and their positions along the scale.
     pub ticks: Vec<(f32, String)>,
     /// Swatches after the scale, with their labels.
-    pub swatches: Vec<(Swatch, &'static str)>,
+    pub swatches: Vec<(Swatch, String)>,
 }
 
 impl Legend {
-    /// The key of `stage` on a device whose largest tessellation level is
-    /// `max_level`; None for the views without one.
-    pub fn of(stage: Stage, max_level: f32) -> Option<Legend> {
-        match stage {
+    /// The key of the stage `settings` show on a device whose largest tessellation
+    /// level is `max_level`; None for the views without one.
+    pub fn of(settings: &FrameSettings, max_level: f32) -> Option<Legend> {
+        match settings.show {
             Stage::Density => {
                 let top = max_level.max(2.0).log2();
                 Some(Legend {
@@ -44,7 +44,7 @@ impl Legend {
                         .into_iter()
                         .map(|l| ((l as f32).log2() / top, l.to_string()))
                         .collect(),
-                    swatches: vec![(Swatch::Hatched, "culled")],
+                    swatches: vec![(Swatch::Hatched, "culled".into())],
                 })
             }
             Stage::Simulation => Some(Legend {
@@ -58,15 +58,26 @@ impl Legend {
                         (t, format!("{percent:.0}{plus}"))
                     })
                     .collect(),
-                swatches: vec![(Swatch::Colour(Vec3::ONE), "pushed by collision")],
+                swatches: std::iter::once((
+                    Swatch::Colour(Vec3::ONE),
+                    "pushed by collision".into(),
+                ))
+                .chain(settings.arrows.step().map(|step| {
+                    // The arrows' bright end (shaders/arrows.vert).
+                    let magenta = Vec3::new(1.0, 0.2, 1.0);
+                    let label = format!("{} ×{}", step.key(), settings.arrow_scale);
+                    (Swatch::Colour(magenta), label)
+                }))
+                .collect(),
             }),
             _ => None,
         }
     }
 
-    /// Draws the key into `image`'s lower-left corner, scaled to its height (nothing
-    /// when the image is too small to hold it legibly).
-    pub fn draw(&self, image: &mut RgbaImage) {
+    /// Draws the key into `image`'s lower-left corner, scaled to its height, and
+    /// returns where its colour bar went (x, y, width, height); nothing when the image
+    /// is too small to hold it legibly.
+    pub fn draw(&self, image: &mut RgbaImage) -> Option<(i32, i32, i32, i32)> {
         let font = FontRef::try_from_slice(epaint_default_fonts::UBUNTU_LIGHT)
             .expect("the embedded font parses");
         let text_px = (image.height as f32 / 28.0).clamp(10.0, 18.0);
@@ -91,7 +102,7 @@ impl Legend {
                 line + 4
             };
         if panel_w + 2 * margin > image.width as i32 || panel_h + 2 * margin > image.height as i32 {
-            return;
+            return None;
         }
         let x0 = margin;
         let y0 = image.height as i32 - margin - panel_h;
@@ -108,6 +119,7 @@ impl Legend {
             |x, _| (self.colour)(x as f32 / (bar_w - 1) as f32),
             1.0,
         );
+        let bar = (left, y, bar_w, bar_h);
         y += bar_h + 4;
         // Labels that would run into the one before are left out (their tick stays).
         let mut free_from = i32::MIN;
@@ -138,6 +150,7 @@ impl Legend {
             canvas.text(&font, label, x + bar_h + 4, y + (bar_h - line) / 2);
             x += bar_h + 4 + text_width(&font, label) + margin;
         }
+        Some(bar)
     }
 }
 
@@ -204,5 +217,84 @@ impl Canvas<'_> {
                 });
             }
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn blank(width: u32, height: u32) -> RgbaImage {
+        RgbaImage {
+            width,
+            height,
+            data: [10, 20, 30, 255].repeat((width * height) as usize),
+        }
+    }
+
+    /// The density key's bar shows each labelled level in the colour the density view
+    /// paints it (`level_colour`), its labels are drawn in white, and an image too small
+    /// for a legible key is left alone.
+    #[test]
+    fn the_density_key_shows_the_views_colours_at_its_ticks() {
+        let settings = FrameSettings {
+            show: Stage::Density,
+            ..Default::default()
+        };
+        let legend = Legend::of(&settings, 64.0).expect("the density view has a key");
+        let mut image = blank(480, 270);
+        let (x, y, w, h) = legend.draw(&mut image).expect("room for the key");
+        // Along the bar, pixel i shows the level 2^(6 i / (w − 1)) (log₂ 64 = 6) in the
+        // view's colour, and each label's tick sits at its level.
+        for i in 0..w {
+            let level = (6.0 * i as f32 / (w - 1) as f32).exp2();
+            let p = image.pixel((x + i) as u32, (y + h / 2) as u32);
+            let want = level_colour(level, 64.0).to_array().map(linear_to_srgb8);
+            assert!(
+                (0..3).all(|c| p[c].abs_diff(want[c]) <= 1),
+                "pixel {i} (level {level}): {p:?}, want {want:?}"
+            );
+        }
+        let levels = legend_levels(64.0);
+        assert_eq!(legend.ticks.len(), levels.len());
+        for ((t, label), level) in legend.ticks.iter().zip(levels) {
+            assert_eq!(label, &level.to_string());
+            assert!(
+                ((t * 6.0).exp2() / level as f32 - 1.0).abs() < 1e-5,
+                "{label} at {t}"
+            );
+        }
+        let white = image
+            .data
+            .chunks_exact(4)
+            .filter(|p| p[..3].iter().all(|&c| c > 160))
+            .count();
+        assert!(white > 100, "{white} light text pixels");
+        let mut small = blank(60, 40);
+        assert_eq!(legend.draw(&mut small), None);
+        assert_eq!(small, blank(60, 40));
+        let lit = FrameSettings::default();
+        assert!(Legend::of(&lit, 64.0).is_none(), "the lit view has no key");
+    }
+
+    /// The simulation key names the arrows' step and scale when they are drawn.
+    #[test]
+    fn the_simulation_key_names_the_arrows() {
+        let mut settings = FrameSettings {
+            show: Stage::Simulation,
+            ..Default::default()
+        };
+        let labels = |s: &FrameSettings| -> Vec<String> {
+            Legend::of(s, 64.0)
+                .unwrap()
+                .swatches
+                .into_iter()
+                .map(|(_, l)| l)
+                .collect()
+        };
+        assert_eq!(labels(&settings), ["pushed by collision"]);
+        settings.arrows = crate::render::stage::Arrows::Step(crate::sim::SimStep::Length);
+        settings.arrow_scale = 50.0;
+        assert_eq!(labels(&settings), ["pushed by collision", "length ×50"]);
     }
 }

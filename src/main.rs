@@ -131,7 +131,9 @@ struct ViewArgs {
     /// Close after this many frames.
     #[arg(long, allow_negative_numbers = true)]
     frames: Option<u64>,
-    /// Scripted input, e.g. "10:resize=320x240; 30:orbit=40,-10; 50:wind=on; 90:screenshot=shot.png".
+    /// Scripted input, e.g. "10:resize=320x240; 30:orbit=40,-10; 50:wind=on; 60:pause=on;
+    /// 70:key=n; 90:screenshot=shot.png" (`key=` presses a character key: `n` steps the
+    /// paused simulation once, `1`…`8` choose a stage view).
     #[arg(long, default_value = "", allow_hyphen_values = true)]
     script: String,
     /// Folder for screenshots taken with F12 or P.

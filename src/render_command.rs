@@ -102,7 +102,7 @@ pub(super) fn render(args: &RenderArgs) -> anyhow::Result<()> {
 /// has one (`fur::legend`).
 fn with_legend(mut image: fur::render::RgbaImage, session: &FurSession) -> fur::render::RgbaImage {
     let max_level = session.renderer.max_level();
-    if let Some(legend) = fur::legend::Legend::of(session.settings.show, max_level) {
+    if let Some(legend) = fur::legend::Legend::of(&session.settings, max_level) {
         legend.draw(&mut image);
     }
     image

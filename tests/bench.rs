@@ -188,8 +188,16 @@ fn quick_bench_writes_every_expected_measurement() {
             expect("animation", way, metric);
         }
     }
+    // Every stage view timed against the lit frame (the lit one's ratio is exactly 1).
+    for stage in fur::render::Stage::ALL {
+        for metric in ["frame", "ratio to lit"] {
+            expect("stages", stage.name(), metric);
+        }
+    }
+    assert_eq!(value("stages", "lit", "ratio to lit"), 1.0);
     let md = std::fs::read_to_string(dir.join("results.md")).unwrap();
     assert!(md.contains("| iterations | substeps |"));
+    assert!(md.contains("| view | frame ms | × lit |"));
     assert!(md.contains("| setting | frame ms | ꟻLIP | RMSE |"));
     for chart in ["sim_pareto.svg", "render_pareto.svg", "sim_scaling.svg"] {
         let svg = std::fs::read_to_string(dir.join(chart)).unwrap();

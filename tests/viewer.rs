@@ -331,3 +331,53 @@ fn the_budget_steps_down_while_moving_and_back_when_still() {
         "{differing} pixels differ from the default drawing"
     );
 }
+
+/// Stepping through: paused at the first frame, the simulation runs exactly one step
+/// (1/60 s) per press of the step key, and none otherwise; switching to the simulation
+/// view with arrows on the way (the number key 6) rebuilds the kernel with frames in
+/// flight, validation-clean. Unpaused counted runs step once a frame.
+#[test]
+fn a_paused_viewer_steps_exactly_once_per_step_key() {
+    let run = |script: &str| {
+        let out = view(
+            &[
+                "--validate",
+                "--frames",
+                "14",
+                "--width",
+                "200",
+                "--height",
+                "150",
+                "--density-scale",
+                "0.2",
+                "--segments",
+                "6",
+                "--arrows",
+                "length",
+                "--script",
+                script,
+            ],
+            Duration::from_secs(180),
+        );
+        assert_ok(&out);
+        let stdout = String::from_utf8_lossy(&out.stdout).to_string();
+        let summary = stdout
+            .lines()
+            .find(|l| l.contains("simulation steps"))
+            .unwrap_or_else(|| panic!("no summary in:\n{stdout}"))
+            .to_string();
+        summary
+    };
+    let stepped = run("0:pause=on; 2:key=6; 4:key=n; 7:key=n; 9:key=n");
+    assert!(
+        stepped.contains("; 3 simulation steps (0.0500 s simulated)"),
+        "{stepped}"
+    );
+    let held = run("0:pause=on; 2:key=6");
+    assert!(
+        held.contains("; 0 simulation steps (0.0000 s simulated)"),
+        "{held}"
+    );
+    let running = run("2:key=6");
+    assert!(running.contains("; 14 simulation steps"), "{running}");
+}

@@ -20,6 +20,7 @@ pub mod quality;
 mod render;
 mod savings;
 mod sim;
+mod stages;
 mod truth;
 
 use std::fmt::Write as _;
@@ -92,10 +93,11 @@ pub enum Section {
     Ladder,
     Animation,
     Truth,
+    Stages,
 }
 
 impl Section {
-    pub const ALL: [Section; 11] = [
+    pub const ALL: [Section; 12] = [
         Self::Frame,
         Self::RenderQuality,
         Self::SimAccuracy,
@@ -107,6 +109,7 @@ impl Section {
         Self::Ladder,
         Self::Animation,
         Self::Truth,
+        Self::Stages,
     ];
 
     pub fn name(self) -> &'static str {
@@ -122,6 +125,7 @@ impl Section {
             Self::Ladder => "ladder",
             Self::Animation => "animation",
             Self::Truth => "truth",
+            Self::Stages => "stages",
         }
     }
 
@@ -138,6 +142,7 @@ impl Section {
             Self::Ladder => "frame time and image error of every rung of the frame-time budget's quality ladder",
             Self::Animation => "the walking critter: skinning cost, walking against standing, and each way of colliding with the deforming body",
             Self::Truth => "every quality rung and look against a path-traced reference (Mitsuba 3's hair model; needs tools/reference/setup.sh)",
+            Self::Stages => "cost of each stage view (--show) against the lit frame",
         }
     }
 
@@ -242,6 +247,7 @@ pub fn task_count(options: &BenchOptions) -> u64 {
             Section::Ladder => ladder::tasks(options.scenes().len()) + 2,
             Section::Animation => animation::tasks(),
             Section::Truth => truth::tasks(options.scenes().len()),
+            Section::Stages => stages::tasks(),
         })
         .sum()
 }
@@ -284,6 +290,7 @@ pub fn run(
             Section::Ladder => bench.ladder()?,
             Section::Animation => bench.animation()?,
             Section::Truth => bench.truth()?,
+            Section::Stages => bench.stages()?,
         }
     }
     Ok(Report {

@@ -125,6 +125,7 @@ impl Viewer {
             self.clock.steps_owed(dt)
         };
         let simulate = sim_frames > 0;
+        self.frames_simulated += sim_frames as u64;
         let screenshot = if std::mem::take(&mut self.controls.screenshot_requested) {
             self.screenshots_taken += 1;
             Some(
@@ -135,6 +136,8 @@ impl Viewer {
             self.panel.ui.pending_screenshot.take()
         };
 
+        // A change of stage view may rebuild the simulation kernel (waits for the device).
+        self.session.prepare_frame()?;
         let d = self.device.clone();
         let raw = &d.raw;
         let frame = &mut self.frames.slots[slot];

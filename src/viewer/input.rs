@@ -122,34 +122,7 @@ impl Viewer {
                     Key::Named(NamedKey::ArrowRight) => self.controls.model_offset.x += step,
                     Key::Named(NamedKey::ArrowUp) => self.controls.model_offset.y += step,
                     Key::Named(NamedKey::ArrowDown) => self.controls.model_offset.y -= step,
-                    Key::Character(c) => match c.as_str() {
-                        "a" => self.controls.model_offset.x -= step,
-                        "d" => self.controls.model_offset.x += step,
-                        "w" => self.controls.model_offset.z -= step,
-                        "s" => self.controls.model_offset.z += step,
-                        "q" => self.controls.model_yaw += 0.15,
-                        "e" => self.controls.model_yaw -= 0.15,
-                        "n" | "." => self.controls.single_step = true,
-                        "r" => self.panel.ui.reset_requested = true,
-                        "f" => self.controls.wind_on = !self.controls.wind_on,
-                        "+" | "=" => self.controls.wind_strength *= 1.25,
-                        "-" => self.controls.wind_strength /= 1.25,
-                        "l" => self.controls.light_orbit = !self.controls.light_orbit,
-                        "m" => self.controls.shake_on = !self.controls.shake_on,
-                        "p" => self.controls.screenshot_requested = true,
-                        "c" | "[" | "]" => super::animation_ui::key(&mut self.session, c),
-                        digit => {
-                            // 1, 2, …: the stage views, in `Stage::ALL`'s order.
-                            let stages = crate::render::Stage::ALL;
-                            let chosen = digit.parse::<usize>().ok().and_then(|n| {
-                                n.checked_sub(1).and_then(|i| stages.get(i).copied())
-                            });
-                            if let Some(stage) = chosen {
-                                self.scene.show = stage;
-                                self.session.settings.show = stage;
-                            }
-                        }
-                    },
+                    Key::Character(c) => self.character_key(c.as_str()),
                     _ => {}
                 }
             }
@@ -181,9 +154,44 @@ impl Viewer {
             Action::Wind(on) => c.wind_on = *on,
             Action::Shake(on) => c.shake_on = *on,
             Action::Pause(on) => c.paused = *on,
+            Action::Key(key) => self.character_key(key),
             Action::Minimize(on) => self.display.window.set_minimized(*on),
             Action::Screenshot(path) => {
                 self.panel.ui.pending_screenshot = Some(path.clone());
+            }
+        }
+    }
+
+    /// A character key pressed (or a script's `key=` event): the viewer's shortcuts.
+    pub(super) fn character_key(&mut self, c: &str) {
+        let step = f64::from(self.mesh.bounds().1) * 0.05;
+        match c {
+            "a" => self.controls.model_offset.x -= step,
+            "d" => self.controls.model_offset.x += step,
+            "w" => self.controls.model_offset.z -= step,
+            "s" => self.controls.model_offset.z += step,
+            "q" => self.controls.model_yaw += 0.15,
+            "e" => self.controls.model_yaw -= 0.15,
+            "n" | "." => self.controls.single_step = true,
+            "r" => self.panel.ui.reset_requested = true,
+            "f" => self.controls.wind_on = !self.controls.wind_on,
+            "+" | "=" => self.controls.wind_strength *= 1.25,
+            "-" => self.controls.wind_strength /= 1.25,
+            "l" => self.controls.light_orbit = !self.controls.light_orbit,
+            "m" => self.controls.shake_on = !self.controls.shake_on,
+            "p" => self.controls.screenshot_requested = true,
+            "c" | "[" | "]" => super::animation_ui::key(&mut self.session, c),
+            digit => {
+                // 1, 2, …: the stage views, in `Stage::ALL`'s order.
+                let stages = crate::render::Stage::ALL;
+                let chosen = digit
+                    .parse::<usize>()
+                    .ok()
+                    .and_then(|n| n.checked_sub(1).and_then(|i| stages.get(i).copied()));
+                if let Some(stage) = chosen {
+                    self.scene.show = stage;
+                    self.session.settings.show = stage;
+                }
             }
         }
     }

@@ -60,7 +60,7 @@ pub(super) fn show(ui: &mut egui::Ui, legend: &Legend) {
                     }
                 }
             }
-            ui.label(*label);
+            ui.label(label.as_str());
         }
     });
 }

@@ -107,13 +107,15 @@ pub fn run(options: ViewerOptions) -> Result<()> {
     if let Some(v) = &viewer {
         if !v.clock.frame_times.is_empty() {
             println!(
-                "{} frames: median frame time {:.1} ms; last GPU timings: frame {:.2} ms, simulation {:.2} ms; {} hairs drawn in {} segments",
+                "{} frames: median frame time {:.1} ms; last GPU timings: frame {:.2} ms, simulation {:.2} ms; {} hairs drawn in {} segments; {} simulation steps ({:.4} s simulated)",
                 v.clock.frame_times.len() + 1,
                 crate::bench::metrics::median(&v.clock.frame_times),
                 v.hud.gpu_frame_ms,
                 v.hud.sim_ms,
                 v.hud.hairs,
-                v.hud.segments
+                v.hud.segments,
+                v.frames_simulated,
+                v.session.sim.time,
             );
             if v.quality.budget.is_some() {
                 let changes: Vec<String> = v
@@ -285,6 +287,8 @@ struct Viewer {
     screenshot_dir: PathBuf,
     save_scene: Option<PathBuf>,
     screenshots_taken: u32,
+    /// Simulation frames run (each all its substeps); paused, one per step key.
+    frames_simulated: u64,
 }
 
 impl Drop for Viewer {

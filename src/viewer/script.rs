@@ -19,6 +19,8 @@ pub enum Action {
     Wind(bool),
     Shake(bool),
     Pause(bool),
+    /// A character key pressed, as the keyboard would (`key=n`: one simulation step).
+    Key(String),
     Minimize(bool),
     Screenshot(PathBuf),
 }
@@ -52,7 +54,7 @@ impl Script {
             let error = || {
                 Error::Parameter(format!(
                     "bad script event `{item}` (expected FRAME:ACTION[=ARGS], e.g. 10:resize=320x240, \
-                     20:orbit=30,-10, 25:zoom=0.8, 30:move=0.1,0,0, 40:wind=on, 45:shake=on, 50:pause=off, \
+                     20:orbit=30,-10, 25:zoom=0.8, 30:move=0.1,0,0, 40:wind=on, 45:shake=on, 50:pause=off, 55:key=n, \
                      60:minimize=on, 90:screenshot=shot.png)"
                 ))
             };
@@ -71,6 +73,9 @@ impl Script {
                 "wind" => on_off(args.trim()).map(Action::Wind),
                 "shake" => on_off(args.trim()).map(Action::Shake),
                 "pause" => on_off(args.trim()).map(Action::Pause),
+                "key" if args.trim().chars().count() == 1 => {
+                    Some(Action::Key(args.trim().to_string()))
+                }
                 "minimize" => on_off(args.trim()).map(Action::Minimize),
                 "screenshot" if !args.trim().is_empty() => {
                     Some(Action::Screenshot(PathBuf::from(args.trim())))

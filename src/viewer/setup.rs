@@ -86,6 +86,7 @@ impl Viewer {
             screenshot_dir: options.screenshot_dir.clone(),
             save_scene: options.save_scene.clone(),
             screenshots_taken: 0,
+            frames_simulated: 0,
         })
     }
 }

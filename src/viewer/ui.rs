@@ -89,7 +89,7 @@ impl PanelState {
                     hud.masters, hud.points, hud.hairs, hud.segments, hud.culled
                 ));
                 let max_level = session.renderer.max_level();
-                if let Some(legend) = crate::legend::Legend::of(session.settings.show, max_level) {
+                if let Some(legend) = crate::legend::Legend::of(&session.settings, max_level) {
                     super::legend_ui::show(ui, &legend);
                 }
                 ui.horizontal(|ui| {

@@ -48,7 +48,7 @@ layout(set = SET_FRAME, binding = B_FRAME_UNIFORMS, std140) uniform Frame {
     vec4 lod;            // hairs per unit area, full-density distance, max level, cull margin
     vec4 hair;           // width, minimum width in pixels, jitter radius, length jitter
     vec4 viewport;       // width, height, 1/width, 1/height
-    vec4 draw;           // ribbon threshold (px), vertex-LOD tolerance (px, 0 = off), texels in the texture, unused
+    vec4 draw;           // ribbon threshold (px), vertex-LOD tolerance (px, 0 = off), texels in the texture, arrow scale
     vec4 highlight;      // cos, sin of the primary lobe's shift; cos, sin of the secondary's
     vec4 secondary;      // secondary lobe: exponent, strength, unused, unused
     vec4 shadow;         // opacity per hair layer, layers per unit of map depth, depth bias, unused

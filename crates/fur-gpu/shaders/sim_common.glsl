@@ -14,7 +14,7 @@ layout(local_size_x = GROUP_SIZE) in;         // strands per workgroup (crates/f
 layout(set = 0, binding = 0, std140) uniform SimStatic {
     vec4 stiffness;     // S_G, S_L
     uvec4 counts;       // strand count, strands per row, global cutoff vertex, local iterations
-    uvec4 counts2;      // length iterations, bone capsules, joints
+    uvec4 counts2;      // length iterations, bone capsules, joints, the probe's arrow step (STEPS bit, 0 none)
     vec4 collision;     // margin (a fraction of each strand's length), friction, 1 / cell, cell
     vec4 sdf_origin;    // model-space position of grid point (0, 0, 0)
     uvec4 sdf_dims;     // grid points along x, y, z
@@ -75,6 +75,12 @@ layout(set = 0, binding = 11, rgba32ui) uniform readonly uimage3D blend;
 // Per substep of the submission and joint, the joint's motion from the rest pose: the
 // first three rows of K = J · J_rest⁻¹; sim.counts2.z joints per substep.
 layout(set = 0, binding = 12, rgba32f) uniform readonly imageBuffer bones;
+
+// The simulation view's arrows (PROBE): per strand vertex, strand-major, the
+// correction the step sim.counts2.w made in the frame's last substep.
+layout(set = 0, binding = 13, std430) writeonly buffer Probe {
+    vec4 arrows[];
+};
 
 layout(push_constant) uniform Push {
     uint step;          // index into steps[] of the first substep

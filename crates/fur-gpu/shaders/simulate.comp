@@ -14,7 +14,7 @@
 
 layout(constant_id = 2) const uint STEPS = 0x1fu;
 // Shared with Rust, defined for this shader from the Rust constants
-// (crates/fur-gpu/src/sim/gpu.rs: kernel_defines), never typed here: the STEPS bits STEP_GLOBAL,
+// (crates/fur-gpu/src/sim/gpu.rs: kernel_defines), never typed here: the STEPS bits STEP_INTEGRATE, STEP_GLOBAL,
 // STEP_LOCAL, STEP_LENGTH, STEP_WIND, STEP_COLLISION; BODY_SKINNED (the body is skinned:
 // each strand's rest shape follows its own root pose from the skinning pass before the
 // head transform); SLEEP (strands at rest sleep, see the end of main; compiled out with
@@ -197,7 +197,39 @@ void wind(uint strand, Step st) {
 
 #include "collide.glsl"
 
-bool pushed[V];   // PROBE: whether collision moved the vertex this frame
+bool pushed[V];       // PROBE: whether collision moved the vertex this frame
+vec3 arrow_from[V];   // PROBE: the vertices before the step drawn as arrows
+
+// PROBE with arrows: whether named step `bit` of substep `s` is the one whose correction
+// the simulation view draws (the frame's last substep).
+bool arrow_step(uint bit, uint s) {
+    return (STEPS & PROBE) != 0u && sim.counts2.w == bit && s + 1u == push.count;
+}
+
+void arrow_begin(uint bit, uint s) {
+    if (arrow_step(bit, s)) {
+        for (uint i = 0u; i < V; ++i) {
+            arrow_from[i] = x[i];
+        }
+    }
+}
+
+void arrow_end(uint bit, uint s, uint strand) {
+    if (arrow_step(bit, s)) {
+        for (uint i = 0u; i < V; ++i) {
+            arrows[strand * V + i] = vec4(x[i] - arrow_from[i], 0.0);
+        }
+    }
+}
+
+// PROBE with arrows: no correction (the step did not run, or the strand sleeps).
+void arrows_none(uint strand) {
+    if ((STEPS & PROBE) != 0u && sim.counts2.w != 0u) {
+        for (uint i = 0u; i < V; ++i) {
+            arrows[strand * V + i] = vec4(0.0);
+        }
+    }
+}
 
 // PROBE: the w the simulation view reads for vertex i, 1 + its distance from its rest
 // shape carried by the body (this frame's last pose) as a fraction of the strand's
@@ -250,25 +282,37 @@ void main() {
     for (uint i = 0u; i < V; ++i) {
         pushed[i] = false;
     }
+    arrows_none(strand);
     for (uint s = 0u; s < push.count; ++s) {
         Step st = steps[push.step + s];
         load_pose(strand, s);
         if ((STEPS & BODY_SKINNED) != 0u) {
             ride(strand, st);
         }
+        arrow_begin(STEP_INTEGRATE, s);
         integrate(strand, st);
+        arrow_end(STEP_INTEGRATE, s, strand);
         if ((STEPS & STEP_GLOBAL) != 0u) {
+            arrow_begin(STEP_GLOBAL, s);
             global_shape(strand, st);
+            arrow_end(STEP_GLOBAL, s, strand);
         }
         if ((STEPS & STEP_LOCAL) != 0u) {
+            arrow_begin(STEP_LOCAL, s);
             local_shape(strand, st);
+            arrow_end(STEP_LOCAL, s, strand);
         }
         if ((STEPS & STEP_LENGTH) != 0u) {
+            arrow_begin(STEP_LENGTH, s);
             edge_length(strand);
+            arrow_end(STEP_LENGTH, s, strand);
         }
         if ((STEPS & STEP_WIND) != 0u) {
+            arrow_begin(STEP_WIND, s);
             wind(strand, st);
+            arrow_end(STEP_WIND, s, strand);
         }
+        arrow_begin(STEP_COLLISION, s);
         if ((STEPS & STEP_COLLISION) != 0u) {
             if ((STEPS & PROBE) != 0u) {
                 vec3 before[V];
@@ -283,6 +327,7 @@ void main() {
                 collide(st, push.step + s, sim.collision.x * strand_length);
             }
         }
+        arrow_end(STEP_COLLISION, s, strand);
     }
     // Sleep: a strand whose root did not move this frame and whose other vertices moved
     // by no more than rounding noise (SLEEP_ULPS of its largest coordinate) or slow
@@ -318,6 +363,9 @@ void main() {
     for (uint i = 0u; i < V; ++i) {
         ivec2 t = strand_texel(strand, i, V, sim.counts.y);
         if (asleep) {
+            if (i == 0u) {
+                arrows_none(strand);
+            }
             // The new current is where the frame started; the new previous is already
             // there (current_positions holds the frame's start).
             imageStore(previous_positions, t, imageLoad(current_positions, t));

@@ -194,12 +194,27 @@ impl FurSession {
 
     /// Renders the current state without simulating.
     pub fn render(&mut self) -> Result<(RgbaImage, FrameReport)> {
+        self.prepare_frame()?;
         self.renderer.render(&self.textures, &self.settings)
+    }
+
+    /// What a change of settings needs before a frame's command buffer is begun: the
+    /// simulation view's probe (and its arrows) switched on or off in the kernel, which
+    /// rebuilds it and waits for the device (only when the view or arrows change).
+    pub fn prepare_frame(&mut self) -> Result<()> {
+        let probe = (self.settings.show == Stage::Simulation).then(|| self.settings.arrows.step());
+        if self.sim.probe() != probe {
+            self.device.wait_idle()?;
+            self.sim.set_probe(probe, &mut self.textures)?;
+            self.renderer.bind_probe(&self.textures);
+        }
+        Ok(())
     }
 
     /// Records one rendered frame into `cmd` using frame slot `slot`: `sim_frames`
     /// simulation frames of `dt` each (all their substeps; 0 when paused) and both render
-    /// passes. The slot's previous frame must have finished. The resolved image is left
+    /// passes. The slot's previous frame must have finished, and
+    /// [`FurSession::prepare_frame`] must have run since the settings last changed. The resolved image is left
     /// for the caller to copy or blit.
     pub fn record_frame(
         &mut self,
@@ -211,12 +226,6 @@ impl FurSession {
         let constants = self
             .sim
             .next_constants(sim_frames, |t| user * motion.head(t));
-        // The simulation view reads the kernel's probe; switching it rebuilds the kernel.
-        let probe = self.settings.show == Stage::Simulation;
-        if self.sim.probe() != probe {
-            self.device.wait_idle()?;
-            self.sim.set_probe(probe, &self.textures)?;
-        }
         self.settings.head = self.head_at(self.sim.time).as_mat4();
         self.renderer.update(slot, &self.settings)?;
         self.renderer.begin_frame(cmd, slot);
@@ -262,6 +271,7 @@ impl FurSession {
 
     /// Simulates one frame (all its substeps) and renders it, in one submission.
     pub fn step_and_render(&mut self) -> Result<(RgbaImage, FrameTimings)> {
+        self.prepare_frame()?;
         let device = self.device.clone();
         device.submit_once(|cmd| {
             self.record_frame(cmd, 0, 1)?;

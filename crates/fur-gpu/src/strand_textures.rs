@@ -98,6 +98,10 @@ pub struct StrandTextures {
     pub root_frames: Buffer,
     /// Length of the longest master hair (rest pose), scene units.
     pub hair_length: f32,
+    /// The simulation view's arrows: per strand vertex (strand-major), the correction
+    /// the chosen step made in the last substep simulated (xyz; `GpuSim::set_probe`).
+    /// A placeholder until [`StrandTextures::ensure_probe`] sizes it.
+    pub probe: Buffer,
 }
 
 pub const STRAND_FORMAT: vk::Format = vk::Format::R32G32B32A32_SFLOAT;
@@ -145,6 +149,7 @@ impl StrandTextures {
             current: 0,
             root_frames,
             hair_length: strands.hair_length(),
+            probe: Self::probe_buffer(device, 1)?,
         };
         let rest_texels = layout.texels_from(strands.positions.iter().map(|p| p.extend(0.0)));
         let posed = layout.texels_from(
@@ -166,6 +171,47 @@ impl StrandTextures {
             &textures.rest_local,
         )?;
         Ok(textures)
+    }
+
+    fn probe_buffer(device: &Arc<Device>, vertices: u64) -> Result<Buffer> {
+        Buffer::new(
+            device,
+            "strands.probe",
+            vertices * std::mem::size_of::<Vec4>() as u64,
+            vk::BufferUsageFlags::STORAGE_BUFFER
+                | vk::BufferUsageFlags::TRANSFER_SRC
+                | vk::BufferUsageFlags::TRANSFER_DST,
+            MemoryLocation::GpuOnly,
+        )
+    }
+
+    /// Sizes [`StrandTextures::probe`] for every strand vertex, zeroed; true when it
+    /// was the placeholder (descriptor sets holding it must be written again). No
+    /// frame may be in flight.
+    pub fn ensure_probe(&mut self) -> Result<bool> {
+        let vertices = u64::from(self.layout.strand_count * self.layout.vertices_per_strand);
+        if self.probe.size() >= vertices * std::mem::size_of::<Vec4>() as u64 {
+            return Ok(false);
+        }
+        let probe = Self::probe_buffer(&self.device, vertices)?;
+        self.device.submit_once(|cmd| {
+            // SAFETY: `cmd` is recording (inside `submit_once`); the buffer is new and
+            // has TRANSFER_DST usage; the submission waits.
+            unsafe {
+                self.device
+                    .raw
+                    .cmd_fill_buffer(cmd, probe.raw(), 0, vk::WHOLE_SIZE, 0)
+            };
+            Ok(())
+        })?;
+        self.probe = probe;
+        Ok(true)
+    }
+
+    /// The probe's arrows read back, one per strand vertex (strand-major). For tests
+    /// and tools; waits for the GPU.
+    pub fn read_probe(&self) -> Result<Vec<Vec4>> {
+        Ok(bytemuck::pod_collect_to_vec(&self.probe.read_back()?))
     }
 
     fn extent(&self) -> vk::Extent2D {

@@ -4,6 +4,8 @@
 
 use glam::Vec3;
 
+use crate::sim::SimStep;
+
 /// Which stage of the pipeline an image shows.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 pub enum Stage {
@@ -105,6 +107,48 @@ impl std::str::FromStr for Stage {
     }
 }
 
+/// Which step of the simulation the `simulation` view draws as arrows: the correction
+/// that step made to each master-hair vertex in the frame's last substep.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum Arrows {
+    #[default]
+    None,
+    Step(SimStep),
+}
+
+impl Arrows {
+    /// Every choice, `none` first, then the steps in the order a substep runs them.
+    pub fn all() -> impl Iterator<Item = Arrows> {
+        std::iter::once(Arrows::None).chain(SimStep::ALL.into_iter().map(Arrows::Step))
+    }
+
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::None => "none",
+            Self::Step(step) => step.key(),
+        }
+    }
+
+    /// The step, if any.
+    pub fn step(self) -> Option<SimStep> {
+        match self {
+            Self::None => None,
+            Self::Step(step) => Some(step),
+        }
+    }
+}
+
+impl std::str::FromStr for Arrows {
+    type Err = String;
+
+    fn from_str(s: &str) -> std::result::Result<Self, String> {
+        Self::all().find(|a| a.name() == s).ok_or_else(|| {
+            let names: Vec<&str> = Self::all().map(Arrows::name).collect();
+            format!("expected one of {}, got `{s}`", names.join(", "))
+        })
+    }
+}
+
 /// The stage views' defines for the shaders: `STAGE_MASTERS`, `STAGE_DENSITY`, … as
 /// [`Stage::code`] numbers them (plain integers, for `#if`), and the simulation view's
 /// full scale.
@@ -195,6 +239,27 @@ mod tests {
         }
         let err = "fluffy".parse::<Stage>().unwrap_err();
         assert!(err.contains("density") && err.contains("fluffy"), "{err}");
+    }
+
+    #[test]
+    fn every_arrow_choice_reads_back_by_name() {
+        let names: Vec<&str> = Arrows::all().map(Arrows::name).collect();
+        assert_eq!(
+            names,
+            [
+                "none",
+                "integrate",
+                "global",
+                "local",
+                "length",
+                "wind",
+                "collision"
+            ]
+        );
+        for arrows in Arrows::all() {
+            assert_eq!(arrows.name().parse::<Arrows>(), Ok(arrows));
+        }
+        assert!("shape".parse::<Arrows>().is_err());
     }
 
     #[test]

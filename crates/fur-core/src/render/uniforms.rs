@@ -248,6 +248,10 @@ pub struct FrameSettings {
     pub draw_fur: bool,
     /// The stage the image shows.
     pub show: Stage,
+    /// In the simulation view, the step whose corrections are drawn as arrows, and how
+    /// many times their length they are drawn.
+    pub arrows: super::stage::Arrows,
+    pub arrow_scale: f32,
     /// Count the hairs and segments the fur pass draws (an atomic per hair; for tests
     /// and reports, off when timing).
     pub count_hairs: bool,
@@ -275,6 +279,8 @@ impl Default for FrameSettings {
             draw_mesh: true,
             draw_fur: true,
             show: Stage::Lit,
+            arrows: super::stage::Arrows::None,
+            arrow_scale: 10.0,
             count_hairs: false,
             supersample: 1,
         }
@@ -340,7 +346,7 @@ impl FrameUniforms {
             lod: Vec4::new(s.density, s.lod_distance, max_level, s.cull_margin),
             hair: Vec4::new(s.hair_width, s.min_pixel_width, s.jitter, s.length_jitter),
             viewport: Vec4::new(w, h, 1.0 / w, 1.0 / h),
-            draw: Vec4::new(ribbon_above, s.vertex_lod_px, 0.0, 0.0),
+            draw: Vec4::new(ribbon_above, s.vertex_lod_px, 0.0, settings.arrow_scale),
             highlight: Vec4::new(primary_cos, primary_sin, secondary_cos, secondary_sin),
             secondary: Vec4::new(
                 highlights.secondary_shininess,

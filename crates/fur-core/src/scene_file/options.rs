@@ -34,6 +34,9 @@ pub struct SceneOptions {
     pub texture: Option<TextureSpec>,
     /// The stage of the pipeline the image shows.
     pub show: crate::render::Stage,
+    /// The simulation view's arrows: which step, magnified how many times.
+    pub arrows: crate::render::stage::Arrows,
+    pub arrow_scale: f32,
 }
 
 /// How the fur is drawn: the levers that trade speed for image quality (measured by
@@ -118,6 +121,8 @@ impl Default for SceneOptions {
             lighting: crate::render::Lighting::default(),
             texture: None,
             show: crate::render::Stage::Lit,
+            arrows: crate::render::stage::Arrows::None,
+            arrow_scale: 10.0,
         }
     }
 }
@@ -271,6 +276,8 @@ impl SceneOptions {
         style.thin_hair_aa = draw.thin_hair_aa;
         settings.lighting.shadows.spacing *= radius;
         settings.show = self.show;
+        settings.arrows = self.arrows;
+        settings.arrow_scale = self.arrow_scale;
         style.validate()?;
         groom.validate()?;
         Ok((groom, settings))

@@ -169,6 +169,7 @@ named_choice!(
     crate::render::Shading,
     crate::render::LightingModel,
     crate::render::Stage,
+    crate::render::stage::Arrows,
     crate::sim::MotionKind
 );
 

@@ -35,6 +35,18 @@ impl SimStep {
         }
     }
 
+    /// Its one-word name, as the `arrows` setting takes it.
+    pub fn key(self) -> &'static str {
+        match self {
+            Self::Integrate => "integrate",
+            Self::Global => "global",
+            Self::Local => "local",
+            Self::Length => "length",
+            Self::Wind => "wind",
+            Self::Collision => "collision",
+        }
+    }
+
     /// This step's bit in the kernel's `STEPS` specialization constant.
     pub fn bit(self) -> u32 {
         1 << self as u32

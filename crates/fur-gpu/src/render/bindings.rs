@@ -77,6 +77,8 @@ bindings!(
             vk::ShaderStageFlags::TESSELLATION_CONTROL.as_raw() | vk::ShaderStageFlags::GEOMETRY.as_raw())),
         /// The shadow map (read by the frames with shadows).
         ShadowMap = ("B_SHADOW_MAP", COMBINED_IMAGE_SAMPLER, SHADING_STAGES),
+        /// The simulation kernel's arrows (the simulation view).
+        Probe = ("B_PROBE", STORAGE_BUFFER, vk::ShaderStageFlags::VERTEX),
     }
 );
 
@@ -175,12 +177,13 @@ pub(super) fn write_body_set(device: &Device, set: vk::DescriptorSet, body: &Bod
     unsafe { device.raw.update_descriptor_sets(&writes, &[]) };
 }
 
-/// Points a frame set at its uniforms, position image, hair counters and shadow map.
+/// Points a frame set at its uniforms, position image, hair counters, shadow map and
+/// the simulation's arrows.
 pub(super) fn write_frame_set(
     device: &Device,
     set: vk::DescriptorSet,
     uniforms: &Buffer,
-    positions: &Image,
+    (positions, probe): (&Image, &Buffer),
     counters: &Buffer,
     shadow: &ShadowMap,
 ) {
@@ -190,11 +193,13 @@ pub(super) fn write_frame_set(
         .image_layout(vk::ImageLayout::GENERAL)];
     let counts = buffer_info(counters.raw());
     let map = sampled(shadow.sampler.raw(), shadow.image.view());
+    let arrows = buffer_info(probe.raw());
     let writes = [
         FrameBinding::Uniforms.write(set).buffer_info(&ubo),
         FrameBinding::Positions.write(set).image_info(&image),
         FrameBinding::Counters.write(set).buffer_info(&counts),
         FrameBinding::ShadowMap.write(set).image_info(&map),
+        FrameBinding::Probe.write(set).buffer_info(&arrows),
     ];
     // SAFETY: the set belongs to a slot whose frames have finished (or never run); the
     // resources outlive it.
@@ -214,6 +219,14 @@ pub(super) fn write_shadow_map(device: &Device, set: vk::DescriptorSet, map: &Sh
     let info = sampled(map.sampler.raw(), map.image.view());
     let writes = [FrameBinding::ShadowMap.write(set).image_info(&info)];
     // SAFETY: as for `write_frame_set`: the slot's frames have finished.
+    unsafe { device.raw.update_descriptor_sets(&writes, &[]) };
+}
+
+/// Points a frame set at the simulation's arrows (resized by the simulation view).
+pub(super) fn write_probe(device: &Device, set: vk::DescriptorSet, probe: &Buffer) {
+    let info = buffer_info(probe.raw());
+    let writes = [FrameBinding::Probe.write(set).buffer_info(&info)];
+    // SAFETY: as for `write_frame_set`: the device is idle (the caller waited).
     unsafe { device.raw.update_descriptor_sets(&writes, &[]) };
 }
 

@@ -23,6 +23,8 @@ pub enum Resource {
     Posed,
     /// The hair counters (and the capture behind them).
     Counters,
+    /// The simulation kernel's arrows (the simulation view).
+    Probe,
     /// The slot's shadow map.
     ShadowMap,
     /// The target's depth, its multisampled colour (with MSAA) and its single-sample
@@ -138,7 +140,7 @@ impl FrameContext<'_> {
             Resource::Depth => Some((self.target.depth.raw(), vk::ImageAspectFlags::DEPTH)),
             Resource::Color => self.target.color.as_ref().map(|c| (c.raw(), colour)),
             Resource::Resolve => Some((self.target.resolve.raw(), colour)),
-            Resource::Positions | Resource::Posed | Resource::Counters => None,
+            Resource::Positions | Resource::Posed | Resource::Counters | Resource::Probe => None,
         }
     }
 
@@ -149,6 +151,7 @@ impl FrameContext<'_> {
         vec![
             (Resource::Positions, State::after(&[Access::ComputeWrite])),
             (Resource::Posed, State::after(&[Access::ComputeWrite])),
+            (Resource::Probe, State::after(&[Access::ComputeWrite])),
             // Read by the host after the previous frame's fence: nothing to wait for.
             (Resource::Counters, State::after(&[])),
             (

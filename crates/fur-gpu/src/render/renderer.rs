@@ -12,7 +12,8 @@ use std::sync::Arc;
 use ash::vk;
 
 use super::bindings::{
-    write_body_set, write_shadow_map, BodyBinding, BodyResources, FrameBinding, SET_BODY, SET_FRAME,
+    write_body_set, write_probe, write_shadow_map, BodyBinding, BodyResources, FrameBinding,
+    SET_BODY, SET_FRAME,
 };
 use super::graph::Pass;
 use super::slot::{RenderSlot, TIMESTAMPS, TS_FRAME, TS_FUR, TS_MESH, TS_START};
@@ -364,8 +365,11 @@ impl Renderer {
             );
             self.fur_pass.prepare(&self.pipeline_layout, &variants)?;
         } else if settings.show.draws_masters() {
-            self.masters_pass
-                .prepare(&self.pipeline_layout, self.target.samples, settings.show)?;
+            self.masters_pass.prepare(
+                &self.pipeline_layout,
+                self.target.samples,
+                (settings.show, settings.arrows.step().is_some()),
+            )?;
         } else {
             self.density_pass
                 .prepare(&self.pipeline_layout, self.target.samples)?;
@@ -411,6 +415,16 @@ impl Renderer {
         frame.variants = variants;
         frame.shadows = shadows;
         Ok(())
+    }
+
+    /// Points every frame set at `strands`' probe, after the simulation view sized it
+    /// (`GpuSim::set_probe`). The device must be idle.
+    pub fn bind_probe(&self, strands: &StrandTextures) {
+        for slot in &self.slots {
+            for set in slot.sets.iter().chain(&slot.light_sets) {
+                write_probe(&self.device, *set, &strands.probe);
+            }
+        }
     }
 
     /// The largest tessellation level the device generates (the density view's scale

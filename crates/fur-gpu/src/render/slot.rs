@@ -87,7 +87,7 @@ impl RenderSlot {
                 device,
                 *set,
                 ubo,
-                &strands.positions[i % 2],
+                (&strands.positions[i % 2], &strands.probe),
                 &counters,
                 &shadow,
             );

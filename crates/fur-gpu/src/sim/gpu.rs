@@ -54,6 +54,7 @@ pub fn kernel_defines() -> Vec<(&'static str, String)> {
     // `{:?}` writes an f32 as its shortest round-trip decimal, always with a point.
     let float = |v: f32| format!("{v:?}");
     vec![
+        ("STEP_INTEGRATE", uint(SimStep::Integrate.bit())),
         ("STEP_GLOBAL", uint(SimStep::Global.bit())),
         ("STEP_LOCAL", uint(SimStep::Local.bit())),
         ("STEP_LENGTH", uint(SimStep::Length.bit())),
@@ -106,8 +107,8 @@ pub struct GpuSim {
     /// Steps to compile in even when the parameters do not need them (the benchmark
     /// measures steps alone this way); `None`: exactly the needed ones.
     forced_steps: Option<u32>,
-    /// Whether the kernel writes the simulation view's probe ([`GpuSim::set_probe`]).
-    probe: bool,
+    /// The simulation view's probe ([`GpuSim::set_probe`]).
+    probe: Option<Option<SimStep>>,
     /// The body's distance field (a 3D image, per grid point its value and gradient; a
     /// placeholder without a body) and its grid.
     _body: crate::gpu::Image,
@@ -320,7 +321,7 @@ impl GpuSim {
             statics,
             pipeline: None,
             forced_steps: None,
-            probe: false,
+            probe: None,
             _body: body_field,
             _blend: blend_field,
             has_blend: blend.is_some(),
@@ -392,17 +393,30 @@ impl GpuSim {
         self.set_params(self.params.clone(), textures)
     }
 
-    /// Whether the kernel writes the simulation view's probe.
-    pub fn probe(&self) -> bool {
+    /// The simulation view's probe: None when off, else the step drawn as arrows.
+    pub fn probe(&self) -> Option<Option<SimStep>> {
         self.probe
     }
 
-    /// Has the kernel write, into the w of each vertex's new position, 1 + its
-    /// distance from its rest shape carried by the body as a fraction of its strand's
-    /// rest length, negated when collision pushed it during the frame (the simulation
-    /// view reads it; w is 1 otherwise). Rebuilds the kernel: no frame may be in flight.
-    pub fn set_probe(&mut self, on: bool, textures: &StrandTextures) -> Result<()> {
-        self.probe = on;
+    /// `Some(arrows)`: has the kernel write, into the w of each vertex's new position,
+    /// 1 + its distance from its rest shape carried by the body as a fraction of its
+    /// strand's rest length, negated when collision pushed it during the frame (the
+    /// simulation view reads it; w is 1 otherwise), and, with `arrows`, the correction
+    /// that step made in the frame's last substep into [`StrandTextures::probe`]
+    /// (sized here). `None`: off. Rebuilds the kernel: no frame may be in flight.
+    pub fn set_probe(
+        &mut self,
+        probe: Option<Option<SimStep>>,
+        textures: &mut StrandTextures,
+    ) -> Result<()> {
+        if matches!(probe, Some(Some(_))) && textures.ensure_probe()? {
+            for slot in &self.slots {
+                for set in slot.sets {
+                    super::kernel::write_probe(&self.device, set, &textures.probe);
+                }
+            }
+        }
+        self.probe = probe;
         self.set_params(self.params.clone(), textures)
     }
 
@@ -421,7 +435,7 @@ impl GpuSim {
                 params.length_iterations,
                 self.skinned.as_ref().map_or(0, |s| s.skin.capsule_count),
                 self.skinned.as_ref().map_or(0, |s| s.skin.joint_count()),
-                0,
+                self.probe.flatten().map_or(0, SimStep::bit),
             ),
             collision: self.grid.map_or(Vec4::ZERO, |g| {
                 Vec4::new(
@@ -453,7 +467,7 @@ impl GpuSim {
         if params.hair_can_rest() {
             mask |= SLEEP;
         }
-        if self.probe {
+        if self.probe.is_some() {
             mask |= PROBE;
         }
         if let Some(skinned) = &self.skinned {

@@ -42,7 +42,7 @@ impl From<&StepConstants> for GpuStep {
     }
 }
 
-pub(super) fn bindings() -> [(vk::DescriptorType, vk::ShaderStageFlags); 13] {
+pub(super) fn bindings() -> [(vk::DescriptorType, vk::ShaderStageFlags); 14] {
     let c = vk::ShaderStageFlags::COMPUTE;
     [
         (vk::DescriptorType::UNIFORM_BUFFER, c),
@@ -58,6 +58,7 @@ pub(super) fn bindings() -> [(vk::DescriptorType, vk::ShaderStageFlags); 13] {
         (vk::DescriptorType::STORAGE_TEXEL_BUFFER, c), // last root poses
         (vk::DescriptorType::STORAGE_IMAGE, c), // the skin's blend of bones
         (vk::DescriptorType::STORAGE_TEXEL_BUFFER, c), // the bones' motions
+        (vk::DescriptorType::STORAGE_BUFFER, c), // the probe's arrows
     ]
 }
 
@@ -110,10 +111,11 @@ pub(super) fn write_sim_set(
             .image_view(i.view())
             .image_layout(vk::ImageLayout::GENERAL)]
     };
-    let (b0, b1, b4) = (
+    let (b0, b1, b4, b13) = (
         buffer(statics),
         buffer(steps),
         buffer(&textures.root_frames),
+        buffer(&textures.probe),
     );
     let (t8, t9, t10, t12) = (
         [body.root_poses.view()],
@@ -151,12 +153,30 @@ pub(super) fn write_sim_set(
         write(10).texel_buffer_view(&t10),
         write(11).image_info(&i11),
         write(12).texel_buffer_view(&t12),
+        write(13).buffer_info(&b13),
     ];
     // SAFETY: `set` was allocated from this device with the simulation's layout, whose
-    // bindings 0..=12 have the types written here; every view and buffer is alive (the
+    // bindings 0..=13 have the types written here; every view and buffer is alive (the
     // simulation owns them) and the info arrays outlive the call; the sets are written
     // once, at creation, before any submission uses them.
     unsafe { device.raw.update_descriptor_sets(&writes, &[]) };
+}
+
+/// Points binding 13 of simulation set `set` at `probe` (resized by the simulation
+/// view; the device is idle).
+pub(super) fn write_probe(device: &Device, set: vk::DescriptorSet, probe: &Buffer) {
+    let info = [vk::DescriptorBufferInfo::default()
+        .buffer(probe.raw())
+        .range(vk::WHOLE_SIZE)];
+    let write = vk::WriteDescriptorSet::default()
+        .dst_set(set)
+        .dst_binding(13)
+        .descriptor_type(bindings()[13].0)
+        .buffer_info(&info);
+    // SAFETY: the set has the simulation's layout (binding 13 a storage buffer); no
+    // submission using it is pending (the caller waited for the device); the buffer
+    // outlives the set's use (the strand textures own it and are rebound on change).
+    unsafe { device.raw.update_descriptor_sets(&[write], &[]) };
 }
 
 #[cfg(test)]

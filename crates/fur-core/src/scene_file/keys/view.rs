@@ -57,6 +57,42 @@ pub const IMAGE: Group = Group {
             panel: Panel::Plain,
             ..field!(options.show)
         },
+        Setting {
+            key: "arrows",
+            flag: Flag::Long("arrows"),
+            label: "arrows (simulation view)",
+            help: "In the `simulation` view, the correction one step of the simulation made \
+                   to each master-hair vertex in the frame's last substep, drawn from where \
+                   the step found the vertex (dark) to where it left it (bright), magnified \
+                   `arrow_scale` times: `none`, `integrate`, `global` (shape), `local` \
+                   (shape), `length`, `wind` or `collision`. Step through frames in the \
+                   viewer (pause: space, one step: n) to follow them",
+            kind: Kind::Choice(&[
+                "none",
+                "integrate",
+                "global",
+                "local",
+                "length",
+                "wind",
+                "collision",
+            ]),
+            panel: Panel::Plain,
+            ..field!(options.arrows)
+        },
+        Setting {
+            key: "arrow_scale",
+            flag: Flag::Long("arrow-scale"),
+            label: "arrow scale",
+            help: "How many times its length the simulation view draws each step's correction",
+            units: "×",
+            kind: Kind::positive(10_000.0),
+            panel: Panel::Slider {
+                min: 1.0,
+                max: 1000.0,
+                log: true,
+            },
+            ..field!(options.arrow_scale)
+        },
     ],
 };
 

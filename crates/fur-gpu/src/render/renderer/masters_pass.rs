@@ -25,6 +25,8 @@ pub struct MastersPass {
     strand_count: u32,
     /// Per sample count of the target and view, built on first use.
     pipelines: Vec<((u32, Stage), Pipeline)>,
+    /// The simulation view's arrows, per sample count, built on first use.
+    arrows: Vec<(u32, Pipeline)>,
 }
 
 impl MastersPass {
@@ -38,12 +40,22 @@ impl MastersPass {
             vertices_per_strand: layout.vertices_per_strand,
             strand_count: layout.strand_count,
             pipelines: Vec::new(),
+            arrows: Vec::new(),
         }
     }
 
-    /// Builds the pipeline of view `stage` for a target of `samples` per pixel if it
-    /// does not exist.
-    pub fn prepare(&mut self, layout: &PipelineLayout, samples: u32, stage: Stage) -> Result<()> {
+    /// Builds the pipelines of view `stage` (with `arrows`) for a target of `samples`
+    /// per pixel if they do not exist.
+    pub fn prepare(
+        &mut self,
+        layout: &PipelineLayout,
+        samples: u32,
+        (stage, arrows): (Stage, bool),
+    ) -> Result<()> {
+        if arrows && !self.arrows.iter().any(|(s, _)| *s == samples) {
+            let pipeline = self.arrows_pipeline(layout, samples)?;
+            self.arrows.push((samples, pipeline));
+        }
         if self
             .pipelines
             .iter()
@@ -79,6 +91,43 @@ impl MastersPass {
         self.pipelines.push(((samples, stage), pipeline));
         Ok(())
     }
+
+    /// Line segments over the hairs: tested against their depth, not written.
+    fn arrows_pipeline(&self, layout: &PipelineLayout, samples: u32) -> Result<Pipeline> {
+        let defines = super::super::bindings::render_defines();
+        let vert = ShaderModule::new(&self.device, "arrows.vert", &defines)?;
+        let frag = ShaderModule::new(&self.device, "masters.frag", &defines)?;
+        graphics_pipeline(
+            &self.device,
+            layout,
+            &GraphicsDesc {
+                name: "simulation arrows",
+                stages: &[
+                    (vk::ShaderStageFlags::VERTEX, &vert),
+                    (vk::ShaderStageFlags::FRAGMENT, &frag),
+                ],
+                topology: vk::PrimitiveTopology::LINE_LIST,
+                vertex_bindings: &[],
+                vertex_attributes: &[],
+                patch_control_points: None,
+                samples: sample_flag(samples),
+                colour: &[ColourAttachment {
+                    format: COLOR_FORMAT,
+                    blend: Blend::Opaque,
+                }],
+                depth: Some(DepthAttachment {
+                    format: DEPTH_FORMAT,
+                    compare: vk::CompareOp::LESS_OR_EQUAL,
+                    write: false,
+                }),
+            },
+        )
+    }
+
+    /// Whether `frame` draws the simulation view's arrows.
+    fn draws_arrows(frame: &FrameContext<'_>) -> bool {
+        frame.settings.show == Stage::Simulation && frame.settings.arrows.step().is_some()
+    }
 }
 
 impl Pass for MastersPass {
@@ -90,8 +139,12 @@ impl Pass for MastersPass {
         Attachments::Target
     }
 
-    fn uses(&self, _frame: &FrameContext<'_>) -> Vec<Use> {
-        vec![uses(Resource::Positions, Access::HairStagesRead)]
+    fn uses(&self, frame: &FrameContext<'_>) -> Vec<Use> {
+        let mut list = vec![uses(Resource::Positions, Access::HairStagesRead)];
+        if Self::draws_arrows(frame) {
+            list.push(uses(Resource::Probe, Access::HairStagesRead));
+        }
+        list
     }
 
     /// One line strip per master hair: an instance each, a vertex per strand vertex.
@@ -106,6 +159,18 @@ impl Pass for MastersPass {
             let raw = &frame.device.raw;
             raw.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, pipeline.raw());
             raw.cmd_draw(cmd, self.vertices_per_strand, self.strand_count, 0, 0);
+        }
+        if !Self::draws_arrows(frame) {
+            return;
+        }
+        let Some((_, arrows)) = self.arrows.iter().find(|(s, _)| *s == key.0) else {
+            return;
+        };
+        // SAFETY: as above; two vertices per strand vertex, an instance per strand.
+        unsafe {
+            let raw = &frame.device.raw;
+            raw.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, arrows.raw());
+            raw.cmd_draw(cmd, 2 * self.vertices_per_strand, self.strand_count, 0, 0);
         }
     }
 }

@@ -278,7 +278,7 @@ fn pressed(collision: bool, probe: bool, frames: usize) -> Pressed {
     let mut textures = StrandTextures::new(&device, &strands, motion.head(0.0).as_mat4()).unwrap();
     let body = collision.then_some(&sdf);
     let mut gpu = GpuSim::with_body(&device, &textures, params.clone(), 1, body).unwrap();
-    gpu.set_probe(probe, &textures).unwrap();
+    gpu.set_probe(probe.then_some(None), &mut textures).unwrap();
     gpu.run_frames(&mut textures, frames, |t| motion.head(t))
         .unwrap();
     let vertices = textures.read_vertices(textures.current).unwrap();
@@ -385,7 +385,7 @@ fn the_simulation_view_is_blue_at_rest_and_coloured_in_motion() {
     };
     let mut renderer = Renderer::new(&device, &mesh, &textures, extent, 1, 1).unwrap();
     let mut gpu = GpuSim::new(&device, &textures, SimParams::default()).unwrap();
-    gpu.set_probe(true, &textures).unwrap();
+    gpu.set_probe(Some(None), &mut textures).unwrap();
     let background = srgb(fur::render::BACKGROUND);
     let drawn = |image: &RgbaImage| -> Vec<[u8; 3]> {
         (0..image.height)

@@ -232,14 +232,14 @@ fn bench(args: &BenchArgs) -> anyhow::Result<()> {
     }
     let sections = fur::bench::Section::parse_list(only)?;
     if let Some(docs) = write_docs {
-        if quick || !only.is_empty() || scene.is_some() || width.or(height).is_some() {
+        if quick || scene.is_some() || width.or(height).is_some() {
             bail!(
-                "--write-docs {} takes a full run only (no --quick, --only, --scene, --width or \
-                 --height): the document's figures all come from one run",
+                "--write-docs {} takes a run at the benchmark's own settings (no --quick, \
+                 --scene, --width or --height): the document's figures all come from one run",
                 docs.display()
             );
         }
-        fur::bench::check_docs(docs)?;
+        fur::bench::check_docs(docs, &sections)?;
     }
     let size = match (width, height) {
         (None, None) => None,
@@ -261,7 +261,7 @@ fn bench(args: &BenchArgs) -> anyhow::Result<()> {
     let root = std::env::current_dir().context("the current folder")?;
     let options = fur::bench::BenchOptions {
         quick,
-        sections,
+        sections: sections.clone(),
         scene,
         size,
         work: Some((out_dir.to_path_buf(), root)),
@@ -277,7 +277,7 @@ fn bench(args: &BenchArgs) -> anyhow::Result<()> {
     bar.finish_and_clear();
     report.write(out_dir)?;
     if let Some(docs) = write_docs {
-        fur::bench::write_docs(docs, &report.markdown)?;
+        fur::bench::write_docs(docs, &sections, &report.markdown)?;
         eprintln!("wrote the tables into {}", docs.display());
     }
     println!("{}", report.markdown);

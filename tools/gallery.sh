@@ -2,17 +2,20 @@
 # Regenerates the pictures of docs/pipeline.md: one `fur render --show STAGE` per stage
 # view of the default scene, and the "try this" variations, into docs/pipeline/ (or
 # OUT_DIR). Everything is seeded: two runs on one machine write the same bytes.
-# Run from anywhere: tools/gallery.sh [fur binary] [OUT_DIR]
+# Run from anywhere: tools/gallery.sh [fur binary] [OUT_DIR] [fur render options...]
+# e.g. tools/gallery.sh "" mine --model creature.glb   (every stage of your own model;
+# an empty binary builds and uses the release one).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 fur=${1:-}
 out=${2:-docs/pipeline}
+extra=("${@:3}")
 if [[ -z $fur ]]; then
     cargo build --release --locked --quiet
     fur=./target/release/fur
 fi
 mkdir -p "$out"
-size=(--width 480 --height 270)
+size=(--width 480 --height 270 "${extra[@]}")
 shot() {
     local name=$1
     shift

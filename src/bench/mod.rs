@@ -10,10 +10,12 @@
 
 mod animation;
 mod collision;
+mod docs;
 mod frame;
 mod ladder;
 mod looks;
 pub mod metrics;
+pub use docs::{check_docs, write_docs, DOCS_BEGIN, DOCS_END};
 mod orbit;
 pub mod plot;
 pub mod quality;
@@ -346,46 +348,8 @@ impl Bench<'_> {
     }
 }
 
-/// The lines between which [`write_docs`] puts the tables.
-pub const DOCS_BEGIN: &str = "<!-- BEGIN fur bench -->";
-pub const DOCS_END: &str = "<!-- END fur bench -->";
-
-/// Checks, before a run, that `path` is a Markdown file with the benchmark's markers.
-pub fn check_docs(path: &Path) -> Result<()> {
-    crate::files::check_region(path, DOCS_BEGIN, DOCS_END)
-}
-
-/// Replaces the tables between the markers of the Markdown file at `path` with
-/// `markdown` (a run's `results.md`), leaving the rest of the document as it is.
-pub fn write_docs(path: &Path, markdown: &str) -> Result<()> {
-    crate::files::write_region(path, DOCS_BEGIN, DOCS_END, markdown)
-}
-
 #[cfg(test)]
 mod tests {
-    #[test]
-    fn the_tables_replace_only_the_region_between_the_markers() {
-        let dir = std::env::temp_dir().join(format!("fur-docs-{}", std::process::id()));
-        std::fs::create_dir_all(&dir).unwrap();
-        let path = dir.join("benchmark.md");
-        let doc = format!(
-            "# Benchmark\n\nHow to read.\n\n{DOCS_BEGIN}\nold table\n{DOCS_END}\n\nNotes.\n"
-        );
-        std::fs::write(&path, doc).unwrap();
-        write_docs(&path, "| new | table |").unwrap();
-        let text = std::fs::read_to_string(&path).unwrap();
-        assert!(text.starts_with("# Benchmark\n\nHow to read."), "{text}");
-        assert!(
-            text.contains("| new | table |") && !text.contains("old table"),
-            "{text}"
-        );
-        assert!(text.trim_end().ends_with("Notes."), "{text}");
-        std::fs::write(&path, "no markers here").unwrap();
-        let err = write_docs(&path, "x").unwrap_err().to_string();
-        assert!(err.contains(DOCS_BEGIN), "{err}");
-        let _ = std::fs::remove_dir_all(&dir);
-    }
-
     use super::*;
     use crate::scene::ModelSpec;
 

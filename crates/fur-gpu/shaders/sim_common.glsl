@@ -1,6 +1,6 @@
 // Declarations shared by the simulation kernels. The bindings and the SimStatic and
 // Step layouts are checked against crates/fur-gpu/src/sim/kernel.rs by its test (SPIR-V reflection);
-// the constants shared with Rust are defined from it (crates/fur-gpu/src/sim/gpu.rs: kernel_defines).
+// the constants shared with Rust are defined from it (crates/fur-gpu/src/sim/kernel.rs: kernel_defines).
 //
 // One invocation per master strand; GROUP_SIZE strands per workgroup.
 #ifndef SIM_COMMON_GLSL

@@ -14,7 +14,7 @@
 
 layout(constant_id = 2) const uint STEPS = 0x1fu;
 // Shared with Rust, defined for this shader from the Rust constants
-// (crates/fur-gpu/src/sim/gpu.rs: kernel_defines), never typed here: the STEPS bits STEP_INTEGRATE, STEP_GLOBAL,
+// (crates/fur-gpu/src/sim/kernel.rs: kernel_defines), never typed here: the STEPS bits STEP_INTEGRATE, STEP_GLOBAL,
 // STEP_LOCAL, STEP_LENGTH, STEP_WIND, STEP_COLLISION; BODY_SKINNED (the body is skinned:
 // each strand's rest shape follows its own root pose from the skinning pass before the
 // head transform); SLEEP (strands at rest sleep, see the end of main; compiled out with
@@ -27,7 +27,7 @@ layout(constant_id = 2) const uint STEPS = 0x1fu;
 // other vertices moved by no more than that, or than the slow motion, sleeps
 // (crates/fur-core/src/sim/cpu.rs); PROBE (the simulation view: see `probe` below).
 #if !defined(STEP_GLOBAL) || !defined(SLEEP_ULPS) || !defined(PROJECTIONS)
-#error "simulate.comp is compiled with kernel_defines() (crates/fur-gpu/src/sim/gpu.rs)"
+#error "simulate.comp is compiled with kernel_defines() (crates/fur-gpu/src/sim/kernel.rs)"
 #endif
 
 vec3 x[V];   // current positions, world space

@@ -16,16 +16,14 @@ use super::bindings::{
     SET_BODY, SET_FRAME,
 };
 use super::graph::Pass;
-use super::slot::{RenderSlot, TIMESTAMPS, TS_FRAME, TS_FUR, TS_MESH, TS_START};
+use super::slot::{RenderSlot, TS_FRAME, TS_FUR, TS_MESH, TS_START};
 use super::target::{check_samples, RenderTarget};
 use super::texture::{GpuTexture, ShadowMap};
 use super::uniforms::{FrameSettings, FrameUniforms, Stage, StrandShape};
 use super::RgbaImage;
 use crate::error::Error;
 use crate::error::Result;
-use crate::gpu::{
-    Buffer, DescriptorPool, DescriptorSetLayout, Device, FurStatistics, PipelineLayout,
-};
+use crate::gpu::{Buffer, DescriptorPool, DescriptorSetLayout, Device, PipelineLayout};
 use crate::scene::{Mesh, Texture};
 use crate::strand_textures::StrandTextures;
 use density_pass::DensityPass;
@@ -36,6 +34,7 @@ use shadow_pass::{LightView, ShadowPass};
 
 mod capture;
 mod record;
+mod report;
 
 // The frame's passes: each a module here, built and listed by the renderer
 // (`Renderer::passes`).
@@ -49,33 +48,10 @@ pub use fur_pass::Variant;
 pub use shadow_pass::CASTER_DENSITY;
 
 pub use capture::{CapturedHairs, MAX_CAPTURE_BYTES};
+pub use report::{FrameReport, HairCounts};
 
 /// The colour behind the model (linear RGB), where nothing is drawn.
 pub const BACKGROUND: glam::Vec3 = glam::Vec3::new(0.02, 0.025, 0.035);
-
-/// What the fur pass drew (counted by its geometry stage) and culled (counted by its
-/// tessellation control stage).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub struct HairCounts {
-    pub hairs: u64,
-    pub segments: u64,
-    /// Triangles given no hairs: facing away past the cull margin, or off screen.
-    pub triangles_culled: u64,
-}
-
-/// What a rendered frame reports.
-#[derive(Clone, Debug)]
-pub struct FrameReport {
-    pub statistics: Option<FurStatistics>,
-    /// Hairs and segments drawn, when the frame counted them and the device can.
-    pub counts: Option<HairCounts>,
-    /// GPU milliseconds of the mesh pass and the fur pass (timestamps; misattributed
-    /// on binning rasterisers, see the module documentation).
-    pub mesh_ms: f64,
-    pub fur_ms: f64,
-    /// GPU milliseconds of the whole frame, simulation included.
-    pub frame_ms: f64,
-}
 
 pub struct Renderer {
     device: Arc<Device>,
@@ -454,42 +430,6 @@ impl Renderer {
             passes.push(&self.density_pass);
         }
         passes
-    }
-
-    /// Reads the queries of slot `slot`'s last submitted frame (waits for them).
-    pub fn report(&self, slot: usize, settings: &FrameSettings) -> Result<FrameReport> {
-        let frame = &self.slots[slot];
-        let (mesh_ms, fur_ms, frame_ms) = match &frame.timestamps {
-            Some(q) => {
-                let t = q.timestamps_ms(TIMESTAMPS)?;
-                let [frame, start, mesh, fur] =
-                    [TS_FRAME, TS_START, TS_MESH, TS_FUR].map(|i| t[i as usize]);
-                (mesh - start, fur - mesh, fur - frame)
-            }
-            None => (f64::NAN, f64::NAN, f64::NAN),
-        };
-        let statistics = match (&frame.statistics, settings.draw_fur) {
-            (Some(q), true) => Some(q.fur_statistics_result()?),
-            _ => None,
-        };
-        // The master hairs' views draw no interpolated hairs and count nothing; the
-        // density view counts the triangles it culls (and draws no hairs).
-        let counted = settings.count_hairs && !settings.show.draws_masters();
-        let counts = (counted && self.device.info.vertex_pipeline_stores).then(|| {
-            let words: &[u32] = bytemuck::cast_slice(&frame.counters.mapped()[..12]);
-            HairCounts {
-                hairs: u64::from(words[0]),
-                segments: u64::from(words[1]),
-                triangles_culled: u64::from(words[2]),
-            }
-        });
-        Ok(FrameReport {
-            statistics,
-            counts,
-            mesh_ms,
-            fur_ms,
-            frame_ms,
-        })
     }
 
     /// Renders one frame of the strands' current state and returns the image.

@@ -15,7 +15,11 @@ use ash::vk;
 use glam::{DMat4, UVec4, Vec3, Vec4};
 use gpu_allocator::MemoryLocation;
 
-use super::kernel::{after_dispatch, bindings, write_sim_set, BodyViews, GpuStep, SimStatic};
+pub use super::kernel::kernel_defines;
+use super::kernel::{
+    after_dispatch, bindings, write_sim_set, BodyViews, GpuStep, SimStatic, BODY_BLEND,
+    BODY_SKINNED, PROBE, SLEEP,
+};
 use super::params::{SimParams, StepConstants};
 use super::sdf::Sdf;
 pub use super::steps::SimStep;
@@ -33,53 +37,6 @@ use crate::gpu::shader::GROUP_SIZE;
 pub const MAX_VERTICES: u32 = 64;
 /// Substeps whose constants fit in the step buffer: one submission's worth.
 const STEP_CAPACITY: usize = 1024;
-/// The kernel's `STEPS` bit for a skinned body (`BODY_SKINNED` in `simulate.comp`).
-const BODY_SKINNED: u32 = 64;
-/// The kernel's `STEPS` bit for sleep (`SLEEP` in `simulate.comp`): only where hair can
-/// come to rest ([`SimParams::hair_can_rest`]).
-const SLEEP: u32 = 128;
-/// The kernel's `STEPS` bit for carrying vertices back through the skin's blend of
-/// bones (`BODY_BLEND` in `simulate.comp`, [`SimParams::skin_blend`]).
-const BODY_BLEND: u32 = 256;
-/// The kernel's `STEPS` bit for the simulation view's probe (`PROBE` in
-/// `simulate.comp`): each vertex's displacement from rest, and whether collision pushed
-/// it, written into its position's w ([`GpuSim::set_probe`]).
-const PROBE: u32 = 512;
-
-/// What the simulation kernels share with Rust, given to them as `#define`s so no
-/// constant is typed twice: the `STEPS` bits, the projections per substep and the rest
-/// thresholds.
-pub fn kernel_defines() -> Vec<(&'static str, String)> {
-    let uint = |v: u32| format!("{v}u");
-    // `{:?}` writes an f32 as its shortest round-trip decimal, always with a point.
-    let float = |v: f32| format!("{v:?}");
-    vec![
-        ("STEP_INTEGRATE", uint(SimStep::Integrate.bit())),
-        ("STEP_GLOBAL", uint(SimStep::Global.bit())),
-        ("STEP_LOCAL", uint(SimStep::Local.bit())),
-        ("STEP_LENGTH", uint(SimStep::Length.bit())),
-        ("STEP_WIND", uint(SimStep::Wind.bit())),
-        ("STEP_COLLISION", uint(SimStep::Collision.bit())),
-        ("BODY_SKINNED", uint(BODY_SKINNED)),
-        ("SLEEP", uint(SLEEP)),
-        ("BODY_BLEND", uint(BODY_BLEND)),
-        ("PROBE", uint(PROBE)),
-        ("PROJECTIONS", uint(super::collide::PROJECTIONS)),
-        (
-            "PROJECTIONS_SKINNED",
-            uint(super::collide::PROJECTIONS_SKINNED),
-        ),
-        ("SLEEP_ULPS", float(super::cpu::SLEEP_ULPS)),
-        ("REST_MOTION", float(super::cpu::REST_MOTION)),
-        ("REST_GRAVITY", float(super::cpu::REST_GRAVITY)),
-        ("NEAR_CAPSULES", uint(super::collide::NEAR_CAPSULES as u32)),
-        ("CAPSULE_RAMP", float(super::collide::CAPSULE_RAMP)),
-        ("MIN_DETERMINANT", float(super::collide::MIN_DETERMINANT)),
-        ("BLEND_REFINE", uint(crate::skinning::blend::REFINE)),
-        ("MIN_LENGTH", float(super::math::MIN_LENGTH)),
-    ]
-}
-
 /// A skinned body's part of the simulation: the skinning pass, the body, which clip
 /// plays, and the joint matrices of the substeps not yet recorded.
 pub struct Skinned {

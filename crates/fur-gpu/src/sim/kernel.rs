@@ -1,4 +1,5 @@
-//! The simulation kernel's interface as the CPU sees it: its descriptor bindings, the
+//! The simulation kernel's interface as the CPU sees it: the constants it shares with
+//! Rust (its `STEPS` bits and thresholds, as defines), its descriptor bindings, the
 //! layouts of its uniform block and per-substep constants (`shaders/sim_common.glsl`),
 //! and the barrier between dependent dispatches.
 
@@ -6,8 +7,56 @@ use ash::vk;
 use glam::{Mat4, UVec4, Vec4};
 
 use super::params::StepConstants;
+use super::steps::SimStep;
 use crate::gpu::{memory_barrier, Buffer, Device, TexelBuffer};
 use crate::strand_textures::StrandTextures;
+
+/// The kernel's `STEPS` bit for a skinned body (`BODY_SKINNED` in `simulate.comp`).
+pub(super) const BODY_SKINNED: u32 = 64;
+/// The kernel's `STEPS` bit for sleep (`SLEEP` in `simulate.comp`): only where hair can
+/// come to rest ([`super::SimParams::hair_can_rest`]).
+pub(super) const SLEEP: u32 = 128;
+/// The kernel's `STEPS` bit for carrying vertices back through the skin's blend of
+/// bones (`BODY_BLEND` in `simulate.comp`, [`super::SimParams::skin_blend`]).
+pub(super) const BODY_BLEND: u32 = 256;
+/// The kernel's `STEPS` bit for the simulation view's probe (`PROBE` in
+/// `simulate.comp`): each vertex's displacement from rest, and whether collision pushed
+/// it, written into its position's w ([`super::GpuSim::set_probe`]).
+pub(super) const PROBE: u32 = 512;
+
+/// What the simulation kernels share with Rust, given to them as `#define`s so no
+/// constant is typed twice: the `STEPS` bits, the projections per substep and the rest
+/// thresholds.
+pub fn kernel_defines() -> Vec<(&'static str, String)> {
+    let uint = |v: u32| format!("{v}u");
+    // `{:?}` writes an f32 as its shortest round-trip decimal, always with a point.
+    let float = |v: f32| format!("{v:?}");
+    vec![
+        ("STEP_INTEGRATE", uint(SimStep::Integrate.bit())),
+        ("STEP_GLOBAL", uint(SimStep::Global.bit())),
+        ("STEP_LOCAL", uint(SimStep::Local.bit())),
+        ("STEP_LENGTH", uint(SimStep::Length.bit())),
+        ("STEP_WIND", uint(SimStep::Wind.bit())),
+        ("STEP_COLLISION", uint(SimStep::Collision.bit())),
+        ("BODY_SKINNED", uint(BODY_SKINNED)),
+        ("SLEEP", uint(SLEEP)),
+        ("BODY_BLEND", uint(BODY_BLEND)),
+        ("PROBE", uint(PROBE)),
+        ("PROJECTIONS", uint(super::collide::PROJECTIONS)),
+        (
+            "PROJECTIONS_SKINNED",
+            uint(super::collide::PROJECTIONS_SKINNED),
+        ),
+        ("SLEEP_ULPS", float(super::cpu::SLEEP_ULPS)),
+        ("REST_MOTION", float(super::cpu::REST_MOTION)),
+        ("REST_GRAVITY", float(super::cpu::REST_GRAVITY)),
+        ("NEAR_CAPSULES", uint(super::collide::NEAR_CAPSULES as u32)),
+        ("CAPSULE_RAMP", float(super::collide::CAPSULE_RAMP)),
+        ("MIN_DETERMINANT", float(super::collide::MIN_DETERMINANT)),
+        ("BLEND_REFINE", uint(crate::skinning::blend::REFINE)),
+        ("MIN_LENGTH", float(super::math::MIN_LENGTH)),
+    ]
+}
 
 /// `SimStatic` in `shaders/sim_common.glsl` (std140).
 #[repr(C)]
@@ -208,7 +257,7 @@ mod tests {
         ];
         let mut used = std::collections::BTreeSet::new();
         for kernel in ["simulate.comp", "simulate_rest.comp"] {
-            let words = compile(kernel, &crate::sim::gpu::kernel_defines())
+            let words = compile(kernel, &super::kernel_defines())
                 .unwrap_or_else(|e| panic!("{kernel}: {e}"));
             let found = reflect(&words);
             check_bindings(kernel, &found, &[&layout]).unwrap();

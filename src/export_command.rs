@@ -38,6 +38,14 @@ pub(super) fn export_frame(args: &ExportArgs) -> anyhow::Result<()> {
         width,
         height,
     } = open(r, simulate)?;
+    let show = session.settings.show;
+    if show != fur::render::Stage::Lit {
+        bail!(
+            "export-frame writes the final frame as drawn; --show {} is a study view of \
+             `fur render` and `fur view`, not a frame to path-trace",
+            show.name()
+        );
+    }
     session.settings.draw_fur = !args.body_only;
     if simulate {
         let bar = indicatif::ProgressBar::new(u64::from(r.frames)).with_style(

@@ -417,6 +417,10 @@ fn export_refuses_bad_input_before_writing() {
             "one frame",
         ),
         (vec!["export-frame", "/dev/null/x.usda"], "x.usda"),
+        (
+            vec!["export-frame", "x.usda", "--show", "density"],
+            "--show density is a study view",
+        ),
     ] {
         let out = Command::new(env!("CARGO_BIN_EXE_fur"))
             .args(&args)

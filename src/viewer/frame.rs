@@ -328,6 +328,8 @@ impl Viewer {
             self.session.settings.lighting.light_direction = direction;
             self.session.settings.style = settings.style;
             self.session.settings.show = settings.show;
+            self.session.settings.arrows = settings.arrows;
+            self.session.settings.arrow_scale = settings.arrow_scale;
             self.scene = scene;
         }
         if let Some(on) = changes.texture {

@@ -59,6 +59,13 @@ fn fresnel(cos_theta: f32, eta: f32) -> f32 {
 /// irradiance, for unit tangent `t`, unit `l` towards the light, unit `v` towards the
 /// eye, colour `base` and `light` the fraction of light that reaches the point.
 pub fn marschner(t: Vec3, l: Vec3, v: Vec3, base: Vec3, fibre: &Fibre, light: f32) -> Vec3 {
+    let [r, tt, trt] = lobes(t, l, v, base, fibre);
+    (r + tt + trt) * light + multiple(t, l, v, base, light)
+}
+
+/// The single-scattering lobes R, TT and TRT per unit irradiance (unshadowed), as
+/// [`marschner`] sums them: what the tests compare with the oracle lobe by lobe.
+pub fn lobes(t: Vec3, l: Vec3, v: Vec3, base: Vec3, fibre: &Fibre) -> [Vec3; 3] {
     let sin_i = t.dot(l).clamp(-1.0, 1.0);
     let sin_o = t.dot(v).clamp(-1.0, 1.0);
     let (theta_i, theta_o) = (sin_i.asin(), sin_o.asin());
@@ -89,7 +96,7 @@ pub fn marschner(t: Vec3, l: Vec3, v: Vec3, base: Vec3, fibre: &Fibre, light: f3
     let t_trt = (-sigma_a * (3.2 / cos_d)).exp();
     let m_trt = gaussian(2.0 * sd, sum + 4.0 * alpha);
     let trt = t_trt * (m_trt * (17.0 * cos_phi - 16.78).exp() * (1.0 - f_trt).powi(2) * f_trt);
-    (Vec3::splat(r) + tt + trt) * light + multiple(t, l, v, base, light)
+    [Vec3::splat(r), tt, trt]
 }
 
 /// Karis 2016's approximation of multiple scattering between fibres.

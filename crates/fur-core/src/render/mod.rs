@@ -4,6 +4,7 @@
 //! `render` module).
 
 pub mod budget;
+pub mod hair_oracle;
 mod image;
 mod lighting;
 pub mod marschner;

@@ -58,9 +58,7 @@ pub(super) fn render(args: &RenderArgs) -> anyhow::Result<()> {
         let elapsed = start.elapsed();
         let image = with_legend(image, &session);
         image.write_png(&args.out)?;
-        if session.settings.show.draws_fur() && report.counts.is_some_and(|c| c.hairs == 0) {
-            eprintln!("warning: {NO_FUR}");
-        }
+        warn_without_fur(&session, report.counts);
         let points = report
             .statistics
             .map(|s| format!(", {} tessellated points", s.tess_eval_invocations))
@@ -96,6 +94,13 @@ pub(super) fn render(args: &RenderArgs) -> anyhow::Result<()> {
     drop(session);
     fur::gpu::shut_down(device)?;
     Ok(())
+}
+
+/// Warns when a view that draws fur drew none.
+fn warn_without_fur(session: &FurSession, counts: Option<fur::render::HairCounts>) {
+    if session.settings.show.draws_fur() && counts.is_some_and(|c| c.hairs == 0) {
+        eprintln!("warning: {NO_FUR}");
+    }
 }
 
 /// `image` with the colour key of the stage it shows in its corner, when that stage
@@ -236,10 +241,7 @@ fn render_sequence(args: &RenderArgs, dir: &Path, session: &mut FurSession) -> a
         let (image, timings) = session
             .step_and_render()
             .with_context(|| format!("simulating and drawing frame {frame}"))?;
-        if session.settings.show.draws_fur() && timings.render.counts.is_some_and(|c| c.hairs == 0)
-        {
-            eprintln!("warning: {NO_FUR}");
-        }
+        warn_without_fur(session, timings.render.counts);
         frame_ms.push(start.elapsed().as_secs_f64() * 1e3);
         let image = with_legend(image, session);
         image.write_png(&dir.join(format!("frame_{frame:04}.png")))?;

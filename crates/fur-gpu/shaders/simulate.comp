@@ -222,7 +222,7 @@ void arrow_end(uint bit, uint s, uint strand) {
     }
 }
 
-// PROBE with arrows: no correction (the step did not run, or the strand sleeps).
+// PROBE with arrows: no correction (the strand sleeps: the frame is undone).
 void arrows_none(uint strand) {
     if ((STEPS & PROBE) != 0u && sim.counts2.w != 0u) {
         for (uint i = 0u; i < V; ++i) {
@@ -282,36 +282,37 @@ void main() {
     for (uint i = 0u; i < V; ++i) {
         pushed[i] = false;
     }
-    arrows_none(strand);
     for (uint s = 0u; s < push.count; ++s) {
         Step st = steps[push.step + s];
         load_pose(strand, s);
         if ((STEPS & BODY_SKINNED) != 0u) {
             ride(strand, st);
         }
+        // Each step between arrow_begin and arrow_end, run or compiled out (a step that
+        // does not run corrects nothing: its arrows are zero).
         arrow_begin(STEP_INTEGRATE, s);
         integrate(strand, st);
         arrow_end(STEP_INTEGRATE, s, strand);
+        arrow_begin(STEP_GLOBAL, s);
         if ((STEPS & STEP_GLOBAL) != 0u) {
-            arrow_begin(STEP_GLOBAL, s);
             global_shape(strand, st);
-            arrow_end(STEP_GLOBAL, s, strand);
         }
+        arrow_end(STEP_GLOBAL, s, strand);
+        arrow_begin(STEP_LOCAL, s);
         if ((STEPS & STEP_LOCAL) != 0u) {
-            arrow_begin(STEP_LOCAL, s);
             local_shape(strand, st);
-            arrow_end(STEP_LOCAL, s, strand);
         }
+        arrow_end(STEP_LOCAL, s, strand);
+        arrow_begin(STEP_LENGTH, s);
         if ((STEPS & STEP_LENGTH) != 0u) {
-            arrow_begin(STEP_LENGTH, s);
             edge_length(strand);
-            arrow_end(STEP_LENGTH, s, strand);
         }
+        arrow_end(STEP_LENGTH, s, strand);
+        arrow_begin(STEP_WIND, s);
         if ((STEPS & STEP_WIND) != 0u) {
-            arrow_begin(STEP_WIND, s);
             wind(strand, st);
-            arrow_end(STEP_WIND, s, strand);
         }
+        arrow_end(STEP_WIND, s, strand);
         arrow_begin(STEP_COLLISION, s);
         if ((STEPS & STEP_COLLISION) != 0u) {
             if ((STEPS & PROBE) != 0u) {

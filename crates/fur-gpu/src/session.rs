@@ -214,8 +214,8 @@ impl FurSession {
     /// Records one rendered frame into `cmd` using frame slot `slot`: `sim_frames`
     /// simulation frames of `dt` each (all their substeps; 0 when paused) and both render
     /// passes. The slot's previous frame must have finished, and
-    /// [`FurSession::prepare_frame`] must have run since the settings last changed. The resolved image is left
-    /// for the caller to copy or blit.
+    /// [`FurSession::prepare_frame`] must have run since the settings last changed. The
+    /// resolved image is left for the caller to copy or blit.
     pub fn record_frame(
         &mut self,
         cmd: vk::CommandBuffer,

@@ -186,8 +186,10 @@ pub enum View {
 pub trait Pass {
     /// Its name, as debug labels and timings show it.
     fn name(&self) -> &'static str;
-    /// Where it draws.
-    fn attachments(&self) -> Attachments;
+    /// Where it draws: the render target, unless it says otherwise.
+    fn attachments(&self) -> Attachments {
+        Attachments::Target
+    }
     /// Whose view it draws; [`record_frame`] binds the frame set of that view and the
     /// body's set before the pass, unless they are bound already.
     fn view(&self) -> View {

@@ -231,3 +231,32 @@ pub const GROOM: Group = Group {
         },
     ],
 };
+
+#[cfg(test)]
+mod tests {
+    use crate::render::stage::Arrows;
+    use crate::render::Stage;
+    use crate::scene_file::Kind;
+
+    fn choices(key: &str) -> Vec<&'static str> {
+        let setting = super::IMAGE
+            .settings
+            .iter()
+            .find(|s| s.key == key)
+            .unwrap_or_else(|| panic!("no setting `{key}`"));
+        match setting.kind {
+            Kind::Choice(names) => names.to_vec(),
+            _ => panic!("`{key}` is not a choice"),
+        }
+    }
+
+    /// `show` and `arrows` offer exactly the views and arrows there are, in their order
+    /// (a view added to `Stage::ALL` and not here, or the other way round, fails).
+    #[test]
+    fn the_image_settings_offer_every_view_and_every_arrow() {
+        let stages: Vec<&str> = Stage::ALL.iter().map(|s| s.name()).collect();
+        assert_eq!(choices("show"), stages);
+        let arrows: Vec<&str> = Arrows::all().map(Arrows::name).collect();
+        assert_eq!(choices("arrows"), arrows);
+    }
+}

@@ -9,14 +9,14 @@ use std::sync::Arc;
 
 use ash::vk;
 
-use super::super::graph::{uses, Attachments, FrameContext, Pass, Resource, Use};
+use super::super::graph::{FrameContext, Pass, Use};
 use super::super::pipeline::{
     graphics_pipeline, Blend, ColourAttachment, DepthAttachment, GraphicsDesc,
 };
 use super::super::target::{sample_flag, COLOR_FORMAT, DEPTH_FORMAT};
 use super::fur_pass::hair_uses;
 use crate::error::Result;
-use crate::gpu::{Access, Device, Pipeline, PipelineLayout, ShaderModule};
+use crate::gpu::{Device, Pipeline, PipelineLayout, ShaderModule};
 
 pub struct DensityPass {
     device: Arc<Device>,
@@ -94,16 +94,8 @@ impl Pass for DensityPass {
         DensityPass::NAME
     }
 
-    fn attachments(&self) -> Attachments {
-        Attachments::Target
-    }
-
     fn uses(&self, frame: &FrameContext<'_>) -> Vec<Use> {
-        let mut list = hair_uses(self.skinned);
-        if frame.settings.count_hairs {
-            list.push(uses(Resource::Counters, Access::CounterStagesReadWrite));
-        }
-        list
+        hair_uses(self.skinned, frame.settings.count_hairs)
     }
 
     /// One patch per body triangle, as the fur pass draws them.

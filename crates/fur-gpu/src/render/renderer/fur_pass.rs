@@ -10,7 +10,7 @@ use std::sync::Arc;
 
 use ash::vk;
 
-use super::super::graph::{uses, Attachments, FrameContext, Pass, Resource, Use};
+use super::super::graph::{uses, FrameContext, Pass, Resource, Use};
 use super::super::pipeline::{
     graphics_pipeline, Blend, ColourAttachment, DepthAttachment, GraphicsDesc,
 };
@@ -306,12 +306,15 @@ impl FurPass {
     }
 }
 
-/// The hair stages read the strands and the posed body; the geometry stage counts
-/// what it draws (when the frame counts) and the shading samples the shadow map.
-pub(super) fn hair_uses(skinned: bool) -> Vec<Use> {
+/// The hair stages read the strands and the posed body; with `counts`, the control and
+/// geometry stages count what they cull and draw into the counters.
+pub(super) fn hair_uses(skinned: bool, counts: bool) -> Vec<Use> {
     let mut list = vec![uses(Resource::Positions, Access::HairStagesRead)];
     if skinned {
         list.push(uses(Resource::Posed, Access::HairStagesRead));
+    }
+    if counts {
+        list.push(uses(Resource::Counters, Access::CounterStagesReadWrite));
     }
     list
 }
@@ -321,15 +324,9 @@ impl Pass for FurPass {
         FurPass::NAME
     }
 
-    fn attachments(&self) -> Attachments {
-        Attachments::Target
-    }
-
     fn uses(&self, frame: &FrameContext<'_>) -> Vec<Use> {
-        let mut list = hair_uses(self.skinned);
-        if frame.settings.count_hairs {
-            list.push(uses(Resource::Counters, Access::CounterStagesReadWrite));
-        }
+        // The shading samples the shadow map.
+        let mut list = hair_uses(self.skinned, frame.settings.count_hairs);
         if frame.slot.shadows {
             list.push(uses(Resource::ShadowMap, Access::ShadingSampled));
         }

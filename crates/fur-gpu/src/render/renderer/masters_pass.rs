@@ -9,7 +9,7 @@ use std::sync::Arc;
 
 use ash::vk;
 
-use super::super::graph::{uses, Attachments, FrameContext, Pass, Resource, Use};
+use super::super::graph::{uses, FrameContext, Pass, Resource, Use};
 use super::super::pipeline::{
     graphics_pipeline, Blend, ColourAttachment, DepthAttachment, GraphicsDesc,
 };
@@ -65,48 +65,59 @@ impl MastersPass {
         }
         let mut defines = super::super::bindings::render_defines();
         defines.push(("STAGE_VIEW", stage.code().to_string()));
-        let vert = ShaderModule::new(&self.device, "masters.vert", &defines)?;
-        let frag = ShaderModule::new(&self.device, "masters.frag", &defines)?;
-        let pipeline = graphics_pipeline(
-            &self.device,
+        let pipeline = self.lines_pipeline(
             layout,
-            &GraphicsDesc {
-                name: "masters pass",
-                stages: &[
-                    (vk::ShaderStageFlags::VERTEX, &vert),
-                    (vk::ShaderStageFlags::FRAGMENT, &frag),
-                ],
-                topology: vk::PrimitiveTopology::LINE_STRIP,
-                vertex_bindings: &[],
-                vertex_attributes: &[],
-                patch_control_points: None,
-                samples: sample_flag(samples),
-                colour: &[ColourAttachment {
-                    format: COLOR_FORMAT,
-                    blend: Blend::Opaque,
-                }],
-                depth: Some(DepthAttachment::nearest(DEPTH_FORMAT)),
-            },
+            samples,
+            ("masters pass", "masters.vert", &defines),
+            (
+                vk::PrimitiveTopology::LINE_STRIP,
+                DepthAttachment::nearest(DEPTH_FORMAT),
+            ),
         )?;
         self.pipelines.push(((samples, stage), pipeline));
         Ok(())
     }
 
-    /// Line segments over the hairs: tested against their depth, not written.
+    /// The simulation view's arrows: line segments over the hairs, tested against
+    /// their depth, not written.
     fn arrows_pipeline(&self, layout: &PipelineLayout, samples: u32) -> Result<Pipeline> {
         let defines = super::super::bindings::render_defines();
-        let vert = ShaderModule::new(&self.device, "arrows.vert", &defines)?;
-        let frag = ShaderModule::new(&self.device, "masters.frag", &defines)?;
+        self.lines_pipeline(
+            layout,
+            samples,
+            ("simulation arrows", "arrows.vert", &defines),
+            (
+                vk::PrimitiveTopology::LINE_LIST,
+                DepthAttachment {
+                    format: DEPTH_FORMAT,
+                    compare: vk::CompareOp::LESS_OR_EQUAL,
+                    write: false,
+                },
+            ),
+        )
+    }
+
+    /// Lines from vertex shader `vert` (no vertex buffers), each in its flat colour
+    /// (`masters.frag`), opaque.
+    fn lines_pipeline(
+        &self,
+        layout: &PipelineLayout,
+        samples: u32,
+        (name, vert, defines): (&str, &str, &[(&'static str, String)]),
+        (topology, depth): (vk::PrimitiveTopology, DepthAttachment),
+    ) -> Result<Pipeline> {
+        let vert = ShaderModule::new(&self.device, vert, defines)?;
+        let frag = ShaderModule::new(&self.device, "masters.frag", defines)?;
         graphics_pipeline(
             &self.device,
             layout,
             &GraphicsDesc {
-                name: "simulation arrows",
+                name,
                 stages: &[
                     (vk::ShaderStageFlags::VERTEX, &vert),
                     (vk::ShaderStageFlags::FRAGMENT, &frag),
                 ],
-                topology: vk::PrimitiveTopology::LINE_LIST,
+                topology,
                 vertex_bindings: &[],
                 vertex_attributes: &[],
                 patch_control_points: None,
@@ -115,11 +126,7 @@ impl MastersPass {
                     format: COLOR_FORMAT,
                     blend: Blend::Opaque,
                 }],
-                depth: Some(DepthAttachment {
-                    format: DEPTH_FORMAT,
-                    compare: vk::CompareOp::LESS_OR_EQUAL,
-                    write: false,
-                }),
+                depth: Some(depth),
             },
         )
     }
@@ -133,10 +140,6 @@ impl MastersPass {
 impl Pass for MastersPass {
     fn name(&self) -> &'static str {
         MastersPass::NAME
-    }
-
-    fn attachments(&self) -> Attachments {
-        Attachments::Target
     }
 
     fn uses(&self, frame: &FrameContext<'_>) -> Vec<Use> {

@@ -7,7 +7,7 @@ use std::sync::Arc;
 use ash::vk;
 use glam::{Vec2, Vec3};
 
-use super::super::graph::{uses, Attachments, FrameContext, Pass, Resource, Use};
+use super::super::graph::{uses, FrameContext, Pass, Resource, Use};
 use super::super::pipeline::{
     graphics_pipeline, Blend, ColourAttachment, DepthAttachment, GraphicsDesc,
 };
@@ -260,10 +260,6 @@ impl MeshPass {
 impl Pass for MeshPass {
     fn name(&self) -> &'static str {
         MeshPass::NAME
-    }
-
-    fn attachments(&self) -> Attachments {
-        Attachments::Target
     }
 
     fn uses(&self, frame: &FrameContext<'_>) -> Vec<Use> {

@@ -113,7 +113,8 @@ impl Pass for ShadowPass {
     }
 
     fn uses(&self, _frame: &FrameContext<'_>) -> Vec<Use> {
-        hair_uses(self.casters.skinned())
+        // The casters count nothing.
+        hair_uses(self.casters.skinned(), false)
     }
 
     /// Draws the fur's caster form (the graph has bound the light's sets). The fur reads

@@ -48,6 +48,10 @@ pub enum Error {
     #[error("cannot read texture {path}: {message}")]
     Texture { path: PathBuf, message: String },
 
+    /// A groom file (guide curves) that cannot be read, decoded or bound to the body.
+    #[error("cannot read groom {path}: {message}")]
+    Groom { path: PathBuf, message: String },
+
     #[error("{0}")]
     Window(String),
 

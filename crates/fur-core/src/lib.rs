@@ -7,6 +7,7 @@ pub mod colour;
 pub mod error;
 pub mod files;
 pub mod geometry;
+pub mod groom_file;
 pub mod interrupt;
 pub mod render;
 pub mod scene;

@@ -120,7 +120,8 @@ impl FurSession {
             ));
         }
         let groom = &groom;
-        let strands = Strands::grow(&mesh, groom)?;
+        let (strands, groom_warnings) = Strands::grow_reported(&mesh, groom)?;
+        warnings.extend(groom_warnings);
         let head = motion.head(0.0).as_mat4();
         let textures = StrandTextures::new(device, &strands, head)?;
         let body = if sim_params.collision {

@@ -28,6 +28,9 @@ pub struct GroomParams {
     /// long (measured inwards from its root), so thin parts (ears, legs, tails) are not
     /// buried; 0 = every hair `segments × segment_length`.
     pub thickness_limit: f32,
+    /// A groom file whose guide curves make the master hairs instead (the comb, curl
+    /// and length settings then do not apply; the segment count does).
+    pub source: Option<super::GroomSource>,
 }
 
 impl Default for GroomParams {
@@ -41,6 +44,7 @@ impl Default for GroomParams {
             curl: 0.0,
             curl_turns: 1.5,
             thickness_limit: 0.0,
+            source: None,
         }
     }
 }
@@ -109,9 +113,23 @@ impl Strands {
         &self.positions[s * v..(s + 1) * v]
     }
 
-    /// Grows one master hair per mesh vertex.
+    /// One master hair per mesh vertex: grown, or from the groom file `groom` names.
     pub fn grow(mesh: &Mesh, groom: &GroomParams) -> Result<Self> {
+        Self::grow_reported(mesh, groom).map(|(s, _)| s)
+    }
+
+    /// [`Strands::grow`], with what to tell the user about a groom file (its notes,
+    /// roots far from the surface).
+    pub fn grow_reported(mesh: &Mesh, groom: &GroomParams) -> Result<(Self, Vec<String>)> {
         groom.validate()?;
+        match &groom.source {
+            Some(source) => super::groom_bind::strands_from_file(mesh, groom, source),
+            None => Ok((Self::grow_from_mesh(mesh, groom)?, Vec::new())),
+        }
+    }
+
+    /// Grows one master hair per mesh vertex along its normal.
+    pub(super) fn grow_from_mesh(mesh: &Mesh, groom: &GroomParams) -> Result<Self> {
         let segments = groom.segments as usize;
         let mut positions = Vec::with_capacity(mesh.vertex_count() * (segments + 1));
         let primary = groom.comb_direction.try_normalize().unwrap_or(Vec3::NEG_Y);

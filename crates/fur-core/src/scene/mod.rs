@@ -4,6 +4,7 @@ mod camera;
 mod critter;
 mod gltf;
 mod groom;
+mod groom_bind;
 mod implicit;
 mod mesh;
 mod model;
@@ -19,6 +20,10 @@ pub use camera::Camera;
 pub use critter::critter;
 pub use gltf::{load_gltf, write_glb, GltfBody};
 pub use groom::{hash_unit, GroomParams, Strands};
+pub use groom_bind::{
+    closest_on_triangle, nearest_surface_point, resample, GroomReport, GroomSource, Outside,
+    SurfacePoint, BALD_FRACTION, BIND_LIMIT, BIND_TOLERANCE, BLEND_GUIDES, REGION_SPACINGS,
+};
 pub use mesh::Mesh;
 pub use model::ModelSpec;
 pub use rig::{Channel, Clip, Interpolation, Joint, Node, Property, Rig, Transform};

@@ -128,6 +128,17 @@ impl SceneFile {
             })?;
             (setting.set)(scene, value.clone());
         }
+        // A groom file the scene file names is found beside the scene file.
+        let names_groom = self
+            .values
+            .iter()
+            .any(|(section, setting, _)| *section == "groom" && setting.key == "file");
+        if let (true, Some(groom)) = (names_groom, &mut scene.options.groom_file) {
+            if Path::new(groom.as_str()).is_relative() {
+                let dir = path.parent().unwrap_or(Path::new("."));
+                *groom = dir.join(&*groom).to_string_lossy().into_owned();
+            }
+        }
         Ok(())
     }
 }

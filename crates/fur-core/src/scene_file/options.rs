@@ -37,6 +37,10 @@ pub struct SceneOptions {
     /// The simulation view's arrows: which step, magnified how many times.
     pub arrows: crate::render::stage::Arrows,
     pub arrow_scale: f32,
+    /// A groom file (guide curves) the master hairs are made from; `None` grows them.
+    pub groom_file: Option<String>,
+    /// What vertices outside the groom file's region get.
+    pub groom_outside: crate::scene::Outside,
 }
 
 /// How the fur is drawn: the levers that trade speed for image quality (measured by
@@ -123,6 +127,8 @@ impl Default for SceneOptions {
             show: crate::render::Stage::Lit,
             arrows: crate::render::stage::Arrows::None,
             arrow_scale: 10.0,
+            groom_file: None,
+            groom_outside: crate::scene::Outside::Bald,
         }
     }
 }
@@ -240,6 +246,10 @@ impl SceneOptions {
             comb_strength: self.comb,
             thickness_limit: self.thickness_limit,
             curl: self.curl,
+            source: self.groom_file.as_ref().map(|f| crate::scene::GroomSource {
+                path: f.into(),
+                outside: self.groom_outside,
+            }),
             ..Default::default()
         };
         let mut settings = FrameSettings {

@@ -170,7 +170,8 @@ named_choice!(
     crate::render::LightingModel,
     crate::render::Stage,
     crate::render::stage::Arrows,
-    crate::sim::MotionKind
+    crate::sim::MotionKind,
+    crate::scene::Outside
 );
 
 /// The getter and setter of a setting on the scene field at `$path`, and placeholders

@@ -229,6 +229,28 @@ pub const GROOM: Group = Group {
             },
             ..field!(options.curl)
         },
+        Setting {
+            key: "file",
+            flag: Flag::Long("groom"),
+            label: "groom file",
+            help: "Guide curves to make the master hairs from, instead of growing them: USD \
+                   (.usda, .usdc, .usdz), cyHair (.hair) or TressFX (.tfx), in the model's \
+                   rest space; a path in a scene file is relative to the scene file",
+            kind: Kind::Text,
+            unset: Some("grown from the mesh"),
+            effect: Effect::Regrow,
+            ..field!(options.groom_file)
+        },
+        Setting {
+            key: "outside",
+            flag: Flag::Long("groom-outside"),
+            label: "outside the groom",
+            help: "What vertices away from every guide get: `bald` (a stub too short to \
+                   see) or `grow` (the grown fur)",
+            kind: Kind::Choice(&["bald", "grow"]),
+            effect: Effect::Regrow,
+            ..field!(options.groom_outside)
+        },
     ],
 };
 
@@ -258,5 +280,15 @@ mod tests {
         assert_eq!(choices("show"), stages);
         let arrows: Vec<&str> = Arrows::all().map(Arrows::name).collect();
         assert_eq!(choices("arrows"), arrows);
+        let outside = super::GROOM
+            .settings
+            .iter()
+            .find(|s| s.key == "outside")
+            .map(|s| s.kind.clone());
+        let names: Vec<&str> = crate::scene::Outside::ALL
+            .iter()
+            .map(|o| o.name())
+            .collect();
+        assert!(matches!(outside, Some(Kind::Choice(n)) if n.to_vec() == names));
     }
 }

@@ -1,0 +1,312 @@
+use glam::Vec3;
+
+use super::*;
+
+fn le32(out: &mut Vec<u8>, v: u32) {
+    out.extend_from_slice(&v.to_le_bytes());
+}
+
+fn lef(out: &mut Vec<u8>, v: f32) {
+    out.extend_from_slice(&v.to_le_bytes());
+}
+
+/// Two hairs of 2 and 1 segments, laid out by hand from the format's description
+/// (not by fur's writer): header, segments, points, thickness, colours.
+fn cyhair_by_hand() -> Vec<u8> {
+    let mut b = b"HAIR".to_vec();
+    le32(&mut b, 2); // hairs
+    le32(&mut b, 5); // points
+    le32(&mut b, 1 | 2 | 4 | 16); // segments, points, thickness, colours
+    le32(&mut b, 7); // default segments (unused: the array is there)
+    for v in [0.5, 0.0, 0.1, 0.2, 0.3] {
+        lef(&mut b, v);
+    }
+    b.resize(128, 0);
+    b.extend_from_slice(&2u16.to_le_bytes());
+    b.extend_from_slice(&1u16.to_le_bytes());
+    for i in 0..5 {
+        for v in [i as f32, 2.0 * i as f32, -1.0] {
+            lef(&mut b, v);
+        }
+    }
+    for i in 0..5 {
+        lef(&mut b, 0.01 * (i + 1) as f32);
+    }
+    for i in 0..5 {
+        for v in [0.1 * i as f32, 0.5, 1.0] {
+            lef(&mut b, v);
+        }
+    }
+    b
+}
+
+#[test]
+fn cyhair_is_read_as_laid_out_and_written_back_the_same() {
+    let g = parse_cyhair(&cyhair_by_hand()).unwrap();
+    assert_eq!(g.counts, vec![3, 2]);
+    assert_eq!(g.points[4], Vec3::new(4.0, 8.0, -1.0));
+    assert_eq!(g.widths.as_ref().unwrap()[2], 0.03);
+    assert_eq!(
+        g.colors.as_ref().unwrap()[3],
+        Vec3::new(0.1 * 3.0, 0.5, 1.0)
+    );
+    g.validate().unwrap();
+    let written = write_cyhair(&g, "test").unwrap();
+    assert_eq!(parse_cyhair(&written).unwrap(), g);
+    // The same bytes as the hand layout, apart from the header's defaults and text.
+    assert_eq!(written[128..], cyhair_by_hand()[128..]);
+}
+
+#[test]
+fn cyhair_without_segments_takes_the_default_and_without_thickness_has_no_widths() {
+    let mut b = b"HAIR".to_vec();
+    for v in [2, 6, 2, 2] {
+        le32(&mut b, v);
+    }
+    b.resize(128, 0);
+    for i in 0..18 {
+        lef(&mut b, i as f32);
+    }
+    let g = parse_cyhair(&b).unwrap();
+    assert_eq!(g.counts, vec![3, 3]);
+    assert_eq!(g.widths, None);
+    assert_eq!(g.colors, None);
+}
+
+#[test]
+fn bad_cyhair_files_are_refused_before_allocating() {
+    let good = cyhair_by_hand();
+    let err = |b: &[u8]| parse_cyhair(b).unwrap_err();
+    assert!(err(&good[..100]).contains("shorter than a cyHair header"));
+    assert!(err(&good[..good.len() - 1]).contains("the file has"));
+    let mut bad = good.clone();
+    bad[0] = b'X';
+    assert!(err(&bad).contains("HAIR"));
+    // A header promising four billion hairs in a small file: refused from the sizes.
+    let mut huge = good.clone();
+    huge[4..8].copy_from_slice(&u32::MAX.to_le_bytes());
+    huge[8..12].copy_from_slice(&u32::MAX.to_le_bytes());
+    assert!(err(&huge).contains("promises"));
+    let mut sums = good.clone();
+    sums[8..12].copy_from_slice(&4u32.to_le_bytes());
+    assert!(err(&sums).contains("add up to 5"));
+    let mut none = good;
+    none[12..16].copy_from_slice(&1u32.to_le_bytes());
+    assert!(err(&none).contains("no points array"));
+}
+
+/// Two strands of 4 vertices, laid out as TressFX's header describes.
+fn tfx_by_hand(colours: bool) -> Vec<u8> {
+    let mut b = Vec::new();
+    lef(&mut b, 4.0);
+    le32(&mut b, 2);
+    le32(&mut b, 4);
+    le32(&mut b, 160); // positions
+    le32(&mut b, 0);
+    le32(&mut b, 0);
+    le32(&mut b, 0);
+    le32(&mut b, if colours { 160 + 8 * 16 } else { 0 });
+    b.resize(160, 0);
+    for i in 0..8 {
+        let inverse_mass = if i % 4 == 0 { 0.0 } else { 1.0 };
+        for v in [i as f32, 0.5, -(i as f32), inverse_mass] {
+            lef(&mut b, v);
+        }
+    }
+    if colours {
+        for i in 0..8 {
+            for v in [0.25, i as f32 / 8.0, 0.75, 1.0] {
+                lef(&mut b, v);
+            }
+        }
+    }
+    b
+}
+
+#[test]
+fn tfx_is_read_as_laid_out() {
+    let g = parse_tfx(&tfx_by_hand(true)).unwrap();
+    assert_eq!(g.counts, vec![4, 4]);
+    assert_eq!(g.points[5], Vec3::new(5.0, 0.5, -5.0));
+    assert_eq!(g.colors.as_ref().unwrap()[4], Vec3::new(0.25, 0.5, 0.75));
+    assert_eq!(g.widths, None);
+    assert_eq!(parse_tfx(&tfx_by_hand(false)).unwrap().colors, None);
+}
+
+#[test]
+fn bad_tfx_files_are_refused_before_allocating() {
+    let good = tfx_by_hand(true);
+    let err = |b: &[u8]| parse_tfx(b).unwrap_err();
+    assert!(err(&good[..150]).contains("shorter"));
+    assert!(err(&good[..good.len() - 4]).contains("colours"));
+    let mut huge = good.clone();
+    huge[4..8].copy_from_slice(&u32::MAX.to_le_bytes());
+    assert!(err(&huge).contains("positions"));
+    let mut one = good.clone();
+    one[8..12].copy_from_slice(&1u32.to_le_bytes());
+    assert!(err(&one).contains("vertices per strand"));
+    let mut version = good;
+    version[0..4].copy_from_slice(&f32::NAN.to_le_bytes());
+    assert!(err(&version).contains("version"));
+}
+
+fn sample_guides() -> Guides {
+    Guides {
+        counts: vec![3, 4],
+        points: (0..7)
+            .map(|i| Vec3::new(0.1 * i as f32, 1.0 / 3.0, -0.7 * i as f32))
+            .collect(),
+        widths: Some((0..7).map(|i| 0.001 * (7 - i) as f32).collect()),
+        colors: Some(
+            (0..7)
+                .map(|i| Vec3::new(0.9, 0.1 * i as f32, 0.3))
+                .collect(),
+        ),
+        notes: Vec::new(),
+    }
+}
+
+#[test]
+fn usd_text_written_by_fur_reads_back_exactly() {
+    let g = sample_guides();
+    let text = write_usda(&g, "fur test").unwrap();
+    assert!(text.starts_with("#usda 1.0"));
+    let back = parse_usd(text.as_bytes(), GroomFormat::Usda).unwrap();
+    assert_eq!(back, g);
+    // `.usd` decides by the bytes.
+    assert_eq!(parse_usd(text.as_bytes(), GroomFormat::Usdc).unwrap(), g);
+}
+
+fn usda(curves: &str) -> String {
+    format!("#usda 1.0\n(\n    upAxis = \"Y\"\n)\n\ndef Xform \"Root\"\n{{\n{curves}\n}}\n")
+}
+
+fn read(text: &str) -> Result<Guides, String> {
+    parse_usd(text.as_bytes(), GroomFormat::Usda)
+}
+
+#[test]
+fn usd_transforms_compose_parent_first_and_the_first_op_outermost() {
+    let text = format!(
+        "#usda 1.0\ndef Xform \"A\"\n{{\n    double3 xformOp:translate = (10, 0, 0)\n    \
+         uniform token[] xformOpOrder = [\"xformOp:translate\"]\n    \
+         def BasisCurves \"C\"\n    {{\n        uniform token type = \"linear\"\n        \
+         int[] curveVertexCounts = [2]\n        point3f[] points = [(1, 0, 0), (1, 1, 0)]\n        \
+         float3 xformOp:scale = (2, 2, 2)\n        float xformOp:rotateZ = 90\n        \
+         uniform token[] xformOpOrder = [\"xformOp:scale\", \"xformOp:rotateZ\"]\n    }}\n}}\n"
+    );
+    let g = read(&text).unwrap();
+    // Rotate (1, 0, 0) by 90° about Z → (0, 1, 0); scale → (0, 2, 0); parent → (10, 2, 0).
+    assert!(
+        g.points[0].distance(Vec3::new(10.0, 2.0, 0.0)) < 1e-5,
+        "{:?}",
+        g.points
+    );
+    assert!(
+        g.points[1].distance(Vec3::new(8.0, 2.0, 0.0)) < 1e-5,
+        "{:?}",
+        g.points
+    );
+}
+
+#[test]
+fn cubic_usd_curves_are_evaluated_through_their_basis() {
+    let curve =
+        |basis: &str, wrap: &str, n: usize| {
+            let pts: Vec<String> = (0..n)
+                .map(|i| format!("({i}, {}, 0)", (i * i) as f32))
+                .collect();
+            usda(&format!(
+            "    def BasisCurves \"C\"\n    {{\n        uniform token type = \"cubic\"\n        \
+             uniform token basis = \"{basis}\"\n        uniform token wrap = \"{wrap}\"\n        \
+             int[] curveVertexCounts = [{n}]\n        point3f[] points = [{}]\n        \
+             float[] widths = [{}] (interpolation = \"vertex\")\n    }}",
+            pts.join(", "),
+            (0..n).map(|i| format!("{}", i + 1)).collect::<Vec<_>>().join(", ")
+        ))
+        };
+    let p = |i: f32| Vec3::new(i, i * i, 0.0);
+    // Bézier: through its first and last control points, 4 samples per segment.
+    let g = read(&curve("bezier", "nonperiodic", 7)).unwrap();
+    assert_eq!(g.counts, vec![2 * CUBIC_SAMPLES as u32 + 1]);
+    assert_eq!(g.points[0], p(0.0));
+    assert!(g.points[CUBIC_SAMPLES].distance(p(3.0)) < 1e-5);
+    assert!(g.points.last().unwrap().distance(p(6.0)) < 1e-5);
+    assert!(g.notes.iter().any(|n| n.contains("evaluated")));
+    // Catmull–Rom: through its inner control points; pinned: through its ends too.
+    let g = read(&curve("catmullRom", "nonperiodic", 5)).unwrap();
+    assert_eq!(g.counts, vec![2 * CUBIC_SAMPLES as u32 + 1]);
+    assert!(g.points[0].distance(p(1.0)) < 1e-5);
+    assert!(g.points[CUBIC_SAMPLES].distance(p(2.0)) < 1e-5);
+    let g = read(&curve("catmullRom", "pinned", 5)).unwrap();
+    assert!(g.points[0].distance(p(0.0)) < 1e-5);
+    assert!(g.points.last().unwrap().distance(p(4.0)) < 1e-5);
+    // B-spline: a uniform B-spline's segment starts at (P0 + 4 P1 + P2) / 6.
+    let g = read(&curve("bspline", "nonperiodic", 5)).unwrap();
+    assert!(g.points[0].distance((p(0.0) + 4.0 * p(1.0) + p(2.0)) / 6.0) < 1e-5);
+    let w = g.widths.unwrap();
+    assert!((w[0] - (1.0 + 4.0 * 2.0 + 3.0) / 6.0).abs() < 1e-5, "{w:?}");
+    let g = read(&curve("bspline", "pinned", 5)).unwrap();
+    assert!(g.points[0].distance(p(0.0)) < 1e-5);
+    // Counts a basis cannot take are errors naming the prim.
+    let e = read(&curve("bezier", "nonperiodic", 6)).unwrap_err();
+    assert!(e.contains("/Root/C") && e.contains("3n + 1"), "{e}");
+    let e = read(&curve("bspline", "periodic", 5)).unwrap_err();
+    assert!(e.contains("periodic"), "{e}");
+}
+
+#[test]
+fn bad_usd_is_an_error_naming_the_problem() {
+    assert!(read("#usda 1.0\ndef Xform \"A\" {")
+        .unwrap_err()
+        .contains("USD text"));
+    assert!(read(&usda("")).unwrap_err().contains("no BasisCurves"));
+    let mismatch = usda(
+        "    def BasisCurves \"C\"\n    {\n        uniform token type = \"linear\"\n        \
+         int[] curveVertexCounts = [3]\n        point3f[] points = [(0, 0, 0), (1, 0, 0)]\n    }",
+    );
+    assert!(read(&mismatch).unwrap_err().contains("add up to 3"));
+    let short_widths = usda(
+        "    def BasisCurves \"C\"\n    {\n        uniform token type = \"linear\"\n        \
+         int[] curveVertexCounts = [2]\n        point3f[] points = [(0, 0, 0), (1, 0, 0)]\n        \
+         float[] widths = [1] (interpolation = \"vertex\")\n    }",
+    );
+    assert!(read(&short_widths).unwrap_err().contains("too few"));
+    assert!(parse_usd(b"garbage", GroomFormat::Usdc)
+        .unwrap_err()
+        .contains("neither"));
+    assert!(parse_usd(b"PK garbage", GroomFormat::Usdz).is_err());
+    assert!(parse_usd(b"PXR-USDC garbage", GroomFormat::Usdc).is_err());
+}
+
+#[test]
+fn the_format_follows_the_extension_and_unknown_ones_are_named() {
+    use std::path::Path;
+    assert_eq!(
+        GroomFormat::of(Path::new("a.HAIR")).unwrap(),
+        GroomFormat::CyHair
+    );
+    assert_eq!(
+        GroomFormat::of(Path::new("a.usdz")).unwrap(),
+        GroomFormat::Usdz
+    );
+    let e = GroomFormat::of(Path::new("a.abc")).unwrap_err().to_string();
+    assert!(e.contains("a.abc") && e.contains(".tfx"), "{e}");
+}
+
+#[test]
+fn validation_names_what_is_wrong() {
+    let mut g = sample_guides();
+    g.counts[0] = 1;
+    assert!(g.validate().unwrap_err().contains("curve 0"));
+    let mut g = sample_guides();
+    g.points[2].y = f32::INFINITY;
+    assert!(g.validate().unwrap_err().contains("point 2"));
+    let mut g = sample_guides();
+    g.widths.as_mut().unwrap().pop();
+    assert!(g.validate().unwrap_err().contains("widths"));
+    assert!(Guides::default()
+        .validate()
+        .unwrap_err()
+        .contains("no curves"));
+}

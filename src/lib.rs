@@ -20,8 +20,8 @@ pub mod legend;
 pub mod viewer;
 
 pub use fur_gpu::{
-    colour, error, files, geometry, gpu, interrupt, render, scene, scene_file, session, sim,
-    skinning, strand_textures,
+    colour, error, files, geometry, gpu, groom_file, interrupt, render, scene, scene_file, session,
+    sim, skinning, strand_textures,
 };
 
 pub use error::{Error, Result};

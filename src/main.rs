@@ -7,6 +7,7 @@ use std::time::Instant;
 
 mod args;
 mod export_command;
+mod groom_command;
 mod render_command;
 
 use anyhow::{bail, Context as _};
@@ -40,6 +41,10 @@ enum Command {
     /// (tools/reference), and the PNG fur draws of it (--out); --frames N exports the
     /// Nth simulated frame.
     ExportFrame(export_command::ExportArgs),
+    /// Write the master hairs as guide curves — USD text (.usda) or cyHair (.hair) — at
+    /// rest in the model's space (ready for `--groom`), or at the Nth simulated frame
+    /// (--frames N) as drawn.
+    ExportGroom(groom_command::GroomArgs),
     /// Open a window: live simulation, orbit camera, parameter panel, stage timings.
     View(ViewArgs),
     /// Measure stage costs, the speed/accuracy trade, scaling and savings on this device;
@@ -181,6 +186,7 @@ fn main() -> ExitCode {
         Some(Command::Render(args)) => render_command::render(&args),
         Some(Command::View(args)) => view(args),
         Some(Command::ExportFrame(args)) => export_command::export_frame(&args),
+        Some(Command::ExportGroom(args)) => groom_command::export_groom(&args),
         Some(Command::ExportModel { out, model }) => export_model(&out, &model),
         Some(Command::Devices { device }) => devices(&device),
         Some(Command::Settings { write_docs }) => settings(write_docs.as_deref()),

@@ -193,14 +193,23 @@ pub fn write_output(path: &Path, bytes: &[u8], what: &'static str) -> Result<()>
 }
 
 /// Writes `bytes` to a temporary file beside `path` (removed if anything fails), syncs
-/// it to disk and renames it over `path`, keeping the old file's permissions.
+/// it to disk and renames it over `path`, keeping the old file's permissions (a new
+/// file's are those the umask gives).
 fn replace(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
     let dir = path
         .parent()
         .filter(|d| !d.as_os_str().is_empty())
         .unwrap_or(Path::new("."));
     std::fs::create_dir_all(dir)?;
-    let mut file = tempfile::NamedTempFile::new_in(dir)?;
+    // A new file gets the permissions any new file gets here (0666 less the umask), not
+    // the temporary file's private 0600.
+    let mut builder = tempfile::Builder::new();
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::PermissionsExt as _;
+        builder.permissions(std::fs::Permissions::from_mode(0o666));
+    }
+    let mut file = builder.tempfile_in(dir)?;
     file.write_all(bytes)?;
     if let Ok(old) = std::fs::metadata(path) {
         file.as_file().set_permissions(old.permissions())?;
@@ -311,6 +320,23 @@ mod tests {
         let _ = std::fs::remove_dir_all(&dir);
         std::fs::create_dir_all(&dir).unwrap();
         dir
+    }
+
+    /// A new output gets the permissions any new file gets in its folder (the umask's),
+    /// not a temporary file's private 0600; a replaced one keeps its own.
+    #[test]
+    fn new_outputs_get_the_usual_permissions_and_replaced_ones_keep_theirs() {
+        use std::os::unix::fs::PermissionsExt as _;
+        let dir = temp_dir("modes");
+        let usual = dir.join("usual.txt");
+        std::fs::write(&usual, b"x").unwrap();
+        let out = dir.join("out.txt");
+        write_output(&out, b"new", "test output").unwrap();
+        let mode = |p: &Path| std::fs::metadata(p).unwrap().permissions().mode() & 0o777;
+        assert_eq!(mode(&out), mode(&usual));
+        std::fs::set_permissions(&out, std::fs::Permissions::from_mode(0o640)).unwrap();
+        write_output(&out, b"again", "test output").unwrap();
+        assert_eq!(mode(&out), 0o640);
     }
 
     #[test]

@@ -15,7 +15,7 @@ pub mod sim;
 pub mod skinning;
 pub mod strand_textures;
 
-pub use fur_core::{colour, files, geometry, interrupt, scene, scene_file};
+pub use fur_core::{colour, files, geometry, groom_file, interrupt, scene, scene_file};
 
 pub use error::{Error, Result};
 

@@ -1,6 +1,7 @@
 //! Geometry that the scene and the simulation both build on: indexed triangles' bounds,
 //! the scalar and 3-vector maths the CPU reference runs on, and signed distance fields.
 
+pub mod grid;
 pub mod math;
 pub mod sdf;
 mod triangles;

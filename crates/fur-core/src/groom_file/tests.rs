@@ -187,15 +187,13 @@ fn read(text: &str) -> Result<Guides, String> {
 
 #[test]
 fn usd_transforms_compose_parent_first_and_the_first_op_outermost() {
-    let text = format!(
-        "#usda 1.0\ndef Xform \"A\"\n{{\n    double3 xformOp:translate = (10, 0, 0)\n    \
+    let text = "#usda 1.0\ndef Xform \"A\"\n{\n    double3 xformOp:translate = (10, 0, 0)\n    \
          uniform token[] xformOpOrder = [\"xformOp:translate\"]\n    \
-         def BasisCurves \"C\"\n    {{\n        uniform token type = \"linear\"\n        \
+         def BasisCurves \"C\"\n    {\n        uniform token type = \"linear\"\n        \
          int[] curveVertexCounts = [2]\n        point3f[] points = [(1, 0, 0), (1, 1, 0)]\n        \
          float3 xformOp:scale = (2, 2, 2)\n        float xformOp:rotateZ = 90\n        \
-         uniform token[] xformOpOrder = [\"xformOp:scale\", \"xformOp:rotateZ\"]\n    }}\n}}\n"
-    );
-    let g = read(&text).unwrap();
+         uniform token[] xformOpOrder = [\"xformOp:scale\", \"xformOp:rotateZ\"]\n    }\n}\n";
+    let g = read(text).unwrap();
     // Rotate (1, 0, 0) by 90° about Z → (0, 1, 0); scale → (0, 2, 0); parent → (10, 2, 0).
     assert!(
         g.points[0].distance(Vec3::new(10.0, 2.0, 0.0)) < 1e-5,

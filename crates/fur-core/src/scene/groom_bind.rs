@@ -10,6 +10,7 @@ use rayon::prelude::*;
 
 use super::{GroomParams, Mesh, Strands};
 use crate::error::{Error, Result};
+use crate::geometry::grid::Grid;
 use crate::groom_file::Guides;
 
 /// A root farther than this from the surface (in bounding radii) is reported.
@@ -116,32 +117,52 @@ pub fn closest_on_triangle(p: Vec3, a: Vec3, b: Vec3, c: Vec3) -> Vec3 {
 
 /// The nearest point of `mesh`'s surface to `p` (every triangle tried).
 pub fn nearest_surface_point(mesh: &Mesh, p: Vec3) -> SurfacePoint {
-    let mut best = SurfacePoint {
-        triangle: 0,
-        barycentric: Vec3::X,
-        point: Vec3::splat(f32::MAX),
-        normal: Vec3::Y,
-        distance: f32::MAX,
-    };
-    for (t, tri) in mesh.indices.chunks_exact(3).enumerate() {
-        let [a, b, c] = [0, 1, 2].map(|k| mesh.positions[tri[k] as usize]);
-        let w = closest_on_triangle(p, a, b, c);
-        let q = w.x * a + w.y * b + w.z * c;
-        let d = q.distance(p);
-        if d < best.distance {
-            let n = w.x * mesh.normals[tri[0] as usize]
-                + w.y * mesh.normals[tri[1] as usize]
-                + w.z * mesh.normals[tri[2] as usize];
-            best = SurfacePoint {
-                triangle: t as u32,
-                barycentric: w,
-                point: q,
-                normal: n.try_normalize().unwrap_or(Vec3::Y),
-                distance: d,
-            };
-        }
+    let all: Vec<u32> = (0..mesh.triangle_count() as u32).collect();
+    surface_point(mesh, p, all.into_iter())
+}
+
+/// The point on `mesh`'s triangle `t` nearest to `p`.
+fn on_triangle(mesh: &Mesh, t: u32, p: Vec3) -> SurfacePoint {
+    let tri = &mesh.indices[3 * t as usize..3 * t as usize + 3];
+    let [a, b, c] = [0, 1, 2].map(|k| mesh.positions[tri[k] as usize]);
+    let w = closest_on_triangle(p, a, b, c);
+    let q = w.x * a + w.y * b + w.z * c;
+    let n = w.x * mesh.normals[tri[0] as usize]
+        + w.y * mesh.normals[tri[1] as usize]
+        + w.z * mesh.normals[tri[2] as usize];
+    SurfacePoint {
+        triangle: t,
+        barycentric: w,
+        point: q,
+        normal: n.try_normalize().unwrap_or(Vec3::Y),
+        distance: q.distance(p),
     }
-    best
+}
+
+fn surface_point(mesh: &Mesh, p: Vec3, triangles: impl Iterator<Item = u32>) -> SurfacePoint {
+    triangles
+        .map(|t| on_triangle(mesh, t, p))
+        .min_by(|a, b| a.distance.total_cmp(&b.distance))
+        .unwrap_or(SurfacePoint {
+            triangle: 0,
+            barycentric: Vec3::X,
+            point: p,
+            normal: Vec3::Y,
+            distance: f32::MAX,
+        })
+}
+
+/// The body's triangles in a grid, for nearest-point queries.
+fn triangle_grid(mesh: &Mesh) -> Grid {
+    let boxes: Vec<(Vec3, Vec3)> = mesh
+        .indices
+        .chunks_exact(3)
+        .map(|t| {
+            let [a, b, c] = [0, 1, 2].map(|k| mesh.positions[t[k] as usize]);
+            (a.min(b).min(c), a.max(b).max(c))
+        })
+        .collect();
+    Grid::new(&boxes)
 }
 
 /// What binding a groom found, for the user.
@@ -210,12 +231,17 @@ impl Strands {
         guides.validate()?;
         let (_, radius) = mesh.bounds();
         let segments = groom.segments as usize;
+        let triangles = triangle_grid(mesh);
         let roots: Vec<SurfacePoint> = guides
             .curves()
             .collect::<Vec<_>>()
             .par_iter()
-            .map(|c| nearest_surface_point(mesh, c[0]))
+            .map(|c| {
+                let near = triangles.nearest(c[0], 1, |t| on_triangle(mesh, t, c[0]).distance);
+                on_triangle(mesh, near.first().map_or(0, |n| n.1), c[0])
+            })
             .collect();
+        let root_grid = Grid::new(&roots.iter().map(|r| (r.point, r.point)).collect::<Vec<_>>());
         let farthest = roots.iter().map(|r| r.distance).fold(0.0, f32::max);
         let beyond = roots
             .iter()
@@ -242,12 +268,11 @@ impl Strands {
                 .par_iter()
                 .enumerate()
                 .map(|(i, a)| {
-                    roots
+                    root_grid
+                        .nearest(a.point, 2, |j| a.point.distance(roots[j as usize].point))
                         .iter()
-                        .enumerate()
-                        .filter(|&(j, _)| j != i)
-                        .map(|(_, b)| a.point.distance(b.point))
-                        .fold(f32::MAX, f32::min)
+                        .find(|&&(_, j)| j as usize != i)
+                        .map_or(f32::MAX, |n| n.0)
                 })
                 .collect(),
         );
@@ -272,15 +297,11 @@ impl Strands {
             .zip(&mesh.normals)
             .map(|(&v, &n)| {
                 let n = n.try_normalize().unwrap_or(Vec3::Y);
-                let mut near: Vec<(f32, usize)> = Vec::with_capacity(BLEND_GUIDES + 1);
-                for (g, r) in roots.iter().enumerate() {
-                    let d = r.point.distance(v);
-                    if near.len() < BLEND_GUIDES || d < near[near.len() - 1].0 {
-                        let at = near.partition_point(|&(e, _)| e <= d);
-                        near.insert(at, (d, g));
-                        near.truncate(BLEND_GUIDES);
-                    }
-                }
+                let near: Vec<(f32, usize)> = root_grid
+                    .nearest(v, BLEND_GUIDES, |g| roots[g as usize].point.distance(v))
+                    .into_iter()
+                    .map(|(d, g)| (d, g as usize))
+                    .collect();
                 if near[0].0 > region {
                     return None;
                 }

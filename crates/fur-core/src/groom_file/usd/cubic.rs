@@ -6,6 +6,23 @@ use glam::Vec3;
 
 use super::CUBIC_SAMPLES;
 
+/// What a curve's values must do to be evaluated: points and scalars alike.
+pub trait Blend:
+    Copy
+    + std::ops::Add<Output = Self>
+    + std::ops::Sub<Output = Self>
+    + std::ops::Mul<f32, Output = Self>
+{
+}
+
+impl<T> Blend for T where
+    T: Copy
+        + std::ops::Add<Output = T>
+        + std::ops::Sub<Output = T>
+        + std::ops::Mul<f32, Output = T>
+{
+}
+
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Shape {
     Linear,
@@ -65,13 +82,7 @@ impl Shape {
     }
 
     /// The control points with a pinned curve's phantom ends added.
-    fn extended<T: Copy + std::ops::Sub<Output = T> + std::ops::Mul<f32, Output = T>>(
-        &self,
-        cvs: &[T],
-    ) -> Vec<T>
-    where
-        T: std::ops::Add<Output = T>,
-    {
+    fn extended<T: Blend>(&self, cvs: &[T]) -> Vec<T> {
         match self {
             Self::BSpline { pinned: true } | Self::CatmullRom { pinned: true } => {
                 let n = cvs.len();
@@ -90,13 +101,7 @@ impl Shape {
         self.evaluate_any(cvs)
     }
 
-    fn evaluate_any<T>(&self, cvs: &[T]) -> Result<Vec<T>, String>
-    where
-        T: Copy
-            + std::ops::Add<Output = T>
-            + std::ops::Sub<Output = T>
-            + std::ops::Mul<f32, Output = T>,
-    {
+    fn evaluate_any<T: Blend>(&self, cvs: &[T]) -> Result<Vec<T>, String> {
         let segments = self.segments(cvs.len())?;
         if *self == Self::Linear {
             return Ok(cvs.to_vec());
@@ -115,10 +120,7 @@ impl Shape {
         Ok(out)
     }
 
-    fn at<T>(&self, q: &[T], t: f32) -> T
-    where
-        T: Copy + std::ops::Add<Output = T> + std::ops::Mul<f32, Output = T>,
-    {
+    fn at<T: Blend>(&self, q: &[T], t: f32) -> T {
         let s = 1.0 - t;
         let w = match self {
             Self::Bezier => [s * s * s, 3.0 * s * s * t, 3.0 * s * t * t, t * t * t],

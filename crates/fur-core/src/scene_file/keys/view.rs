@@ -284,7 +284,7 @@ mod tests {
             .settings
             .iter()
             .find(|s| s.key == "outside")
-            .map(|s| s.kind.clone());
+            .map(|s| s.kind);
         let names: Vec<&str> = crate::scene::Outside::ALL
             .iter()
             .map(|o| o.name())

@@ -128,6 +128,7 @@ fn links_between_the_documents_lead_to_files() {
         "docs/robustness.md",
         "docs/testing.md",
         "docs/scene-files.md",
+        "docs/grooms.md",
     ] {
         let text = read(doc);
         let dir = Path::new(env!("CARGO_MANIFEST_DIR"))
@@ -194,6 +195,7 @@ fn the_files_the_documents_name_exist() {
         "docs/robustness.md",
         "docs/testing.md",
         "docs/scene-files.md",
+        "docs/grooms.md",
     ] {
         let text = read(doc);
         for prefix in ["src/", "tests/", "shaders/", "crates/", "tools/"] {

@@ -194,6 +194,9 @@ pub struct Lighting {
     pub fibre: Fibre,
     /// The hair's lighting model.
     pub model: LightingModel,
+    /// A named fur colour that replaces the root and tip colours (see
+    /// [`super::FurPreset`]).
+    pub preset: super::FurPreset,
 }
 
 impl Default for Lighting {
@@ -213,6 +216,7 @@ impl Default for Lighting {
             shadows: Shadows::default(),
             fibre: Fibre::default(),
             model: LightingModel::default(),
+            preset: super::FurPreset::None,
         }
     }
 }

@@ -29,15 +29,20 @@ use super::lighting::Fibre;
 /// Chiang et al. 2016's absorption σa (per unit fibre radius) for a fibre of roughly
 /// `color` (linear RGB) with azimuthal roughness `beta_n`.
 pub fn sigma_a_from_color(color: Vec3, beta_n: f32) -> Vec3 {
-    let b = beta_n;
-    let d = 5.969 - 0.215 * b + 2.532 * b.powi(2) - 10.73 * b.powi(3)
-        + 5.574 * b.powi(4)
-        + 0.245 * b.powi(5);
+    let d = chiang_colour_scale(beta_n);
     let l = color
         .clamp(Vec3::splat(1e-4), Vec3::ONE)
         .to_array()
         .map(f32::ln);
     Vec3::from_array(l.map(|x| (x / d) * (x / d)))
+}
+
+/// The polynomial in β_n of Chiang et al.'s colour mapping: σa = (ln c / d(β_n))².
+pub fn chiang_colour_scale(beta_n: f32) -> f32 {
+    let b = beta_n;
+    5.969 - 0.215 * b + 2.532 * b.powi(2) - 10.73 * b.powi(3)
+        + 5.574 * b.powi(4)
+        + 0.245 * b.powi(5)
 }
 
 /// Chiang et al.'s longitudinal variance for roughness `beta_m`.

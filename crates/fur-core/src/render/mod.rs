@@ -8,11 +8,13 @@ pub mod hair_oracle;
 mod image;
 mod lighting;
 pub mod marschner;
+pub mod presets;
 pub mod stage;
 pub mod uniforms;
 
 pub use image::{flip, RgbaImage};
 pub use lighting::{kajiya_kay, Fibre, Highlights, Lighting, LightingModel, Shade, Shadows};
+pub use presets::FurPreset;
 pub use uniforms::{
     FrameSettings, FrameUniforms, FurStyle, Primitive, Shading, Stage, StrandShape,
 };

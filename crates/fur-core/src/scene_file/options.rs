@@ -266,6 +266,14 @@ impl SceneOptions {
             lighting: self.lighting.clone(),
             ..Default::default()
         };
+        if let Some(c) = self
+            .lighting
+            .preset
+            .colour(self.lighting.fibre.azimuthal_roughness)
+        {
+            settings.lighting.root_color = c;
+            settings.lighting.tip_color = c;
+        }
         // Density and widths are per scene unit; scale them with the model.
         let style = &mut settings.style;
         style.density *= self.density_scale / (radius * radius);

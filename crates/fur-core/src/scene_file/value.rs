@@ -171,7 +171,8 @@ named_choice!(
     crate::render::Stage,
     crate::render::stage::Arrows,
     crate::sim::MotionKind,
-    crate::scene::Outside
+    crate::scene::Outside,
+    crate::render::FurPreset
 );
 
 /// The getter and setter of a setting on the scene field at `$path`, and placeholders

@@ -119,6 +119,17 @@ pub const LIGHT: Group = Group {
             ..field!(options.lighting.tip_color)
         },
         Setting {
+            key: "fur_preset",
+            flag: Flag::Long("fur-preset"),
+            label: "fur preset",
+            help: "A natural fur colour as melanin (`white`, `blond`, `ginger`, `brown`, \
+                   `black`) that replaces the root and tip colours: the colour whose \
+                   absorption under Chiang's mapping is the melanin's (docs/design.md); \
+                   `none` keeps them",
+            kind: Kind::Choice(&["none", "white", "blond", "ginger", "brown", "black"]),
+            ..field!(options.lighting.preset)
+        },
+        Setting {
             key: "skin_color",
             flag: Flag::Long("skin-color"),
             label: "skin colour",

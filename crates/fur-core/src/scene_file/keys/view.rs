@@ -290,5 +290,15 @@ mod tests {
             .map(|o| o.name())
             .collect();
         assert!(matches!(outside, Some(Kind::Choice(n)) if n.to_vec() == names));
+        let preset = super::super::looks::LIGHT
+            .settings
+            .iter()
+            .find(|s| s.key == "fur_preset")
+            .map(|s| s.kind);
+        let names: Vec<&str> = crate::render::FurPreset::ALL
+            .iter()
+            .map(|p| p.name())
+            .collect();
+        assert!(matches!(preset, Some(Kind::Choice(n)) if n.to_vec() == names));
     }
 }

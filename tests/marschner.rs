@@ -98,7 +98,7 @@ fn predicted(light: Vec3, fibre: &Fibre) -> Vec3 {
                 );
                 let w = 1.0 / p.distance_squared(eye);
                 let v = (eye - p).normalize();
-                let f = marschner(Vec3::Y, light, v, COLOR, fibre, 1.0);
+                let f = marschner(Vec3::Y, light, v, COLOR, fibre, Vec3::ONE);
                 sum += w * std::f32::consts::PI * INTENSITY * f;
                 weight += w;
             }
@@ -191,22 +191,22 @@ fn the_twin_has_the_shape_of_the_model() {
     let from = |theta: f32| Vec3::new(0.0, theta.sin(), theta.cos());
     // (Dark hair: the TRT lobe, shifted the other way, is absorbed.)
     let dark = Vec3::splat(0.01);
-    let shifted = marschner(Vec3::Y, from(2.0 * tilt), v, dark, &fibre, 1.0);
-    let mirror = marschner(Vec3::Y, from(-2.0 * tilt), v, dark, &fibre, 1.0);
+    let shifted = marschner(Vec3::Y, from(2.0 * tilt), v, dark, &fibre, Vec3::ONE);
+    let mirror = marschner(Vec3::Y, from(-2.0 * tilt), v, dark, &fibre, Vec3::ONE);
     assert!(shifted.x > mirror.x, "{shifted} {mirror}");
     // TT: light from behind the fibre comes through, less of it through darker hair
     // (absorption along the path).
     let behind = Vec3::new(0.0, 0.0, -1.0);
-    let light_hair = marschner(Vec3::Y, behind, v, Vec3::splat(0.9), &fibre, 1.0);
-    let dark_hair = marschner(Vec3::Y, behind, v, Vec3::splat(0.1), &fibre, 1.0);
+    let light_hair = marschner(Vec3::Y, behind, v, Vec3::splat(0.9), &fibre, Vec3::ONE);
+    let dark_hair = marschner(Vec3::Y, behind, v, Vec3::splat(0.1), &fibre, Vec3::ONE);
     assert!(light_hair.x > 1.2 * dark_hair.x, "{light_hair} {dark_hair}");
     // No light, no direct or scattered light.
     assert_eq!(
-        marschner(Vec3::Y, behind, v, COLOR, &fibre, 0.0),
+        marschner(Vec3::Y, behind, v, COLOR, &fibre, Vec3::ZERO),
         Vec3::ZERO
     );
     // Finite at grazing angles (light and view along the hair).
-    assert!(marschner(Vec3::Y, Vec3::Y, Vec3::Y, COLOR, &fibre, 1.0).is_finite());
+    assert!(marschner(Vec3::Y, Vec3::Y, Vec3::Y, COLOR, &fibre, Vec3::ONE).is_finite());
 }
 
 /// The light elevation (degrees, towards the tip) of the brightest reflection of a
@@ -233,7 +233,7 @@ fn the_highlight_shifts_the_way_the_path_tracers_does() {
                     v,
                     dark,
                     &fibre,
-                    1.0,
+                    Vec3::ONE,
                 )
                 .x
             };

@@ -1,6 +1,7 @@
 //! Self-shadowing: depth into the fur darkens, off costs nothing.
 
 use super::*;
+use fur::render::Stage;
 
 /// A dense tuft of straight hairs on a plane, seen from the side (+Z).
 fn tuft(light: Vec3, shadows: bool, draw_fur: bool) -> (Mesh, GroomParams, FrameSettings) {
@@ -109,5 +110,104 @@ fn shadows_off_cost_nothing_and_their_settings_change_nothing() {
     let (shadowed, _) = renderer.render(&textures, &settings).unwrap();
     assert_eq!(renderer.shadow_maps(), 1);
     assert!(shadowed.data != plain.data);
+    common::assert_clean(&device);
+}
+
+/// With the Marschner model, light comes through the fur in the fibres' colour. The
+/// shadow view shows that light alone: through blond fibres its channels fall as the
+/// CPU twin's per-layer transmittances do (ln T_red / ln T_blue is the twin's ratio at
+/// any one depth; the map's filter, mixing depths, pulls it towards 1), white fur lets
+/// the light in deeper, black fur's shadow is the grey term. A build whose fibres stop the light greyly
+/// (`FUR_TEST_GREY_FIBRE_SHADOWS`) fails the first two.
+#[test]
+fn light_through_fibres_takes_their_colour() {
+    let device = common::device();
+    let behind = Vec3::new(0.0, 0.4, -1.0);
+    let draw = |colour: Vec3, shadows: bool, show: Stage, defines: &[(&str, &str)]| {
+        let (mesh, groom, mut settings) = tuft(behind, shadows, true);
+        settings.show = show;
+        // Wide opaque hairs: a pixel is one hair's colour, not a blend with the
+        // background.
+        settings.style.hair_width = 0.01;
+        settings.style.thin_hair_aa = false;
+        settings.draw_mesh = show != Stage::Shadow;
+        let l = &mut settings.lighting;
+        l.model = fur::render::LightingModel::Marschner;
+        (l.root_color, l.tip_color, l.root_occlusion) = (colour, colour, 0.0);
+        fur::gpu::shader::with_test_defines(defines, || {
+            common::render(&device, &mesh, &groom, &settings, (96, 96)).0
+        })
+    };
+    let grey: &[(&str, &str)] = &[("FUR_TEST_GREY_FIBRE_SHADOWS", "1")];
+    let blond = fur::render::FurPreset::Blond.colour(0.3).unwrap();
+    // The twin's ratio of ln transmittance, red over blue, per layer.
+    let fibre = fur::render::Fibre::default();
+    let sigma_a = fur::render::marschner::sigma_a_from_color(blond, fibre.azimuthal_roughness);
+    let opacity = fur::render::Shadows::default().opacity;
+    let one = fur::render::marschner::light_through_fibres(1.0, opacity, sigma_a, fibre.ior);
+    let twin = one.x.ln() / one.z.ln();
+    let ratio = |image: &RgbaImage| {
+        let (mut r, mut b) = (0.0, 0.0);
+        let background = image.pixel(0, 0);
+        for y in 0..image.height {
+            for x in 0..image.width {
+                let p = image.pixel(x, y);
+                let (lr, lb) = (linear(p[0]), linear(p[2]));
+                // Hair in shadow: not the background, not the lit fringe (where 8 bits
+                // leave ln T to rounding).
+                if p != background && lb < 0.5 {
+                    r += lr.ln();
+                    b += lb.ln();
+                }
+            }
+        }
+        r / b
+    };
+    let shadow_view = draw(blond, true, Stage::Shadow, &[]);
+    common::keep(&shadow_view, "shadow_view_blond_marschner");
+    let coloured = ratio(&shadow_view);
+    let flat = ratio(&draw(blond, true, Stage::Shadow, grey));
+    eprintln!("ln T red / ln T blue through blond fur: drawn {coloured:.3}, twin {twin:.3}, grey {flat:.3}");
+    // The map's bilinear filter and the vertices' interpolation mix depths, which pulls
+    // the ratio from the twin's towards 1 (an equal mix of the lit and a deep layer
+    // is grey): it lies between the two (measured 0.86), clear of the grey term's 1
+    // (measured 1.02; 8-bit rounding moves it by ±0.02).
+    assert!(
+        coloured > 0.9 * twin && coloured < 0.92,
+        "the shadow's colour is not the twin's: {coloured} vs {twin}"
+    );
+    assert!(
+        (flat - 1.0).abs() < 0.05,
+        "the grey term is not grey: {flat}"
+    );
+    // Per channel: the shadowed fur's mean over the unshadowed one's.
+    let kept = |colour: Vec3, defines: &[(&str, &str)]| {
+        let (lit, _) = mean_covered(&draw(colour, false, Stage::Lit, defines));
+        let (shadowed, _) = mean_covered(&draw(colour, true, Stage::Lit, defines));
+        shadowed / lit
+    };
+    let (white, white_grey) = (kept(Vec3::ONE, &[]), kept(Vec3::ONE, grey));
+    eprintln!("white, kept: coloured {white:.3}, grey {white_grey:.3}");
+    // Measured 0.834 against 0.745 (the ambient and multiple-scattering terms, which
+    // shadows do not reach, keep both well above 0).
+    assert!(
+        white.y > 1.06 * white_grey.y,
+        "light goes no deeper into white fur: {white} vs grey {white_grey}"
+    );
+    let black = fur::render::FurPreset::Black.colour(0.3).unwrap();
+    let (a, b) = (
+        draw(black, true, Stage::Lit, &[]),
+        draw(black, true, Stage::Lit, grey),
+    );
+    let differ = a
+        .data
+        .iter()
+        .zip(&b.data)
+        .filter(|(x, y)| x.abs_diff(**y) > 1)
+        .count();
+    assert!(
+        differ * 100 < a.data.len(),
+        "black fur's shadow is not grey: {differ} values differ"
+    );
     common::assert_clean(&device);
 }

@@ -159,3 +159,34 @@ fn the_twins_r_lobe_has_the_oracles_size() {
         );
     }
 }
+
+/// Light through fibres: black ones give the grey deep-shadow term within a percent
+/// or so, unabsorbing ones pass all but the light their surfaces reflect,
+/// and through blond fibres red goes deepest — each layer multiplies in the same
+/// per-channel factor, so ln T red / ln T blue does not change with depth.
+#[test]
+fn light_through_fibres_is_grey_for_black_and_coloured_for_light_fibres() {
+    use fur_core::render::marschner::{light_through_fibres, sigma_a_from_color};
+    use fur_core::render::FurPreset;
+    let (opacity, eta) = (0.4, 1.55);
+    let grey = |n: f32| (1.0f32 - opacity).powf(n);
+    let black = FurPreset::Black.sigma_a().unwrap();
+    for n in [1.0, 4.0, 16.0] {
+        let t = light_through_fibres(n, opacity, black, eta);
+        // Black's red passes 0.1 % of what a layer stops: 1.2 % more light after 16.
+        assert!((t / grey(n) - Vec3::ONE).abs().max_element() < 0.015, "{t}");
+        let clear = light_through_fibres(n, opacity, Vec3::ZERO, eta);
+        let f0 = ((1.0f32 - eta) / (1.0 + eta)).powi(2);
+        let expected = (1.0 - opacity * (1.0 - (1.0 - f0).powi(2))).powf(n);
+        assert!((clear - Vec3::splat(expected)).abs().max_element() < 1e-6);
+        assert!(clear.x > grey(n));
+    }
+    let blond = sigma_a_from_color(FurPreset::Blond.colour(0.3).unwrap(), 0.3);
+    let ratio = |n: f32| {
+        let t = light_through_fibres(n, opacity, blond, eta);
+        assert!(t.x > t.y && t.y > t.z, "{t}");
+        t.x.ln() / t.z.ln()
+    };
+    assert!((ratio(2.0) - ratio(20.0)).abs() < 1e-4);
+    assert!(ratio(2.0) < 0.6);
+}

@@ -45,8 +45,7 @@ void main() {
     float along = g_lit_along.w;
 #else
     float along = g_tangent_along.w;
-    vec3 radiance = marschner(normalize(g_tangent_along.xyz), g_world, hair_base(along, texel),
-                              light_through_fur(g_world));
+    vec3 radiance = marschner(normalize(g_tangent_along.xyz), g_world, hair_base(along, texel));
 #endif
     vec3 color = mix(1.0 - frame.root_color.w, 1.0, along) * radiance;
 #else

@@ -25,20 +25,55 @@ layout(set = SET_BODY, binding = B_ALBEDO) uniform sampler2D albedo;
 // The fur's depth seen from the light (orthographic, 0 near .. 1 far).
 layout(set = SET_FRAME, binding = B_SHADOW_MAP) uniform sampler2D shadow_map;
 
-// The fraction of the light that reaches world point p through the hair in front of
-// it: (1 − α)^(Δz / spacing), bilinearly filtered over the map's four nearest texels.
-float light_through_fur(vec3 p) {
+// The hair layers in front of world point p along the light, at the map's four
+// nearest texels, and the bilinear weights `f` between them.
+vec4 layers_in_front(vec3 p, out vec2 f) {
     vec4 c = frame.light_view_proj * vec4(p, 1.0);
     vec2 uv = c.xy * 0.5 + 0.5;
     vec4 front = textureGather(shadow_map, uv, 0);
-    vec4 layers = max(vec4(c.z) - front - frame.shadow.z, 0.0) * frame.shadow.y;
-    vec4 light = pow(vec4(1.0 - frame.shadow.x), min(layers, vec4(64.0)));
-    vec2 f = fract(uv * vec2(textureSize(shadow_map, 0)) - 0.5);
+    f = fract(uv * vec2(textureSize(shadow_map, 0)) - 0.5);
+    return min(max(vec4(c.z) - front - frame.shadow.z, 0.0) * frame.shadow.y, vec4(64.0));
+}
+
+// The fraction of the light that reaches world point p through the hair in front of
+// it: (1 − α)^(Δz / spacing), bilinearly filtered over the map's four nearest texels.
+float light_through_fur(vec3 p) {
+    vec2 f;
+    vec4 layers = layers_in_front(p, f);
+    vec4 light = pow(vec4(1.0 - frame.shadow.x), layers);
     return mix(mix(light.w, light.z, f.x), mix(light.x, light.y, f.x), f.y);
+}
+
+// The same through fibres of absorption sigma_a, colour by colour: of the light a
+// layer intercepts (α), the part its fibres pass on forward — transmitted through two
+// interfaces and absorbed along a path of two radii, (1 − F0)² e^(−2σa) — goes on
+// (dual scattering's forward-scattering transmittance, Zinke et al. 2008): light
+// reddens and deepens through light fur, and through black fur it is the grey term.
+// CPU twin: render::marschner::light_through_fibres.
+vec3 light_through_fibres(vec3 p, vec3 sigma_a) {
+    vec2 f;
+    vec4 layers = layers_in_front(p, f);
+    float f0 = (1.0 - frame.fibre.w) / (1.0 + frame.fibre.w);
+    f0 *= f0;
+    vec3 forward = (1.0 - f0) * (1.0 - f0) * exp(-2.0 * sigma_a);
+#ifdef FUR_TEST_GREY_FIBRE_SHADOWS
+    // Test only: the grey term, which tests/looks/shadows.rs must tell apart.
+    forward = vec3(0.0);
+#endif
+    vec3 through = vec3(1.0 - frame.shadow.x) + frame.shadow.x * forward;
+    vec3 a = pow(through, vec3(layers.x));
+    vec3 b = pow(through, vec3(layers.y));
+    vec3 c = pow(through, vec3(layers.z));
+    vec3 d = pow(through, vec3(layers.w));
+    return mix(mix(d, c, f.x), mix(a, b, f.x), f.y);
 }
 #else
 float light_through_fur(vec3 p) {
     return 1.0;
+}
+
+vec3 light_through_fibres(vec3 p, vec3 sigma_a) {
+    return vec3(1.0);
 }
 #endif
 
@@ -102,8 +137,8 @@ vec3 sigma_a_from_color(vec3 c, float b) {
 }
 
 // Radiance per unit irradiance of a fibre with tangent t at `world`, colour `base`,
-// `light` the fraction of the light that reaches it.
-vec3 marschner_terms(vec3 t, vec3 world, vec3 base, float light) {
+// `light` the fraction of the light that reaches it, colour by colour.
+vec3 marschner_terms(vec3 t, vec3 world, vec3 base, vec3 light) {
     vec3 v = normalize(frame.eye.xyz - world);
     vec3 l = frame.light.xyz;
     float sin_i = clamp(dot(t, l), -1.0, 1.0);
@@ -150,8 +185,10 @@ vec3 marschner_terms(vec3 t, vec3 world, vec3 base, float light) {
 }
 
 // The hair's radiance before root occlusion: the ambient term on the colour plus the
-// fibre's response to the light's irradiance (π · intensity, as the export gives it).
-vec3 marschner(vec3 t, vec3 world, vec3 base, float light) {
+// fibre's response to the light's irradiance (π · intensity, as the export gives it),
+// the light coming through the fibres in front in their colour.
+vec3 marschner(vec3 t, vec3 world, vec3 base) {
+    vec3 light = light_through_fibres(world, sigma_a_from_color(base, frame.fibre.y));
     return frame.shading.w * base + (PI * frame.light.w) * marschner_terms(t, world, base, light);
 }
 #endif

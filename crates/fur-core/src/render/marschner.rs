@@ -63,7 +63,7 @@ fn fresnel(cos_theta: f32, eta: f32) -> f32 {
 /// The fibre's single scattering (R + TT + TRT) and its multiple scattering, per unit
 /// irradiance, for unit tangent `t`, unit `l` towards the light, unit `v` towards the
 /// eye, colour `base` and `light` the fraction of light that reaches the point.
-pub fn marschner(t: Vec3, l: Vec3, v: Vec3, base: Vec3, fibre: &Fibre, light: f32) -> Vec3 {
+pub fn marschner(t: Vec3, l: Vec3, v: Vec3, base: Vec3, fibre: &Fibre, light: Vec3) -> Vec3 {
     let [r, tt, trt] = lobes(t, l, v, base, fibre);
     (r + tt + trt) * light + multiple(t, l, v, base, light)
 }
@@ -105,16 +105,36 @@ pub fn lobes(t: Vec3, l: Vec3, v: Vec3, base: Vec3, fibre: &Fibre) -> [Vec3; 3] 
 }
 
 /// Karis 2016's approximation of multiple scattering between fibres.
-fn multiple(t: Vec3, l: Vec3, v: Vec3, base: Vec3, light: f32) -> Vec3 {
+fn multiple(t: Vec3, l: Vec3, v: Vec3, base: Vec3, light: Vec3) -> Vec3 {
     let kajiya = 1.0 - t.dot(l).abs();
     let fake_normal = (v - t * v.dot(t)).normalize_or_zero();
     let wrap = ((fake_normal.dot(l) + 1.0) / 4.0).clamp(0.0, 1.0);
     let diffuse = (wrap + (kajiya - wrap) * 0.33) / std::f32::consts::PI;
     let luma = base.dot(Vec3::new(0.2126, 0.7152, 0.0722)).max(1e-4);
-    let tint = (base / luma)
-        .max(Vec3::ZERO)
-        .to_array()
-        .map(|c| c.powf(1.0 - light));
+    let ratio = (base / luma).max(Vec3::ZERO);
+    let tint = Vec3::new(
+        ratio.x.powf(1.0 - light.x),
+        ratio.y.powf(1.0 - light.y),
+        ratio.z.powf(1.0 - light.z),
+    );
     let root = Vec3::from_array(base.max(Vec3::ZERO).to_array().map(f32::sqrt));
-    root * Vec3::from_array(tint) * (diffuse * light)
+    root * tint * diffuse * light
+}
+
+/// The fraction of the light, colour by colour, that comes through `layers` hair
+/// layers of opacity `opacity` whose fibres have absorption `sigma_a` and index of
+/// refraction `eta`: of the light a layer intercepts, the part its fibres pass on
+/// forward — through two interfaces and two radii of absorbing fibre,
+/// (1 − F0)² e^(−2σa) — goes on (after dual scattering's forward-scattering
+/// transmittance, Zinke et al. 2008). Black fibres give the grey (1 − opacity)^layers.
+/// The shader's `light_through_fibres` (before its bilinear filter).
+pub fn light_through_fibres(layers: f32, opacity: f32, sigma_a: Vec3, eta: f32) -> Vec3 {
+    let f0 = ((1.0 - eta) / (1.0 + eta)).powi(2);
+    let forward = (1.0 - f0).powi(2) * (-2.0 * sigma_a).exp();
+    let through = Vec3::splat(1.0 - opacity) + opacity * forward;
+    Vec3::new(
+        through.x.powf(layers),
+        through.y.powf(layers),
+        through.z.powf(layers),
+    )
 }

@@ -120,7 +120,9 @@ impl FurPass {
                 // The shadow view shows the shadowing term: it reads the map.
                 shadows: shadows && (view == 0 || stage == Stage::Shadow),
                 caster: false,
-                model: if view == 0 {
+                // The lit frame and the shadow view (Marschner's light through the
+                // fibres is coloured) depend on the model; the other views do not.
+                model: if view == 0 || stage == Stage::Shadow {
                     model
                 } else {
                     LightingModel::KajiyaKay

@@ -114,6 +114,19 @@ mod tests {
             }
         }
         assert_eq!(FurPreset::None.colour(0.3), None);
+        // The colours docs/design.md quotes (linear RGB at β_n = 0.3).
+        for (preset, quoted) in [
+            (FurPreset::Blond, Vec3::new(0.124, 0.068, 0.023)),
+            (FurPreset::Ginger, Vec3::new(0.162, 0.074, 0.016)),
+            (FurPreset::Brown, Vec3::new(0.013, 0.0037, 0.0004)),
+        ] {
+            let c = preset.colour(0.3).unwrap();
+            assert!(
+                ((c - quoted) / quoted).abs().max_element() < 0.03,
+                "{}: {c}",
+                preset.name()
+            );
+        }
     }
 
     /// White is white and the lightest, then blond and ginger, brown, black the

@@ -95,6 +95,7 @@ fn shadows_off_cost_nothing_and_their_settings_change_nothing() {
         resolution: 16,
         opacity: 1.0,
         spacing: 1e-4,
+        coloured: true,
     };
     let (other, _) = renderer.render(&textures, &settings).unwrap();
     assert_eq!(
@@ -117,14 +118,16 @@ fn shadows_off_cost_nothing_and_their_settings_change_nothing() {
 /// shadow view shows that light alone: through blond fibres its channels fall as the
 /// CPU twin's per-layer transmittances do (ln T_red / ln T_blue is the twin's ratio at
 /// any one depth; the map's filter, mixing depths, pulls it towards 1), white fur lets
-/// the light in deeper, black fur's shadow is the grey term. A build whose fibres stop the light greyly
-/// (`FUR_TEST_GREY_FIBRE_SHADOWS`) fails the first two.
+/// the light in deeper, black fur's shadow is the grey term. The same frames with
+/// coloured shadows off (`[shadows] coloured`, the default: fibres stop the light
+/// greyly) fail the first two.
 #[test]
 fn light_through_fibres_takes_their_colour() {
     let device = common::device();
     let behind = Vec3::new(0.0, 0.4, -1.0);
-    let draw = |colour: Vec3, shadows: bool, show: Stage, defines: &[(&str, &str)]| {
+    let draw = |colour: Vec3, shadows: bool, show: Stage, grey: bool| {
         let (mesh, groom, mut settings) = tuft(behind, shadows, true);
+        settings.lighting.shadows.coloured = !grey;
         settings.show = show;
         // Wide opaque hairs: a pixel is one hair's colour, not a blend with the
         // background.
@@ -134,11 +137,9 @@ fn light_through_fibres_takes_their_colour() {
         let l = &mut settings.lighting;
         l.model = fur::render::LightingModel::Marschner;
         (l.root_color, l.tip_color, l.root_occlusion) = (colour, colour, 0.0);
-        fur::gpu::shader::with_test_defines(defines, || {
-            common::render(&device, &mesh, &groom, &settings, (96, 96)).0
-        })
+        common::render(&device, &mesh, &groom, &settings, (96, 96)).0
     };
-    let grey: &[(&str, &str)] = &[("FUR_TEST_GREY_FIBRE_SHADOWS", "1")];
+    let grey = true;
     let blond = fur::render::FurPreset::Blond.colour(0.3).unwrap();
     // The twin's ratio of ln transmittance, red over blue, per layer.
     let fibre = fur::render::Fibre::default();
@@ -163,7 +164,7 @@ fn light_through_fibres_takes_their_colour() {
         }
         r / b
     };
-    let shadow_view = draw(blond, true, Stage::Shadow, &[]);
+    let shadow_view = draw(blond, true, Stage::Shadow, false);
     common::keep(&shadow_view, "shadow_view_blond_marschner");
     let coloured = ratio(&shadow_view);
     let flat = ratio(&draw(blond, true, Stage::Shadow, grey));
@@ -181,12 +182,12 @@ fn light_through_fibres_takes_their_colour() {
         "the grey term is not grey: {flat}"
     );
     // Per channel: the shadowed fur's mean over the unshadowed one's.
-    let kept = |colour: Vec3, defines: &[(&str, &str)]| {
-        let (lit, _) = mean_covered(&draw(colour, false, Stage::Lit, defines));
-        let (shadowed, _) = mean_covered(&draw(colour, true, Stage::Lit, defines));
+    let kept = |colour: Vec3, grey: bool| {
+        let (lit, _) = mean_covered(&draw(colour, false, Stage::Lit, grey));
+        let (shadowed, _) = mean_covered(&draw(colour, true, Stage::Lit, grey));
         shadowed / lit
     };
-    let (white, white_grey) = (kept(Vec3::ONE, &[]), kept(Vec3::ONE, grey));
+    let (white, white_grey) = (kept(Vec3::ONE, false), kept(Vec3::ONE, grey));
     eprintln!("white, kept: coloured {white:.3}, grey {white_grey:.3}");
     // Measured 0.834 against 0.745 (the ambient and multiple-scattering terms, which
     // shadows do not reach, keep both well above 0).
@@ -196,7 +197,7 @@ fn light_through_fibres_takes_their_colour() {
     );
     let black = fur::render::FurPreset::Black.colour(0.3).unwrap();
     let (a, b) = (
-        draw(black, true, Stage::Lit, &[]),
+        draw(black, true, Stage::Lit, false),
         draw(black, true, Stage::Lit, grey),
     );
     let differ = a

@@ -49,6 +49,7 @@ float light_through_fur(vec3 p) {
 // interfaces and absorbed along a path of two radii, (1 − F0)² e^(−2σa) — goes on
 // (dual scattering's forward-scattering transmittance, Zinke et al. 2008): light
 // reddens and deepens through light fur, and through black fur it is the grey term.
+// Only with FLAG_COLOURED_SHADOWS (`[shadows] coloured`); otherwise the grey term.
 // CPU twin: render::marschner::light_through_fibres.
 vec3 light_through_fibres(vec3 p, vec3 sigma_a) {
     vec2 f;
@@ -56,10 +57,9 @@ vec3 light_through_fibres(vec3 p, vec3 sigma_a) {
     float f0 = (1.0 - frame.fibre.w) / (1.0 + frame.fibre.w);
     f0 *= f0;
     vec3 forward = (1.0 - f0) * (1.0 - f0) * exp(-2.0 * sigma_a);
-#ifdef FUR_TEST_GREY_FIBRE_SHADOWS
-    // Test only: the grey term, which tests/looks/shadows.rs must tell apart.
-    forward = vec3(0.0);
-#endif
+    if ((frame.strands.w & FLAG_COLOURED_SHADOWS) == 0u) {
+        forward = vec3(0.0);
+    }
     vec3 through = vec3(1.0 - frame.shadow.x) + frame.shadow.x * forward;
     vec3 a = pow(through, vec3(layers.x));
     vec3 b = pow(through, vec3(layers.y));

@@ -275,6 +275,17 @@ fn bad_usd_is_an_error_naming_the_problem() {
         .contains("neither"));
     assert!(parse_usd(b"PK garbage", GroomFormat::Usdz).is_err());
     assert!(parse_usd(b"PXR-USDC garbage", GroomFormat::Usdc).is_err());
+    // Prims nested deeper than the walk follows: an error, not a blown stack.
+    let mut deep = String::from("#usda 1.0\n");
+    for i in 0..300 {
+        deep.push_str(&format!("def Xform \"P{i}\" {{\n"));
+    }
+    deep.push_str(&"}\n".repeat(300));
+    let e = read(&deep).unwrap_err();
+    assert!(e.contains("nested over 256"), "{e}");
+    // Brackets nested a million deep are refused before the parser sees them.
+    let brackets = format!("#usda 1.0\n{}", "[".repeat(1_000_000));
+    assert!(read(&brackets).unwrap_err().contains("nested 1000000 deep"));
 }
 
 #[test]

@@ -24,6 +24,8 @@ pub const CUBIC_SAMPLES: usize = 4;
 
 /// The most prims visited (a bound on a malformed file's hierarchy).
 const MAX_PRIMS: usize = 1 << 20;
+/// The deepest prim nesting followed (each level is a call: a bound on the stack).
+const MAX_DEPTH: usize = 256;
 
 /// Reads the guide curves of a USD file's bytes; `format` from its extension (`.usd`
 /// may hold text or binary: the bytes decide).
@@ -41,6 +43,7 @@ pub fn parse_usd(bytes: &[u8], format: GroomFormat) -> Result<Guides, String> {
         DMat4::IDENTITY,
         &mut guides,
         &mut visited,
+        0,
     )?;
     if guides.counts.is_empty() {
         return Err("it holds no BasisCurves prim with points".into());
@@ -51,6 +54,7 @@ pub fn parse_usd(bytes: &[u8], format: GroomFormat) -> Result<Guides, String> {
 fn open_layer(bytes: Vec<u8>, format: GroomFormat) -> Result<Box<dyn AbstractData>, String> {
     let text = |bytes: Vec<u8>| -> Result<Box<dyn AbstractData>, String> {
         let text = String::from_utf8(bytes).map_err(|_| "USD text that is not UTF-8")?;
+        check_nesting(&text)?;
         let data = openusd::usda::parse(&text).map_err(|e| format!("USD text: {e:#}"))?;
         Ok(Box::new(data))
     };
@@ -67,6 +71,32 @@ fn open_layer(bytes: Vec<u8>, format: GroomFormat) -> Result<Box<dyn AbstractDat
         }
         _ => Err("neither USD text (`#usda`) nor binary USD (`PXR-USDC`)".into()),
     }
+}
+
+/// Refuses USD text whose braces nest deeper than the parser should follow (a parser
+/// that recurses would run out of stack, which no error can report).
+fn check_nesting(text: &str) -> Result<(), String> {
+    let (mut depth, mut deepest, mut quoted, mut escaped) = (0usize, 0usize, false, false);
+    for c in text.chars() {
+        match c {
+            _ if escaped => escaped = false,
+            '\\' if quoted => escaped = true,
+            '"' => quoted = !quoted,
+            '{' | '(' | '[' if !quoted => {
+                depth += 1;
+                deepest = deepest.max(depth);
+            }
+            '}' | ')' | ']' if !quoted => depth = depth.saturating_sub(1),
+            _ => {}
+        }
+    }
+    if deepest > 4 * MAX_DEPTH {
+        return Err(format!(
+            "USD text nested {deepest} deep (over {})",
+            4 * MAX_DEPTH
+        ));
+    }
+    Ok(())
 }
 
 fn field<'a>(data: &'a dyn AbstractData, path: &sdf::Path, name: &str) -> Option<Cow<'a, Value>> {
@@ -129,10 +159,14 @@ fn walk(
     parent: DMat4,
     guides: &mut Guides,
     visited: &mut usize,
+    depth: usize,
 ) -> Result<(), String> {
     *visited += 1;
     if *visited > MAX_PRIMS {
         return Err(format!("it has more than {MAX_PRIMS} prims"));
+    }
+    if depth > MAX_DEPTH {
+        return Err(format!("{path}: prims nested over {MAX_DEPTH} deep"));
     }
     let world = if path.is_abs_root() {
         parent
@@ -163,7 +197,7 @@ fn walk(
             sdf::path(format!("{path}/{child}"))
         }
         .map_err(|e| format!("prim `{child}` under {path}: {e}"))?;
-        walk(data, &child_path, world, guides, visited)?;
+        walk(data, &child_path, world, guides, visited, depth + 1)?;
     }
     Ok(())
 }

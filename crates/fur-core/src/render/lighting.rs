@@ -53,6 +53,12 @@ pub struct Shadows {
     /// Depth of one hair layer in scene units; 0 takes the spacing of the hairs at
     /// full density, 1 / sqrt(density).
     pub spacing: f32,
+    /// Under the Marschner model, light through the fur takes the fibres' colour (a
+    /// forward-scattering transmittance per layer); off, every layer stops a grey α.
+    /// Off by default: the truth tables measure it further from the path tracer, as it
+    /// counts again the forward-scattered light Karis's multiple-scattering term
+    /// already stands for (docs/design.md).
+    pub coloured: bool,
 }
 
 impl Default for Shadows {
@@ -62,6 +68,7 @@ impl Default for Shadows {
             resolution: 512,
             opacity: 0.35,
             spacing: 0.0,
+            coloured: false,
         }
     }
 }

@@ -219,6 +219,7 @@ pub const FLAG_THICKNESS_COMPENSATION: u32 = 2;
 pub const FLAG_COUNT: u32 = 4;
 pub const FLAG_SECONDARY_HIGHLIGHT: u32 = 8;
 pub const FLAG_THIN_HAIR_AA: u32 = 16;
+pub const FLAG_COLOURED_SHADOWS: u32 = 32;
 
 /// What the render shaders share with Rust, given to every one of them as `#define`s
 /// so no constant is typed twice: the flags of `strands.w`.
@@ -229,6 +230,7 @@ pub fn shader_defines() -> Vec<(&'static str, String)> {
         ("FLAG_COUNT", FLAG_COUNT),
         ("FLAG_SECONDARY_HIGHLIGHT", FLAG_SECONDARY_HIGHLIGHT),
         ("FLAG_THIN_HAIR_AA", FLAG_THIN_HAIR_AA),
+        ("FLAG_COLOURED_SHADOWS", FLAG_COLOURED_SHADOWS),
     ]
     .into_iter()
     .map(|(name, bit)| (name, format!("{bit}u")))
@@ -315,6 +317,9 @@ impl FrameUniforms {
         }
         if s.thin_hair_aa {
             flags |= FLAG_THIN_HAIR_AA;
+        }
+        if l.shadows.coloured {
+            flags |= FLAG_COLOURED_SHADOWS;
         }
         let (primary_sin, primary_cos) = if highlights.secondary {
             highlights.primary_shift_deg.to_radians().sin_cos()

@@ -276,6 +276,17 @@ pub const SHADOWS: Group = Group {
             ..field!(options.lighting.shadows.enabled)
         },
         Setting {
+            key: "coloured",
+            flag: Flag::Long("coloured-shadows"),
+            label: "coloured shadows",
+            help: "Under the Marschner model, light through the fur takes the fibres' \
+                   colour (forward scattering per layer) instead of a grey opacity; off by \
+                   default, measured further from the path tracer (docs/design.md)",
+            kind: Kind::Bool,
+            panel: Panel::Plain,
+            ..field!(options.lighting.shadows.coloured)
+        },
+        Setting {
             key: "resolution",
             flag: Flag::Long("shadow-resolution"),
             label: "shadow map resolution",

@@ -372,3 +372,18 @@ fn a_simulated_groom_is_the_frame_as_drawn() {
         a.count()
     );
 }
+
+/// A groom path given relative to the working folder is saved absolute, so the saved
+/// scene (read relative to its own folder) finds the same file.
+#[test]
+fn a_saved_scene_keeps_its_groom_file() {
+    let dir = scratch("saved");
+    let mut scene = fur::scene_file::Scene::defaults(fur::scene::ModelSpec::Blob);
+    scene.options.groom_file = Some("grooms/blob.hair".into());
+    let saved = dir.join("elsewhere").join("scene.toml");
+    std::fs::create_dir_all(saved.parent().unwrap()).unwrap();
+    scene.save(&saved).unwrap();
+    let back = fur::scene_file::Scene::load(Some(&saved), None).unwrap();
+    let want = std::env::current_dir().unwrap().join("grooms/blob.hair");
+    assert_eq!(back.options.groom_file.as_deref(), want.to_str());
+}

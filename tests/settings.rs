@@ -63,7 +63,9 @@ fn other_value(setting: &Setting, scene: &Scene) -> Value {
             Value::Vector(*v + glam::Vec3::new(0.25, 0.5, 0.125))
         }
         (Kind::Vector { .. }, Value::Unset) => Value::Vector(glam::Vec3::new(1.0, 2.0, 3.0)),
-        (Kind::Text, _) => Value::Text("walk".into()),
+        // Absolute: a relative groom path in a scene file is read relative to the file
+        // (tests/grooms.rs checks that).
+        (Kind::Text, _) => Value::Text("/walk".into()),
         (kind, v) => panic!("{setting:?}: no other value for {kind:?} from {v:?}"),
     };
     setting

@@ -143,6 +143,18 @@ impl SceneFile {
     }
 }
 
+/// `path` from the working folder, unchanged when absolute or when the working folder
+/// is unknown.
+fn absolute(path: &str) -> String {
+    let p = Path::new(path);
+    if p.is_absolute() {
+        return path.to_string();
+    }
+    std::env::current_dir()
+        .map(|d| d.join(p).to_string_lossy().into_owned())
+        .unwrap_or_else(|_| path.to_string())
+}
+
 /// The scene as TOML holding every key.
 pub(super) fn to_toml(scene: &Scene) -> Result<String> {
     let mut table = toml::Table::new();
@@ -166,6 +178,11 @@ pub(super) fn to_toml(scene: &Scene) -> Result<String> {
                         })
                         .collect(),
                 ),
+                // A groom path read relative to the scene file: saved absolute, so the
+                // scene finds it wherever it is saved.
+                Value::Text(t) if group.section == "groom" && setting.key == "file" => {
+                    toml::Value::String(absolute(&t))
+                }
                 Value::Text(t) => toml::Value::String(t),
                 Value::Unset => continue,
             };

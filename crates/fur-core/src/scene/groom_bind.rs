@@ -30,7 +30,8 @@ pub const BALD_FRACTION: f32 = 1e-3;
 /// What vertices outside the groomed region get.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum Outside {
-    /// A stub too short to see.
+    /// A stub a thousandth of the guides' length (its interpolated hairs still draw as
+    /// specks at the minimum pixel width).
     #[default]
     Bald,
     /// The hair fur grows there from the groom settings.

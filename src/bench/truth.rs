@@ -29,7 +29,7 @@ use crate::export::compare::{errors, rmse_linear, to_srgb8};
 use crate::export::reference::{read_pfm, LinearImage, Reference, TraceOptions, SCRIPT};
 use crate::export::{write_usda, FrameExport};
 use crate::render::budget::LADDER;
-use crate::render::{flip, FurPreset, LightingModel};
+use crate::render::{flip, FurPreset, LightingModel, RgbaImage};
 
 /// The looks switched one at a time, each against the scene's own drawing.
 const LOOKS: usize = 6;
@@ -94,18 +94,7 @@ impl Bench<'_> {
             let shot = Shot::new(self.device, &bench_scene.scene, extent)?;
             let own = shot.look(&shot.settings.style);
             // The capture draws the scene's own look: that image is its drawing here.
-            let (own_image, hairs, settings) = shot.capture(&own)?;
-            let frame = FrameExport::new(
-                hairs,
-                &shot.mesh,
-                None,
-                &settings,
-                (extent.width, extent.height),
-            );
-            frame.check_size()?;
-            let usda = dir.join(format!("{scene}.usda"));
-            let text = write_usda(&frame, "fur bench")?;
-            crate::files::write_output(&usda, text.as_bytes(), "write the frame to")?;
+            let (own_image, usda, text) = export(&shot, &own, &dir.join(format!("{scene}.usda")))?;
             (self.progress)(&format!("{scene}: exported"));
             let trace = |seed: u32, depth: Option<u32>| -> Result<LinearImage> {
                 cached_trace(&reference, &usda, &text, spp, seed, depth)
@@ -227,19 +216,8 @@ impl Bench<'_> {
             scene.options.lighting.preset = preset;
             let shot = Shot::new(self.device, &scene, extent)?;
             let own = shot.look(&shot.settings.style);
-            let (_, hairs, settings) = shot.capture(&own)?;
-            let frame = FrameExport::new(
-                hairs,
-                &shot.mesh,
-                None,
-                &settings,
-                (extent.width, extent.height),
-            );
-            frame.check_size()?;
             let name = format!("{}-{}", base.name, preset.name());
-            let usda = dir.join(format!("{name}.usda"));
-            let text = write_usda(&frame, "fur bench")?;
-            crate::files::write_output(&usda, text.as_bytes(), "write the frame to")?;
+            let (_, usda, text) = export(&shot, &own, &dir.join(format!("{name}.usda")))?;
             let truth = cached_trace(reference, &usda, &text, spp, 0, None)?;
             let second = cached_trace(reference, &usda, &text, spp, 1, None)?;
             let noise = flip(&to_srgb8(&truth), &to_srgb8(&second));
@@ -370,6 +348,24 @@ fn looks(own: &Look) -> Vec<(String, Look)> {
     ];
     debug_assert_eq!(looks.len(), LOOKS);
     looks
+}
+
+/// The shot drawn in `look` with every hair captured, exported to `usda`: the drawing,
+/// the file and its text.
+fn export(shot: &Shot, look: &Look, usda: &Path) -> Result<(RgbaImage, PathBuf, String)> {
+    let (image, hairs, settings) = shot.capture(look)?;
+    let extent = shot.extent;
+    let frame = FrameExport::new(
+        hairs,
+        &shot.mesh,
+        None,
+        &settings,
+        (extent.width, extent.height),
+    );
+    frame.check_size()?;
+    let text = write_usda(&frame, "fur bench")?;
+    crate::files::write_output(usda, text.as_bytes(), "write the frame to")?;
+    Ok((image, usda.to_path_buf(), text))
 }
 
 /// The reference of `usda` (whose text is `text`) at `spp` samples, seed `seed` and at

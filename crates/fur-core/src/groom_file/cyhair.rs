@@ -8,7 +8,7 @@
 
 use glam::Vec3;
 
-use super::Guides;
+use super::{f32_at, u32_at, Guides};
 
 const HEADER: usize = 128;
 const SEGMENTS: u32 = 1;
@@ -17,14 +17,6 @@ const THICKNESS: u32 = 4;
 const TRANSPARENCY: u32 = 8;
 const COLORS: u32 = 16;
 const INFO: usize = 88;
-
-fn u32_at(b: &[u8], at: usize) -> u32 {
-    u32::from_le_bytes([b[at], b[at + 1], b[at + 2], b[at + 3]])
-}
-
-fn f32_at(b: &[u8], at: usize) -> f32 {
-    f32::from_bits(u32_at(b, at))
-}
 
 /// Reads a cyHair file's bytes.
 pub fn parse_cyhair(b: &[u8]) -> Result<Guides, String> {

@@ -205,6 +205,16 @@ impl GroomFormat {
     }
 }
 
+/// The little-endian u32 at byte `at` of `b` (callers check the length first).
+fn u32_at(b: &[u8], at: usize) -> u32 {
+    u32::from_le_bytes([b[at], b[at + 1], b[at + 2], b[at + 3]])
+}
+
+/// The little-endian f32 at byte `at` of `b`.
+fn f32_at(b: &[u8], at: usize) -> f32 {
+    f32::from_bits(u32_at(b, at))
+}
+
 fn groom_error(path: &Path, message: impl Into<String>) -> Error {
     Error::Groom {
         path: path.to_path_buf(),

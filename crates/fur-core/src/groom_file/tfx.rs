@@ -7,17 +7,9 @@
 
 use glam::Vec3;
 
-use super::Guides;
+use super::{f32_at, u32_at, Guides};
 
 const HEADER: usize = 160;
-
-fn u32_at(b: &[u8], at: usize) -> u32 {
-    u32::from_le_bytes([b[at], b[at + 1], b[at + 2], b[at + 3]])
-}
-
-fn f32_at(b: &[u8], at: usize) -> f32 {
-    f32::from_bits(u32_at(b, at))
-}
 
 /// Reads a TressFX file's bytes. TressFX's strand thickness is a ratio of the
 /// renderer's hair width, not a width: it is not read, so the guides carry no widths.

@@ -47,6 +47,13 @@ fn the_figures_the_readme_quotes_come_from_the_benchmark_document() {
         generated(&read("docs/ground-truth.md"))
     );
     let expect = section(&readme, "## What to expect");
+    // The GPU's table quotes docs/gpu.md (the next test); the rest quotes lavapipe's run.
+    let expect: String = expect
+        .split("\n\n")
+        .filter(|t| !is_gpu_table(t))
+        .collect::<Vec<_>>()
+        .join("\n\n");
+    let expect = expect.as_str();
     let quoted: Vec<String> = expect
         .lines()
         .filter(|l| l.starts_with('|') && !l.starts_with("| ---"))
@@ -71,11 +78,7 @@ fn the_figures_the_readme_quotes_come_from_the_benchmark_document() {
     // The tables the README copies row by row (the quality ladder, the ways of colliding
     // with a walking body): each row's figures all stand in one row of the run's tables,
     // so a figure cannot be taken from the wrong row.
-    let rows: Vec<Vec<String>> = generated
-        .lines()
-        .filter(|l| l.starts_with('|'))
-        .map(numbers)
-        .collect();
+    let rows = table_rows(generated);
     let mut copied = 0;
     for table in expect.split("\n\n").filter(|t| {
         let header = t.lines().next().unwrap_or("");
@@ -99,6 +102,53 @@ fn the_figures_the_readme_quotes_come_from_the_benchmark_document() {
         }
     }
     assert!(copied >= 10, "only {copied} README rows checked row by row");
+}
+
+/// Whether `table` (a paragraph of the README) is its table of figures from a GPU run.
+fn is_gpu_table(table: &str) -> bool {
+    table.lines().next().unwrap_or("").starts_with("| on the ")
+}
+
+/// The lines of `text` that are table rows, as the numbers each holds.
+fn table_rows(text: &str) -> Vec<Vec<String>> {
+    text.lines()
+        .filter(|l| l.starts_with('|'))
+        .map(numbers)
+        .collect()
+}
+
+#[test]
+fn the_gpu_figures_the_readme_quotes_come_from_the_gpu_run() {
+    let readme = read("README.md");
+    let gpu = read("docs/gpu.md");
+    let begin = gpu
+        .find("<!-- BEGIN fur gpu-bench -->")
+        .expect("docs/gpu.md has the run's begin marker");
+    let end = gpu
+        .find("<!-- END fur gpu-bench -->")
+        .expect("docs/gpu.md has the run's end marker");
+    let rows = table_rows(&gpu[begin..end]);
+    assert!(rows.len() > 20, "docs/gpu.md's region holds no tables");
+    let expect = section(&readme, "## What to expect");
+    let mut checked = 0;
+    for table in expect.split("\n\n").filter(|t| is_gpu_table(t)) {
+        for line in table.lines().skip(2) {
+            // Each README row's figures (past the cell naming it) stand in one row of
+            // the run's tables, so none is taken from the wrong scene.
+            let cells = line.split('|').skip(2).collect::<Vec<_>>().join("|");
+            let figures: Vec<String> = numbers(&cells)
+                .into_iter()
+                .filter(|n| n.len() > 1 || n.contains('.'))
+                .collect();
+            assert!(figures.len() >= 2, "README GPU row {line:?} quotes no figures");
+            assert!(
+                rows.iter().any(|row| figures.iter().all(|f| row.contains(f))),
+                "README GPU row {line:?}: its figures {figures:?} are not one row of docs/gpu.md's run"
+            );
+            checked += 1;
+        }
+    }
+    assert!(checked >= 3, "only {checked} README GPU rows checked");
 }
 
 /// Whether git would leave `path` out of a commit (false where git or the

@@ -1,28 +1,44 @@
 #!/usr/bin/env bash
-# Measures fur on a real GPU: the tables docs/benchmark.md has only for lavapipe so far.
-# Run it from the repository root on a machine with a desktop GPU (Vulkan 1.3 with
-# tessellation and geometry shaders):
+# Measures fur on a real GPU: every `fur bench` section, the performance goal's frame,
+# and what bounds that frame. Run it from the repository root on a machine with a GPU
+# (Vulkan 1.3 with tessellation and geometry shaders):
 #
 #   bash tools/gpu-bench.sh            # the default device (discrete > integrated > cpu)
 #   bash tools/gpu-bench.sh 1          # device 1 of `fur devices`
 #   bash tools/gpu-bench.sh rtx        # the one usable device whose name contains "rtx"
-#   bash tools/gpu-bench.sh "" --quick # further arguments go to both `fur bench` runs
+#   bash tools/gpu-bench.sh --quick    # further arguments go to every `fur bench` run
 #
-# It builds the release binary, lists the devices, then runs
-#   1. `fur bench`: every section (frame times, quality, simulation, collision, looks,
-#      ladder, animation) into bench-<device>/;
-#   2. the goal's scene (assets/scenes/goal.toml: 19,901 simulated masters, ~500K drawn
-#      hairs) in the frame section at 1920x1080 into bench-<device>/goal/: the goal is
-#      a frame under 2 ms (the "GPU ms" column).
-# Each folder gets results.md (the tables), results.csv (every measurement) and charts.
+# It builds the release binary (or, where there is no cargo, uses target/release/fur as
+# built elsewhere), lists the devices, then runs into bench-<device>/:
+#   1. each section of `fur bench` alone (frame, render_quality, ...), one folder each,
+#      so that a run cut short keeps what it finished;
+#   2. the goal's scene (assets/scenes/goal.toml: 19,901 simulated masters, ~490K drawn
+#      hairs) in the frame section at 1920x1080 (goal/): the goal is a frame under 2 ms
+#      (the "GPU ms" column);
+#   3. the goal's frame again with one thing changed at a time (goal-*/): samples, the
+#      primitive, the hair density, culling and the image size, to show what bounds it;
+# and writes bench-<device>/results.md: every table, in that order. `--write-docs FILE`
+# before any other argument puts the tables between FILE's
+# `<!-- BEGIN fur gpu-bench -->` and `<!-- END fur gpu-bench -->` lines (docs/gpu.md).
 set -euo pipefail
 
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
-choice="${1:-}"
-shift || true
+choice=""
+if [[ $# -gt 0 && "$1" != --* ]]; then
+    choice="$1"
+    shift
+fi
+docs=""
+if [[ "${1:-}" == --write-docs ]]; then
+    docs="$2"
+    shift 2
+fi
 
-cargo build --release --locked
-fur=target/release/fur
+# FUR names a binary to use instead of building one.
+if [[ -z "${FUR:-}" ]] && command -v cargo >/dev/null; then
+    cargo build --release --locked
+fi
+fur="${FUR:-target/release/fur}"
 
 device_args=()
 if [[ -n "$choice" ]]; then
@@ -46,15 +62,58 @@ if [[ "$kind" == cpu ]]; then
 fi
 slug="$(tr '[:upper:]' '[:lower:]' <<<"$name" | tr -cs 'a-z0-9' '-' | sed 's/^-*//; s/-*$//' | cut -c1-48)"
 out="bench-${slug:-gpu}"
+mkdir -p "$out/scenes"
 echo
 echo "measuring $name into $out/"
 
-"$fur" bench ${device_args[@]+"${device_args[@]}"} --out-dir "$out" "$@"
-"$fur" bench ${device_args[@]+"${device_args[@]}"} --only frame --scene assets/scenes/goal.toml \
-    --width 1920 --height 1080 --out-dir "$out/goal" "$@"
+# The SM clock while measuring (a GPU held at an idle clock measures nothing).
+if command -v nvidia-smi >/dev/null; then
+    nvidia-smi --query-gpu=timestamp,clocks.sm,utilization.gpu --format=csv,noheader,nounits \
+        -lms 500 >"$out/clocks.csv" 2>/dev/null &
+    sampler=$!
+    trap 'kill "$sampler" 2>/dev/null || true' EXIT
+fi
+
+bench() { # folder, arguments...
+    local dir=$1
+    shift
+    echo "== $dir"
+    "$fur" bench ${device_args[@]+"${device_args[@]}"} --out-dir "$out/$dir" "$@"
+}
+
+sections=(frame render_quality sim_accuracy sim_steps sim_scaling collision savings looks
+    ladder animation stages)
+for section in "${sections[@]}"; do
+    bench "$section" --only "$section" "$@"
+done
+goal=(--only frame --width 1920 --height 1080)
+bench goal "${goal[@]}" --scene assets/scenes/goal.toml "$@"
+
+# The goal's frame with one thing changed: the scene files are the goal's plus a line.
+variant() { # name, what it changes (scene text appended, or a sed edit)
+    local file="$out/scenes/$1.toml"
+    case "$2" in
+        s/*) sed "$2" assets/scenes/goal.toml >"$file" ;;
+        *) { cat assets/scenes/goal.toml; printf '\n%s\n' "$2"; } >"$file" ;;
+    esac
+}
+variant base ""
+variant samples1 $'[render]\nsamples = 1'
+variant lines $'[render]\nprimitive = "lines"'
+variant quarter 's/^density_scale = 12.0.*/density_scale = 3.0/'
+variant bare 's/^density_scale = 12.0.*/density_scale = 0.001/'
+variant nocull $'[render]\ncull = false'
+for v in base samples1 lines quarter bare nocull; do
+    bench "goal-$v" "${goal[@]}" --scene "$out/scenes/$v.toml" "$@"
+done
+bench goal-half --only frame --width 960 --height 540 --scene "$out/scenes/base.toml" "$@"
+bench goal-4k --only frame --width 3840 --height 2160 --scene "$out/scenes/base.toml" "$@"
+
+bash tools/gpu-report.sh "$out" >"$out/results.md"
+if [[ -n "$docs" ]]; then
+    bash tools/gpu-report.sh "$out" --into "$docs"
+fi
 
 echo
-echo "The tables for $name:"
-echo "  $out/results.md       the full suite (results.csv: every measurement; *.svg: charts)"
-echo "  $out/goal/results.md  the goal: 20K simulated masters, 500K drawn hairs at 1920x1080"
-echo "Send both folders, or paste the tables under \"On a desktop GPU\" in docs/benchmark.md."
+echo "The tables for $name: $out/results.md (each folder's results.csv: every measurement;"
+echo "*.svg: charts)."

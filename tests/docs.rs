@@ -140,7 +140,10 @@ fn the_gpu_figures_the_readme_quotes_come_from_the_gpu_run() {
                 .into_iter()
                 .filter(|n| n.len() > 1 || n.contains('.'))
                 .collect();
-            assert!(figures.len() >= 2, "README GPU row {line:?} quotes no figures");
+            assert!(
+                figures.len() >= 2,
+                "README GPU row {line:?} quotes no figures"
+            );
             assert!(
                 rows.iter().any(|row| figures.iter().all(|f| row.contains(f))),
                 "README GPU row {line:?}: its figures {figures:?} are not one row of docs/gpu.md's run"

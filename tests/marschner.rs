@@ -5,7 +5,7 @@
 mod common;
 
 use fur::colour::srgb8_to_linear as linear;
-use fur::render::marschner::{marschner, sigma_a_from_color};
+use fur::render::marschner::{marschner, marschner_of, sigma_a_from_color, Lobes};
 use fur::render::{Fibre, FrameSettings, FurStyle, Lighting, LightingModel, Shading};
 use fur::scene::Camera;
 use glam::Vec3;
@@ -31,21 +31,25 @@ fn camera() -> Camera {
     }
 }
 
+/// The light `angle` degrees off the hair (+Y), in the x–y plane.
+fn light_at(angle: f32) -> Vec3 {
+    let a = angle.to_radians();
+    Vec3::new(a.sin(), a.cos(), 0.0)
+}
+
 /// Straight hairs standing up (+Y) on a plane seen from the side, lit by the fibre
-/// model from `light_deg` off the hair (in the x–y plane; None: unlit, ambient 1).
-/// Returns the linear light over the background per channel summed over `mask`, the
-/// covered pixels and the background.
+/// model's terms `lobes` from `light` (None: unlit, ambient 1). Returns the linear
+/// light over the background per channel summed over `mask`, the covered pixels and
+/// the background.
 fn standing_hairs(
     device: &std::sync::Arc<fur::gpu::Device>,
-    light_deg: Option<f32>,
+    light: Option<Vec3>,
+    lobes: Lobes,
     mask: Option<&[bool]>,
 ) -> (Vec3, Vec<bool>, Vec3) {
     let (plane, groom) = common::standing_hairs_scene();
-    let (light, intensity, ambient) = match light_deg {
-        Some(angle) => {
-            let a = angle.to_radians();
-            (Vec3::new(a.sin(), a.cos(), 0.0), INTENSITY, 0.0)
-        }
+    let (light, intensity, ambient) = match light {
+        Some(l) => (l.normalize(), INTENSITY, 0.0),
         None => (Vec3::Y, 0.0, 1.0),
     };
     let settings = FrameSettings {
@@ -59,6 +63,7 @@ fn standing_hairs(
             root_occlusion: 0.0,
             root_color: COLOR,
             tip_color: COLOR,
+            lobes,
             ..Default::default()
         },
         draw_mesh: false,
@@ -70,7 +75,7 @@ fn standing_hairs(
         ..Default::default()
     };
     let (image, _, _) = common::render(device, &plane, &groom, &settings, (128, 96));
-    common::keep(&image, &format!("marschner_{light_deg:?}"));
+    common::keep(&image, &format!("marschner_{light:?}_{lobes:?}"));
     let covered = common::covered(&image);
     let mask = mask.unwrap_or(&covered);
     let bg = image.pixel(0, 0);
@@ -86,6 +91,12 @@ fn standing_hairs(
 /// The CPU twin's radiance of the standing hairs lit from `light`, averaged over the
 /// hairs' points weighted by their projected area (1/d²), as the image sums them.
 fn predicted(light: Vec3, fibre: &Fibre) -> Vec3 {
+    predicted_of(Lobes::ALL, light, fibre)
+}
+
+/// [`predicted`] with the model's terms `lobes`.
+fn predicted_of(lobes: Lobes, light: Vec3, fibre: &Fibre) -> Vec3 {
+    let light = light.normalize();
     let eye = camera().eye();
     let (mut sum, mut weight) = (Vec3::ZERO, 0.0);
     for i in 0..12 {
@@ -98,7 +109,7 @@ fn predicted(light: Vec3, fibre: &Fibre) -> Vec3 {
                 );
                 let w = 1.0 / p.distance_squared(eye);
                 let v = (eye - p).normalize();
-                let f = marschner(Vec3::Y, light, v, COLOR, fibre, Vec3::ONE);
+                let f = marschner_of(lobes, Vec3::Y, light, v, COLOR, fibre, Vec3::ONE);
                 sum += w * std::f32::consts::PI * INTENSITY * f;
                 weight += w;
             }
@@ -110,19 +121,16 @@ fn predicted(light: Vec3, fibre: &Fibre) -> Vec3 {
 #[test]
 fn the_device_follows_the_cpu_twin_over_light_angles() {
     let device = common::device();
-    let (unlit, mask, background) = standing_hairs(&device, None, None);
+    let (unlit, mask, background) = standing_hairs(&device, None, Lobes::ALL, None);
     // Unlit, each hair adds coverage × (colour − background).
     let coverage = unlit / (COLOR - background);
     let mut measured = Vec::new();
     let angles = [0.0f32, 30.0, 60.0, 90.0, 110.0, 130.0, 150.0, 170.0];
     for angle in angles {
-        let (sum, _, _) = standing_hairs(&device, Some(angle), Some(&mask));
+        let (sum, _, _) = standing_hairs(&device, Some(light_at(angle)), Lobes::ALL, Some(&mask));
         measured.push(sum / coverage + background);
     }
-    let light = |angle: f32| {
-        let a = angle.to_radians();
-        Vec3::new(a.sin(), a.cos(), 0.0)
-    };
+    let light = light_at;
     let mismatch = |fibre: &Fibre| {
         let predictions: Vec<Vec3> = angles.iter().map(|&a| predicted(light(a), fibre)).collect();
         let peak = predictions
@@ -165,6 +173,55 @@ fn the_device_follows_the_cpu_twin_over_light_angles() {
         assert!(
             wrong_off > 2.0 * off.max(0.01),
             "a prediction with {what} matches as well ({wrong_off} against {off})"
+        );
+    }
+    common::assert_clean(&device);
+}
+
+/// Each term of the model switched off on the device (`Lighting::lobes`, the truth
+/// benchmark's attribution) leaves what the twin leaves without it. Lights at each
+/// lobe's peak (R and TRT in front of the hairs, TT behind them) and to the side, so
+/// every term is seen; the full model's prediction must miss each drawing
+/// (seen failing with a flag that switched off nothing, and with TT and TRT's flags
+/// swapped).
+#[test]
+fn each_term_switches_off_on_the_device_as_in_the_twin() {
+    let device = common::device();
+    let (unlit, mask, background) = standing_hairs(&device, None, Lobes::ALL, None);
+    let coverage = unlit / (COLOR - background);
+    // The eye is 20° above the hairs' normal plane (θo = 20°); each lobe peaks where
+    // θi + θo is its shift (R: 2α, TT: −α, TRT: −4α, α = 6°), so the lights sit below
+    // that plane: R's mirror in front, TRT lower in front, TT behind and to the side
+    // (cos φ = −0.3: straight behind, TT would saturate 8 bits), and one to the side.
+    let lights = [
+        Vec3::new(0.25, -0.14, 0.95),
+        Vec3::new(0.2, -0.69, 0.7),
+        Vec3::new(0.86, -0.44, -0.27),
+        Vec3::new(1.0, 0.3, 0.0),
+    ];
+    let full: Vec<Vec3> = lights.iter().map(|&l| predicted(l, &FIBRE)).collect();
+    let peak = full.iter().map(|p| p.max_element()).fold(0.0, f32::max);
+    for (name, lobes) in Lobes::each_dropped() {
+        let mut off: f32 = 0.0;
+        let mut missed: f32 = 0.0;
+        for (light, whole) in lights.iter().zip(&full) {
+            let (sum, _, _) = standing_hairs(&device, Some(*light), lobes, Some(&mask));
+            let measured = sum / coverage + background;
+            let without = predicted_of(lobes, *light, &FIBRE);
+            println!(
+                "{name} off, light {light}: measured {measured}, twin {without}, full {whole}"
+            );
+            off = off.max((measured - without).abs().max_element() / peak);
+            missed = missed.max((measured - *whole).abs().max_element() / peak);
+        }
+        // As the test over light angles: 8-bit rounding and hairs hiding hairs.
+        assert!(
+            off < 0.05,
+            "without {name}, the device is off its twin by {off} of the peak"
+        );
+        assert!(
+            missed > 2.0 * off.max(0.01),
+            "without {name}, the full model's prediction matches as well ({missed} against {off}): the term is not switched off"
         );
     }
     common::assert_clean(&device);

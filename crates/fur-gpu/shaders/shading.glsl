@@ -181,7 +181,13 @@ vec3 marschner_terms(vec3 t, vec3 world, vec3 base, vec3 light) {
     float luma = max(dot(base, vec3(0.2126, 0.7152, 0.0722)), 1e-4);
     vec3 tint = pow(max(base / luma, vec3(0.0)), vec3(1.0 - light));
     vec3 multiple = sqrt(max(base, vec3(0.0))) * tint * (diffuse * light);
-    return (vec3(r) + tt + trt) * light + multiple;
+    // The truth benchmark drops one term at a time (render::marschner::Lobes).
+    uint flags = frame.strands.w;
+    float keep_r = (flags & FLAG_NO_R) != 0u ? 0.0 : 1.0;
+    float keep_tt = (flags & FLAG_NO_TT) != 0u ? 0.0 : 1.0;
+    float keep_trt = (flags & FLAG_NO_TRT) != 0u ? 0.0 : 1.0;
+    float keep_multiple = (flags & FLAG_NO_MULTIPLE) != 0u ? 0.0 : 1.0;
+    return (vec3(keep_r * r) + keep_tt * tt + keep_trt * trt) * light + keep_multiple * multiple;
 }
 
 // The hair's radiance before root occlusion: the ambient term on the colour plus the

@@ -204,6 +204,9 @@ pub struct Lighting {
     /// A named fur colour that replaces the root and tip colours (see
     /// [`super::FurPreset`]).
     pub preset: super::FurPreset,
+    /// The Marschner model's terms that are summed: all, except where the truth
+    /// benchmark drops one to measure what it contributes (not a scene setting).
+    pub lobes: super::marschner::Lobes,
 }
 
 impl Default for Lighting {
@@ -224,6 +227,7 @@ impl Default for Lighting {
             fibre: Fibre::default(),
             model: LightingModel::default(),
             preset: super::FurPreset::None,
+            lobes: super::marschner::Lobes::ALL,
         }
     }
 }

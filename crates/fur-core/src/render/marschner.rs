@@ -64,8 +64,67 @@ fn fresnel(cos_theta: f32, eta: f32) -> f32 {
 /// irradiance, for unit tangent `t`, unit `l` towards the light, unit `v` towards the
 /// eye, colour `base` and `light` the fraction of light that reaches the point.
 pub fn marschner(t: Vec3, l: Vec3, v: Vec3, base: Vec3, fibre: &Fibre, light: Vec3) -> Vec3 {
-    let [r, tt, trt] = lobes(t, l, v, base, fibre);
-    (r + tt + trt) * light + multiple(t, l, v, base, light)
+    marschner_of(Lobes::ALL, t, l, v, base, fibre, light)
+}
+
+/// Which terms of the model are summed: all of them when drawing; the truth
+/// benchmark drops one at a time to say what part of the distance to the path tracer
+/// each explains (the shader's `FLAG_NO_*` bits).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Lobes {
+    pub r: bool,
+    pub tt: bool,
+    pub trt: bool,
+    /// The multiple-scattering term.
+    pub multiple: bool,
+}
+
+impl Lobes {
+    pub const ALL: Self = Self {
+        r: true,
+        tt: true,
+        trt: true,
+        multiple: true,
+    };
+
+    /// Each term alone switched off, with its name: R, TT, TRT, multiple scattering.
+    pub fn each_dropped() -> [(&'static str, Self); 4] {
+        let all = Self::ALL;
+        [
+            ("R", Self { r: false, ..all }),
+            ("TT", Self { tt: false, ..all }),
+            ("TRT", Self { trt: false, ..all }),
+            (
+                "multiple scattering",
+                Self {
+                    multiple: false,
+                    ..all
+                },
+            ),
+        ]
+    }
+}
+
+impl Default for Lobes {
+    fn default() -> Self {
+        Self::ALL
+    }
+}
+
+/// [`marschner`] summing only the terms `lobes` keeps.
+pub fn marschner_of(
+    lobes: Lobes,
+    t: Vec3,
+    l: Vec3,
+    v: Vec3,
+    base: Vec3,
+    fibre: &Fibre,
+    light: Vec3,
+) -> Vec3 {
+    let [r, tt, trt] = self::lobes(t, l, v, base, fibre);
+    let keep = |on: bool, x: Vec3| if on { x } else { Vec3::ZERO };
+    let single = keep(lobes.r, r) + keep(lobes.tt, tt) + keep(lobes.trt, trt);
+    single * light + keep(lobes.multiple, multiple(t, l, v, base, light))
 }
 
 /// The single-scattering lobes R, TT and TRT per unit irradiance (unshadowed), as

@@ -220,6 +220,12 @@ pub const FLAG_COUNT: u32 = 4;
 pub const FLAG_SECONDARY_HIGHLIGHT: u32 = 8;
 pub const FLAG_THIN_HAIR_AA: u32 = 16;
 pub const FLAG_COLOURED_SHADOWS: u32 = 32;
+/// The Marschner model without its R, TT, TRT or multiple-scattering term
+/// ([`super::marschner::Lobes`]).
+pub const FLAG_NO_R: u32 = 64;
+pub const FLAG_NO_TT: u32 = 128;
+pub const FLAG_NO_TRT: u32 = 256;
+pub const FLAG_NO_MULTIPLE: u32 = 512;
 
 /// What the render shaders share with Rust, given to every one of them as `#define`s
 /// so no constant is typed twice: the flags of `strands.w`.
@@ -231,6 +237,10 @@ pub fn shader_defines() -> Vec<(&'static str, String)> {
         ("FLAG_SECONDARY_HIGHLIGHT", FLAG_SECONDARY_HIGHLIGHT),
         ("FLAG_THIN_HAIR_AA", FLAG_THIN_HAIR_AA),
         ("FLAG_COLOURED_SHADOWS", FLAG_COLOURED_SHADOWS),
+        ("FLAG_NO_R", FLAG_NO_R),
+        ("FLAG_NO_TT", FLAG_NO_TT),
+        ("FLAG_NO_TRT", FLAG_NO_TRT),
+        ("FLAG_NO_MULTIPLE", FLAG_NO_MULTIPLE),
     ]
     .into_iter()
     .map(|(name, bit)| (name, format!("{bit}u")))
@@ -320,6 +330,16 @@ impl FrameUniforms {
         }
         if l.shadows.coloured {
             flags |= FLAG_COLOURED_SHADOWS;
+        }
+        for (on, flag) in [
+            (l.lobes.r, FLAG_NO_R),
+            (l.lobes.tt, FLAG_NO_TT),
+            (l.lobes.trt, FLAG_NO_TRT),
+            (l.lobes.multiple, FLAG_NO_MULTIPLE),
+        ] {
+            if !on {
+                flags |= flag;
+            }
         }
         let (primary_sin, primary_cos) = if highlights.secondary {
             highlights.primary_shift_deg.to_radians().sin_cos()

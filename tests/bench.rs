@@ -64,6 +64,34 @@ fn quick_bench_writes_every_expected_measurement() {
             "missing {section} / {case} / {metric}"
         );
     };
+    // The truth section, where the path-traced reference is set up (CI requires it):
+    // every scene (the walking critter too) with its terms dropped one at a time, and
+    // dropping the multiple-scattering term changes the distance (the terms reach
+    // the drawing).
+    let truth_runs = seen.iter().any(|(section, _, _)| section == "truth");
+    assert!(
+        truth_runs || std::env::var_os("FUR_REFERENCE_REQUIRED").is_none(),
+        "the truth section did not run although the reference is required"
+    );
+    if truth_runs {
+        for scene in ["blob", "sphere", "critter-walking"] {
+            expect("truth", scene, "own_flip");
+            expect("truth", scene, "noise_flip");
+            let all = value("truth", &format!("{scene}: all terms"), "flip");
+            for term in ["R", "TT", "TRT", "multiple scattering"] {
+                expect("truth", &format!("{scene}: without {term}"), "flip");
+            }
+            let without = value(
+                "truth",
+                &format!("{scene}: without multiple scattering"),
+                "flip",
+            );
+            assert!(
+                (without - all).abs() > 1e-3,
+                "{scene}: dropping multiple scattering left ꟻLIP at {without} (all terms {all})"
+            );
+        }
+    }
     for scene in ["blob", "sphere"] {
         for drawing in ["default", "reference quality"] {
             for metric in ["wall_ms", "gpu_ms", "hairs_drawn", "speedup_vs_original"] {

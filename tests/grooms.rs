@@ -332,6 +332,63 @@ fn a_groom_file_draws_the_fur_it_came_from() {
     );
 }
 
+/// A groom of half the blob leaves the other half bald (`--groom-outside bald`): its
+/// stubs draw nothing (the tessellation skips triangles whose three masters are all
+/// stubs), so about half the hairs are drawn, and the bald side shows skin. Seen
+/// failing with the skip taken out: the stubs drew as many hairs as the full groom.
+#[test]
+fn a_bald_region_draws_no_hair() {
+    let dir = scratch("bald");
+    let whole = dir.join("blob.hair");
+    ok(&fur(&["export-groom", s(&whole), "--model", "blob"]));
+    let guides = read_groom(&whole).unwrap();
+    let mut half = Guides {
+        counts: Vec::new(),
+        points: Vec::new(),
+        widths: None,
+        colors: None,
+        notes: Vec::new(),
+    };
+    for curve in guides.curves().filter(|c| c[0].x > 0.0) {
+        half.counts.push(curve.len() as u32);
+        half.points.extend_from_slice(curve);
+    }
+    assert!(half.count() * 3 < guides.count() * 2 && half.count() * 3 > guides.count());
+    let half_path = dir.join("half.hair");
+    fur::groom_file::write_groom(&half_path, &half, "test").unwrap();
+    let hairs = |groom: &Path| -> u64 {
+        let out = ok(&fur(&[
+            "render",
+            "--model",
+            "blob",
+            "--width",
+            "96",
+            "--height",
+            "54",
+            "--validate",
+            "--out",
+            s(&dir.join("drawn.png")),
+            "--groom",
+            s(groom),
+        ]));
+        // "… 12345 hairs drawn in …"
+        let words: Vec<&str> = out.split_whitespace().collect();
+        let i = words
+            .windows(3)
+            .position(|w| w[1] == "hairs" && w[2] == "drawn")
+            .unwrap_or_else(|| panic!("no hair count in: {out}"));
+        words[i].parse().unwrap()
+    };
+    let (full, halved) = (hairs(&whole), hairs(&half_path));
+    println!("hairs drawn: whole groom {full}, half {halved}");
+    // The groomed region reaches two spacings past the last root, so a little over
+    // half; the stubs alone would draw as many hairs as the whole.
+    assert!(
+        halved * 4 < full * 3 && halved * 4 > full,
+        "half a groom drew {halved} hairs of the whole's {full}"
+    );
+}
+
 /// `--frames N` writes the simulated hairs as drawn: every hair keeps its length (the
 /// edge constraints) and the tips have moved from rest.
 #[test]

@@ -225,6 +225,9 @@ struct Bench<'a> {
     quick: bool,
     size: Option<(u32, u32)>,
     scenes: Vec<BenchScene>,
+    /// Whether `scenes` are the built-in ones (no `--scene` file): the truth section
+    /// then adds the walking critter.
+    default_scenes: bool,
     work: Option<(std::path::PathBuf, std::path::PathBuf)>,
     rows: Vec<Row>,
     md: String,
@@ -248,7 +251,9 @@ pub fn task_count(options: &BenchOptions) -> u64 {
             Section::Looks => looks::tasks(options.quick),
             Section::Ladder => ladder::tasks(options.scenes().len()) + 2,
             Section::Animation => animation::tasks(),
-            Section::Truth => truth::tasks(options.scenes().len()),
+            Section::Truth => {
+                truth::tasks(options.scenes().len() + usize::from(options.scene.is_none()))
+            }
             Section::Stages => stages::tasks(),
         })
         .sum()
@@ -265,6 +270,7 @@ pub fn run(
         quick: options.quick,
         size: options.size,
         scenes: options.scenes(),
+        default_scenes: options.scene.is_none(),
         work: options.work.clone(),
         rows: Vec::new(),
         md: String::new(),

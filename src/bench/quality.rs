@@ -20,8 +20,8 @@ use crate::gpu::Device;
 use crate::render::{FrameSettings, FurStyle, HairCounts, Lighting, Renderer, RgbaImage};
 use crate::scene::{Mesh, Strands, Texture};
 use crate::scene_file::Scene;
-use crate::session::DrawOptions;
-use crate::sim::GpuSim;
+use crate::session::{DrawOptions, FurSession, SessionSetup};
+use crate::sim::{GpuSim, Motion};
 use crate::strand_textures::StrandTextures;
 
 /// Simulated frames before the shot.
@@ -74,6 +74,82 @@ impl Shot {
             device: device.clone(),
             radius,
             mesh,
+            settings,
+            extent,
+            textures,
+            texture,
+        })
+    }
+
+    /// The frame of `scene`'s animated body (the critter walking) after `frames`
+    /// frames of its clip, simulated with its skinned body: the body as posed then and
+    /// the hair as simulated, kept as a still. Its root frames come from the posed
+    /// hair, so interpolated hairs orient as on the posed surface.
+    pub fn walking(
+        device: &Arc<Device>,
+        scene: &Scene,
+        extent: vk::Extent2D,
+        frames: u32,
+    ) -> Result<Self> {
+        let name = scene.model.name();
+        let (mesh, rig, _) = scene.model.prepare_body(scene.options.texture.as_ref())?;
+        let Some((rig, playback)) = scene.animation.resolve(rig, &name)? else {
+            return Err(crate::error::Error::Parameter(format!(
+                "{name} has no clip to play"
+            )));
+        };
+        let (groom, mut settings) = scene.options.resolve(&mesh)?;
+        if scene.options.distance.is_none() {
+            scene
+                .options
+                .frame_poses(&mut settings, &mesh, &rig, &playback, frames);
+        }
+        let radius = mesh.bounds().1;
+        let mut session = FurSession::new(
+            device,
+            SessionSetup {
+                mesh: mesh.clone(),
+                rig: Some((rig, playback)),
+                groom: &groom,
+                sim: scene.sim.clone(),
+                motion: Motion::still(),
+                settings,
+                extent,
+                frames_in_flight: 1,
+            },
+        )?;
+        for _ in 0..frames {
+            crate::interrupt::check()?;
+            session.step_and_render()?;
+        }
+        let (positions, normals) = session.posed_body()?.ok_or_else(|| {
+            crate::error::Error::Parameter(format!("{name}'s body is not skinned"))
+        })?;
+        let posed = Mesh {
+            positions,
+            normals,
+            ..mesh
+        };
+        let settings = session.settings.clone();
+        let model = settings.head.inverse();
+        let textures = &session.textures;
+        let strands = Strands {
+            vertices_per_strand: session.strands.vertices_per_strand,
+            positions: textures
+                .read_positions(textures.current)?
+                .into_iter()
+                .map(|p| model.transform_point3(p))
+                .collect(),
+        };
+        drop(session);
+        let textures = StrandTextures::new(device, &strands, settings.head)?;
+        // The simulation's rest pass fills the root frames the drawing reads.
+        drop(GpuSim::new(device, &textures, scene.sim.clone())?);
+        let texture = posed.texture.as_ref().map(|t| t.load()).transpose()?;
+        Ok(Self {
+            device: device.clone(),
+            radius,
+            mesh: posed,
             settings,
             extent,
             textures,

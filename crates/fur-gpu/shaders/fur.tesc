@@ -12,7 +12,8 @@
 // and cost nothing further. Edge levels depend only on the edge, so both triangles
 // sharing it generate the same points there (the owner draws them, see fur.tese).
 // A skinned body's lengths and areas are its rest pose's (BODY_SKINNED), so a bending
-// joint never adds or drops hairs.
+// joint never adds or drops hairs. A triangle whose three master hairs are bald stubs
+// (a groom's bald region: tip within frame.secondary.z of the root) draws nothing either.
 #include "common.glsl"
 
 layout(vertices = 3) out;
@@ -87,6 +88,15 @@ void main() {
 
     uint V = frame.strands.x;
     vec3 r0 = strand_vertex(h0, 0u), r1 = strand_vertex(h1, 0u), r2 = strand_vertex(h2, 0u);
+    float stub = frame.secondary.z;
+    if (distance(strand_vertex(h0, V - 1u), r0) < stub && distance(strand_vertex(h1, V - 1u), r1) < stub
+        && distance(strand_vertex(h2, V - 1u), r2) < stub) {
+        gl_TessLevelOuter[0] = 0.0;
+        gl_TessLevelOuter[1] = 0.0;
+        gl_TessLevelOuter[2] = 0.0;
+        gl_TessLevelInner[0] = 0.0;
+        return;
+    }
     bool culled = false;
     if ((frame.strands.w & FLAG_CULL) != 0u) {
         vec3 growth = strand_vertex(h0, V - 1u) + strand_vertex(h1, V - 1u) + strand_vertex(h2, V - 1u)

@@ -186,7 +186,17 @@ impl FurStyle {
 pub struct StrandShape {
     pub vertices_per_strand: u32,
     pub strands_per_row: u32,
+    /// A master hair whose tip is closer than this to its root is a bald stub (a
+    /// groom's bald region, [`crate::scene::BALD_FRACTION`]); a triangle whose three
+    /// masters are all stubs draws nothing. Scene units; 0: none is.
+    pub stub_length: f32,
 }
+
+/// The stub length of [`StrandShape`] as a fraction of the longest master hair: twice
+/// a bald vertex's stub ([`crate::scene::BALD_FRACTION`] of the guides' median
+/// length), so every stub is below it while hairs a thousandth of the longest and more
+/// are drawn.
+pub const STUB_LIMIT: f32 = 2.0 * crate::scene::BALD_FRACTION;
 
 /// The `Frame` uniform block of `shaders/common.glsl` (std140).
 #[repr(C)]
@@ -371,12 +381,13 @@ impl FrameUniforms {
             lod: Vec4::new(s.density, s.lod_distance, max_level, s.cull_margin),
             hair: Vec4::new(s.hair_width, s.min_pixel_width, s.jitter, s.length_jitter),
             viewport: Vec4::new(w, h, 1.0 / w, 1.0 / h),
+            // draw.z: the texture's texels, set by the renderer.
             draw: Vec4::new(ribbon_above, s.vertex_lod_px, 0.0, settings.arrow_scale),
             highlight: Vec4::new(primary_cos, primary_sin, secondary_cos, secondary_sin),
             secondary: Vec4::new(
                 highlights.secondary_shininess,
                 highlights.secondary_strength,
-                0.0,
+                strands.stub_length,
                 0.0,
             ),
             shadow: Vec4::new(l.shadows.opacity, 1.0 / shadow_spacing, 0.0, 0.0),

@@ -30,8 +30,8 @@ pub const BALD_FRACTION: f32 = 1e-3;
 /// What vertices outside the groomed region get.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum Outside {
-    /// A stub a thousandth of the guides' length (its interpolated hairs still draw as
-    /// specks at the minimum pixel width).
+    /// A stub a thousandth of the guides' length; the tessellation draws nothing on a
+    /// triangle whose three masters are stubs ([`crate::render::STUB_LIMIT`]).
     #[default]
     Bald,
     /// The hair fur grows there from the groom settings.

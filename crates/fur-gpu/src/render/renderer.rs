@@ -256,6 +256,7 @@ impl Renderer {
             shape: StrandShape {
                 vertices_per_strand,
                 strands_per_row: strands.layout.strands_per_row,
+                stub_length: super::uniforms::STUB_LIMIT * strands.hair_length,
             },
             bounds: mesh.bounds(),
             hair_length: strands.hair_length,

@@ -245,8 +245,8 @@ pub const GROOM: Group = Group {
             key: "outside",
             flag: Flag::Long("groom-outside"),
             label: "outside the groom",
-            help: "What vertices away from every guide get: `bald` (a short stub: specks \
-                   at the minimum pixel width remain) or `grow` (the grown fur)",
+            help: "What vertices away from every guide get: `bald` (a short stub; \
+                   triangles between stubs draw no hair) or `grow` (the grown fur)",
             kind: Kind::Choice(&["bald", "grow"]),
             effect: Effect::Regrow,
             ..field!(options.groom_outside)

@@ -21,6 +21,8 @@
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
+use ash::vk;
+
 use super::plot::{Plot, Series, PALETTE};
 use super::quality::{Look, Shot};
 use super::Bench;
@@ -29,7 +31,12 @@ use crate::export::compare::{errors, rmse_linear, to_srgb8};
 use crate::export::reference::{read_pfm, LinearImage, Reference, TraceOptions, SCRIPT};
 use crate::export::{write_usda, FrameExport};
 use crate::render::budget::LADDER;
-use crate::render::{flip, FurPreset, LightingModel, RgbaImage};
+use crate::render::marschner::Lobes;
+use crate::render::{flip, LightingModel, RgbaImage};
+use crate::scene::ModelSpec;
+use crate::scene_file::Scene;
+
+mod colours;
 
 /// The looks switched one at a time, each against the scene's own drawing.
 const LOOKS: usize = 6;
@@ -37,8 +44,22 @@ const LOOKS: usize = 6;
 /// The fur presets the section draws the first scene in.
 const COLOURS: u64 = 3;
 
+/// Frames of the critter's walk before its shot (in the quick suite: a few).
+const WALK_FRAMES: u32 = 45;
+const WALK_FRAMES_QUICK: u32 = 4;
+
+/// The progress ticks of the section: per scene (the default scenes and the walking
+/// critter, or one scene file's) its references, rungs, looks, attribution and terms.
 pub(super) fn tasks(scenes: usize) -> u64 {
-    scenes as u64 * (3 + LADDER.len() as u64 + LOOKS as u64 + 1) + 2 * COLOURS
+    let terms = Lobes::each_dropped().len() as u64;
+    scenes as u64 * (3 + LADDER.len() as u64 + LOOKS as u64 + 1 + terms) + 2 * COLOURS
+}
+
+/// Where a run's references come from and go.
+struct Truth<'a> {
+    reference: &'a Reference,
+    dir: &'a Path,
+    spp: u32,
 }
 
 /// One drawing measured against the truth.
@@ -64,18 +85,25 @@ impl Bench<'_> {
                 return Ok(());
             }
         };
-        let extent = if self.quick {
-            ash::vk::Extent2D {
-                width: 96,
-                height: 54,
-            }
+        let (extent, spp, walk) = if self.quick {
+            (
+                vk::Extent2D {
+                    width: 96,
+                    height: 54,
+                },
+                16,
+                WALK_FRAMES_QUICK,
+            )
         } else {
-            ash::vk::Extent2D {
-                width: 320,
-                height: 180,
-            }
+            (
+                vk::Extent2D {
+                    width: 320,
+                    height: 180,
+                },
+                256,
+                WALK_FRAMES,
+            )
         };
-        let spp = if self.quick { 16 } else { 256 };
         let dir = out_dir.join("truth");
         std::fs::create_dir_all(&dir)
             .map_err(|e| crate::error::Error::io("create the folder", &dir, e))?;
@@ -88,89 +116,38 @@ impl Bench<'_> {
              on sRGB, RMSE in linear light; frame time as in the ladder.\n",
             extent.width, extent.height
         );
+        let truth = Truth {
+            reference: &reference,
+            dir: &dir,
+            spp,
+        };
         let mut series = Vec::new();
         for (k, bench_scene) in self.scenes.clone().iter().enumerate() {
-            let scene = &bench_scene.name;
             let shot = Shot::new(self.device, &bench_scene.scene, extent)?;
-            let own = shot.look(&shot.settings.style);
-            // The capture draws the scene's own look: that image is its drawing here.
-            let (own_image, usda, text) = export(&shot, &own, &dir.join(format!("{scene}.usda")))?;
-            (self.progress)(&format!("{scene}: exported"));
-            let trace = |seed: u32, depth: Option<u32>| -> Result<LinearImage> {
-                cached_trace(&reference, &usda, &text, spp, seed, depth)
-            };
-            let truth = trace(0, None)?;
-            (self.progress)(&format!("{scene}: reference"));
-            let second = trace(1, None)?;
-            (self.progress)(&format!("{scene}: noise"));
-            let noise_flip = flip(&to_srgb8(&truth), &to_srgb8(&second));
-            let noise_rmse = rmse_linear(&truth, &second)?;
-            let single = trace(0, Some(2))?;
-            (self.progress)(&format!("{scene}: single scattering"));
-            let mut measured = Vec::new();
-            for (r, rung) in LADDER.iter().enumerate() {
-                let style = rung.apply(&shot.settings.style);
-                let drawn = shot.draw(&style, self.frames())?;
-                let (f, e) = errors(&drawn.image, &truth)?;
-                measured.push(Measured {
-                    name: format!("rung {r} ({})", rung.name),
-                    frame_ms: drawn.frame_ms,
-                    flip: f,
-                    rmse: e,
-                });
-                (self.progress)(&format!("{scene}: rung {r}"));
-            }
-            for (i, (name, look)) in looks(&own).into_iter().enumerate() {
-                let drawn = shot.draw_look(&look, self.frames())?;
-                let (f, e) = errors(&drawn.image, &truth)?;
-                if i == 0 {
-                    // The other lighting model's drawing, for the side-by-side.
-                    let file = format!("{scene}-{}.png", look.lighting.model.name());
-                    drawn.image.write_png(&dir.join(file))?;
-                }
-                (self.progress)(&format!("{scene}: {name}"));
-                measured.push(Measured {
-                    name,
-                    frame_ms: drawn.frame_ms,
-                    flip: f,
-                    rmse: e,
-                });
-            }
-            let supersampled = shot.reference(4)?;
-            let (ss_flip, ss_rmse) = errors(&supersampled, &truth)?;
-            let file = format!("{scene}-{}.png", own.lighting.model.name());
-            own_image.write_png(&dir.join(file))?;
-            to_srgb8(&truth).write_png(&dir.join(format!("{scene}-reference.png")))?;
-            let (own_flip, own_rmse) = errors(&own_image, &truth)?;
-            let (own_single, _) = errors(&own_image, &single)?;
-            (self.progress)(&format!("{scene}: attribution"));
-            self.truth_table(scene, &measured, (noise_flip, noise_rmse));
+            let points = self.truth_scene(&bench_scene.name, &shot, &truth)?;
+            series.push(Series {
+                name: bench_scene.name.clone(),
+                points,
+                color: PALETTE[k % PALETTE.len()],
+                line: true,
+            });
+        }
+        if self.default_scenes {
+            let name = "critter-walking";
             let _ = writeln!(
                 self.md,
-                "What the distance of the scene's own drawing (ꟻLIP {own_flip:.4}) is made \
-                 of, one thing changed at a time:\n\n| change | ꟻLIP | RMSE |\n| --- | --- | \
-                 --- |\n| none: the scene's drawing against the reference | {own_flip:.4} | \
-                 {:.4} |\n| coverage exact: fur's 4×4 supersampled drawing against the \
-                 reference | {ss_flip:.4} | {ss_rmse:.4} |\n| no multiple scattering: the \
-                 drawing against a single-scattering reference | {own_single:.4} | – |\n",
-                own_rmse
+                "The walking critter (`{name}`): the built-in critter at its defaults after \
+                 {walk} frames of its walk, simulated on its skinned body, then drawn as a \
+                 still (the body as posed, the hair as simulated).\n"
             );
-            for (metric, value) in [
-                ("own_flip", own_flip),
-                ("noise_flip", noise_flip),
-                ("noise_rmse", noise_rmse),
-                ("supersampled_flip", ss_flip),
-                ("single_scattering_flip", own_single),
-            ] {
-                self.row("truth", scene.clone(), metric, value, "0..1");
-            }
+            let scene = Scene::defaults(ModelSpec::Critter);
+            let shot = Shot::walking(self.device, &scene, extent, walk)?;
+            (self.progress)(&format!("{name}: walked"));
+            let points = self.truth_scene(name, &shot, &truth)?;
             series.push(Series {
-                name: scene.to_string(),
-                points: measured[..LADDER.len()]
-                    .iter()
-                    .map(|m| (m.frame_ms, m.flip))
-                    .collect(),
-                color: PALETTE[k % PALETTE.len()],
+                name: name.to_string(),
+                points,
+                color: PALETTE[series.len() % PALETTE.len()],
                 line: true,
             });
         }
@@ -190,88 +167,139 @@ impl Bench<'_> {
         Ok(())
     }
 
-    /// Light and dark fur (the first scene in the fur presets `white`, `blond` and
-    /// `black`): each lighting model, alone and with shadows, against its reference.
-    fn truth_colours(
-        &mut self,
-        reference: &Reference,
-        dir: &Path,
-        extent: ash::vk::Extent2D,
-        spp: u32,
-    ) -> Result<()> {
-        let Some(base) = self.scenes.first().cloned() else {
-            return Ok(());
+    /// One scene's shot against its references: every rung and look, then what the
+    /// distance is made of. Returns the rungs' (frame ms, ꟻLIP) for the chart.
+    fn truth_scene(&mut self, scene: &str, shot: &Shot, t: &Truth) -> Result<Vec<(f64, f64)>> {
+        let own = shot.look(&shot.settings.style);
+        // The capture draws the scene's own look: that image is its drawing here.
+        let (own_image, usda, text) = export(shot, &own, &t.dir.join(format!("{scene}.usda")))?;
+        (self.progress)(&format!("{scene}: exported"));
+        let trace = |seed: u32, depth: Option<u32>| -> Result<LinearImage> {
+            cached_trace(t.reference, &usda, &text, t.spp, seed, depth)
         };
-        let _ = writeln!(
-            self.md,
-            "### Light and dark fur ({})\n\nThe {} scene in three fur presets (colours as \
-             melanin, docs/design.md), each against its own reference; the Marschner model \
-             with shadows also with coloured shadows (`--coloured-shadows`).\n\n| fur | \
-             drawing | frame ms | ꟻLIP | RMSE |\n| --- | --- | --- | --- | --- |",
-            base.name, base.name
-        );
-        let mut noises = Vec::new();
-        for preset in [FurPreset::White, FurPreset::Blond, FurPreset::Black] {
-            let mut scene = base.scene.clone();
-            scene.options.lighting.preset = preset;
-            let shot = Shot::new(self.device, &scene, extent)?;
-            let own = shot.look(&shot.settings.style);
-            let name = format!("{}-{}", base.name, preset.name());
-            let (_, usda, text) = export(&shot, &own, &dir.join(format!("{name}.usda")))?;
-            let truth = cached_trace(reference, &usda, &text, spp, 0, None)?;
-            let second = cached_trace(reference, &usda, &text, spp, 1, None)?;
-            let noise = flip(&to_srgb8(&truth), &to_srgb8(&second));
-            (self.progress)(&format!("{name}: references"));
-            to_srgb8(&truth).write_png(&dir.join(format!("{name}-reference.png")))?;
-            let mut drawings = Vec::new();
-            let cases = [
-                (LightingModel::KajiyaKay, false, false),
-                (LightingModel::KajiyaKay, true, false),
-                (LightingModel::Marschner, false, false),
-                (LightingModel::Marschner, true, false),
-                (LightingModel::Marschner, true, true),
-            ];
-            {
-                for (model, shadows, coloured) in cases {
-                    let mut look = own.clone();
-                    look.lighting.model = model;
-                    look.lighting.shadows.enabled = shadows;
-                    look.lighting.shadows.coloured = coloured;
-                    let drawn = shot.draw_look(&look, self.frames())?;
-                    let (f, e) = errors(&drawn.image, &truth)?;
-                    if shadows && !coloured {
-                        let file = format!("{name}-{}.png", model.name());
-                        drawn.image.write_png(&dir.join(file))?;
-                    }
-                    let what = format!(
-                        "{}{}{}",
-                        model.label(),
-                        if shadows { ", shadows on" } else { "" },
-                        if coloured { ", coloured" } else { "" }
-                    );
-                    drawings.push((what, drawn.frame_ms, f, e));
-                }
-            }
-            (self.progress)(&format!("{name}: drawings"));
-            for (what, ms, f, e) in drawings {
-                let _ = writeln!(
-                    self.md,
-                    "| {} | {what} | {ms:.1} | {f:.4} | {e:.4} |",
-                    preset.name()
-                );
-                let case = format!("{name}: {what}");
-                self.row("truth", case.clone(), "frame_ms", ms, "ms");
-                self.row("truth", case.clone(), "flip", f, "0..1");
-                self.row("truth", case, "rmse", e, "linear");
-            }
-            self.row("truth", name, "noise_flip", noise, "0..1");
-            noises.push(format!("{} {noise:.4}", preset.name()));
+        let truth = trace(0, None)?;
+        (self.progress)(&format!("{scene}: reference"));
+        let second = trace(1, None)?;
+        (self.progress)(&format!("{scene}: noise"));
+        let noise_flip = flip(&to_srgb8(&truth), &to_srgb8(&second));
+        let noise_rmse = rmse_linear(&truth, &second)?;
+        let single = trace(0, Some(2))?;
+        (self.progress)(&format!("{scene}: single scattering"));
+        let mut measured = Vec::new();
+        for (r, rung) in LADDER.iter().enumerate() {
+            let style = rung.apply(&shot.settings.style);
+            let drawn = shot.draw(&style, self.frames())?;
+            let (f, e) = errors(&drawn.image, &truth)?;
+            measured.push(Measured {
+                name: format!("rung {r} ({})", rung.name),
+                frame_ms: drawn.frame_ms,
+                flip: f,
+                rmse: e,
+            });
+            (self.progress)(&format!("{scene}: rung {r}"));
         }
+        for (i, (name, look)) in looks(&own).into_iter().enumerate() {
+            let drawn = shot.draw_look(&look, self.frames())?;
+            let (f, e) = errors(&drawn.image, &truth)?;
+            if i == 0 {
+                // The other lighting model's drawing, for the side-by-side.
+                let file = format!("{scene}-{}.png", look.lighting.model.name());
+                drawn.image.write_png(&t.dir.join(file))?;
+            }
+            (self.progress)(&format!("{scene}: {name}"));
+            measured.push(Measured {
+                name,
+                frame_ms: drawn.frame_ms,
+                flip: f,
+                rmse: e,
+            });
+        }
+        let supersampled = shot.reference(4)?;
+        let (ss_flip, ss_rmse) = errors(&supersampled, &truth)?;
+        let file = format!("{scene}-{}.png", own.lighting.model.name());
+        own_image.write_png(&t.dir.join(file))?;
+        to_srgb8(&truth).write_png(&t.dir.join(format!("{scene}-reference.png")))?;
+        let (own_flip, own_rmse) = errors(&own_image, &truth)?;
+        let (own_single, _) = errors(&own_image, &single)?;
+        (self.progress)(&format!("{scene}: attribution"));
+        self.truth_table(scene, &measured, (noise_flip, noise_rmse));
+        let share = |changed: f64| percent(100.0 * (own_flip - changed) / own_flip);
         let _ = writeln!(
             self.md,
-            "\nReference noise (ꟻLIP): {}.\n",
-            noises.join(", ")
+            "What the distance of the scene's own drawing (ꟻLIP {own_flip:.4}) is made \
+             of, one thing changed at a time; *share*: the part of the distance the change \
+             removes (negative: it adds).\n\n| change | ꟻLIP | RMSE | share |\n| --- | --- \
+             | --- | --- |\n| none: the scene's drawing against the reference | \
+             {own_flip:.4} | {own_rmse:.4} | – |\n| coverage exact: fur's 4×4 supersampled \
+             drawing against the reference | {ss_flip:.4} | {ss_rmse:.4} | {} |\n| no \
+             multiple scattering: the drawing against a single-scattering reference | \
+             {own_single:.4} | – | {} |\n",
+            share(ss_flip),
+            share(own_single)
         );
+        for (metric, value) in [
+            ("own_flip", own_flip),
+            ("noise_flip", noise_flip),
+            ("noise_rmse", noise_rmse),
+            ("supersampled_flip", ss_flip),
+            ("single_scattering_flip", own_single),
+        ] {
+            self.row("truth", scene.to_string(), metric, value, "0..1");
+        }
+        self.truth_terms(scene, shot, &own, &truth)?;
+        Ok(measured[..LADDER.len()]
+            .iter()
+            .map(|m| (m.frame_ms, m.flip))
+            .collect())
+    }
+
+    /// The Marschner drawing with shadows (the closest look) with each of its terms
+    /// dropped in turn: what each term does to the distance.
+    fn truth_terms(
+        &mut self,
+        scene: &str,
+        shot: &Shot,
+        own: &Look,
+        truth: &LinearImage,
+    ) -> Result<()> {
+        let mut full = own.clone();
+        full.lighting.model = LightingModel::Marschner;
+        full.lighting.shadows.enabled = true;
+        let drawn = shot.draw_look(&full, (0, 1))?;
+        let (all_flip, all_rmse) = errors(&drawn.image, truth)?;
+        let _ = writeln!(
+            self.md,
+            "The Marschner drawing with shadows (ꟻLIP {all_flip:.4}) with one of its terms \
+             dropped: *change*, what dropping it does to the distance, as a share of that \
+             drawing's ꟻLIP (positive: the term brings the drawing closer to the truth; \
+             negative: the drawing is closer without it).\n\n| term dropped | ꟻLIP | \
+             RMSE | change |\n| --- | --- | --- | --- |\n| none | {all_flip:.4} | \
+             {all_rmse:.4} | – |"
+        );
+        self.row(
+            "truth",
+            format!("{scene}: all terms"),
+            "flip",
+            all_flip,
+            "0..1",
+        );
+        for (name, lobes) in Lobes::each_dropped() {
+            let mut look = full.clone();
+            look.lighting.lobes = lobes;
+            let drawn = shot.draw_look(&look, (0, 1))?;
+            let (f, e) = errors(&drawn.image, truth)?;
+            let change = percent(100.0 * (f - all_flip) / all_flip);
+            let _ = writeln!(self.md, "| {name} | {f:.4} | {e:.4} | {change} |");
+            self.row(
+                "truth",
+                format!("{scene}: without {name}"),
+                "flip",
+                f,
+                "0..1",
+            );
+            (self.progress)(&format!("{scene}: without {name}"));
+        }
+        self.md.push('\n');
         Ok(())
     }
 
@@ -399,6 +427,16 @@ fn cached_trace(
         reference.trace(usda, &pfm, &options, &extra)?;
     }
     read_pfm(&pfm)
+}
+
+/// A signed percentage to the nearest whole one ("+3 %", "−12 %", "0 %").
+fn percent(x: f64) -> String {
+    let rounded = x.round();
+    if rounded == 0.0 {
+        "0 %".to_string()
+    } else {
+        format!("{rounded:+.0} %")
+    }
 }
 
 /// FNV-1a, 64 bits, over the parts in order.

@@ -1,0 +1,101 @@
+//! The truth section's light and dark fur: the first scene in three fur presets, each
+//! lighting model with and without shadows, against each preset's own reference.
+
+use std::fmt::Write as _;
+use std::path::Path;
+
+use super::{cached_trace, export};
+use crate::bench::Bench;
+use crate::error::Result;
+use crate::export::compare::{errors, to_srgb8};
+use crate::export::reference::Reference;
+use crate::render::{flip, FurPreset, LightingModel};
+
+use crate::bench::quality::Shot;
+
+impl Bench<'_> {
+    /// Light and dark fur (the first scene in the fur presets `white`, `blond` and
+    /// `black`): each lighting model, alone and with shadows, against its reference.
+    pub(super) fn truth_colours(
+        &mut self,
+        reference: &Reference,
+        dir: &Path,
+        extent: ash::vk::Extent2D,
+        spp: u32,
+    ) -> Result<()> {
+        let Some(base) = self.scenes.first().cloned() else {
+            return Ok(());
+        };
+        let _ = writeln!(
+            self.md,
+            "### Light and dark fur ({})\n\nThe {} scene in three fur presets (colours as \
+             melanin, docs/design.md), each against its own reference; the Marschner model \
+             with shadows also with coloured shadows (`--coloured-shadows`).\n\n| fur | \
+             drawing | frame ms | ꟻLIP | RMSE |\n| --- | --- | --- | --- | --- |",
+            base.name, base.name
+        );
+        let mut noises = Vec::new();
+        for preset in [FurPreset::White, FurPreset::Blond, FurPreset::Black] {
+            let mut scene = base.scene.clone();
+            scene.options.lighting.preset = preset;
+            let shot = Shot::new(self.device, &scene, extent)?;
+            let own = shot.look(&shot.settings.style);
+            let name = format!("{}-{}", base.name, preset.name());
+            let (_, usda, text) = export(&shot, &own, &dir.join(format!("{name}.usda")))?;
+            let truth = cached_trace(reference, &usda, &text, spp, 0, None)?;
+            let second = cached_trace(reference, &usda, &text, spp, 1, None)?;
+            let noise = flip(&to_srgb8(&truth), &to_srgb8(&second));
+            (self.progress)(&format!("{name}: references"));
+            to_srgb8(&truth).write_png(&dir.join(format!("{name}-reference.png")))?;
+            let mut drawings = Vec::new();
+            let cases = [
+                (LightingModel::KajiyaKay, false, false),
+                (LightingModel::KajiyaKay, true, false),
+                (LightingModel::Marschner, false, false),
+                (LightingModel::Marschner, true, false),
+                (LightingModel::Marschner, true, true),
+            ];
+            {
+                for (model, shadows, coloured) in cases {
+                    let mut look = own.clone();
+                    look.lighting.model = model;
+                    look.lighting.shadows.enabled = shadows;
+                    look.lighting.shadows.coloured = coloured;
+                    let drawn = shot.draw_look(&look, self.frames())?;
+                    let (f, e) = errors(&drawn.image, &truth)?;
+                    if shadows && !coloured {
+                        let file = format!("{name}-{}.png", model.name());
+                        drawn.image.write_png(&dir.join(file))?;
+                    }
+                    let what = format!(
+                        "{}{}{}",
+                        model.label(),
+                        if shadows { ", shadows on" } else { "" },
+                        if coloured { ", coloured" } else { "" }
+                    );
+                    drawings.push((what, drawn.frame_ms, f, e));
+                }
+            }
+            (self.progress)(&format!("{name}: drawings"));
+            for (what, ms, f, e) in drawings {
+                let _ = writeln!(
+                    self.md,
+                    "| {} | {what} | {ms:.1} | {f:.4} | {e:.4} |",
+                    preset.name()
+                );
+                let case = format!("{name}: {what}");
+                self.row("truth", case.clone(), "frame_ms", ms, "ms");
+                self.row("truth", case.clone(), "flip", f, "0..1");
+                self.row("truth", case, "rmse", e, "linear");
+            }
+            self.row("truth", name, "noise_flip", noise, "0..1");
+            noises.push(format!("{} {noise:.4}", preset.name()));
+        }
+        let _ = writeln!(
+            self.md,
+            "\nReference noise (ꟻLIP): {}.\n",
+            noises.join(", ")
+        );
+        Ok(())
+    }
+}

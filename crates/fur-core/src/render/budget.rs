@@ -148,8 +148,10 @@ impl Budget {
 
     /// A budget of `target_ms` per frame starting at the default rung.
     pub fn new(target_ms: f64) -> Self {
-        // First guesses of each rung's cost relative to the default, refined as soon as
-        // a rung is drawn; only their order matters before that.
+        // First guesses of each rung's cost relative to the default (a starting point,
+        // read once off the ladder's measurement on a CPU driver), refined as soon as a
+        // rung is drawn; only their order matters before that
+        // (`a_bad_first_guess_is_corrected`).
         let ratio = vec![1.0, 0.57, 0.4, 0.27, 0.19, 0.09];
         Self {
             target_ms,
@@ -465,6 +467,22 @@ mod tests {
             t += costs[b.rung] / 1e3;
             assert!(t < 1.0, "still at rung {} after {t} s", b.rung);
         }
+    }
+
+    /// Costs far from the first guesses (rung 1 at 0.45 of the default, guessed 0.57)
+    /// send the first descent one rung too deep; what it sees there corrects it to the
+    /// most accurate rung that fits, and it stays there. Seen failing with the probe
+    /// of the rung above taken out (it stayed at rung 2).
+    #[test]
+    fn a_bad_first_guess_is_corrected() {
+        let costs = [100.0, 45.0, 40.0, 35.0, 30.0, 10.0];
+        let mut b = Budget::new(50.0);
+        let rungs = run(&mut b, &costs, 40, true, 0.0);
+        assert_eq!(rungs[1], 2, "the guesses first predict rung 2: {rungs:?}");
+        assert!(
+            rungs[8..].iter().all(|&r| r == 1),
+            "not corrected to rung 1: {rungs:?}"
+        );
     }
 
     #[test]

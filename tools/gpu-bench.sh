@@ -17,9 +17,13 @@
 #      (the "GPU ms" column);
 #   3. the goal's frame again with one thing changed at a time (goal-*/): samples, the
 #      primitive, the hair density, culling and the image size, to show what bounds it;
+#   4. the blob's frame under each lighting model, with and without shadows
+#      (lighting-*/): what the Marschner model and the shadows cost;
 # and writes bench-<device>/results.md: every table, in that order. `--write-docs FILE`
 # before any other argument puts the tables between FILE's
 # `<!-- BEGIN fur gpu-bench -->` and `<!-- END fur gpu-bench -->` lines (docs/gpu.md).
+# GPU_BENCH_PARTS (e.g. "lighting") runs only the parts named: sections, goal, bounds,
+# lighting.
 set -euo pipefail
 
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
@@ -81,13 +85,20 @@ bench() { # folder, arguments...
     "$fur" bench ${device_args[@]+"${device_args[@]}"} --out-dir "$out/$dir" "$@"
 }
 
+parts="${GPU_BENCH_PARTS:-sections goal bounds lighting}"
+part() { [[ " $parts " == *" $1 "* ]]; }
+
 sections=(frame render_quality sim_accuracy sim_steps sim_scaling collision savings looks
     ladder animation stages)
-for section in "${sections[@]}"; do
-    bench "$section" --only "$section" "$@"
-done
+if part sections; then
+    for section in "${sections[@]}"; do
+        bench "$section" --only "$section" "$@"
+    done
+fi
 goal=(--only frame --width 1920 --height 1080)
-bench goal "${goal[@]}" --scene assets/scenes/goal.toml "$@"
+if part goal; then
+    bench goal "${goal[@]}" --scene assets/scenes/goal.toml "$@"
+fi
 
 # The goal's frame with one thing changed: the scene files are the goal's plus a line.
 variant() { # name, what it changes (scene text appended, or a sed edit)
@@ -97,17 +108,35 @@ variant() { # name, what it changes (scene text appended, or a sed edit)
         *) { cat assets/scenes/goal.toml; printf '\n%s\n' "$2"; } >"$file" ;;
     esac
 }
-variant base ""
-variant samples1 $'[render]\nsamples = 1'
-variant lines $'[render]\nprimitive = "lines"'
-variant quarter 's/^density_scale = 12.0.*/density_scale = 3.0/'
-variant bare 's/^density_scale = 12.0.*/density_scale = 0.001/'
-variant nocull $'[render]\ncull = false'
-for v in base samples1 lines quarter bare nocull; do
-    bench "goal-$v" "${goal[@]}" --scene "$out/scenes/$v.toml" "$@"
-done
-bench goal-half --only frame --width 960 --height 540 --scene "$out/scenes/base.toml" "$@"
-bench goal-4k --only frame --width 3840 --height 2160 --scene "$out/scenes/base.toml" "$@"
+if part bounds; then
+    variant base ""
+    variant samples1 $'[render]\nsamples = 1'
+    variant lines $'[render]\nprimitive = "lines"'
+    variant quarter 's/^density_scale = 12.0.*/density_scale = 3.0/'
+    variant bare 's/^density_scale = 12.0.*/density_scale = 0.001/'
+    variant nocull $'[render]\ncull = false'
+    for v in base samples1 lines quarter bare nocull; do
+        bench "goal-$v" "${goal[@]}" --scene "$out/scenes/$v.toml" "$@"
+    done
+    bench goal-half --only frame --width 960 --height 540 --scene "$out/scenes/base.toml" "$@"
+    bench goal-4k --only frame --width 3840 --height 2160 --scene "$out/scenes/base.toml" "$@"
+fi
+
+# The blob under each lighting model, with and without shadows.
+if part lighting; then
+    marschner=$'[light]\nlighting_model = "marschner"'
+    shadows=$'[shadows]\nenabled = true'
+    for v in kajiya-kay marschner shadows marschner-shadows; do
+        case $v in
+            kajiya-kay) text="" ;;
+            marschner) text="$marschner" ;;
+            shadows) text="$shadows" ;;
+            marschner-shadows) text="$marschner"$'\n'"$shadows" ;;
+        esac
+        printf 'model = "blob"\n%s\n' "$text" >"$out/scenes/blob-$v.toml"
+        bench "lighting-$v" --only frame --scene "$out/scenes/blob-$v.toml" "$@"
+    done
+fi
 
 bash tools/gpu-report.sh "$out" >"$out/results.md"
 if [[ -n "$docs" ]]; then

@@ -22,7 +22,12 @@ sections=(frame render_quality sim_accuracy sim_steps sim_scaling collision savi
 tables() { tail -n +4 "$1"; }
 
 report() {
-    local first="$dir/frame/results.md"
+    local first
+    first="$(find "$dir" -mindepth 2 -maxdepth 2 -name results.md | sort | head -n 1)"
+    [[ -n "$first" ]] || {
+        echo "$dir holds no results.md" >&2
+        return 1
+    }
     sed -n 3p "$first"
     echo
     if [[ -f "$dir/clocks.csv" ]]; then
@@ -44,6 +49,7 @@ report() {
         tables "$dir/goal/results.md" | sed 's/^## /### /'
     fi
     echo
+    [[ -f "$dir/goal-base/results.md" ]] || { lighting; return 0; }
     echo "## What bounds the goal's frame"
     echo
     echo "The goal's default frame again, each row changing one thing (the scene file's"
@@ -75,6 +81,33 @@ report() {
         local ratio
         ratio="$(awk -v a="$gpu" -v b="$base" 'BEGIN { printf "%.2f×", a / b }')"
         echo "| $what | $hairs | $segments | $gpu | $passes | $ratio |"
+    done
+    lighting
+}
+
+# The table of the lighting part, when the run has it.
+lighting() {
+    [[ -f "$dir/lighting-kajiya-kay/results.md" ]] || return 0
+    echo
+    echo "## What the lighting costs"
+    echo
+    echo "The default blob at 1280×720 under each lighting model, without and with"
+    echo "shadows (the scene file's lines); medians after warm-up as above; the ratio is"
+    echo "to Kajiya–Kay without shadows."
+    echo
+    echo "| lighting | GPU ms | fur pass ms | × Kajiya–Kay |"
+    echo "| --- | --- | --- | --- |"
+    local base=""
+    for row in "kajiya-kay|Kajiya–Kay" "marschner|Marschner" "shadows|Kajiya–Kay, shadows on" \
+        "marschner-shadows|Marschner, shadows on"; do
+        local file="$dir/lighting-${row%%|*}/results.md"
+        [[ -f "$file" ]] || continue
+        local gpu passes ratio
+        gpu="$(awk -F ' *[|] *' '$3 == "default" { print $7; exit }' "$file")"
+        passes="$(awk -F ' *[|] *' '$3 ~ /^[0-9.]+$/ { print $5; exit }' "$file")"
+        [[ -z "$base" ]] && base="$gpu"
+        ratio="$(awk -v a="$gpu" -v b="$base" 'BEGIN { printf "%.2f×", a / b }')"
+        echo "| ${row#*|} | $gpu | $passes | $ratio |"
     done
 }
 

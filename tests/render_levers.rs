@@ -330,6 +330,63 @@ fn the_hair_count_follows_the_density_formula_at_every_scale() {
     common::assert_clean(&device);
 }
 
+/// Every rung of the budget's quality ladder changes the drawing: its style differs
+/// from the rung above's, its image differs, and the rungs that thin the work draw
+/// less of it (vertex LOD fewer segments, density LOD fewer hairs) while the rest draw
+/// the same hairs. A rung that forgot its setting would draw the rung above's image
+/// exactly (the drawing is deterministic): seen failing with rung 4's vertex LOD set
+/// back to rung 3's.
+#[test]
+fn every_rung_of_the_ladder_draws_differently() {
+    use fur::render::budget::LADDER;
+    let device = common::device();
+    let mesh = ModelSpec::Blob.load().unwrap();
+    let (groom, settings) = SceneOptions::default().resolve(&mesh).unwrap();
+    let mut last: Option<(FurStyle, RgbaImage, u64, u64)> = None;
+    for (r, rung) in LADDER.iter().enumerate() {
+        let style = rung.apply(&settings.style);
+        let drawn = FrameSettings {
+            style: style.clone(),
+            ..settings.clone()
+        };
+        let (image, _, counts) = common::render(&device, &mesh, &groom, &drawn, (96, 54));
+        println!(
+            "rung {r} ({}): {} hairs, {} segments",
+            rung.name, counts.hairs, counts.segments
+        );
+        if let Some((above, above_image, hairs, segments)) = &last {
+            assert_ne!(&style, above, "rung {r} draws the rung above's style");
+            let differ = image
+                .data
+                .chunks(4)
+                .zip(above_image.data.chunks(4))
+                .filter(|(a, b)| a != b)
+                .count();
+            assert!(
+                differ > 0,
+                "rung {r} ({}) draws the rung above's image",
+                rung.name
+            );
+            if rung.vertex_lod_px > LADDER[r - 1].vertex_lod_px {
+                assert!(
+                    counts.segments < *segments,
+                    "rung {r}: vertex LOD drew no fewer segments"
+                );
+            }
+            if rung.density_lod < LADDER[r - 1].density_lod {
+                assert!(
+                    counts.hairs < *hairs,
+                    "rung {r}: density LOD drew no fewer hairs"
+                );
+            } else {
+                assert_eq!(counts.hairs, *hairs, "rung {r} changed the hairs drawn");
+            }
+        }
+        last = Some((style, image, counts.hairs, counts.segments));
+    }
+    common::assert_clean(&device);
+}
+
 #[test]
 fn the_sample_count_can_change_between_frames() {
     let device = common::device();

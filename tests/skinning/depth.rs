@@ -100,8 +100,10 @@ fn collision_keeps_the_walking_hair_out_of_the_skin() {
 /// 3.48e-6 and 2.82e-6).
 #[test]
 fn the_skins_blend_keeps_hair_out_where_the_skin_bends() {
-    // Below the root poses' own max over these frames (0.0114).
-    const BLEND_MAX: f64 = 0.011;
+    // The product's target for the walking critter's deepest vertex (1 % of the hair
+    // length, README and docs/benchmark.md), not a figure read off one run; what the
+    // skin's blend itself adds is the comparison with the root poses below.
+    const TARGET_MAX: f64 = 0.01;
     let (mean_root, max_root) = walk_depths((true, false));
     let (mean_blend, max_blend) = walk_depths((true, true));
     println!(
@@ -109,7 +111,7 @@ fn the_skins_blend_keeps_hair_out_where_the_skin_bends() {
          {mean_root:.2e} max {max_root:.4}; the skin's blend mean {mean_blend:.2e} max {max_blend:.4}"
     );
     assert!(
-        max_blend <= BLEND_MAX,
+        max_blend <= TARGET_MAX,
         "max depth {max_blend} of the hair length"
     );
     assert!(

@@ -192,6 +192,13 @@ void select_root_bone(uint k) {
 // the blend grid point nearest to the root pose's point holds a blend of bones, by the
 // inverse of the skin's blended matrix of substep k.
 vec3 blend_back(vec3 m, uint k, uint carry, out mat3 back) {
+#ifdef FUR_TEST_NO_ROOT_BONE
+    // Test only: the hair's first eighth carried by the root pose, as before the root's
+    // bone (tests/skinning/depth.rs must then see the crease's hair go deeper).
+    if (carry == CARRY_BONE) {
+        carry = CARRY_ROOT;
+    }
+#endif
     if (carry == CARRY_BONE) {
         back = bone_back;
         return transpose(bone_back) * (m - bone_t);

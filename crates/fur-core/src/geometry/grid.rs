@@ -125,13 +125,17 @@ mod tests {
             })
             .collect();
         let grid = Grid::new(&points.iter().map(|&p| (p, p)).collect::<Vec<_>>());
+        let mut evaluated = 0usize;
         for q in 0..200u32 {
             let p = Vec3::new(
                 crate::scene::hash_unit(10_000 + q) * 2.0 - 0.5,
                 crate::scene::hash_unit(20_000 + q) - 0.5,
                 crate::scene::hash_unit(30_000 + q) * 4.0 - 0.5,
             );
-            let found = grid.nearest(p, 4, |i| points[i as usize].distance(p));
+            let found = grid.nearest(p, 4, |i| {
+                evaluated += 1;
+                points[i as usize].distance(p)
+            });
             let mut all: Vec<(f32, u32)> = points
                 .iter()
                 .enumerate()
@@ -140,5 +144,16 @@ mod tests {
             all.sort_by(|a, b| a.0.total_cmp(&b.0));
             assert_eq!(found, all[..4].to_vec(), "query {q} at {p}");
         }
+        // And it is a grid: a query measures the items of the cells around it, not all of
+        // them (a grid binning everything into one cell, or one that never stops
+        // widening its search, measures every item). Measured: 119 of 500 a query, the
+        // queries reaching past the points' box where the nearest four lie several cells
+        // away; a third leaves room and still fails a search of everything.
+        let mean = evaluated as f64 / 200.0;
+        println!("items measured per query: {mean:.1} of {}", points.len());
+        assert!(
+            mean < points.len() as f64 / 3.0,
+            "{mean} items measured per query"
+        );
     }
 }

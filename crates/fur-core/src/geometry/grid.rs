@@ -121,16 +121,17 @@ mod tests {
         let points: Vec<Vec3> = (0..500)
             .map(|i| {
                 let h = |s: u32| crate::scene::hash_unit(i * 3 + s);
-                Vec3::new(h(0), h(1) * 0.2, h(2) * 3.0)
+                // Away from the origin, so a grid measuring from the wrong corner shows.
+                Vec3::new(10.0 + h(0), h(1) * 0.2 - 5.0, 7.0 + h(2) * 3.0)
             })
             .collect();
         let grid = Grid::new(&points.iter().map(|&p| (p, p)).collect::<Vec<_>>());
         let mut evaluated = 0usize;
         for q in 0..200u32 {
             let p = Vec3::new(
-                crate::scene::hash_unit(10_000 + q) * 2.0 - 0.5,
-                crate::scene::hash_unit(20_000 + q) - 0.5,
-                crate::scene::hash_unit(30_000 + q) * 4.0 - 0.5,
+                crate::scene::hash_unit(10_000 + q) * 2.0 + 9.5,
+                crate::scene::hash_unit(20_000 + q) - 5.5,
+                crate::scene::hash_unit(30_000 + q) * 4.0 + 6.5,
             );
             let found = grid.nearest(p, 4, |i| {
                 evaluated += 1;

@@ -121,13 +121,7 @@ fn table_rows(text: &str) -> Vec<Vec<String>> {
 fn the_gpu_figures_the_readme_quotes_come_from_the_gpu_run() {
     let readme = read("README.md");
     let gpu = read("docs/gpu.md");
-    let begin = gpu
-        .find("<!-- BEGIN fur gpu-bench -->")
-        .expect("docs/gpu.md has the run's begin marker");
-    let end = gpu
-        .find("<!-- END fur gpu-bench -->")
-        .expect("docs/gpu.md has the run's end marker");
-    let rows = table_rows(&gpu[begin..end]);
+    let rows = table_rows(region(&gpu, "fur gpu-bench"));
     assert!(rows.len() > 20, "docs/gpu.md's region holds no tables");
     let expect = section(&readme, "## What to expect");
     let mut checked = 0;
@@ -169,13 +163,19 @@ fn git_ignores(path: &Path) -> bool {
 
 /// The part of docs/benchmark.md that `fur bench --write-docs` writes.
 fn generated(benchmark: &str) -> &str {
-    let begin = benchmark
-        .find("<!-- BEGIN fur bench -->")
-        .expect("docs/benchmark.md has the run's begin marker");
-    let end = benchmark
-        .find("<!-- END fur bench -->")
-        .expect("docs/benchmark.md has the run's end marker");
-    &benchmark[begin..end]
+    region(benchmark, "fur bench")
+}
+
+/// The part of a document between its `<!-- BEGIN {name} -->` and `<!-- END {name} -->`
+/// lines: what a tool wrote there.
+fn region<'a>(doc: &'a str, name: &str) -> &'a str {
+    let begin = doc
+        .find(&format!("<!-- BEGIN {name} -->"))
+        .unwrap_or_else(|| panic!("no `<!-- BEGIN {name} -->` marker"));
+    let end = doc
+        .find(&format!("<!-- END {name} -->"))
+        .unwrap_or_else(|| panic!("no `<!-- END {name} -->` marker"));
+    &doc[begin..end]
 }
 
 #[test]

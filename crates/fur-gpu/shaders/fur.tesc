@@ -88,9 +88,9 @@ void main() {
 
     uint V = frame.strands.x;
     vec3 r0 = strand_vertex(h0, 0u), r1 = strand_vertex(h1, 0u), r2 = strand_vertex(h2, 0u);
+    vec3 t0 = strand_vertex(h0, V - 1u), t1 = strand_vertex(h1, V - 1u), t2 = strand_vertex(h2, V - 1u);
     float stub = frame.secondary.z;
-    if (distance(strand_vertex(h0, V - 1u), r0) < stub && distance(strand_vertex(h1, V - 1u), r1) < stub
-        && distance(strand_vertex(h2, V - 1u), r2) < stub) {
+    if (distance(t0, r0) < stub && distance(t1, r1) < stub && distance(t2, r2) < stub) {
         gl_TessLevelOuter[0] = 0.0;
         gl_TessLevelOuter[1] = 0.0;
         gl_TessLevelOuter[2] = 0.0;
@@ -99,8 +99,7 @@ void main() {
     }
     bool culled = false;
     if ((frame.strands.w & FLAG_CULL) != 0u) {
-        vec3 growth = strand_vertex(h0, V - 1u) + strand_vertex(h1, V - 1u) + strand_vertex(h2, V - 1u)
-                    - (r0 + r1 + r2);
+        vec3 growth = t0 + t1 + t2 - (r0 + r1 + r2);
         vec3 n = cross(r1 - r0, r2 - r0);
         n *= dot(n, growth) < 0.0 ? -1.0 : 1.0;   // orient along the fur, whatever the winding
         vec3 to_eye = frame.eye.xyz - (r0 + r1 + r2) / 3.0;

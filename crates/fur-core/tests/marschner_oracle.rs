@@ -191,6 +191,105 @@ fn light_through_fibres_is_grey_for_black_and_coloured_for_light_fibres() {
     assert!(ratio(2.0) < 0.6);
 }
 
+/// The coat's layer count on flat skin, against a count done by hand: a coat of
+/// vertical fibres in even layers `1 / per_unit` apart, above a point at `height`,
+/// crossed by a ray to the light at elevation `e`: the ray meets the layers above the
+/// point, one each time it rises by a layer, so (coat − height) · per_unit of them,
+/// more by 1 / sin e (its path is longer by that); none at the tip; the skin stops light
+/// from below its plane; the count stops at the shadow map's cap.
+#[test]
+fn the_coat_counts_the_layers_above_the_point_along_the_light() {
+    use fur_core::render::marschner::{coat_layers, MAX_LAYERS};
+    let n = Vec3::new(0.0, 0.0, 1.0);
+    let (coat, per_unit) = (0.3f32, 40.0);
+    for elevation in [90.0f32, 60.0, 30.0, 10.0] {
+        let e = elevation.to_radians();
+        let l = Vec3::new(e.cos(), 0.0, e.sin());
+        for height in [0.0f32, 0.1, 0.25, 0.3] {
+            // Layers at heights coat − (i + ½)/per_unit above the point, counted.
+            let crossed = (0..1000)
+                .map(|i| coat - (i as f32 + 0.5) / per_unit)
+                .filter(|&z| z > height)
+                .count() as f32;
+            let expected = (crossed / e.sin()).min(MAX_LAYERS);
+            let got = coat_layers(n, l, coat, height, 0.0, per_unit);
+            // The count by hand is whole layers; the estimate is continuous.
+            assert!(
+                (got - expected).abs() <= 0.5 / e.sin() + 1e-3,
+                "elevation {elevation}, height {height}: {got} against {expected}"
+            );
+        }
+        assert_eq!(
+            coat_layers(n, l, coat, coat, 0.0, per_unit),
+            0.0,
+            "the tip is lit"
+        );
+    }
+    for below in [-0.01f32, -0.5, -1.0] {
+        let l = Vec3::new((1.0 - below * below).sqrt(), 0.0, below);
+        assert_eq!(coat_layers(n, l, coat, coat, 0.0, per_unit), MAX_LAYERS);
+    }
+    // A thicker coat, or denser, counts more; the count is capped.
+    let l = Vec3::new(0.6, 0.0, 0.8);
+    assert!(
+        coat_layers(n, l, 0.4, 0.1, 0.0, per_unit) > coat_layers(n, l, 0.3, 0.1, 0.0, per_unit)
+    );
+    assert!(coat_layers(n, l, coat, 0.1, 0.0, 80.0) > coat_layers(n, l, coat, 0.1, 0.0, per_unit));
+    assert_eq!(coat_layers(n, l, 100.0, 0.0, 0.0, per_unit), MAX_LAYERS);
+}
+
+/// On curved skin the coat is a shell around a sphere: the count against a ray marched
+/// from the point through the shell in small steps (the path inside it until the ray
+/// leaves it, or none if the ray enters the body) — over the lit side, the terminator
+/// and the dark side, where a tip can still see the light past the skin's horizon.
+/// Flat skin's formula (1 / cos) would count the terminator's grazing light as blocked
+/// or endless; the marched count is finite there.
+#[test]
+fn on_curved_skin_the_coat_is_a_shell_the_light_crosses() {
+    use fur_core::render::marschner::{coat_layers, MAX_LAYERS};
+    let (radius, coat, per_unit) = (1.0f32, 0.25f32, 20.0f32);
+    let n = Vec3::Z;
+    let marched = |l: Vec3, height: f32| -> f32 {
+        let centre = -radius * n;
+        let mut x = (height) * n;
+        let step = 1e-4;
+        let mut path = 0.0;
+        for _ in 0..200_000 {
+            let r = (x - centre).length();
+            if r < radius {
+                return MAX_LAYERS;
+            }
+            if r > radius + coat {
+                break;
+            }
+            path += step;
+            x += step * l;
+        }
+        (path * per_unit).min(MAX_LAYERS)
+    };
+    let mut checked = 0;
+    for angle in [0.0f32, 40.0, 70.0, 85.0, 90.0, 95.0, 100.0, 110.0, 140.0] {
+        let a = angle.to_radians();
+        let l = Vec3::new(a.sin(), 0.0, a.cos());
+        for height in [0.0f32, 0.05, 0.12, 0.2, 0.24] {
+            let got = coat_layers(n, l, coat, height, 1.0 / radius, per_unit);
+            let want = marched(l, height);
+            assert!(
+                (got - want).abs() < 0.01 * want.max(1.0),
+                "light {angle}° off the normal, height {height}: {got} against {want} marched"
+            );
+            if want < MAX_LAYERS && angle > 90.0 {
+                checked += 1;
+            }
+        }
+    }
+    // Some points past the horizon do see the light (their tips rise above the skin).
+    assert!(
+        checked >= 2,
+        "only {checked} points past the horizon are lit"
+    );
+}
+
 /// The twin's single-scattering lobes are reciprocal (light and view swapped, the same
 /// value: every term depends on θi + θo, |θo − θi|, the angle between the two and cos φ),
 /// as the shader's are.

@@ -19,6 +19,9 @@ layout(location = 0) in vec4 g_lit_along;          // ambient + diffuse, specula
 #else
 layout(location = 0) in vec4 g_tangent_along;      // world tangent, along
 layout(location = 1) in vec3 g_world;
+#if MARSCHNER
+layout(location = 5) in float g_coat;
+#endif
 #endif
 layout(location = 2) in float g_coverage;
 #if TEXTURED
@@ -45,7 +48,7 @@ void main() {
     float along = g_lit_along.w;
 #else
     float along = g_tangent_along.w;
-    vec3 radiance = marschner(normalize(g_tangent_along.xyz), g_world, hair_base(along, texel));
+    vec3 radiance = marschner(normalize(g_tangent_along.xyz), g_world, hair_base(along, texel), g_coat);
 #endif
     vec3 color = mix(1.0 - frame.root_color.w, 1.0, along) * radiance;
 #else

@@ -52,6 +52,9 @@ layout(location = 0) out vec4 g_lit_along;        // ambient + diffuse, specular
 #else
 layout(location = 0) out vec4 g_tangent_along;    // world tangent, position along the hair
 layout(location = 1) out vec3 g_world;            // world position
+#if MARSCHNER
+layout(location = 5) out float g_coat;            // hair layers towards the light (coat_layers)
+#endif
 #endif
 layout(location = 2) out float g_coverage;
 #if TEXTURED
@@ -100,6 +103,57 @@ bool skippable(uint a, uint c, float tolerance) {
     return true;
 }
 
+#if MARSCHNER && !SHADOW_CASTER
+vec3 coat_normal;              // the skin's outward normal under the hair
+float coat_height;             // the coat's height there: the hair's tip above its root
+float coat_curvature;          // the skin's curvature there, 1 / radius (0: flat or hollow)
+
+// The coat's estimate of the hair layers between vertex k and the light, for the
+// Marschner model without a shadow map: the light's path out of the coat, a shell of
+// the coat's height on a skin of the coat's curvature, at the layer spacing the shadow
+// map also assumes (frame.shadow.y layers per unit); the skin stops light whose path
+// passes through it. Capped at MAX_LAYERS, as the map's count is. The twin,
+// render::marschner::coat_layers, derives it.
+float coat_layers(uint k) {
+    float c = dot(coat_normal, frame.light.xyz);
+    float h = dot(P[k] - P[0], coat_normal);
+    float a = 1.0 + coat_curvature * h;
+    if (c < 0.0 && a * a * (1.0 - c * c) < 1.0) {
+        return MAX_LAYERS;
+    }
+    float q = max(coat_height - h, 0.0) * (2.0 + coat_curvature * (coat_height + h));
+    float path = q / max(a * c + sqrt(a * a * c * c + coat_curvature * q), 1e-12);
+    return min(path * frame.shadow.y, MAX_LAYERS);
+}
+
+// Sets coat_normal, coat_height and coat_curvature for the hair between masters h.
+void find_coat(uvec3 h) {
+    vec3 r[3] = vec3[3](strand_vertex(h.x, 0u), strand_vertex(h.y, 0u), strand_vertex(h.z, 0u));
+    // The masters leave the skin along its normal: their first segments say which way
+    // is out, stand in for the face's normal where the face is degenerate, and turn
+    // with the skin: across a sphere of radius R they differ by the roots' offsets / R.
+    vec3 d[3] = vec3[3](normalize(strand_vertex(h.x, 1u) - r[0]),
+                        normalize(strand_vertex(h.y, 1u) - r[1]),
+                        normalize(strand_vertex(h.z, 1u) - r[2]));
+    vec3 out_dir = d[0] + d[1] + d[2];
+    vec3 n = cross(r[1] - r[0], r[2] - r[0]);
+    if (dot(n, n) < 1e-20) {
+        n = out_dir;
+    }
+    n = normalize(n);
+    coat_normal = dot(n, out_dir) < 0.0 ? -n : n;
+    coat_height = max(dot(P[V - 1u] - P[0], coat_normal), 0.0);
+    float turn = 0.0;
+    float spread = 0.0;
+    for (int i = 0; i < 3; ++i) {
+        int j = (i + 1) % 3;
+        turn += dot(d[j] - d[i], r[j] - r[i]);
+        spread += dot(r[j] - r[i], r[j] - r[i]);
+    }
+    coat_curvature = spread > 0.0 ? max(turn / spread, 0.0) : 0.0;
+}
+#endif
+
 #if !SHADOW_CASTER && VERTEX_SHADING
 vec4 lit_along;                // the lit vertex, computed once for both ribbon sides
 #endif
@@ -125,6 +179,9 @@ void write_outputs(uint k, vec3 t) {
 #else
     g_tangent_along = vec4(t, along(k));
     g_world = P[k];
+#if MARSCHNER
+    g_coat = coat_layers(k);
+#endif
 #endif
     g_coverage = C[k];
 #if TEXTURED
@@ -147,7 +204,7 @@ void emit_vertex(uint k, vec3 t) {
 #elif STAGE_VIEW != 0
     lit_along = vec4(view_colour, along(k));
 #elif !SHADOW_CASTER && VERTEX_SHADING && MARSCHNER
-    lit_along = vec4(marschner(t, P[k], hair_base(along(k), root_texel())), along(k));
+    lit_along = vec4(marschner(t, P[k], hair_base(along(k), root_texel()), coat_layers(k)), along(k));
 #elif !SHADOW_CASTER && VERTEX_SHADING
     lit_along = vec4(kajiya_kay(t, P[k], light_through_fur(P[k])), along(k));
 #endif
@@ -239,6 +296,9 @@ void main() {
 #endif
     }
 
+#if MARSCHNER && !SHADOW_CASTER
+    find_coat(h);
+#endif
     float tolerance = frame.draw.y;
 #if defined(FUR_TEST_DROP_TIP) || defined(FUR_TEST_DROP_ROOT)
     // Test only: a vertex LOD that loses the tip (or the root), drawing it where its

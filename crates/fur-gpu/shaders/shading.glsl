@@ -21,6 +21,21 @@
 layout(set = SET_BODY, binding = B_ALBEDO) uniform sampler2D albedo;
 #endif
 
+// The fraction of the light, colour by colour, one hair layer lets through: of the
+// light the layer intercepts (α, frame.shadow.x), the part its fibres of absorption
+// sigma_a pass on forward — transmitted through two interfaces and absorbed along a path
+// of two radii, (1 − F0)² e^(−2σa) — goes on (dual scattering's forward-scattering
+// transmittance, Zinke et al. 2008), with FLAG_COLOURED_SHADOWS; otherwise 1 − α, grey.
+vec3 through_one_layer(vec3 sigma_a) {
+    float f0 = (1.0 - frame.fibre.w) / (1.0 + frame.fibre.w);
+    f0 *= f0;
+    vec3 forward = (1.0 - f0) * (1.0 - f0) * exp(-2.0 * sigma_a);
+    if ((frame.strands.w & FLAG_COLOURED_SHADOWS) == 0u) {
+        forward = vec3(0.0);
+    }
+    return vec3(1.0 - frame.shadow.x) + frame.shadow.x * forward;
+}
+
 #if SHADOWS
 // The fur's depth seen from the light (orthographic, 0 near .. 1 far).
 layout(set = SET_FRAME, binding = B_SHADOW_MAP) uniform sampler2D shadow_map;
@@ -32,7 +47,7 @@ vec4 layers_in_front(vec3 p, out vec2 f) {
     vec2 uv = c.xy * 0.5 + 0.5;
     vec4 front = textureGather(shadow_map, uv, 0);
     f = fract(uv * vec2(textureSize(shadow_map, 0)) - 0.5);
-    return min(max(vec4(c.z) - front - frame.shadow.z, 0.0) * frame.shadow.y, vec4(64.0));
+    return min(max(vec4(c.z) - front - frame.shadow.z, 0.0) * frame.shadow.y, vec4(MAX_LAYERS));
 }
 
 // The fraction of the light that reaches world point p through the hair in front of
@@ -44,23 +59,14 @@ float light_through_fur(vec3 p) {
     return mix(mix(light.w, light.z, f.x), mix(light.x, light.y, f.x), f.y);
 }
 
-// The same through fibres of absorption sigma_a, colour by colour: of the light a
-// layer intercepts (α), the part its fibres pass on forward — transmitted through two
-// interfaces and absorbed along a path of two radii, (1 − F0)² e^(−2σa) — goes on
-// (dual scattering's forward-scattering transmittance, Zinke et al. 2008): light
-// reddens and deepens through light fur, and through black fur it is the grey term.
-// Only with FLAG_COLOURED_SHADOWS (`[shadows] coloured`); otherwise the grey term.
+// The same through fibres of absorption sigma_a, colour by colour, one layer's
+// transmittance (through_one_layer) to the power of the layers in front: light reddens
+// and deepens through light fur with FLAG_COLOURED_SHADOWS (`[shadows] coloured`).
 // CPU twin: render::marschner::light_through_fibres.
 vec3 light_through_fibres(vec3 p, vec3 sigma_a) {
     vec2 f;
     vec4 layers = layers_in_front(p, f);
-    float f0 = (1.0 - frame.fibre.w) / (1.0 + frame.fibre.w);
-    f0 *= f0;
-    vec3 forward = (1.0 - f0) * (1.0 - f0) * exp(-2.0 * sigma_a);
-    if ((frame.strands.w & FLAG_COLOURED_SHADOWS) == 0u) {
-        forward = vec3(0.0);
-    }
-    vec3 through = vec3(1.0 - frame.shadow.x) + frame.shadow.x * forward;
+    vec3 through = through_one_layer(sigma_a);
     vec3 a = pow(through, vec3(layers.x));
     vec3 b = pow(through, vec3(layers.y));
     vec3 c = pow(through, vec3(layers.z));
@@ -116,7 +122,9 @@ vec3 kajiya_kay(vec3 t, vec3 world, float light) {
 // twin and says where each term comes from): R, TT and TRT lobes with Gaussian
 // longitudinal terms on the fibre's roughness and cuticle tilt, Karis 2016's azimuthal
 // terms and attenuations, absorption from the colour by Chiang et al.'s mapping, and
-// Karis's approximation of multiple scattering. frame.fibre: β_m, β_n, α (radians), η.
+// Karis's approximation of multiple scattering, the light through the fur in front in
+// the fibres' colour: the shadow map's layers with SHADOWS, the coat's estimate
+// otherwise (fur.geom's coat_layers). frame.fibre: β_m, β_n, α (radians), η.
 const float PI = 3.14159265;
 
 float fibre_gaussian(float sd, float x) {
@@ -193,8 +201,16 @@ vec3 marschner_terms(vec3 t, vec3 world, vec3 base, vec3 light) {
 // The hair's radiance before root occlusion: the ambient term on the colour plus the
 // fibre's response to the light's irradiance (π · intensity, as the export gives it),
 // the light coming through the fibres in front in their colour.
-vec3 marschner(vec3 t, vec3 world, vec3 base) {
-    vec3 light = light_through_fibres(world, sigma_a_from_color(base, frame.fibre.y));
+// `coat`: without a shadow map, the hair layers between the point and the light as the
+// geometry stage estimates them from the coat (fur.geom's coat_layers).
+vec3 marschner(vec3 t, vec3 world, vec3 base, float coat) {
+    vec3 sigma_a = sigma_a_from_color(base, frame.fibre.y);
+#if SHADOWS
+    vec3 light = light_through_fibres(world, sigma_a);
+#else
+    bool lit = coat <= 0.0 || (frame.strands.w & FLAG_NO_COAT) != 0u;
+    vec3 light = lit ? vec3(1.0) : pow(through_one_layer(sigma_a), vec3(coat));
+#endif
     return frame.shading.w * base + (PI * frame.light.w) * marschner_terms(t, world, base, light);
 }
 #endif

@@ -75,6 +75,16 @@ impl Default for Shadows {
 
 impl Shadows {
     pub const MAX_RESOLUTION: u32 = 8192;
+
+    /// Hair layers per unit of depth along the light: 1 / `spacing`, or with spacing 0
+    /// the spacing of hairs at `density` hairs per unit area, √density.
+    pub fn layers_per_unit(&self, density: f32) -> f32 {
+        if self.spacing > 0.0 {
+            1.0 / self.spacing
+        } else {
+            density.sqrt()
+        }
+    }
 }
 
 /// A hair fibre's physical parameters as Chiang et al. 2016 define them: what the path

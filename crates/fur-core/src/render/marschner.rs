@@ -18,6 +18,14 @@
 //! Karis 2016 too: a wrapped diffuse lobe (1/π) · lerp(wrap, 1 − |t·l|, 0.33) times
 //! √colour, tinted toward the colour as the light is shadowed.
 //!
+//! The light that reaches a point comes through the fur between it and the light: the
+//! shadow map's count of hair layers when shadows are on; otherwise the coat's own
+//! estimate ([`coat_layers`]): the part of the coat above the point along the light,
+//! at the layer spacing the shadow map assumes, and none from behind the skin. Either
+//! way each layer passes [`through_one_layer`] of it — the fibre count in front that
+//! dual scattering (Zinke et al. 2008) takes from a deep shadow map, here from the
+//! coat's geometry at no cost of a pass.
+//!
 //! The sum is radiance per unit irradiance; the renderer scales it by the light's
 //! irradiance (π · intensity, as the export gives the path tracer) and the fraction of
 //! light the shadow map lets through, and adds the ambient term.
@@ -77,6 +85,9 @@ pub struct Lobes {
     pub trt: bool,
     /// The multiple-scattering term.
     pub multiple: bool,
+    /// Without a shadow map, the light through the coat in front of the point
+    /// ([`coat_layers`]); off, every point is fully lit.
+    pub coat: bool,
 }
 
 impl Lobes {
@@ -85,10 +96,12 @@ impl Lobes {
         tt: true,
         trt: true,
         multiple: true,
+        coat: true,
     };
 
-    /// Each term alone switched off, with its name: R, TT, TRT, multiple scattering.
-    pub fn each_dropped() -> [(&'static str, Self); 4] {
+    /// Each term alone switched off, with its name: R, TT, TRT, multiple scattering,
+    /// the coat's light.
+    pub fn each_dropped() -> [(&'static str, Self); 5] {
         let all = Self::ALL;
         [
             ("R", Self { r: false, ..all }),
@@ -101,6 +114,7 @@ impl Lobes {
                     ..all
                 },
             ),
+            ("the coat's light", Self { coat: false, ..all }),
         ]
     }
 }
@@ -180,20 +194,71 @@ fn multiple(t: Vec3, l: Vec3, v: Vec3, base: Vec3, light: Vec3) -> Vec3 {
     root * tint * diffuse * light
 }
 
-/// The fraction of the light, colour by colour, that comes through `layers` hair
-/// layers of opacity `opacity` whose fibres have absorption `sigma_a` and index of
-/// refraction `eta`: of the light a layer intercepts, the part its fibres pass on
-/// forward — through two interfaces and two radii of absorbing fibre,
-/// (1 − F0)² e^(−2σa) — goes on (after dual scattering's forward-scattering
-/// transmittance, Zinke et al. 2008). Black fibres give the grey (1 − opacity)^layers.
-/// The shader's `light_through_fibres` (before its bilinear filter).
-pub fn light_through_fibres(layers: f32, opacity: f32, sigma_a: Vec3, eta: f32) -> Vec3 {
+/// The fraction of the light, colour by colour, one hair layer of opacity `opacity`
+/// lets through when its fibres have absorption `sigma_a` and index of refraction
+/// `eta`: of the light the layer intercepts, the part its fibres pass on forward —
+/// through two interfaces and two radii of absorbing fibre, (1 − F0)² e^(−2σa) — goes
+/// on (after dual scattering's forward-scattering transmittance, Zinke et al. 2008);
+/// not `coloured`, none of it does (1 − opacity, grey). The shader's
+/// `through_one_layer`.
+pub fn through_one_layer(opacity: f32, sigma_a: Vec3, eta: f32, coloured: bool) -> Vec3 {
     let f0 = ((1.0 - eta) / (1.0 + eta)).powi(2);
-    let forward = (1.0 - f0).powi(2) * (-2.0 * sigma_a).exp();
-    let through = Vec3::splat(1.0 - opacity) + opacity * forward;
+    let forward = if coloured {
+        (1.0 - f0).powi(2) * (-2.0 * sigma_a).exp()
+    } else {
+        Vec3::ZERO
+    };
+    Vec3::splat(1.0 - opacity) + opacity * forward
+}
+
+/// The fraction of the light, colour by colour, that comes through `layers` hair
+/// layers of coloured [`through_one_layer`]s. Black fibres give the grey
+/// (1 − opacity)^layers. The shader's `light_through_fibres` (before its bilinear
+/// filter) with coloured shadows.
+pub fn light_through_fibres(layers: f32, opacity: f32, sigma_a: Vec3, eta: f32) -> Vec3 {
+    let through = through_one_layer(opacity, sigma_a, eta, true);
     Vec3::new(
         through.x.powf(layers),
         through.y.powf(layers),
         through.z.powf(layers),
     )
+}
+
+/// The most hair layers counted in front of a point, by the shadow map and the coat.
+pub const MAX_LAYERS: f32 = 64.0;
+
+/// The coat's estimate of the hair layers between a point and the light, which the
+/// Marschner model uses without a shadow map (`fur.geom`'s `coat_layers`): the length
+/// of the light's path out of the coat, at `per_unit` layers per unit of path (the
+/// spacing the shadow map assumes, [`super::Shadows::layers_per_unit`]), capped at
+/// [`MAX_LAYERS`].
+///
+/// The coat is a shell `coat_height` thick on a skin of curvature `curvature` (1 / its
+/// radius R; 0 for flat skin) whose unit outward normal under the hair is `n`; the
+/// point is `height` above the skin. From the sphere's centre the point is at
+/// ρ = R + height and the coat ends at R + coat_height, so the path along `l` (with
+/// c = n · l) is the root of |ρ n + t l| = R + coat_height:
+/// t = −ρc + √(ρ²c² + (R + H)² − ρ²). In the curvature, with a = 1 + κ·height and
+/// q = (H − height)(2 + κ(H + height)) (that is ((R + H)² − ρ²) / R), and multiplied
+/// through by its conjugate so that a flat skin (κ = 0) gives no 0/0:
+/// t = q / (a c + √(a² c² + κ q)); flat, (H − height) / c. The skin stops the light
+/// when the path goes through it: c < 0 and its nearest approach to the centre,
+/// ρ √(1 − c²), is inside R (a² (1 − c²) < 1), which on flat skin is all light from
+/// below its plane.
+pub fn coat_layers(
+    n: Vec3,
+    l: Vec3,
+    coat_height: f32,
+    height: f32,
+    curvature: f32,
+    per_unit: f32,
+) -> f32 {
+    let c = n.dot(l);
+    let a = 1.0 + curvature * height;
+    if c < 0.0 && a * a * (1.0 - c * c) < 1.0 {
+        return MAX_LAYERS;
+    }
+    let q = (coat_height - height).max(0.0) * (2.0 + curvature * (coat_height + height));
+    let path = q / (a * c + (a * a * c * c + curvature * q).sqrt()).max(1e-12);
+    (path * per_unit).min(MAX_LAYERS)
 }

@@ -230,15 +230,17 @@ pub const FLAG_COUNT: u32 = 4;
 pub const FLAG_SECONDARY_HIGHLIGHT: u32 = 8;
 pub const FLAG_THIN_HAIR_AA: u32 = 16;
 pub const FLAG_COLOURED_SHADOWS: u32 = 32;
-/// The Marschner model without its R, TT, TRT or multiple-scattering term
-/// ([`super::marschner::Lobes`]).
+/// The Marschner model without its R, TT, TRT or multiple-scattering term, or without
+/// the coat's light ([`super::marschner::Lobes`]).
 pub const FLAG_NO_R: u32 = 64;
 pub const FLAG_NO_TT: u32 = 128;
 pub const FLAG_NO_TRT: u32 = 256;
 pub const FLAG_NO_MULTIPLE: u32 = 512;
+pub const FLAG_NO_COAT: u32 = 1024;
 
 /// What the render shaders share with Rust, given to every one of them as `#define`s
-/// so no constant is typed twice: the flags of `strands.w`.
+/// so no constant is typed twice: the flags of `strands.w` and the most hair layers
+/// counted in front of a point (`MAX_LAYERS`).
 pub fn shader_defines() -> Vec<(&'static str, String)> {
     [
         ("FLAG_CULL", FLAG_CULL),
@@ -251,9 +253,11 @@ pub fn shader_defines() -> Vec<(&'static str, String)> {
         ("FLAG_NO_TT", FLAG_NO_TT),
         ("FLAG_NO_TRT", FLAG_NO_TRT),
         ("FLAG_NO_MULTIPLE", FLAG_NO_MULTIPLE),
+        ("FLAG_NO_COAT", FLAG_NO_COAT),
     ]
     .into_iter()
     .map(|(name, bit)| (name, format!("{bit}u")))
+    .chain([("MAX_LAYERS", format!("{:?}", super::marschner::MAX_LAYERS))])
     .chain(super::stage::stage_defines())
     .collect()
 }
@@ -346,6 +350,7 @@ impl FrameUniforms {
             (l.lobes.tt, FLAG_NO_TT),
             (l.lobes.trt, FLAG_NO_TRT),
             (l.lobes.multiple, FLAG_NO_MULTIPLE),
+            (l.lobes.coat, FLAG_NO_COAT),
         ] {
             if !on {
                 flags |= flag;
@@ -357,11 +362,6 @@ impl FrameUniforms {
             (0.0, 1.0)
         };
         let (secondary_sin, secondary_cos) = highlights.secondary_shift_deg.to_radians().sin_cos();
-        let shadow_spacing = if l.shadows.spacing > 0.0 {
-            l.shadows.spacing
-        } else {
-            1.0 / s.density.sqrt()
-        };
         let ribbon_above = match s.primitive {
             Primitive::Auto => s.ribbon_above_px,
             Primitive::Lines => f32::MAX,
@@ -390,7 +390,12 @@ impl FrameUniforms {
                 strands.stub_length,
                 0.0,
             ),
-            shadow: Vec4::new(l.shadows.opacity, 1.0 / shadow_spacing, 0.0, 0.0),
+            shadow: Vec4::new(
+                l.shadows.opacity,
+                l.shadows.layers_per_unit(s.density),
+                0.0,
+                0.0,
+            ),
             strands: UVec4::new(
                 strands.vertices_per_strand,
                 strands.strands_per_row,

@@ -290,6 +290,58 @@ fn on_curved_skin_the_coat_is_a_shell_the_light_crosses() {
     );
 }
 
+/// The skin's curvature from a triangle's master roots and directions: 1 / R on a
+/// sphere of radius R wherever the triangle lies and however large it is, 0 on a plane
+/// in any orientation, 0 inside a hollow sphere; masters combed alike (turned by one
+/// rotation) lower it.
+#[test]
+fn the_skins_curvature_comes_from_how_the_masters_turn() {
+    use fur_core::render::marschner::skin_curvature;
+    let on_sphere = |radius: f32, centre: Vec3, points: [Vec3; 3]| {
+        let roots = points.map(|p| centre + radius * p.normalize());
+        let dirs = points.map(|p| p.normalize());
+        (roots, dirs)
+    };
+    let triangles = [
+        [
+            Vec3::new(1.0, 0.0, 0.0),
+            Vec3::new(1.0, 0.1, 0.0),
+            Vec3::new(1.0, 0.0, 0.1),
+        ],
+        [
+            Vec3::new(0.2, 1.0, -0.3),
+            Vec3::new(-0.4, 0.8, 0.1),
+            Vec3::new(0.1, 0.7, 0.6),
+        ],
+    ];
+    for radius in [0.5f32, 2.0, 40.0] {
+        for t in triangles {
+            let (roots, dirs) = on_sphere(radius, Vec3::new(3.0, -1.0, 2.0), t);
+            let k = skin_curvature(roots, dirs);
+            assert!(
+                (k * radius - 1.0).abs() < 1e-4,
+                "radius {radius}: curvature {k}, not {}",
+                1.0 / radius
+            );
+            let hollow = skin_curvature(roots, dirs.map(|d| -d));
+            assert_eq!(hollow, 0.0, "hollow skin counts as flat");
+        }
+    }
+    let n = Vec3::new(0.3, 0.9, -0.2).normalize();
+    let plane = [
+        Vec3::ZERO,
+        Vec3::new(1.0, 0.0, 0.0),
+        Vec3::new(0.0, 0.0, 1.0),
+    ]
+    .map(|p| p - n * n.dot(p));
+    assert_eq!(skin_curvature(plane, [n; 3]), 0.0);
+    // Combed: every direction turned by 40° about one axis.
+    let (roots, dirs) = on_sphere(2.0, Vec3::ZERO, triangles[0]);
+    let comb = glam::Quat::from_axis_angle(Vec3::Y, 40f32.to_radians());
+    let combed = skin_curvature(roots, dirs.map(|d| comb * d));
+    assert!(combed > 0.0 && combed < 0.5, "{combed}");
+}
+
 /// The twin's single-scattering lobes are reciprocal (light and view swapped, the same
 /// value: every term depends on θi + θo, |θo − θi|, the angle between the two and cos φ),
 /// as the shader's are.

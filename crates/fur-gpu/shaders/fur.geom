@@ -150,7 +150,7 @@ void find_coat(uvec3 h) {
         turn += dot(d[j] - d[i], r[j] - r[i]);
         spread += dot(r[j] - r[i], r[j] - r[i]);
     }
-    coat_curvature = spread > 0.0 ? max(turn / spread, 0.0) : 0.0;
+    coat_curvature = spread > 0.0 ? max(turn / spread, 0.0) : 0.0;   // twin: render::marschner::skin_curvature
 }
 #endif
 

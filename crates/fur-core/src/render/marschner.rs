@@ -262,3 +262,26 @@ pub fn coat_layers(
     let path = q / (a * c + (a * a * c * c + curvature * q).sqrt()).max(1e-12);
     (path * per_unit).min(MAX_LAYERS)
 }
+
+/// The skin's curvature under a hair, 1 / its radius, as the geometry stage estimates it
+/// for [`coat_layers`] (`fur.geom`'s `find_coat`): from its triangle's three master
+/// roots `roots` and their unit first-segment directions `dirs` (the skin's normals, as
+/// the masters leave it). Across a sphere of radius R the normals differ by the roots'
+/// offsets over R, so Σ Δd · Δr / Σ |Δr|² over the triangle's edges is 1 / R; flat skin
+/// gives 0, and hollow skin (normals converging) counts as flat. Masters combed alike
+/// turn every direction by one rotation, which lowers the estimate (by the angle's
+/// cosine for offsets square to its axis).
+pub fn skin_curvature(roots: [Vec3; 3], dirs: [Vec3; 3]) -> f32 {
+    let (mut turn, mut spread) = (0.0, 0.0);
+    for i in 0..3 {
+        let j = (i + 1) % 3;
+        let dr = roots[j] - roots[i];
+        turn += (dirs[j] - dirs[i]).dot(dr);
+        spread += dr.length_squared();
+    }
+    if spread > 0.0 {
+        (turn / spread).max(0.0)
+    } else {
+        0.0
+    }
+}

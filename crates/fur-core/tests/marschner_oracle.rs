@@ -292,8 +292,8 @@ fn on_curved_skin_the_coat_is_a_shell_the_light_crosses() {
 
 /// The skin's curvature from a triangle's master roots and directions: 1 / R on a
 /// sphere of radius R wherever the triangle lies and however large it is, 0 on a plane
-/// in any orientation, 0 inside a hollow sphere; masters combed alike (turned by one
-/// rotation) lower it.
+/// in any orientation, 0 inside a hollow sphere, by hand on a cylinder (curved one way);
+/// masters combed alike (turned by one rotation) lower it.
 #[test]
 fn the_skins_curvature_comes_from_how_the_masters_turn() {
     use fur_core::render::marschner::skin_curvature;
@@ -335,6 +335,24 @@ fn the_skins_curvature_comes_from_how_the_masters_turn() {
     ]
     .map(|p| p - n * n.dot(p));
     assert_eq!(skin_curvature(plane, [n; 3]), 0.0);
+    // A cylinder of radius 2 along z curves one way only: on the triangle with an edge
+    // around it (angle θ, squared length s = R²(2 − 2 cos θ)), an edge along it (length
+    // L, no turn) and the edge between, Σ Δd·Δr = 2s / R and Σ |Δr|² = 2s + 2L², so the
+    // estimate is s / (R (s + L²)): every edge counts.
+    let (r, theta, l) = (2.0f32, 0.2f32, 0.3f32);
+    let roots = [
+        Vec3::new(r, 0.0, 0.0),
+        Vec3::new(r * theta.cos(), r * theta.sin(), 0.0),
+        Vec3::new(r, 0.0, l),
+    ];
+    let dirs = [Vec3::X, Vec3::new(theta.cos(), theta.sin(), 0.0), Vec3::X];
+    let s = r * r * (2.0 - 2.0 * theta.cos());
+    let expected = s / (r * (s + l * l));
+    let got = skin_curvature(roots, dirs);
+    assert!(
+        (got - expected).abs() < 1e-5,
+        "cylinder: {got}, not {expected}"
+    );
     // Combed: every direction turned by 40° about one axis.
     let (roots, dirs) = on_sphere(2.0, Vec3::ZERO, triangles[0]);
     let comb = glam::Quat::from_axis_angle(Vec3::Y, 40f32.to_radians());

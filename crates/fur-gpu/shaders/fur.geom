@@ -151,6 +151,9 @@ void find_coat(uvec3 h) {
         spread += dot(r[j] - r[i], r[j] - r[i]);
     }
     coat_curvature = spread > 0.0 ? max(turn / spread, 0.0) : 0.0;   // twin: render::marschner::skin_curvature
+#ifdef FUR_TEST_FLAT_COAT
+    coat_curvature = 0.0;   // test only: flat skin everywhere, which tests/coat.rs must reject
+#endif
 }
 #endif
 

@@ -1,14 +1,18 @@
-//! The Marschner model's light through the coat on curved skin: tips past the skin's
-//! horizon catch the light, as far as a shell around a sphere lets them and no further
-//! (lavapipe, validation on). `tests/marschner.rs` checks the coat's count on flat skin
-//! height by height.
+//! The Marschner model's light through the coat (lavapipe, validation on): on flat skin
+//! the device follows the twin's count height by height; on curved skin tips past the
+//! skin's horizon catch the light, as far as a shell around a sphere lets them and no
+//! further.
 
 mod common;
+mod standing;
 
-use fur::render::marschner::Lobes;
+use fur::render::marschner::{
+    coat_layers, marschner, sigma_a_from_color, through_one_layer, Lobes,
+};
 use fur::render::{FrameSettings, FurStyle, Lighting, LightingModel, RgbaImage, Shading, Shadows};
 use fur::scene::{Camera, GroomParams, Mesh};
 use glam::Vec3;
+use standing::*;
 
 /// The hairs' length: they stand along the unit sphere's normals (no comb).
 const HAIR: f32 = 0.5;
@@ -119,5 +123,127 @@ fn tips_past_the_skins_horizon_catch_the_light_as_a_shell_lets_them() {
         flat_left > -0.5 * horizon,
         "a coat on flat skin lights the far side too (from x = {flat_left}): the test cannot tell"
     );
+    common::assert_clean(&device);
+}
+
+/// Without a shadow map the light reaches each point of a hair through the coat above
+/// it (`coat_layers`): the device's standing hairs seen side on, lit from above the
+/// skin at several elevations and from below it, row by row (height by height) against
+/// the twin with the coat's light. The twin without the coat, with twice or half the
+/// layer count, or counting from the tip down instead of the root up must all miss
+/// (seen failing with the shader's height measured from the tip).
+#[test]
+fn the_coat_dims_the_light_with_depth_as_in_the_twin() {
+    let device = common::device();
+    // 20 layers per unit: 7.2 between root and tip, so the light fades along the hair
+    // rather than stopping in its first layers.
+    let spacing = 0.05;
+    let per_unit = 1.0 / spacing;
+    let unlit_image = render_standing(&device, None, Lobes::ALL, Some(spacing));
+    let unlit = row_sums(&unlit_image);
+    let background = linear_at(&unlit_image, 0, 0);
+    // Rows well inside the hairs (not their root or tip rows) and well covered.
+    let rows: Vec<u32> = (0..HEIGHT)
+        .filter(|&r| {
+            let y = height_of_row(r);
+            (0.03..HAIR_LENGTH - 0.03).contains(&y)
+                && (unlit[r as usize] / (COLOR - background)).x > 2.0
+        })
+        .collect();
+    assert!(rows.len() >= 15, "only {} rows see the hairs", rows.len());
+    // From the hairs' direction (the skin's normal) down to grazing, in front of the
+    // hairs where R and TRT show; the last below the skin: dark.
+    let lights = [
+        Vec3::new(0.0, 1.0, 0.2),
+        Vec3::new(0.3, 0.8, 0.5),
+        Vec3::new(0.2, 0.35, 0.9),
+        Vec3::new(0.6, 0.15, 0.8),
+        Vec3::new(0.3, -0.3, 0.9),
+    ];
+    // Each row's radiance: its light over its coverage, the unlit row's over the colour.
+    let measured: Vec<Vec<Vec3>> = lights
+        .iter()
+        .map(|&l| {
+            let lit = row_sums(&render_standing(
+                &device,
+                Some(l),
+                Lobes::ALL,
+                Some(spacing),
+            ));
+            rows.iter()
+                .map(|&r| {
+                    let r = r as usize;
+                    lit[r] / (unlit[r] / (COLOR - background)) + background
+                })
+                .collect()
+        })
+        .collect();
+    let eye = side_on().eye();
+    let opacity = fur::render::Shadows::default().opacity;
+    let through = through_one_layer(opacity, sigma_a_from_color(COLOR, 0.3), 1.55, false);
+    // The twin at a row's height, the coat's layers counted by `layers`.
+    let twin = |l: Vec3, y: f32, layers: &dyn Fn(Vec3, f32) -> f32| {
+        let l = l.normalize();
+        let p = Vec3::new(0.0, y, 0.0);
+        let lit = through.powf(layers(l, y));
+        std::f32::consts::PI
+            * INTENSITY
+            * marschner(Vec3::Y, l, (eye - p).normalize(), COLOR, &FIBRE, lit)
+    };
+    let off_by = |layers: &dyn Fn(Vec3, f32) -> f32| {
+        let mut worst: f32 = 0.0;
+        let mut peak: f32 = 0.0;
+        for (l, row_light) in lights.iter().zip(&measured) {
+            for (&r, m) in rows.iter().zip(row_light) {
+                let p = twin(*l, height_of_row(r), layers);
+                peak = peak.max(p.max_element());
+                worst = worst.max((*m - p).abs().max_element());
+            }
+        }
+        worst / peak
+    };
+    let coat = |per_unit: f32| {
+        move |l: Vec3, y: f32| coat_layers(Vec3::Y, l, HAIR_LENGTH, y, 0.0, per_unit)
+    };
+    let off = off_by(&coat(per_unit));
+    for (l, row_light) in lights.iter().zip(&measured) {
+        let pairs: Vec<String> = rows
+            .iter()
+            .zip(row_light)
+            .step_by(4)
+            .map(|(&r, m)| {
+                let y = height_of_row(r);
+                format!(
+                    "y {y:.3}: {:.4} / {:.4}",
+                    m.x,
+                    twin(*l, y, &coat(per_unit)).x
+                )
+            })
+            .collect();
+        println!("light {l}: device / twin (red) {}", pairs.join(", "));
+    }
+    println!("off by {off}");
+    // 8-bit rounding of small lights over small coverage (measured: the printout).
+    assert!(
+        off < 0.08,
+        "the device is off its twin's coat by {off} of the peak"
+    );
+    for (what, wrong) in [
+        (
+            "no coat",
+            &(|_: Vec3, _: f32| 0.0f32) as &dyn Fn(Vec3, f32) -> f32,
+        ),
+        ("twice the layers", &coat(2.0 * per_unit)),
+        ("half the layers", &coat(0.5 * per_unit)),
+        ("the layers counted from the tip", &|l: Vec3, y: f32| {
+            coat_layers(Vec3::Y, l, HAIR_LENGTH, HAIR_LENGTH - y, 0.0, per_unit)
+        }),
+    ] {
+        let wrong_off = off_by(wrong);
+        assert!(
+            wrong_off > 2.0 * off.max(0.02),
+            "a prediction with {what} matches as well ({wrong_off} against {off})"
+        );
+    }
     common::assert_clean(&device);
 }

@@ -343,3 +343,52 @@ fn gpu_stays_finite_and_bounded_at_the_extremes() {
     assert_eq!(predicted, 8);
     common::assert_clean(&device);
 }
+
+/// Sleep's first guard: a strand sleeps only with its root still. A settled groom whose
+/// body then creeps sideways by a fifth of sleep's threshold a frame (2e-4 of the hair
+/// length, under `REST_MOTION`), so every other vertex moves slowly enough to sleep:
+/// the device's strands must follow their roots as the CPU reference's do, within one
+/// frame's rounding budget, and the body must really have moved. Seen failing with the
+/// kernel's root check taken out: 3.9e-4 from the reference against a budget of 1.0e-5
+/// (5.2e-7 with it), the strands sleeping a frame at a time behind their roots.
+#[test]
+fn a_creeping_root_keeps_its_strand_awake() {
+    let device = common::device();
+    let strands = strands(2, &GroomParams::default());
+    let params = SimParams::default();
+    assert!(
+        params.hair_can_rest(),
+        "the default simulation lets hair sleep"
+    );
+    let settle = 1.0;
+    let speed =
+        0.2 * f64::from(fur::sim::cpu::REST_MOTION) * f64::from(strands.hair_length()) * 60.0;
+    let head = move |t: f64| {
+        DMat4::from_translation(glam::DVec3::new((t - settle).max(0.0) * speed, 0.0, 0.0))
+    };
+    let mut textures = StrandTextures::new(&device, &strands, head(0.0).as_mat4()).unwrap();
+    let mut gpu = GpuSim::new(&device, &textures, params.clone()).unwrap();
+    let mut cpu = CpuSim::<f32>::new(&strands, params, head(0.0));
+    let frames = 60 + 30;
+    gpu.run_frames(&mut textures, frames, head).unwrap();
+    for _ in 0..frames {
+        cpu.step_frame(head);
+    }
+    let on_gpu = textures.read_positions(textures.current).unwrap();
+    let on_cpu: Vec<Vec3> = cpu.current.iter().map(|v| v.to_vec3()).collect();
+    let error = max_error(&on_gpu, &on_cpu);
+    let tolerance = parity_tolerance(&cpu.params, &cpu, &on_cpu);
+    let crept = 30.0 * speed / 60.0;
+    println!("crept {crept:e}; max |gpu - cpu| = {error:e} (tolerance {tolerance:e})");
+    assert!(
+        crept as f32 > 10.0 * tolerance,
+        "the body hardly moved ({crept} against {tolerance})"
+    );
+    assert!(
+        error <= tolerance,
+        "the device's strands are {error} from the reference's after creeping"
+    );
+    drop(gpu);
+    drop(textures);
+    common::assert_clean(&device);
+}

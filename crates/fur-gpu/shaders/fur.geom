@@ -160,6 +160,9 @@ void find_coat(uvec3 h) {
 #if !SHADOW_CASTER && VERTEX_SHADING
 vec4 lit_along;                // the lit vertex, computed once for both ribbon sides
 #endif
+#if MARSCHNER && !SHADOW_CASTER && !VERTEX_SHADING
+float vertex_coat;             // the vertex's coat_layers, computed once for both sides
+#endif
 #if STAGE_VIEW != 0 && STAGE_VIEW != STAGE_SHADOW
 vec3 view_colour;              // the stage view's colour of this hair
 #endif
@@ -183,7 +186,7 @@ void write_outputs(uint k, vec3 t) {
     g_tangent_along = vec4(t, along(k));
     g_world = P[k];
 #if MARSCHNER
-    g_coat = coat_layers(k);
+    g_coat = vertex_coat;
 #endif
 #endif
     g_coverage = C[k];
@@ -210,6 +213,8 @@ void emit_vertex(uint k, vec3 t) {
     lit_along = vec4(marschner(t, P[k], hair_base(along(k), root_texel()), coat_layers(k)), along(k));
 #elif !SHADOW_CASTER && VERTEX_SHADING
     lit_along = vec4(kajiya_kay(t, P[k], light_through_fur(P[k])), along(k));
+#elif MARSCHNER && !SHADOW_CASTER
+    vertex_coat = coat_layers(k);
 #endif
 #if LINES
     write_outputs(k, t);

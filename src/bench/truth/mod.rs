@@ -271,9 +271,10 @@ impl Bench<'_> {
         let _ = writeln!(
             self.md,
             "The Marschner drawing (ꟻLIP {all_flip:.4}; no shadow map: the light through \
-             the fur is the coat's estimate) with one of its terms dropped: *change*, what dropping it does to the distance, as a share of that \
-             drawing's ꟻLIP (positive: the term brings the drawing closer to the truth; \
-             negative: the drawing is closer without it).\n\n| term dropped | ꟻLIP | \
+             the fur is the coat's estimate) with one of its terms dropped: *change*, what \
+             dropping it does to the distance, as a share of that drawing's ꟻLIP \
+             (positive: the term brings the drawing closer to the truth; negative: the \
+             drawing is closer without it).\n\n| term dropped | ꟻLIP | \
              RMSE | change |\n| --- | --- | --- | --- |\n| none | {all_flip:.4} | \
              {all_rmse:.4} | – |"
         );

@@ -264,7 +264,13 @@ bool push_out_skinned(inout vec3 m, uint k, float arc, float margin, uint carry,
             vec3 off = m - (a + ab * t);
             float dist = length(off);
             // No farther out than a vertex `arc` along the hair from its root can reach.
+#ifdef FUR_TEST_NO_REACH
+            // Test only: every capsule pushes out to its full radius, however far the
+            // vertex is along the hair (tests/skinning/depth.rs must then fail).
+            float dc = dist - near_a[c].w;
+#else
             float dc = dist - min(near_a[c].w, near_root[c] + arc);
+#endif
             if (dc < margin && dist > MIN_LENGTH) {
                 vec3 n = off * (1.0 / dist);
                 m = m + n * (margin - dc);

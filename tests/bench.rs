@@ -77,6 +77,14 @@ fn quick_bench_writes_every_expected_measurement() {
         for scene in ["blob", "sphere", "critter-walking"] {
             expect("truth", scene, "own_flip");
             expect("truth", scene, "noise_flip");
+            // The seed's spread is measured drawing by drawing: never below zero, and
+            // under the reference's own noise (a figure moves less than the image).
+            let spread = value("truth", scene, "seed_spread_flip");
+            let noise = value("truth", scene, "noise_flip");
+            assert!(
+                (0.0..=noise).contains(&spread),
+                "{scene}: seed spread {spread} against reference noise {noise}"
+            );
             let all = value("truth", &format!("{scene}: all terms"), "flip");
             for term in ["R", "TT", "TRT", "multiple scattering"] {
                 expect("truth", &format!("{scene}: without {term}"), "flip");

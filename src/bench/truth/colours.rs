@@ -4,7 +4,7 @@
 use std::fmt::Write as _;
 use std::path::Path;
 
-use super::{cached_trace, export};
+use super::{cached_trace, export, seed_spread};
 use crate::bench::Bench;
 use crate::error::Result;
 use crate::export::compare::{errors, to_srgb8};
@@ -35,6 +35,7 @@ impl Bench<'_> {
             base.name, base.name
         );
         let mut noises = Vec::new();
+        let mut spreads = Vec::new();
         for preset in [FurPreset::White, FurPreset::Blond, FurPreset::Black] {
             let mut scene = base.scene.clone();
             scene.options.lighting.preset = preset;
@@ -73,11 +74,19 @@ impl Bench<'_> {
                         if shadows { ", shadows on" } else { "" },
                         if coloured { ", coloured" } else { "" }
                     );
-                    drawings.push((what, drawn.frame_ms, f, e));
+                    let f_second = errors(&drawn.image, &second)?.0;
+                    drawings.push((what, drawn.frame_ms, f, e, f_second));
                 }
             }
             (self.progress)(&format!("{name}: drawings"));
-            for (what, ms, f, e) in drawings {
+            let pairs: Vec<(f64, f64)> = drawings.iter().map(|d| (d.2, d.4)).collect();
+            let (spread, gap) = seed_spread(&pairs);
+            self.row("truth", name.clone(), "seed_spread_flip", spread, "0..1");
+            spreads.push(format!(
+                "{} {spread:.4} (closest two drawings {gap:.4})",
+                preset.name()
+            ));
+            for (what, ms, f, e, _) in drawings {
                 let _ = writeln!(
                     self.md,
                     "| {} | {what} | {ms:.1} | {f:.4} | {e:.4} |",
@@ -93,8 +102,10 @@ impl Bench<'_> {
         }
         let _ = writeln!(
             self.md,
-            "\nReference noise (ꟻLIP): {}.\n",
-            noises.join(", ")
+            "\nReference noise (ꟻLIP): {}. The seed's spread (the most any ꟻLIP here moves \
+             against a second reference): {}.\n",
+            noises.join(", "),
+            spreads.join(", ")
         );
         Ok(())
     }

@@ -68,6 +68,8 @@ struct Measured {
     frame_ms: f64,
     flip: f64,
     rmse: f64,
+    /// ꟻLIP against the second reference (another seed).
+    flip_second: f64,
 }
 
 impl Bench<'_> {
@@ -195,6 +197,7 @@ impl Bench<'_> {
                 frame_ms: drawn.frame_ms,
                 flip: f,
                 rmse: e,
+                flip_second: errors(&drawn.image, &second)?.0,
             });
             (self.progress)(&format!("{scene}: rung {r}"));
         }
@@ -212,6 +215,7 @@ impl Bench<'_> {
                 frame_ms: drawn.frame_ms,
                 flip: f,
                 rmse: e,
+                flip_second: errors(&drawn.image, &second)?.0,
             });
         }
         let supersampled = shot.reference(4)?;
@@ -306,12 +310,24 @@ impl Bench<'_> {
     }
 
     fn truth_table(&mut self, scene: &str, measured: &[Measured], noise: (f64, f64)) {
+        let pairs: Vec<(f64, f64)> = measured.iter().map(|m| (m.flip, m.flip_second)).collect();
+        let (spread, gap) = seed_spread(&pairs);
         let _ = writeln!(
             self.md,
-            "### {scene}\n\nReference noise: ꟻLIP {:.4}, RMSE {:.4}.\n\n| drawing | frame ms | \
-             ꟻLIP | RMSE |\n| --- | --- | --- | --- |",
-            noise.0, noise.1
+            "### {scene}\n\nReference noise: ꟻLIP {:.4}, RMSE {:.4}. {}\n\n| drawing | \
+             frame ms | ꟻLIP | RMSE |\n| --- | --- | --- | --- |",
+            noise.0,
+            noise.1,
+            spread_sentence(spread, gap)
         );
+        self.row(
+            "truth",
+            scene.to_string(),
+            "seed_spread_flip",
+            spread,
+            "0..1",
+        );
+        self.row("truth", scene.to_string(), "closest_gap_flip", gap, "0..1");
         for m in measured {
             let _ = writeln!(
                 self.md,
@@ -431,6 +447,38 @@ fn cached_trace(
     read_pfm(&pfm)
 }
 
+/// How far the reference's own noise moves a table's figures, from each drawing's ꟻLIP
+/// against the reference and against the second one (another seed), `pairs`: the
+/// largest change of any drawing's ꟻLIP (the seed's spread: the uncertainty of each
+/// figure), and the smallest difference between two drawings' ꟻLIP against the first
+/// (what the table must resolve). A figure is to be trusted to the spread, and two
+/// drawings told apart where they differ by more.
+pub(super) fn seed_spread(pairs: &[(f64, f64)]) -> (f64, f64) {
+    let spread = pairs.iter().map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
+    let mut gap = f64::INFINITY;
+    for (i, (a, _)) in pairs.iter().enumerate() {
+        for (b, _) in &pairs[i + 1..] {
+            gap = gap.min((a - b).abs());
+        }
+    }
+    (spread, if gap.is_finite() { gap } else { 0.0 })
+}
+
+/// The sentence under a truth table that says what [`seed_spread`] found.
+pub(super) fn spread_sentence(spread: f64, gap: f64) -> String {
+    format!(
+        "Against a second reference (another seed) every ꟻLIP below moves by at most \
+         {spread:.4}; the closest two drawings differ by {gap:.4} ({}).",
+        if spread * 10.0 <= gap {
+            "under a tenth of it: the noise orders nothing here"
+        } else if spread < gap {
+            "the order of every two drawings holds"
+        } else {
+            "drawings closer than the spread are not told apart"
+        }
+    )
+}
+
 /// A signed percentage to the nearest whole one ("+3 %", "−12 %", "0 %").
 fn percent(x: f64) -> String {
     let rounded = x.round();
@@ -451,4 +499,21 @@ fn fnv64(parts: &[&[u8]]) -> u64 {
         }
     }
     h
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_seed_spread_is_the_largest_move_and_the_gap_the_closest_pair() {
+        let pairs = [(0.10, 0.11), (0.20, 0.19), (0.105, 0.1), (0.3, 0.3)];
+        let (spread, gap) = seed_spread(&pairs);
+        assert!((spread - 0.01).abs() < 1e-12, "{spread}");
+        assert!((gap - 0.005).abs() < 1e-12, "{gap}");
+        assert_eq!(seed_spread(&[(0.1, 0.2)]).1, 0.0, "one drawing has no pair");
+        assert!(spread_sentence(0.001, 0.02).contains("under a tenth"));
+        assert!(spread_sentence(0.005, 0.02).contains("order of every two"));
+        assert!(spread_sentence(0.02, 0.01).contains("not told apart"));
+    }
 }

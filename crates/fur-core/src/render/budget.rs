@@ -510,4 +510,111 @@ mod tests {
         let mut off = Budget::new(0.0);
         assert!(run(&mut off, &COSTS, 50, true, 0.0).iter().all(|&r| r == 0));
     }
+
+    /// Each rung sets exactly its own settings on a style that differs from every rung
+    /// in each of them (its own MSAA and vertex LOD kept where they are the cheaper,
+    /// its density distance scaled, the widening on), and rung 0 leaves even the
+    /// widening as the scene has it: a rung that forgets one setting, or a rung 0 that
+    /// takes the general path, fails here (the device test
+    /// `every_rung_of_the_ladder_draws_differently` sees the images).
+    #[test]
+    fn each_rung_sets_its_own_settings_and_keeps_the_scenes_cheaper_ones() {
+        let scene = FurStyle {
+            samples: 8,
+            primitive: Primitive::Auto,
+            vertex_lod_px: 0.01,
+            lod_distance: 10.0,
+            thickness_compensation: false,
+            ..FurStyle::default()
+        };
+        assert_eq!(LADDER[0].apply(&scene), scene);
+        for rung in &LADDER[1..] {
+            let drawn = rung.apply(&scene);
+            let expected = FurStyle {
+                samples: rung.samples,
+                primitive: rung.primitive,
+                vertex_lod_px: rung.vertex_lod_px,
+                lod_distance: 10.0 * rung.density_lod,
+                thickness_compensation: true,
+                ..scene.clone()
+            };
+            assert_eq!(drawn, expected, "{}", rung.name);
+        }
+        // A scene already cheaper than a rung keeps its own MSAA and vertex LOD.
+        let cheap = FurStyle {
+            samples: 1,
+            vertex_lod_px: 2.0,
+            ..scene.clone()
+        };
+        let drawn = LADDER[1].apply(&cheap);
+        assert_eq!((drawn.samples, drawn.vertex_lod_px), (1, 2.0));
+    }
+
+    /// Frames of `ms` each at whatever rung is in use; the rungs returned.
+    fn frames_at(b: &mut Budget, costs: &[f64], frames: usize) -> Vec<usize> {
+        (0..frames)
+            .map(|_| {
+                let ms = costs[b.rung];
+                b.observe(ms, ms / 1e3, true)
+            })
+            .collect()
+    }
+
+    /// After the first descent, the controller holds a rung within `OVER` of the budget,
+    /// steps down when the smoothed time passes it, waits `SETTLE_FRAMES` between two
+    /// changes, says when the cheapest rung misses, and climbs back one rung at a time
+    /// when the budget grows. Every frame count below is worked out from the constants
+    /// (smoothing 0.3: a time that jumps from a to b reads a + (b − a)(1 − 0.7^k) after
+    /// k frames), so a changed threshold, comparison or step shows.
+    #[test]
+    fn the_settled_controller_holds_steps_and_climbs_as_its_constants_say() {
+        let mut b = Budget::new(100.0);
+        assert_eq!(frames_at(&mut b, &COSTS, 5), [0, 4, 3, 3, 3]);
+        // Rung 3 slows to 104 ms, under 1.05 × the budget: held for good.
+        let mut costs = COSTS;
+        costs[3] = 104.0;
+        assert!(frames_at(&mut b, &costs, 50).iter().all(|&r| r == 3));
+        // 108 ms: the smoothed time reads 105.2 at once, over 105: one rung down.
+        costs[3] = 108.0;
+        assert_eq!(frames_at(&mut b, &costs, 1), [4]);
+        // Rung 4 (seen at 66 ms in the descent) now takes 200: over at once, but the
+        // change waits for the eighth frame since the last.
+        costs[4] = 200.0;
+        assert_eq!(frames_at(&mut b, &costs, 8), [4, 4, 4, 4, 4, 4, 4, 5]);
+        // The cheapest rung over budget: its first frame is cold (300 ms against a
+        // prediction of 36), the eighth frame since the change says it missed.
+        costs[5] = 300.0;
+        assert_eq!(frames_at(&mut b, &costs, 7), [5; 7]);
+        assert!(!b.missed);
+        assert_eq!(frames_at(&mut b, &costs, 1), [5]);
+        assert!(b.missed);
+        // The budget grows to 1 s: each rung above is predicted under 0.8 of it, and
+        // the controller climbs one rung at its first chance, then every eighth frame.
+        b.target_ms = 1000.0;
+        let climbed = frames_at(&mut b, &COSTS, 40);
+        let changes: Vec<(usize, usize)> = (0..climbed.len())
+            .filter(|&k| k == 0 || climbed[k] != climbed[k - 1])
+            .map(|k| (k + 1, climbed[k]))
+            .collect();
+        assert_eq!(changes, [(1, 4), (9, 3), (17, 2), (25, 1), (33, 0)]);
+    }
+
+    /// A pinned rung past the ladder is its cheapest rung; a frame time of zero, below
+    /// zero or not finite is not taken as a cost (the smoothed time stays as it was).
+    #[test]
+    fn a_pin_past_the_ladder_and_impossible_times_are_harmless() {
+        let mut b = Budget::new(100.0);
+        b.pinned = Some(99);
+        assert_eq!(b.observe(10.0, 0.01, true), LADDER.len() - 1);
+        let mut b = Budget::new(100.0);
+        b.observe(80.0, 0.08, true);
+        for ms in [0.0, -5.0, f64::NAN, f64::INFINITY] {
+            b.observe(ms, 0.01, true);
+            assert_eq!(b.predicted_ms(0), Some(80.0), "after a frame of {ms} ms");
+        }
+        // The smoothing itself: 80 then 180 reads 80 + 0.3 × 100 (held at the default:
+        // the sixth frame since the start, inside `SETTLE_FRAMES`).
+        assert_eq!(b.observe(180.0, 0.18, true), 0);
+        assert!((b.predicted_ms(0).unwrap() - 110.0).abs() < 1e-9);
+    }
 }

@@ -570,6 +570,15 @@ mod tests {
     fn the_settled_controller_holds_steps_and_climbs_as_its_constants_say() {
         let mut b = Budget::new(100.0);
         assert_eq!(frames_at(&mut b, &COSTS, 5), [0, 4, 3, 3, 3]);
+        // The ratios follow what is seen: rung 3 at 80 ms is 0.2 of the default's 400,
+        // so rung 2, never drawn, is predicted at 400 × 0.4 (its guess against the
+        // default), not 80 × 0.4 / 0.27 (against rung 3's first guess).
+        assert!((b.predicted_ms(2).unwrap() - 160.0).abs() < 1e-9);
+        // A budget of 180 ms: rung 2 (160) is over 0.8 of it, so rung 3 is kept though
+        // it alone would be under.
+        b.target_ms = 180.0;
+        assert!(frames_at(&mut b, &COSTS, 20).iter().all(|&r| r == 3));
+        b.target_ms = 100.0;
         // Rung 3 slows to 104 ms, under 1.05 × the budget: held for good.
         let mut costs = COSTS;
         costs[3] = 104.0;
@@ -597,6 +606,40 @@ mod tests {
             .map(|k| (k + 1, climbed[k]))
             .collect();
         assert_eq!(changes, [(1, 4), (9, 3), (17, 2), (25, 1), (33, 0)]);
+    }
+
+    /// The first descent's three choices, each where it decides: a default within
+    /// 1.05 of the budget is kept; the rung above the one it lands on is looked at only
+    /// when predicted within 1.3 of the budget (520 × 0.27 = 140 is not), and never
+    /// when it was drawn already (the default, seen at 120 ms).
+    #[test]
+    fn the_first_descent_keeps_looks_up_and_holds_where_its_constants_say() {
+        let mut b = Budget::new(100.0);
+        assert_eq!(
+            run(&mut b, &[104.0, 60.0, 40.0, 30.0, 20.0, 10.0], 4, true, 0.0),
+            [0; 4]
+        );
+        let mut b = Budget::new(100.0);
+        let costs = [520.0, 300.0, 200.0, 120.0, 66.0, 40.0];
+        assert_eq!(run(&mut b, &costs, 5, true, 0.0), [0, 4, 4, 4, 4]);
+        let mut b = Budget::new(100.0);
+        let costs = [120.0, 60.0, 40.0, 30.0, 20.0, 10.0];
+        assert_eq!(run(&mut b, &costs, 5, true, 0.0), [0, 1, 1, 1, 1]);
+    }
+
+    /// A rung drawn slower than the default (a pinned rung on a device where lines cost
+    /// more) does not make the ratios say it is: the rung below it is still predicted
+    /// from its guess.
+    #[test]
+    fn a_rung_slower_than_the_default_leaves_its_ratio() {
+        let mut b = Budget::new(100.0);
+        b.pinned = Some(1);
+        b.observe(400.0, 0.4, true);
+        // Rung 1's first frame, over twice its prediction of 228, is taken as cold.
+        b.observe(500.0, 0.5, true);
+        b.observe(500.0, 0.5, true);
+        // Rung 2 is predicted from rung 1 (the nearest seen): 500 × 0.4 / 0.57.
+        assert!((b.predicted_ms(2).unwrap() - 500.0 * 0.4 / 0.57).abs() < 1e-9);
     }
 
     /// A pinned rung past the ladder is its cheapest rung; a frame time of zero, below

@@ -153,4 +153,19 @@ mod tests {
         }
         assert_eq!(FurPreset::White.colour(0.3).unwrap(), Vec3::ONE);
     }
+
+    /// Each preset's name reads back as that preset, every name differs (the scene
+    /// files and `--fur-preset` spell them), and a name that is none is refused.
+    #[test]
+    fn every_preset_reads_back_from_its_name() {
+        for preset in FurPreset::ALL {
+            assert_eq!(preset.name().parse::<FurPreset>(), Ok(preset));
+        }
+        let names: std::collections::HashSet<&str> =
+            FurPreset::ALL.iter().map(|p| p.name()).collect();
+        assert_eq!(names.len(), FurPreset::ALL.len());
+        assert!(names.contains("blond") && names.contains("none"));
+        let err = "auburn".parse::<FurPreset>().unwrap_err();
+        assert!(err.contains("`auburn`"), "{err}");
+    }
 }

@@ -143,10 +143,17 @@ fn roots_off_the_surface_are_reported_and_far_ones_refused() {
     let lift = 2.0 * BIND_TOLERANCE;
     let (_, report) = Strands::from_guides(&mesh, &guides(lift), &groom(), Outside::Bald).unwrap();
     assert_eq!(report.far_roots, mesh.vertex_count());
-    assert!(report
-        .warnings(radius)
-        .iter()
-        .any(|w| w.contains("farther than")));
+    let warnings = report.warnings(radius);
+    assert_eq!(warnings.len(), 1, "{warnings:?}");
+    let count = format!(
+        "{} of {} guide roots",
+        mesh.vertex_count(),
+        mesh.vertex_count()
+    );
+    assert!(warnings[0].contains(&count), "{warnings:?}");
+    // Roots on the surface: nothing to say.
+    let (_, on) = Strands::from_guides(&mesh, &guides(0.0), &groom(), Outside::Bald).unwrap();
+    assert!(on.warnings(radius).is_empty(), "{:?}", on.warnings(radius));
     let err = Strands::from_guides(&mesh, &guides(2.0 * BIND_LIMIT), &groom(), Outside::Bald)
         .unwrap_err();
     assert!(
@@ -192,4 +199,15 @@ fn sparse_straight_guides_make_every_hair_stand_along_its_own_normal() {
         worst = worst.min(along.dot(n.normalize()));
     }
     assert!(worst > 0.9999, "a hair leans off its normal: cos {worst}");
+}
+
+/// `--groom-outside`'s names read back as their choices, and another is refused.
+#[test]
+fn each_outside_choice_reads_back_from_its_name() {
+    for outside in Outside::ALL {
+        assert_eq!(outside.name().parse::<Outside>(), Ok(outside));
+    }
+    assert_ne!(Outside::Bald.name(), Outside::Grow.name());
+    let err = "shaved".parse::<Outside>().unwrap_err();
+    assert!(err.contains("`shaved`"), "{err}");
 }

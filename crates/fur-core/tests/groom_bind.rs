@@ -54,6 +54,18 @@ fn resampling_keeps_the_length_and_spaces_evenly() {
     }
 }
 
+/// A guide with a repeated point (a zero-length segment, as files hold) resamples to
+/// finite points along the same path.
+#[test]
+fn a_repeated_point_resamples_to_finite_points() {
+    let poly = [Vec3::ZERO, Vec3::ZERO, Vec3::X, Vec3::X, 2.0 * Vec3::X];
+    let r = resample(&poly, 4);
+    for (k, p) in r.iter().enumerate() {
+        assert!(p.is_finite(), "{r:?}");
+        assert!(p.distance(0.5 * k as f32 * Vec3::X) < 1e-6, "{r:?}");
+    }
+}
+
 /// The masters of a body, written out as guides and read back in, are the same hairs:
 /// every root binds to its own vertex and takes its own guide alone.
 #[test]
@@ -201,6 +213,49 @@ fn sparse_straight_guides_make_every_hair_stand_along_its_own_normal() {
     assert!(worst > 0.9999, "a hair leans off its normal: cos {worst}");
 }
 
+/// The binding's limits are in bounding radii: on a body three times the unit sphere
+/// (the limits in scene units then differ from the unit sphere's by more than the
+/// tolerance does from the limit), roots lifted by twice the reporting tolerance are
+/// reported and bound, and roots past the refusal limit are refused.
+#[test]
+fn the_binding_limits_scale_with_the_body() {
+    let mut mesh = Mesh::icosphere(2);
+    for p in &mut mesh.positions {
+        *p *= 3.0;
+    }
+    let (_, radius) = mesh.bounds();
+    // The bounding radius: half the box's diagonal, 3√3.
+    assert!((radius - 3.0 * 3f32.sqrt()).abs() < 1e-3, "radius {radius}");
+    let guides = |lift: f32| {
+        let mut g = Guides::default();
+        for (p, n) in mesh.positions.iter().zip(&mesh.normals) {
+            g.counts.push(2);
+            g.points
+                .extend([*p + *n * lift * radius, *p + *n * (lift * radius + 0.5)]);
+        }
+        g
+    };
+    let (_, report) = Strands::from_guides(
+        &mesh,
+        &guides(2.0 * BIND_TOLERANCE),
+        &groom(),
+        Outside::Bald,
+    )
+    .unwrap();
+    assert_eq!(report.far_roots, mesh.vertex_count());
+    let (_, near) = Strands::from_guides(
+        &mesh,
+        &guides(0.5 * BIND_TOLERANCE),
+        &groom(),
+        Outside::Bald,
+    )
+    .unwrap();
+    assert_eq!(near.far_roots, 0);
+    assert!(
+        Strands::from_guides(&mesh, &guides(2.0 * BIND_LIMIT), &groom(), Outside::Bald).is_err()
+    );
+}
+
 /// `--groom-outside`'s names read back as their choices, and another is refused.
 #[test]
 fn each_outside_choice_reads_back_from_its_name() {
@@ -210,4 +265,42 @@ fn each_outside_choice_reads_back_from_its_name() {
     assert_ne!(Outside::Bald.name(), Outside::Grow.name());
     let err = "shaved".parse::<Outside>().unwrap_err();
     assert!(err.contains("`shaved`"), "{err}");
+}
+
+/// A vertex between guides of different shapes takes their shapes weighted by
+/// 1 / d² (d: the vertex's distance to each guide's root): on a flat grid, straight
+/// guides 0.2 and 0.4 long at 0.5 and 1.5 from a vertex give it a hair
+/// (0.2 · 4 + 0.4 / 2.25) / (4 + 1 / 2.25) = 0.22 long. A vertex beyond the groomed
+/// region (twice the roots' spacing) is bald: a stub along its normal, outwards.
+#[test]
+fn a_vertex_blends_its_guides_by_inverse_square_distance() {
+    let mesh = Mesh::grid(16, 16, 8.0);
+    let at = |x: f32, z: f32| {
+        mesh.positions
+            .iter()
+            .position(|p| p.distance(Vec3::new(x, 0.0, z)) < 1e-4)
+            .unwrap()
+    };
+    let (a, b, v, far) = (at(-0.5, 0.0), at(0.5, 0.0), at(-1.0, 0.0), at(4.0, 4.0));
+    let mut guides = Guides::default();
+    for (root, length) in [(a, 0.2), (b, 0.4)] {
+        let n = mesh.normals[root].normalize();
+        guides.counts.push(2);
+        guides
+            .points
+            .extend([mesh.positions[root], mesh.positions[root] + n * length]);
+    }
+    let (strands, report) = Strands::from_guides(&mesh, &guides, &groom(), Outside::Bald).unwrap();
+    assert!(report.groomed_vertices < mesh.vertex_count());
+    let hair = strands.strand(v);
+    let n = mesh.normals[v].normalize();
+    let length = (hair[hair.len() - 1] - hair[0]).dot(n);
+    let expected = (0.2 * 4.0 + 0.4 / 2.25) / (4.0 + 1.0 / 2.25);
+    assert!(
+        (length - expected).abs() < 1e-4,
+        "{length} against {expected}"
+    );
+    let stub = strands.strand(far);
+    let n = mesh.normals[far].normalize();
+    assert!((stub[stub.len() - 1] - stub[0]).dot(n) > 0.0, "{stub:?}");
 }

@@ -270,7 +270,8 @@ fn each_outside_choice_reads_back_from_its_name() {
 /// A vertex between guides of different shapes takes their shapes weighted by
 /// 1 / d² (d: the vertex's distance to each guide's root): on a flat grid, straight
 /// guides 0.2 and 0.4 long at 0.5 and 1.5 from a vertex give it a hair
-/// (0.2 · 4 + 0.4 / 2.25) / (4 + 1 / 2.25) = 0.22 long. A vertex beyond the groomed
+/// (0.2 · 4 + 0.4 / 2.25) / (4 + 1 / 2.25) = 0.22 long; a guide past the groomed
+/// region does not count in the blend. A vertex beyond the groomed
 /// region (twice the roots' spacing) is bald: a stub along its normal, outwards.
 #[test]
 fn a_vertex_blends_its_guides_by_inverse_square_distance() {
@@ -300,6 +301,11 @@ fn a_vertex_blends_its_guides_by_inverse_square_distance() {
         (length - expected).abs() < 1e-4,
         "{length} against {expected}"
     );
+    // At 1.5 and 2.5 from the roots the second guide is past the region (2): the
+    // vertex takes the first guide alone.
+    let alone = strands.strand(at(-2.0, 0.0));
+    let length = (alone[alone.len() - 1] - alone[0]).dot(n);
+    assert!((length - 0.2).abs() < 1e-4, "{length} against the first guide's 0.2");
     let stub = strands.strand(far);
     let n = mesh.normals[far].normalize();
     assert!((stub[stub.len() - 1] - stub[0]).dot(n) > 0.0, "{stub:?}");

@@ -305,7 +305,10 @@ fn a_vertex_blends_its_guides_by_inverse_square_distance() {
     // vertex takes the first guide alone.
     let alone = strands.strand(at(-2.0, 0.0));
     let length = (alone[alone.len() - 1] - alone[0]).dot(n);
-    assert!((length - 0.2).abs() < 1e-4, "{length} against the first guide's 0.2");
+    assert!(
+        (length - 0.2).abs() < 1e-4,
+        "{length} against the first guide's 0.2"
+    );
     let stub = strands.strand(far);
     let n = mesh.normals[far].normalize();
     assert!((stub[stub.len() - 1] - stub[0]).dot(n) > 0.0, "{stub:?}");

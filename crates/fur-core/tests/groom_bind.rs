@@ -137,19 +137,22 @@ fn a_partial_groom_grooms_its_region_and_leaves_the_rest_bald_or_grown() {
     assert_eq!(grown.strand(low), own.strand(low));
 }
 
+/// One straight guide `length` long at each vertex of `mesh`, its root `lift` off the
+/// surface along the vertex normal.
+fn lifted_guides(mesh: &Mesh, lift: f32, length: f32) -> Guides {
+    let mut g = Guides::default();
+    for (p, n) in mesh.positions.iter().zip(&mesh.normals) {
+        g.counts.push(2);
+        g.points.extend([*p + *n * lift, *p + *n * (lift + length)]);
+    }
+    g
+}
+
 #[test]
 fn roots_off_the_surface_are_reported_and_far_ones_refused() {
     let mesh = Mesh::icosphere(2);
     let (_, radius) = mesh.bounds();
-    let guides = |lift: f32| {
-        let mut g = Guides::default();
-        for (p, n) in mesh.positions.iter().zip(&mesh.normals) {
-            g.counts.push(2);
-            g.points
-                .extend([*p + *n * lift * radius, *p + *n * (lift * radius + 0.2)]);
-        }
-        g
-    };
+    let guides = |lift: f32| lifted_guides(&mesh, lift * radius, 0.2);
     let (_, report) = Strands::from_guides(&mesh, &guides(0.0), &groom(), Outside::Bald).unwrap();
     assert_eq!(report.far_roots, 0);
     let lift = 2.0 * BIND_TOLERANCE;
@@ -226,15 +229,7 @@ fn the_binding_limits_scale_with_the_body() {
     let (_, radius) = mesh.bounds();
     // The bounding radius: half the box's diagonal, 3√3.
     assert!((radius - 3.0 * 3f32.sqrt()).abs() < 1e-3, "radius {radius}");
-    let guides = |lift: f32| {
-        let mut g = Guides::default();
-        for (p, n) in mesh.positions.iter().zip(&mesh.normals) {
-            g.counts.push(2);
-            g.points
-                .extend([*p + *n * lift * radius, *p + *n * (lift * radius + 0.5)]);
-        }
-        g
-    };
+    let guides = |lift: f32| lifted_guides(&mesh, lift * radius, 0.5);
     let (_, report) = Strands::from_guides(
         &mesh,
         &guides(2.0 * BIND_TOLERANCE),

@@ -550,16 +550,6 @@ mod tests {
         assert_eq!((drawn.samples, drawn.vertex_lod_px), (1, 2.0));
     }
 
-    /// Frames of `ms` each at whatever rung is in use; the rungs returned.
-    fn frames_at(b: &mut Budget, costs: &[f64], frames: usize) -> Vec<usize> {
-        (0..frames)
-            .map(|_| {
-                let ms = costs[b.rung];
-                b.observe(ms, ms / 1e3, true)
-            })
-            .collect()
-    }
-
     /// After the first descent, the controller holds a rung within `OVER` of the budget,
     /// steps down when the smoothed time passes it, waits `SETTLE_FRAMES` between two
     /// changes, says when the cheapest rung misses, and climbs back one rung at a time
@@ -569,7 +559,7 @@ mod tests {
     #[test]
     fn the_settled_controller_holds_steps_and_climbs_as_its_constants_say() {
         let mut b = Budget::new(100.0);
-        assert_eq!(frames_at(&mut b, &COSTS, 5), [0, 4, 3, 3, 3]);
+        assert_eq!(run(&mut b, &COSTS, 5, true, 0.0), [0, 4, 3, 3, 3]);
         // The ratios follow what is seen: rung 3 at 80 ms is 0.2 of the default's 400,
         // so rung 2, never drawn, is predicted at 400 × 0.4 (its guess against the
         // default), not 80 × 0.4 / 0.27 (against rung 3's first guess).
@@ -577,30 +567,30 @@ mod tests {
         // A budget of 180 ms: rung 2 (160) is over 0.8 of it, so rung 3 is kept though
         // it alone would be under.
         b.target_ms = 180.0;
-        assert!(frames_at(&mut b, &COSTS, 20).iter().all(|&r| r == 3));
+        assert!(run(&mut b, &COSTS, 20, true, 0.0).iter().all(|&r| r == 3));
         b.target_ms = 100.0;
         // Rung 3 slows to 104 ms, under 1.05 × the budget: held for good.
         let mut costs = COSTS;
         costs[3] = 104.0;
-        assert!(frames_at(&mut b, &costs, 50).iter().all(|&r| r == 3));
+        assert!(run(&mut b, &costs, 50, true, 0.0).iter().all(|&r| r == 3));
         // 108 ms: the smoothed time reads 105.2 at once, over 105: one rung down.
         costs[3] = 108.0;
-        assert_eq!(frames_at(&mut b, &costs, 1), [4]);
+        assert_eq!(run(&mut b, &costs, 1, true, 0.0), [4]);
         // Rung 4 (seen at 66 ms in the descent) now takes 200: over at once, but the
         // change waits for the eighth frame since the last.
         costs[4] = 200.0;
-        assert_eq!(frames_at(&mut b, &costs, 8), [4, 4, 4, 4, 4, 4, 4, 5]);
+        assert_eq!(run(&mut b, &costs, 8, true, 0.0), [4, 4, 4, 4, 4, 4, 4, 5]);
         // The cheapest rung over budget: its first frame is cold (300 ms against a
         // prediction of 36), the eighth frame since the change says it missed.
         costs[5] = 300.0;
-        assert_eq!(frames_at(&mut b, &costs, 7), [5; 7]);
+        assert_eq!(run(&mut b, &costs, 7, true, 0.0), [5; 7]);
         assert!(!b.missed);
-        assert_eq!(frames_at(&mut b, &costs, 1), [5]);
+        assert_eq!(run(&mut b, &costs, 1, true, 0.0), [5]);
         assert!(b.missed);
         // The budget grows to 1 s: each rung above is predicted under 0.8 of it, and
         // the controller climbs one rung at its first chance, then every eighth frame.
         b.target_ms = 1000.0;
-        let climbed = frames_at(&mut b, &COSTS, 40);
+        let climbed = run(&mut b, &COSTS, 40, true, 0.0);
         let changes: Vec<(usize, usize)> = (0..climbed.len())
             .filter(|&k| k == 0 || climbed[k] != climbed[k - 1])
             .map(|k| (k + 1, climbed[k]))

@@ -8,7 +8,7 @@ fn walk_depths(ways: (bool, bool)) -> (f64, f64) {
     walk_depths_at(ways, (3, 10))
 }
 
-/// [`walk_depths_at`] with the default collision (the skin's blend on).
+/// [`walk_depths_with`] at the product's field resolution for a skinned body.
 fn walk_depths_at(ways: (bool, bool), frames: (usize, usize)) -> (f64, f64) {
     walk_depths_with(ways, frames, None)
 }
@@ -123,9 +123,10 @@ fn collision_keeps_the_walking_hair_out_of_the_skin() {
 ///   length (`CELLS_PER_HAIR_SKINNED`; at the rigid body's resolution, 32 cells
 ///   instead of 63 here: 2.52 %).
 ///
-/// The unit tests of `Collider::root_bone`, of the reach in the CPU twin and of
-/// `SimParams::sdf_cells` check the helpers alone; parity tests cannot see a rule taken
-/// out of both sides alike.
+/// The unit test of `Collider::root_bone` and the worked cases of `SimParams::sdf_cells`
+/// check those helpers alone, and the reach has no unit test of its own (the CPU twin
+/// follows it in the parity tests); parity tests cannot see a rule taken out of both
+/// sides alike, so this is where the three bind.
 #[test]
 fn each_skinned_collision_rule_keeps_the_walking_hair_out() {
     const TARGET_MAX: f64 = 0.01;

@@ -54,6 +54,7 @@ layout(set = SET_FRAME, binding = B_FRAME_UNIFORMS, std140) uniform Frame {
     vec4 shadow;         // opacity per hair layer, layers per unit of map depth, depth bias, unused
     uvec4 strands;       // vertices per strand, strands per row, fixed level (0 = adaptive), flags
     vec4 fibre;          // longitudinal roughness, azimuthal roughness, cuticle tilt (radians), index of refraction
+    vec4 fibre_terms;    // −1/(2 sd²) and 1/(√(2π) sd) of the R lobe, F0, 1/d(β_n) (render::marschner::shader_terms)
 } frame;
 
 // The flags of strands.w (FLAG_CULL, FLAG_THICKNESS_COMPENSATION, FLAG_COUNT,

@@ -202,8 +202,7 @@ void write_outputs(uint k, vec3 t) {
 void emit_vertex(uint k, vec3 t) {
 #if STAGE_VIEW == STAGE_SHADOW && MARSCHNER
     // The Marschner model's light through the fibres, in their colour.
-    lit_along = vec4(light_through_fibres(P[k], sigma_a_from_color(hair_base(along(k), root_texel()),
-                                                                   frame.fibre.y)),
+    lit_along = vec4(light_through_fibres(P[k], sigma_a_from_color(hair_base(along(k), root_texel()))),
                      along(k));
 #elif STAGE_VIEW == STAGE_SHADOW
     lit_along = vec4(vec3(light_through_fur(P[k])), along(k));

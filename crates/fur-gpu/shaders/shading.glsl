@@ -27,8 +27,7 @@ layout(set = SET_BODY, binding = B_ALBEDO) uniform sampler2D albedo;
 // of two radii, (1 − F0)² e^(−2σa) — goes on (dual scattering's forward-scattering
 // transmittance, Zinke et al. 2008), with FLAG_COLOURED_SHADOWS; otherwise 1 − α, grey.
 vec3 through_one_layer(vec3 sigma_a) {
-    float f0 = (1.0 - frame.fibre.w) / (1.0 + frame.fibre.w);
-    f0 *= f0;
+    float f0 = frame.fibre_terms.z;
     vec3 forward = (1.0 - f0) * (1.0 - f0) * exp(-2.0 * sigma_a);
     if ((frame.strands.w & FLAG_COLOURED_SHADOWS) == 0u) {
         forward = vec3(0.0);
@@ -127,26 +126,37 @@ vec3 kajiya_kay(vec3 t, vec3 world, float light) {
 // otherwise (fur.geom's coat_layers). frame.fibre: β_m, β_n, α (radians), η.
 const float PI = 3.14159265;
 
-float fibre_gaussian(float sd, float x) {
-    return exp(-0.5 * x * x / (sd * sd)) / (sqrt(2.0 * PI) * sd);
+const float LN_MIN_COLOR = -9.2103404;   // ln 1e-4
+
+// Reflectance at incidence cos θ: Schlick's approximation on F0 = frame.fibre_terms.z.
+float fibre_fresnel(float cos_theta) {
+    float f0 = frame.fibre_terms.z;
+    float m = 1.0 - clamp(cos_theta, 0.0, 1.0);
+    float m2 = m * m;
+    return f0 + (1.0 - f0) * (m2 * m2 * m);
 }
 
-float fibre_fresnel(float cos_theta, float eta) {
-    float f0 = (1.0 - eta) / (1.0 + eta);
-    f0 *= f0;
-    return f0 + (1.0 - f0) * pow(1.0 - clamp(cos_theta, 0.0, 1.0), 5.0);
+// ln c of a colour (of 1e-30 for black: the exponentials of it vanish).
+vec3 log_color(vec3 c) {
+    return log(max(c, vec3(1e-30)));
 }
 
-vec3 sigma_a_from_color(vec3 c, float b) {
-    float d = 5.969 - 0.215 * b + 2.532 * b * b - 10.73 * b * b * b + 5.574 * b * b * b * b
-            + 0.245 * b * b * b * b * b;
-    vec3 l = log(clamp(c, vec3(1e-4), vec3(1.0))) / d;
+// Chiang et al.'s absorption for a colour of logarithm `ln_c` (log_color), the colour
+// clamped to [1e-4, 1] (in the logarithm: the same clamp) as the mapping clamps it.
+vec3 sigma_a_from_log(vec3 ln_c) {
+    vec3 l = clamp(ln_c, vec3(LN_MIN_COLOR), vec3(0.0)) * frame.fibre_terms.w;
     return l * l;
 }
 
-// Radiance per unit irradiance of a fibre with tangent t at `world`, colour `base`,
-// `light` the fraction of the light that reaches it, colour by colour.
-vec3 marschner_terms(vec3 t, vec3 world, vec3 base, vec3 light) {
+vec3 sigma_a_from_color(vec3 c) {
+    return sigma_a_from_log(log_color(c));
+}
+
+// Radiance per unit irradiance of a fibre with tangent t at `world`, colour `base` of
+// absorption `sigma_a`, `light` the fraction of the light that reaches it, colour by
+// colour. The per-frame constants come worked out (frame.fibre_terms), and each lobe's
+// Gaussian, azimuthal exponential and absorption share one exponential per channel.
+vec3 marschner_terms(vec3 t, vec3 world, vec3 base, vec3 ln_c, vec3 light) {
     vec3 v = normalize(frame.eye.xyz - world);
     vec3 l = frame.light.xyz;
     float sin_i = clamp(dot(t, l), -1.0, 1.0);
@@ -154,31 +164,33 @@ vec3 marschner_terms(vec3 t, vec3 world, vec3 base, vec3 light) {
     float theta_i = asin(sin_i);
     float theta_o = asin(sin_o);
     float cos_d = cos(0.5 * (theta_o - theta_i));
+    float inv_cos_d = 1.0 / cos_d;
     vec3 lp = l - sin_i * t;
     vec3 vp = v - sin_o * t;
     float cos_phi = dot(lp, vp) * inversesqrt(dot(lp, lp) * dot(vp, vp) + 1e-4);
     float cos_half_phi = sqrt(clamp(0.5 + 0.5 * cos_phi, 0.0, 1.0));
-    float b = frame.fibre.x;
-    float sd = 0.726 * b + 0.812 * b * b + 3.7 * pow(b, 20.0);
+    vec3 sigma_a = sigma_a_from_log(ln_c);
+    float k = frame.fibre_terms.x;          // −1 / (2 sd²) of the R lobe
+    float norm = frame.fibre_terms.y;       // 1 / (√(2π) sd)
     float alpha = frame.fibre.z;
-    float eta = frame.fibre.w;
     float sum = theta_i + theta_o;
-    vec3 sigma_a = sigma_a_from_color(base, frame.fibre.y);
-    // R
-    float r = fibre_gaussian(sd, sum - 2.0 * alpha) * 0.25 * cos_half_phi
-            * fibre_fresnel(sqrt(clamp(0.5 + 0.5 * dot(l, v), 0.0, 1.0)), eta);
-    // TT
-    float a = 1.0 / (1.19 / cos_d + 0.36 * cos_d);
+    // R: a Gaussian of width sd.
+    float x_r = sum - 2.0 * alpha;
+    float r = norm * exp(k * x_r * x_r) * 0.25 * cos_half_phi
+            * fibre_fresnel(sqrt(clamp(0.5 + 0.5 * dot(l, v), 0.0, 1.0)));
+    // TT: a Gaussian of width sd / 2.
+    float a = 1.0 / (1.19 * inv_cos_d + 0.36 * cos_d);
     float h = cos_half_phi * (1.0 + a * (0.6 - 0.8 * cos_phi));
-    float f_tt = fibre_fresnel(cos_d * sqrt(clamp(1.0 - h * h, 0.0, 1.0)), eta);
-    vec3 t_tt = exp(-sigma_a * (2.0 * sqrt(clamp(1.0 - (h * a) * (h * a), 0.0, 1.0)) / cos_d));
-    vec3 tt = t_tt * (fibre_gaussian(0.5 * sd, sum + alpha) * exp(-3.65 * cos_phi - 3.98)
-                      * (1.0 - f_tt) * (1.0 - f_tt));
-    // TRT
-    float f_trt = fibre_fresnel(0.5 * cos_d, eta);
-    vec3 t_trt = exp(-sigma_a * (3.2 / cos_d));
-    vec3 trt = t_trt * (fibre_gaussian(2.0 * sd, sum + 4.0 * alpha) * exp(17.0 * cos_phi - 16.78)
-                        * (1.0 - f_trt) * (1.0 - f_trt) * f_trt);
+    float f_tt = fibre_fresnel(cos_d * sqrt(clamp(1.0 - h * h, 0.0, 1.0)));
+    float x_tt = sum + alpha;
+    float path_tt = 2.0 * sqrt(clamp(1.0 - (h * a) * (h * a), 0.0, 1.0)) * inv_cos_d;
+    vec3 tt = exp(-sigma_a * path_tt + (4.0 * k * x_tt * x_tt - 3.65 * cos_phi - 3.98))
+            * (2.0 * norm * (1.0 - f_tt) * (1.0 - f_tt));
+    // TRT: a Gaussian of width 2 sd.
+    float f_trt = fibre_fresnel(0.5 * cos_d);
+    float x_trt = sum + 4.0 * alpha;
+    vec3 trt = exp(-sigma_a * (3.2 * inv_cos_d) + (0.25 * k * x_trt * x_trt + 17.0 * cos_phi - 16.78))
+             * (0.5 * norm * (1.0 - f_trt) * (1.0 - f_trt) * f_trt);
     // Multiple scattering (Karis 2016)
     float kajiya = 1.0 - abs(dot(t, l));
     vec3 fake_normal = v - t * dot(v, t);
@@ -186,9 +198,9 @@ vec3 marschner_terms(vec3 t, vec3 world, vec3 base, vec3 light) {
     fake_normal = fn > 0.0 ? fake_normal / fn : vec3(0.0);
     float wrap = clamp((dot(fake_normal, l) + 1.0) / 4.0, 0.0, 1.0);
     float diffuse = (wrap + (kajiya - wrap) * 0.33) / PI;
-    float luma = max(dot(base, vec3(0.2126, 0.7152, 0.0722)), 1e-4);
-    vec3 tint = pow(max(base / luma, vec3(0.0)), vec3(1.0 - light));
-    vec3 multiple = sqrt(max(base, vec3(0.0))) * tint * (diffuse * light);
+    // √c · (c / luma)^(1 − light) as one exponential of ln c.
+    float ln_luma = log(max(dot(base, vec3(0.2126, 0.7152, 0.0722)), 1e-4));
+    vec3 multiple = exp(0.5 * ln_c + (1.0 - light) * (ln_c - ln_luma)) * (diffuse * light);
     // The truth benchmark drops one term at a time (render::marschner::Lobes).
     uint flags = frame.strands.w;
     float keep_r = (flags & FLAG_NO_R) != 0u ? 0.0 : 1.0;
@@ -204,14 +216,15 @@ vec3 marschner_terms(vec3 t, vec3 world, vec3 base, vec3 light) {
 // `coat`: without a shadow map, the hair layers between the point and the light as the
 // geometry stage estimates them from the coat (fur.geom's coat_layers).
 vec3 marschner(vec3 t, vec3 world, vec3 base, float coat) {
-    vec3 sigma_a = sigma_a_from_color(base, frame.fibre.y);
+    vec3 ln_c = log_color(base);
+    vec3 sigma_a = sigma_a_from_log(ln_c);
 #if SHADOWS
     vec3 light = light_through_fibres(world, sigma_a);
 #else
     bool lit = coat <= 0.0 || (frame.strands.w & FLAG_NO_COAT) != 0u;
     vec3 light = lit ? vec3(1.0) : pow(through_one_layer(sigma_a), vec3(coat));
 #endif
-    return frame.shading.w * base + (PI * frame.light.w) * marschner_terms(t, world, base, light);
+    return frame.shading.w * base + (PI * frame.light.w) * marschner_terms(t, world, base, ln_c, light);
 }
 #endif
 

@@ -59,6 +59,23 @@ pub fn longitudinal_variance(beta_m: f32) -> f32 {
     (0.726 * b + 0.812 * b * b + 3.7 * b.powi(20)).powi(2)
 }
 
+/// The Marschner model's per-frame constants, as the shaders take them (`frame.fibre_terms`
+/// of `shaders/common.glsl`), so that no fragment or strand vertex works them out again:
+/// the R lobe's Gaussian exponent scale −1 / (2 sd²) and normalisation
+/// 1 / (√(2π) sd) (the TT and TRT lobes, of widths sd / 2 and 2 sd, scale these by 4
+/// and 2, and by 1/4 and 1/2), the fibre's normal-incidence reflectance F0, and
+/// 1 / d(β_n) of the colour mapping ([`chiang_colour_scale`]).
+pub fn shader_terms(fibre: &Fibre) -> [f32; 4] {
+    let sd = longitudinal_variance(fibre.longitudinal_roughness).sqrt();
+    let eta = fibre.ior;
+    [
+        -0.5 / (sd * sd),
+        1.0 / ((2.0 * std::f32::consts::PI).sqrt() * sd),
+        ((1.0 - eta) / (1.0 + eta)).powi(2),
+        1.0 / chiang_colour_scale(fibre.azimuthal_roughness),
+    ]
+}
+
 fn gaussian(sd: f32, x: f32) -> f32 {
     (-0.5 * x * x / (sd * sd)).exp() / ((2.0 * std::f32::consts::PI).sqrt() * sd)
 }
@@ -177,21 +194,19 @@ pub fn lobes(t: Vec3, l: Vec3, v: Vec3, base: Vec3, fibre: &Fibre) -> [Vec3; 3] 
     [Vec3::splat(r), tt, trt]
 }
 
-/// Karis 2016's approximation of multiple scattering between fibres.
+/// Karis 2016's approximation of multiple scattering between fibres:
+/// √c · (c / luma(c))^(1 − light) · diffuse · light, written as one exponential of
+/// ln c, which the shaders share with the absorption (there clamped as
+/// [`sigma_a_from_color`] clamps the colour).
 fn multiple(t: Vec3, l: Vec3, v: Vec3, base: Vec3, light: Vec3) -> Vec3 {
     let kajiya = 1.0 - t.dot(l).abs();
     let fake_normal = (v - t * v.dot(t)).normalize_or_zero();
     let wrap = ((fake_normal.dot(l) + 1.0) / 4.0).clamp(0.0, 1.0);
     let diffuse = (wrap + (kajiya - wrap) * 0.33) / std::f32::consts::PI;
-    let luma = base.dot(Vec3::new(0.2126, 0.7152, 0.0722)).max(1e-4);
-    let ratio = (base / luma).max(Vec3::ZERO);
-    let tint = Vec3::new(
-        ratio.x.powf(1.0 - light.x),
-        ratio.y.powf(1.0 - light.y),
-        ratio.z.powf(1.0 - light.z),
-    );
-    let root = Vec3::from_array(base.max(Vec3::ZERO).to_array().map(f32::sqrt));
-    root * tint * diffuse * light
+    let luma = base.dot(Vec3::new(0.2126, 0.7152, 0.0722)).max(1e-4).ln();
+    let ln_c = Vec3::from_array(base.max(Vec3::splat(1e-30)).to_array().map(f32::ln));
+    let ln_tinted = 0.5 * ln_c + (Vec3::ONE - light) * (ln_c - Vec3::splat(luma));
+    Vec3::from_array(ln_tinted.to_array().map(f32::exp)) * diffuse * light
 }
 
 /// The fraction of the light, colour by colour, one hair layer of opacity `opacity`
@@ -283,5 +298,75 @@ pub fn skin_curvature(roots: [Vec3; 3], dirs: [Vec3; 3]) -> f32 {
         (turn / spread).max(0.0)
     } else {
         0.0
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn fibre() -> Fibre {
+        Fibre {
+            longitudinal_roughness: 0.3,
+            azimuthal_roughness: 0.4,
+            cuticle_tilt_deg: 2.0,
+            ior: 1.55,
+        }
+    }
+
+    // The shaders' lobes are k·x² and the normalisation, scaled for the TT (sd / 2)
+    // and TRT (2 sd) widths: each must be the Gaussian of its width.
+    #[test]
+    fn the_shader_terms_are_each_lobes_gaussian() {
+        let f = fibre();
+        let [k, norm, f0, inv_d] = shader_terms(&f);
+        let sd = longitudinal_variance(f.longitudinal_roughness).sqrt();
+        for x in [0.0f32, 0.1, -0.3, 0.7] {
+            let close = |a: f32, b: f32| (a - b).abs() <= 1e-5 * b.abs().max(1e-3);
+            assert!(close(norm * (k * x * x).exp(), gaussian(sd, x)), "R at {x}");
+            let tt = 2.0 * norm * (4.0 * k * x * x).exp();
+            assert!(close(tt, gaussian(0.5 * sd, x)), "TT at {x}");
+            let trt = 0.5 * norm * (0.25 * k * x * x).exp();
+            assert!(close(trt, gaussian(2.0 * sd, x)), "TRT at {x}");
+        }
+        assert!((f0 - fresnel(1.0, f.ior)).abs() < 1e-7);
+        let c = Vec3::new(0.6, 0.4, 0.2);
+        let ln = c.to_array().map(f32::ln);
+        let sigma = Vec3::from_array(ln.map(|l| (l * inv_d) * (l * inv_d)));
+        assert!(
+            (sigma - sigma_a_from_color(c, f.azimuthal_roughness))
+                .abs()
+                .max_element()
+                < 1e-6
+        );
+    }
+
+    // The multiple-scattering term is √c · (c / luma)^(1 − light) · diffuse · light,
+    // written as one exponential: both forms agree inside the clamp.
+    #[test]
+    fn multiple_scattering_is_karis_tinted_colour() {
+        let (t, l, v) = (Vec3::Y, Vec3::new(0.6, 0.0, 0.8), Vec3::new(0.0, 0.6, 0.8));
+        let kajiya = 1.0 - t.dot(l).abs();
+        let fake_normal = (v - t * v.dot(t)).normalize();
+        let wrap = ((fake_normal.dot(l) + 1.0) / 4.0).clamp(0.0, 1.0);
+        let diffuse = (wrap + (kajiya - wrap) * 0.33) / std::f32::consts::PI;
+        for (c, light) in [
+            (Vec3::new(0.9, 0.7, 0.4), Vec3::ONE),
+            (Vec3::new(0.9, 0.7, 0.4), Vec3::new(0.3, 0.2, 0.1)),
+            (Vec3::new(0.05, 0.03, 0.02), Vec3::splat(0.5)),
+            // Black fur: below the colour mapping's clamp.
+            (Vec3::new(2e-5, 7e-7, 2e-9), Vec3::new(0.9, 0.8, 0.7)),
+        ] {
+            let luma = c.dot(Vec3::new(0.2126, 0.7152, 0.0722)).max(1e-4);
+            let direct = Vec3::from_array(
+                [0, 1, 2].map(|i| c[i].sqrt() * (c[i] / luma).powf(1.0 - light[i])),
+            ) * diffuse
+                * light;
+            let got = multiple(t, l, v, c, light);
+            assert!(
+                (got - direct).abs().max_element() <= 1e-5 * direct.max_element(),
+                "{got} {direct}"
+            );
+        }
     }
 }

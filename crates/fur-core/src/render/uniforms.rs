@@ -222,6 +222,8 @@ pub struct FrameUniforms {
     /// The fibre: longitudinal and azimuthal roughness, cuticle tilt (radians), index
     /// of refraction (the Marschner model's parameters).
     pub fibre: Vec4,
+    /// The fibre model's per-frame constants ([`super::marschner::shader_terms`]).
+    pub fibre_terms: Vec4,
 }
 
 pub const FLAG_CULL: u32 = 1;
@@ -408,6 +410,7 @@ impl FrameUniforms {
                 l.fibre.cuticle_tilt_deg.to_radians(),
                 l.fibre.ior,
             ),
+            fibre_terms: Vec4::from_array(super::marschner::shader_terms(&l.fibre)),
         }
     }
 }

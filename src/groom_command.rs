@@ -4,6 +4,7 @@
 
 use super::render_command::{open, Opened};
 use super::*;
+use fur::scene::{DrawnGroom, GroomMode};
 
 #[derive(Args, Clone)]
 pub(super) struct GroomArgs {
@@ -64,7 +65,15 @@ fn at_rest(args: &GroomArgs) -> anyhow::Result<fur::groom_file::Guides> {
         // As the session does: a skinned body's fur flows along its bones.
         groom.comb_field = Some(fur::skinning::fur_flow(rig));
     }
-    let (strands, warnings) = fur::scene::Strands::grow_reported(&mesh, &groom)?;
+    let (strands, warnings) = match groom.source.as_ref().filter(|s| s.mode == GroomMode::Draw) {
+        // A drawn groom: its guides' master hairs, not the body's stubs.
+        Some(source) => {
+            let drawn = DrawnGroom::from_file(mesh, rig.map(|(r, _)| r), &groom, source)?;
+            let (_, radius) = drawn.mesh.bounds();
+            (drawn.guide_strands(), drawn.report.warnings(radius))
+        }
+        None => fur::scene::Strands::grow_reported(&mesh, &groom)?,
+    };
     for warning in warnings {
         eprintln!("warning: {warning}");
     }
@@ -95,8 +104,12 @@ fn simulated(args: &GroomArgs) -> anyhow::Result<fur::groom_file::Guides> {
             .with_context(|| format!("simulating frame {frame}"))?;
     }
     let textures = &session.textures;
-    let vertices = textures.read_vertices(textures.current)?;
+    let mut vertices = textures.read_vertices(textures.current)?;
     let per_strand = textures.layout.vertices_per_strand;
+    if let Some(first) = session.first_guide {
+        // A drawn groom: its guides' master hairs, not the body's stubs.
+        vertices.drain(..first * per_strand as usize);
+    }
     let guides = fur::groom_file::Guides {
         counts: vec![per_strand; vertices.len() / per_strand.max(1) as usize],
         points: vertices.iter().map(|v| v.truncate()).collect(),

@@ -284,6 +284,11 @@ void main() {
     vec3 jitter = (vec3(hash_unit(seed), hash_unit(seed + 1u), hash_unit(seed + 2u)) * 2.0 - 1.0)
                 * frame.hair.z;
     float length_scale = 1.0 - frame.hair.w * hash_unit(seed + 3u);
+    if (h.x == h.y && h.y == h.z) {
+        // A drawn groom's guide is drawn as it is (fur.tesc).
+        jitter = vec3(0.0);
+        length_scale = 1.0;
+    }
 
 #if TEXTURED && !SHADOW_CASTER
     texel = textureLod(albedo, e_uv_lod[0].xy, e_uv_lod[0].z).rgb;

@@ -14,6 +14,7 @@
 // A skinned body's lengths and areas are its rest pose's (BODY_SKINNED), so a bending
 // joint never adds or drops hairs. A triangle whose three master hairs are bald stubs
 // (a groom's bald region: tip within frame.secondary.z of the root) draws nothing either.
+// A degenerate patch (h, h, h) is a drawn groom's guide: level 1, one hair, the master.
 #include "common.glsl"
 
 layout(vertices = 3) out;
@@ -75,6 +76,20 @@ void main() {
     p_triangle = triangle;
 #endif
     p_mask = owner_mask[triangle];
+
+    if (h0 == h1 && h1 == h2) {
+        // A drawn groom's guide (fur_core::scene::DrawnGroom): a degenerate patch whose
+        // one hair is its master, the point at its first corner (the only part it owns).
+        // Level 1 makes just the corners, whatever the fixed level; culled only when
+        // the master is out of view.
+        bool unseen = (frame.strands.w & FLAG_CULL) != 0u && outside_view(h0, h0, h0);
+        float l = unseen ? 0.0 : 1.0;
+        gl_TessLevelOuter[0] = l;
+        gl_TessLevelOuter[1] = l;
+        gl_TessLevelOuter[2] = l;
+        gl_TessLevelInner[0] = l;
+        return;
+    }
 
     uint fixed_level = frame.strands.z;
     if (fixed_level > 0u) {

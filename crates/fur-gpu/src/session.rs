@@ -10,7 +10,7 @@ use crate::error::Error;
 use crate::error::Result;
 use crate::gpu::Device;
 use crate::render::{FrameReport, FrameSettings, Renderer, RgbaImage, Stage};
-use crate::scene::{GroomParams, Mesh, Rig, Strands};
+use crate::scene::{DrawnGroom, GroomMode, GroomParams, HairPatches, Mesh, Rig, Strands};
 use crate::sim::{GpuSim, Motion, Sdf, SdfReport, SimParams};
 use crate::skinning::{Playback, SkinnedBody};
 use crate::strand_textures::StrandTextures;
@@ -66,6 +66,9 @@ pub struct FurSession {
     pub settings: FrameSettings,
     /// What building the scene warned about (e.g. collision switched off).
     pub warnings: Vec<String>,
+    /// With a drawn groom (`--groom-mode draw`), the first of the guides' master hairs
+    /// (those before are the body's own vertices').
+    pub first_guide: Option<usize>,
 }
 
 impl FurSession {
@@ -99,6 +102,21 @@ impl FurSession {
         sim_params.validate()?;
         check_work(&mesh, groom, &settings, extent)?;
         let mut warnings = Vec::new();
+        // A drawn groom: the guides' roots join the body as vertices of their own, with
+        // their master hairs and patches (fur_core::scene::DrawnGroom).
+        let draw = groom.source.as_ref().filter(|s| s.mode == GroomMode::Draw);
+        let (mesh, rig, drawn) = match (draw, rig) {
+            (Some(source), rig) => {
+                let (rig, playback) = rig.map_or((None, None), |(r, p)| (Some(r), Some(p)));
+                let drawn = DrawnGroom::from_file(mesh, rig, groom, source)?;
+                let (_, radius) = drawn.mesh.bounds();
+                warnings.extend(drawn.report.warnings(radius));
+                let first = drawn.body_vertices;
+                let rig = drawn.rig.zip(playback);
+                (drawn.mesh, rig, Some((drawn.strands, drawn.patches, first)))
+            }
+            (None, rig) => (mesh, rig, None),
+        };
         let mut groom = groom.clone();
         let skinned = match rig {
             Some((rig, playback)) => {
@@ -120,8 +138,14 @@ impl FurSession {
             ));
         }
         let groom = &groom;
-        let (strands, groom_warnings) = Strands::grow_reported(&mesh, groom)?;
-        warnings.extend(groom_warnings);
+        let (strands, patches, first_guide) = match drawn {
+            Some((strands, patches, first)) => (strands, patches, Some(first)),
+            None => {
+                let (strands, groom_warnings) = Strands::grow_reported(&mesh, groom)?;
+                warnings.extend(groom_warnings);
+                (strands, HairPatches::default(), None)
+            }
+        };
         let head = motion.head(0.0).as_mat4();
         let textures = StrandTextures::new(device, &strands, head)?;
         let body = if sim_params.collision {
@@ -166,7 +190,7 @@ impl FurSession {
         };
         let renderer = Renderer::for_body(
             device,
-            &mesh,
+            (&mesh, &patches),
             texture.as_ref(),
             &textures,
             (extent, frames_in_flight, settings.style.samples),
@@ -184,6 +208,7 @@ impl FurSession {
             user: DMat4::IDENTITY,
             settings,
             warnings,
+            first_guide,
         })
     }
 

@@ -59,11 +59,47 @@ impl std::str::FromStr for Outside {
     }
 }
 
-/// Where a groom comes from and what the rest of the body gets.
+/// How a groom's guides become the hairs drawn.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum GroomMode {
+    /// Each body vertex in the groom's region blends its nearest guides into a master
+    /// hair, and the tessellation interpolates hairs between masters.
+    #[default]
+    Blend,
+    /// Each guide is a master hair of its own, rooted where it binds to the surface,
+    /// and drawn as it is: one hair per guide, no interpolation (for grooms that are
+    /// already dense). See `groom_draw`.
+    Draw,
+}
+
+impl GroomMode {
+    pub const ALL: [Self; 2] = [Self::Blend, Self::Draw];
+
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Blend => "blend",
+            Self::Draw => "draw",
+        }
+    }
+}
+
+impl std::str::FromStr for GroomMode {
+    type Err = String;
+    fn from_str(s: &str) -> std::result::Result<Self, String> {
+        Self::ALL
+            .into_iter()
+            .find(|o| o.name() == s)
+            .ok_or_else(|| format!("`{s}` is not blend or draw"))
+    }
+}
+
+/// Where a groom comes from, how its guides are drawn and what the rest of the body
+/// gets.
 #[derive(Clone, Debug, PartialEq)]
 pub struct GroomSource {
     pub path: PathBuf,
     pub outside: Outside,
+    pub mode: GroomMode,
 }
 
 /// The nearest point of the surface to a guide's root.
@@ -180,6 +216,21 @@ pub struct GroomReport {
 }
 
 impl GroomReport {
+    /// What binding `guides` at `roots` found, `groomed` vertices in their region, on a
+    /// body of bounding radius `radius`.
+    pub(super) fn of(guides: &Guides, roots: &[SurfacePoint], groomed: usize, radius: f32) -> Self {
+        Self {
+            guides: guides.count(),
+            groomed_vertices: groomed,
+            far_roots: roots
+                .iter()
+                .filter(|r| r.distance > BIND_TOLERANCE * radius)
+                .count(),
+            farthest: roots.iter().map(|r| r.distance).fold(0.0, f32::max),
+            notes: guides.notes.clone(),
+        }
+    }
+
     /// The lines to show the user: the notes and the far roots.
     pub fn warnings(&self, radius: f32) -> Vec<String> {
         let mut out = self.notes.clone();
@@ -229,34 +280,10 @@ impl Strands {
         groom: &GroomParams,
         outside: Outside,
     ) -> std::result::Result<(Self, GroomReport), String> {
-        guides.validate()?;
         let (_, radius) = mesh.bounds();
         let segments = groom.segments as usize;
-        let triangles = triangle_grid(mesh);
-        let roots: Vec<SurfacePoint> = guides
-            .curves()
-            .collect::<Vec<_>>()
-            .par_iter()
-            .map(|c| {
-                let near = triangles.nearest(c[0], 1, |t| on_triangle(mesh, t, c[0]).distance);
-                on_triangle(mesh, near.first().map_or(0, |n| n.1), c[0])
-            })
-            .collect();
+        let roots = bind_roots(mesh, guides)?;
         let root_grid = Grid::new(&roots.iter().map(|r| (r.point, r.point)).collect::<Vec<_>>());
-        let farthest = roots.iter().map(|r| r.distance).fold(0.0, f32::max);
-        let beyond = roots
-            .iter()
-            .filter(|r| r.distance > BIND_LIMIT * radius)
-            .count();
-        if beyond > 0 {
-            return Err(format!(
-                "{beyond} of {} guide roots lie farther than {BIND_LIMIT} bounding radii from \
-                 the body's surface (the farthest {:.3}): the groom does not fit this body \
-                 (another model, or another unit or placement)",
-                roots.len(),
-                farthest / radius
-            ));
-        }
         let shapes: Vec<Vec<Vec3>> = guides
             .curves()
             .map(|c| {
@@ -286,7 +313,7 @@ impl Strands {
             .curves()
             .map(|c| c.windows(2).map(|w| w[0].distance(w[1])).sum())
             .collect();
-        let stub = BALD_FRACTION * median(lengths).max(f32::MIN_POSITIVE) / segments as f32;
+        let stub = stub_step(lengths, segments);
         let grown = match outside {
             Outside::Grow => Some(Strands::grow_from_mesh(mesh, groom).map_err(|e| e.to_string())?),
             Outside::Bald => None,
@@ -334,26 +361,13 @@ impl Strands {
                     positions.extend(h);
                 }
                 (None, Some(g)) => positions.extend_from_slice(g.strand(i)),
-                (None, None) => {
-                    let n = mesh.normals[i].try_normalize().unwrap_or(Vec3::Y);
-                    positions
-                        .extend((0..=segments).map(|k| mesh.positions[i] + n * stub * k as f32));
-                }
+                (None, None) => positions.extend(bald_hair(mesh, i, stub, segments)),
             }
         }
         if groomed == 0 {
             return Err("no vertex of the body lies near a guide root".into());
         }
-        let report = GroomReport {
-            guides: guides.count(),
-            groomed_vertices: groomed,
-            far_roots: roots
-                .iter()
-                .filter(|r| r.distance > BIND_TOLERANCE * radius)
-                .count(),
-            farthest,
-            notes: guides.notes.clone(),
-        };
+        let report = GroomReport::of(guides, &roots, groomed, radius);
         Ok((
             Strands {
                 vertices_per_strand: groom.vertices_per_strand(),
@@ -373,6 +387,55 @@ impl Strands {
             notes: Vec::new(),
         }
     }
+}
+
+/// Every guide's root bound to the nearest point of `mesh`'s surface; refused when a
+/// root lies farther than [`BIND_LIMIT`] from it.
+pub(super) fn bind_roots(
+    mesh: &Mesh,
+    guides: &Guides,
+) -> std::result::Result<Vec<SurfacePoint>, String> {
+    guides.validate()?;
+    let (_, radius) = mesh.bounds();
+    let triangles = triangle_grid(mesh);
+    let roots: Vec<SurfacePoint> = guides
+        .curves()
+        .collect::<Vec<_>>()
+        .par_iter()
+        .map(|c| {
+            let near = triangles.nearest(c[0], 1, |t| on_triangle(mesh, t, c[0]).distance);
+            on_triangle(mesh, near.first().map_or(0, |n| n.1), c[0])
+        })
+        .collect();
+    let farthest = roots.iter().map(|r| r.distance).fold(0.0, f32::max);
+    let beyond = roots
+        .iter()
+        .filter(|r| r.distance > BIND_LIMIT * radius)
+        .count();
+    if beyond > 0 {
+        return Err(format!(
+            "{beyond} of {} guide roots lie farther than {BIND_LIMIT} bounding radii from \
+             the body's surface (the farthest {:.3}): the groom does not fit this body \
+             (another model, or another unit or placement)",
+            roots.len(),
+            farthest / radius
+        ));
+    }
+    Ok(roots)
+}
+
+/// The step of a bald vertex's stub for guides of these `lengths`: a
+/// [`BALD_FRACTION`] of their median length, over `segments` steps.
+pub(super) fn stub_step(lengths: Vec<f32>, segments: usize) -> f32 {
+    BALD_FRACTION * median(lengths).max(f32::MIN_POSITIVE) / segments as f32
+}
+
+/// Vertex `i`'s bald master hair: a stub of `segments` steps of `step` along its normal.
+pub(super) fn bald_hair(mesh: &Mesh, i: usize, step: f32, segments: usize) -> Vec<Vec3> {
+    let n = mesh.normals[i].try_normalize().unwrap_or(Vec3::Y);
+    (0..=segments)
+        .map(|k| mesh.positions[i] + n * step * k as f32)
+        .collect()
 }
 
 fn median(mut v: Vec<f32>) -> f32 {

@@ -5,6 +5,7 @@ mod critter;
 mod gltf;
 mod groom;
 mod groom_bind;
+mod groom_draw;
 mod implicit;
 mod mesh;
 mod model;
@@ -21,9 +22,11 @@ pub use critter::critter;
 pub use gltf::{load_gltf, write_glb, GltfBody};
 pub use groom::{hash_unit, GroomParams, Strands};
 pub use groom_bind::{
-    closest_on_triangle, nearest_surface_point, resample, GroomReport, GroomSource, Outside,
-    SurfacePoint, BALD_FRACTION, BIND_LIMIT, BIND_TOLERANCE, BLEND_GUIDES, REGION_SPACINGS,
+    closest_on_triangle, nearest_surface_point, resample, GroomMode, GroomReport, GroomSource,
+    Outside, SurfacePoint, BALD_FRACTION, BIND_LIMIT, BIND_TOLERANCE, BLEND_GUIDES,
+    REGION_SPACINGS,
 };
+pub use groom_draw::{DrawnGroom, HairPatches};
 pub use mesh::Mesh;
 pub use model::ModelSpec;
 pub use rig::{Channel, Clip, Interpolation, Joint, Node, Property, Rig, Transform};

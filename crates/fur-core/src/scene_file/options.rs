@@ -41,6 +41,8 @@ pub struct SceneOptions {
     pub groom_file: Option<String>,
     /// What vertices outside the groom file's region get.
     pub groom_outside: crate::scene::Outside,
+    /// How the groom file's guides are drawn.
+    pub groom_mode: crate::scene::GroomMode,
 }
 
 /// How the fur is drawn: the levers that trade speed for image quality (measured by
@@ -129,6 +131,7 @@ impl Default for SceneOptions {
             arrow_scale: 10.0,
             groom_file: None,
             groom_outside: crate::scene::Outside::Bald,
+            groom_mode: crate::scene::GroomMode::Blend,
         }
     }
 }
@@ -232,6 +235,13 @@ impl SceneOptions {
                 )));
             }
         }
+        if self.groom_mode == crate::scene::GroomMode::Draw && self.groom_file.is_none() {
+            return Err(Error::Parameter(
+                "groom mode `draw` draws the guides of a groom file: give one (--groom FILE, \
+                 or `file` under [groom])"
+                    .into(),
+            ));
+        }
         if !(self.fov_deg.is_finite() && (1.0..=170.0).contains(&self.fov_deg)) {
             return Err(Error::Parameter(format!(
                 "field of view must be in [1, 170] degrees, got {}",
@@ -249,6 +259,7 @@ impl SceneOptions {
             source: self.groom_file.as_ref().map(|f| crate::scene::GroomSource {
                 path: f.into(),
                 outside: self.groom_outside,
+                mode: self.groom_mode,
             }),
             ..Default::default()
         };

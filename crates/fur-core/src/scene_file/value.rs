@@ -172,6 +172,7 @@ named_choice!(
     crate::render::stage::Arrows,
     crate::sim::MotionKind,
     crate::scene::Outside,
+    crate::scene::GroomMode,
     crate::render::FurPreset
 );
 

@@ -98,8 +98,11 @@ pub struct FrameContext<'a> {
     pub current: usize,
     pub target: &'a RenderTarget,
     pub settings: &'a FrameSettings,
-    /// Corners of the body's triangles (the draws' vertex count).
+    /// Corners of the body's triangles (the mesh and density passes' vertex count).
     pub index_count: u32,
+    /// Corners of the fur pass's patches: the body's triangles, then a drawn groom's
+    /// (the fur and shadow passes' vertex count).
+    pub hair_index_count: u32,
     pub indices: vk::Buffer,
     /// The body's descriptor set.
     pub body_set: vk::DescriptorSet,

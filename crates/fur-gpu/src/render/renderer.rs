@@ -24,7 +24,7 @@ use super::RgbaImage;
 use crate::error::Error;
 use crate::error::Result;
 use crate::gpu::{Buffer, DescriptorPool, DescriptorSetLayout, Device, PipelineLayout};
-use crate::scene::{Mesh, Texture};
+use crate::scene::{HairPatches, Mesh, Texture};
 use crate::strand_textures::StrandTextures;
 use density_pass::DensityPass;
 use fur_pass::FurPass;
@@ -73,8 +73,12 @@ pub struct Renderer {
     /// for a model drawn without).
     texture: (GpuTexture, Buffer),
     textured: bool,
+    /// The fur pass's patches: the body's triangles, then a drawn groom's own.
     indices: Buffer,
+    /// The body's triangles' indices (the mesh and density passes draw these).
     index_count: u32,
+    /// The fur pass's patches' indices (the fur and shadow passes draw these).
+    hair_index_count: u32,
     shape: StrandShape,
     /// The model's bounding sphere in model space (centre, radius).
     bounds: (glam::Vec3, f32),
@@ -125,7 +129,7 @@ impl Renderer {
     ) -> Result<Self> {
         Self::for_body(
             device,
-            mesh,
+            (mesh, &HairPatches::default()),
             texture,
             strands,
             (extent, frames_in_flight, samples),
@@ -138,7 +142,7 @@ impl Renderer {
     /// rigid body. The fur's density comes from the rest pose either way.
     pub fn for_body(
         device: &Arc<Device>,
-        mesh: &Mesh,
+        (mesh, patches): (&Mesh, &HairPatches),
         texture: Option<&Texture>,
         strands: &StrandTextures,
         (extent, frames_in_flight, samples): (vk::Extent2D, usize, u32),
@@ -155,18 +159,34 @@ impl Renderer {
         // 22.3's lavapipe reads every descriptor of a bound set): without a texture a
         // white texel and no UVs stand in.
         let white = Texture::from_rgba(1, 1, vec![255; 4])?;
-        let corner_uvs: &[glam::Vec2] = if textured {
-            &mesh.uvs
+        if textured && patches.uvs.len() != patches.indices.len() {
+            return Err(Error::Parameter(
+                "the groom's patches have no texture coordinates: a texture needs them".into(),
+            ));
+        }
+        // The fur pass's patches: the body's triangles, then the groom's own.
+        let corner_uvs: Vec<glam::Vec2> = if textured {
+            mesh.uvs.iter().chain(&patches.uvs).copied().collect()
         } else {
-            &[glam::Vec2::ZERO]
+            vec![glam::Vec2::ZERO]
         };
+        let hair_indices: Vec<u32> = mesh
+            .indices
+            .iter()
+            .chain(&patches.indices)
+            .copied()
+            .collect();
+        let mut masks = mesh.ownership_masks();
+        masks.extend(&patches.masks);
+        let mut rest = rest_triangles(mesh);
+        rest.extend(patches.indices.chunks_exact(3).map(|_| glam::Vec4::ZERO));
         let texture = (
             GpuTexture::upload(device, texture.unwrap_or(&white))?,
             Buffer::with_data(
                 device,
                 "mesh.corner_uvs",
                 vk::BufferUsageFlags::STORAGE_BUFFER,
-                corner_uvs,
+                &corner_uvs,
             )?,
         );
         let target = RenderTarget::new(device, extent, samples)?;
@@ -202,19 +222,19 @@ impl Renderer {
             device,
             "render.ownership",
             vk::BufferUsageFlags::STORAGE_BUFFER,
-            &mesh.ownership_masks(),
+            &masks,
         )?;
         let indices = Buffer::with_data(
             device,
             "mesh.indices",
             vk::BufferUsageFlags::INDEX_BUFFER | vk::BufferUsageFlags::STORAGE_BUFFER,
-            &mesh.indices,
+            &hair_indices,
         )?;
         let rest_triangles = Buffer::with_data(
             device,
             "mesh.rest_triangles",
             vk::BufferUsageFlags::STORAGE_BUFFER,
-            &rest_triangles(mesh),
+            &rest,
         )?;
         let body_set = pool.allocate(&body_layout, 1)?[0];
         write_body_set(
@@ -253,6 +273,7 @@ impl Renderer {
             textured,
             indices,
             index_count: mesh.indices.len() as u32,
+            hair_index_count: hair_indices.len() as u32,
             shape: StrandShape {
                 vertices_per_strand,
                 strands_per_row: strands.layout.strands_per_row,

@@ -251,6 +251,18 @@ pub const GROOM: Group = Group {
             effect: Effect::Regrow,
             ..field!(options.groom_outside)
         },
+        Setting {
+            key: "mode",
+            flag: Flag::Long("groom-mode"),
+            label: "groom mode",
+            help: "How the guides become hairs: `blend` (each vertex near the groom blends its \
+                   nearest guides into a master hair, and hairs are interpolated between \
+                   masters) or `draw` (each guide is drawn as it is, one hair per guide, for \
+                   grooms that are already dense)",
+            kind: Kind::Choice(&["blend", "draw"]),
+            effect: Effect::Regrow,
+            ..field!(options.groom_mode)
+        },
     ],
 };
 
@@ -290,6 +302,16 @@ mod tests {
             .map(|o| o.name())
             .collect();
         assert!(matches!(outside, Some(Kind::Choice(n)) if n.to_vec() == names));
+        let mode = super::GROOM
+            .settings
+            .iter()
+            .find(|s| s.key == "mode")
+            .map(|s| s.kind);
+        let names: Vec<&str> = crate::scene::GroomMode::ALL
+            .iter()
+            .map(|m| m.name())
+            .collect();
+        assert!(matches!(mode, Some(Kind::Choice(n)) if n.to_vec() == names));
         let preset = super::super::looks::LIGHT
             .settings
             .iter()

@@ -339,6 +339,11 @@ impl Pass for FurPass {
         if !frame.settings.draw_fur {
             return;
         }
-        self.draw(frame.device, cmd, frame.index_count, &frame.slot.variants);
+        self.draw(
+            frame.device,
+            cmd,
+            frame.hair_index_count,
+            &frame.slot.variants,
+        );
     }
 }

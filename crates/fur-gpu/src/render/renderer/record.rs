@@ -76,6 +76,7 @@ impl Renderer {
             target: &self.target,
             settings,
             index_count: self.index_count,
+            hair_index_count: self.hair_index_count,
             indices: self.indices.raw(),
             body_set: self.body_set,
         };

@@ -120,7 +120,11 @@ impl Pass for ShadowPass {
     /// Draws the fur's caster form (the graph has bound the light's sets). The fur reads
     /// its triangles from a storage buffer: no vertex or index buffers to bind.
     fn record(&self, frame: &FrameContext<'_>, cmd: vk::CommandBuffer) {
-        self.casters
-            .draw(frame.device, cmd, frame.index_count, &[Variant::CASTER]);
+        self.casters.draw(
+            frame.device,
+            cmd,
+            frame.hair_index_count,
+            &[Variant::CASTER],
+        );
     }
 }

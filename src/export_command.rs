@@ -7,7 +7,7 @@ use super::*;
 
 #[derive(Args, Clone)]
 pub(super) struct ExportArgs {
-    /// Where to write the frame: a USD text file (`.usda`).
+    /// Where to write the frame: USD text (`.usda`) or binary USD (`.usdc`).
     pub usd: PathBuf,
     /// Export and draw the body alone, without hair (the calibration of the path
     /// tracer against fur's mesh pass).
@@ -28,7 +28,7 @@ pub(super) fn export_frame(args: &ExportArgs) -> anyhow::Result<()> {
              --frames N exports the Nth simulated frame"
         );
     }
-    check_extension(&args.usd)?;
+    let binary = check_extension(&args.usd)?;
     fur::files::check_output_file(&args.usd)?;
     fur::files::check_output_file(&r.out)?;
     let simulate = r.frames > 1;
@@ -78,7 +78,13 @@ pub(super) fn export_frame(args: &ExportArgs) -> anyhow::Result<()> {
     frame.check_size()?;
     let generator = format!("fur {}", env!("CARGO_PKG_VERSION"));
     let text = fur::export::write_usda(&frame, &generator)?;
-    fur::files::write_output(&args.usd, text.as_bytes(), "write the frame to")?;
+    let bytes = if binary {
+        fur::groom_file::usdc_from_text(&text)
+            .map_err(|m| anyhow::anyhow!("writing the frame as binary USD: {m}"))?
+    } else {
+        text.into_bytes()
+    };
+    fur::files::write_output(&args.usd, &bytes, "write the frame to")?;
     image.write_png(&r.out)?;
     if frame.hairs.count() == 0 {
         eprintln!("warning: no hair was drawn: the export holds the body only");
@@ -95,7 +101,7 @@ pub(super) fn export_frame(args: &ExportArgs) -> anyhow::Result<()> {
         frame.hairs.count(),
         frame.hairs.vertices_per_strand,
         frame.body.as_ref().map_or(0, |b| b.indices.len() / 3),
-        fur::files::size_text(text.len() as u64),
+        fur::files::size_text(bytes.len() as u64),
         r.out.display()
     );
     drop(session);
@@ -103,20 +109,23 @@ pub(super) fn export_frame(args: &ExportArgs) -> anyhow::Result<()> {
     Ok(())
 }
 
-/// Only `.usda` is written; other USD encodings are named with the way to them.
-fn check_extension(path: &Path) -> anyhow::Result<()> {
+/// Whether the frame is written as binary USD (`.usdc`) rather than text (`.usda`);
+/// other extensions are refused, a package (`.usdz`) with the way to one.
+fn check_extension(path: &Path) -> anyhow::Result<bool> {
     let ext = path
         .extension()
         .map(|e| e.to_string_lossy().to_ascii_lowercase());
     match ext.as_deref() {
-        Some("usda") => Ok(()),
-        Some(e @ ("usd" | "usdc" | "usdz")) => bail!(
-            "{}: fur writes USD as text (.usda); for .{e} write .usda and convert it with \
-             usd-core's usdcat (`usdcat frame.usda -o frame.{e}`)",
+        Some("usda") => Ok(false),
+        Some("usdc") => Ok(true),
+        Some(e @ ("usd" | "usdz")) => bail!(
+            "{}: fur writes USD as text (.usda) or binary (.usdc); for .{e} write one of \
+             those and convert it with usd-core (`usdcat frame.usda -o frame.usd`, \
+             `usdzip frame.usdz frame.usdc`)",
             path.display()
         ),
         _ => bail!(
-            "{}: unknown extension; the frame is written as USD text, name it *.usda",
+            "{}: unknown extension; the frame is written as USD, name it *.usda or *.usdc",
             path.display()
         ),
     }

@@ -1,4 +1,4 @@
-//! `fur export-groom`: the master hairs as guide curves (USD text or cyHair), at rest
+//! `fur export-groom`: the master hairs as guide curves (USD or cyHair), at rest
 //! in the model's space — ready to come back as `--groom` — or at the Nth simulated
 //! frame as drawn (world space, a skinned body's pose).
 
@@ -8,7 +8,8 @@ use fur::scene::{DrawnGroom, GroomMode};
 
 #[derive(Args, Clone)]
 pub(super) struct GroomArgs {
-    /// Where to write the master hairs: USD text (`.usda`) or cyHair (`.hair`).
+    /// Where to write the master hairs: USD text (`.usda`), binary USD (`.usdc`) or
+    /// cyHair (`.hair`).
     #[arg(value_name = "OUT")]
     pub out: PathBuf,
     /// A TOML scene file (see assets/scenes/); options given here override it.

@@ -1,4 +1,4 @@
-//! Grooms in and out: `fur export-groom` writes the master hairs as USD text or cyHair,
+//! Grooms in and out: `fur export-groom` writes the master hairs as USD (text or binary) or cyHair,
 //! `--groom` reads them (and USD written by Pixar's usd-core, text, binary and zipped)
 //! back onto the body as the same master hairs, and bad grooms are refused by name.
 //!
@@ -134,8 +134,8 @@ fn groom_paths_and_bad_grooms() {
         &["critter.hair", "does not fit this body"],
     );
     fails(
-        &fur(&["export-groom", s(&dir.join("z.usdc"))]),
-        &["usdcat", ".usda"],
+        &fur(&["export-groom", s(&dir.join("z.usdz"))]),
+        &["usdzip", ".usdc"],
     );
     fails(
         &fur(&["export-groom", s(&dir.join("z.tfx"))]),
@@ -180,16 +180,22 @@ fn usd_core_and_fur_read_each_others_grooms() {
     let ours = dir.join("blob.usda");
     ok(&fur(&["export-groom", s(&ours), "--model", "blob"]));
     let expected = read_groom(&ours).unwrap();
+    // The same groom as binary USD: fur reads it back as the same curves.
+    let binary = dir.join("blob.usdc");
+    ok(&fur(&["export-groom", s(&binary), "--model", "blob"]));
+    let (worst, _) = apart(&expected, &read_groom(&binary).unwrap());
+    assert_eq!(worst, 0.0, "the .usdc groom differs from the .usda one");
     let Some(reference) = common::reference() else {
         return;
     };
     let script = r#"
 import sys
 from pxr import Usd, UsdGeom, Sdf, Gf, Vt, UsdUtils
-ours, out = sys.argv[1], sys.argv[2]
-s = Usd.Stage.Open(ours)
-c = UsdGeom.BasisCurves(s.GetPrimAtPath('/Groom'))
-print(len(c.GetCurveVertexCountsAttr().Get()), len(c.GetPointsAttr().Get()), len(c.GetWidthsAttr().Get()))
+ours, out, binary = sys.argv[1], sys.argv[2], sys.argv[3]
+for path in [ours, binary]:
+    s = Usd.Stage.Open(path)
+    c = UsdGeom.BasisCurves(s.GetPrimAtPath('/Groom'))
+    print(len(c.GetCurveVertexCountsAttr().Get()), len(c.GetPointsAttr().Get()), len(c.GetWidthsAttr().Get()))
 for ext in ['usda', 'usdc']:
     st = Usd.Stage.CreateNew(out + '.' + ext)
     x = UsdGeom.Xform.Define(st, '/Fur')
@@ -216,6 +222,7 @@ for p in cv.GetPointsAttr().Get():
         .args(["-c", script])
         .arg(&ours)
         .arg(&base)
+        .arg(&binary)
         .output()
         .unwrap();
     assert!(
@@ -225,15 +232,18 @@ for p in cv.GetPointsAttr().Get():
     );
     let text = String::from_utf8_lossy(&run.stdout).into_owned();
     let mut lines = text.lines();
-    assert_eq!(
-        lines.next().unwrap(),
-        format!(
-            "{} {} {}",
-            expected.count(),
-            expected.points.len(),
-            expected.points.len()
-        )
-    );
+    for written in ["usda", "usdc"] {
+        assert_eq!(
+            lines.next().unwrap(),
+            format!(
+                "{} {} {}",
+                expected.count(),
+                expected.points.len(),
+                expected.points.len()
+            ),
+            "usd-core's counts of fur's .{written} groom"
+        );
+    }
     let world: Vec<Vec3> = lines
         .map(|l| {
             let v: Vec<f32> = l.split_whitespace().map(|x| x.parse().unwrap()).collect();

@@ -272,6 +272,48 @@ fn the_export_holds_what_render_draws_and_usd_core_reads_it() {
             exported * v
         )
     );
+    // The same frame as binary USD: usd-core reads every prim and every attribute's
+    // value of the text file there, equal.
+    let usdc = dir.join("frame.usdc");
+    let mut binary = vec!["export-frame", usdc.to_str().unwrap(), "--out"];
+    let png = dir.join("binary.png");
+    binary.push(png.to_str().unwrap());
+    binary.extend_from_slice(&size);
+    let out = fur(&binary);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let compare = "import sys\nfrom pxr import Usd\n\
+        a, b = Usd.Stage.Open(sys.argv[1]), Usd.Stage.Open(sys.argv[2])\n\
+        prims = attrs = 0\n\
+        for p in a.Traverse():\n\
+        \x20   q = b.GetPrimAtPath(p.GetPath())\n\
+        \x20   assert q and q.GetTypeName() == p.GetTypeName(), p.GetPath()\n\
+        \x20   prims += 1\n\
+        \x20   for attr in p.GetAttributes():\n\
+        \x20       other = q.GetAttribute(attr.GetName())\n\
+        \x20       assert other and bool(other.Get() == attr.Get()), attr.GetPath()\n\
+        \x20       attrs += 1\n\
+        assert len(list(b.Traverse())) == prims\n\
+        print(prims, attrs)\n";
+    let read = Command::new(reference.python())
+        .args(["-c", compare])
+        .arg(&usda)
+        .arg(&usdc)
+        .output()
+        .unwrap();
+    assert!(
+        read.status.success(),
+        "the .usdc frame differs from the .usda one: {}",
+        String::from_utf8_lossy(&read.stderr)
+    );
+    let counts: Vec<u64> = String::from_utf8_lossy(&read.stdout)
+        .split_whitespace()
+        .map(|n| n.parse().unwrap())
+        .collect();
+    assert!(counts[0] >= 5 && counts[1] >= 30, "compared {counts:?}");
 }
 
 /// Path-traces `usda` into `dir` (16 samples a pixel) and measures fur's image against it.
@@ -406,7 +448,7 @@ fn export_refuses_bad_input_before_writing() {
     // Run in an empty folder, so that anything written shows.
     let dir = scratch("bad");
     for (args, needle) in [
-        (vec!["export-frame", "frame.usdc"], "usdcat"),
+        (vec!["export-frame", "frame.usdz"], "usdzip"),
         (vec!["export-frame", "frame.obj"], "unknown extension"),
         (
             vec!["export-frame", "x.usda", "--frames", "0"],

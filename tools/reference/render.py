@@ -246,7 +246,7 @@ def write_pfm(path, rgb):
 
 def main():
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("frame", help="a .usda file written by `fur export-frame`")
+    parser.add_argument("frame", help="a .usda or .usdc file written by `fur export-frame`")
     parser.add_argument("--out", required=True, help="the linear image (PFM)")
     parser.add_argument("--png", help="also the image as 8-bit sRGB PNG")
     parser.add_argument("--spp", type=int, default=64, help="samples per pixel [64]")

@@ -19,7 +19,7 @@ use crate::error::{Error, Result};
 
 pub use cyhair::{parse_cyhair, write_cyhair};
 pub use tfx::parse_tfx;
-pub use usd::{parse_usd, write_usda, CUBIC_SAMPLES};
+pub use usd::{parse_usd, usdc_from_text, write_usda, write_usdc, CUBIC_SAMPLES};
 
 /// The largest groom file read.
 pub const MAX_GROOM_BYTES: u64 = 1 << 30;
@@ -237,7 +237,8 @@ pub fn read_groom(path: &Path) -> Result<Guides> {
     Ok(guides)
 }
 
-/// Writes `guides` to `path` as USD text (`.usda`) or cyHair (`.hair`), through
+/// Writes `guides` to `path` as USD text (`.usda`), binary USD (`.usdc`) or cyHair
+/// (`.hair`), through
 /// [`crate::files::write_output`]; `generator` names the program in the file.
 pub fn write_groom(path: &Path, guides: &Guides, generator: &str) -> Result<()> {
     guides
@@ -249,17 +250,19 @@ pub fn write_groom(path: &Path, guides: &Guides, generator: &str) -> Result<()> 
             .into_bytes(),
         GroomFormat::CyHair => write_cyhair(guides, generator)
             .map_err(|m| Error::Parameter(format!("writing cyHair: {m}")))?,
-        GroomFormat::Usdc | GroomFormat::Usdz => {
+        GroomFormat::Usdc => usd::groom_layer(guides, generator)
+            .and_then(|layer| usd::write_usdc(&layer))
+            .map_err(|m| Error::Parameter(format!("writing binary USD: {m}")))?,
+        GroomFormat::Usdz => {
             return Err(Error::Parameter(format!(
-                "{}: fur writes USD as text (.usda); binary USD is read, not written (the \
-                 Rust USD crate fur builds with writes crate files that Pixar's library \
-                 refuses). `usdcat IN.usda -o OUT.usdc` converts one",
+                "{}: fur writes USD as text (.usda) or binary (.usdc); a .usdz package is \
+                 read, not written (`usdzip OUT.usdz IN.usdc` makes one)",
                 path.display()
             )))
         }
         GroomFormat::Tfx => {
             return Err(Error::Parameter(format!(
-                "{}: TressFX files are read, not written; write .usda or .hair",
+                "{}: TressFX files are read, not written; write .usda, .usdc or .hair",
                 path.display()
             )))
         }

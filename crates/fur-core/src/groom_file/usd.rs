@@ -14,10 +14,12 @@ use openusd::sdf::{self, AbstractData, Value};
 
 use super::{GroomFormat, Guides, MAX_CURVE_VERTICES};
 
+mod crate_file;
 mod cubic;
 mod write;
 
-pub use write::write_usda;
+pub use crate_file::{usdc_from_text, write_usdc};
+pub use write::{groom_layer, write_usda};
 
 /// Polyline segments per cubic segment when a cubic curve is evaluated.
 pub const CUBIC_SAMPLES: usize = 4;

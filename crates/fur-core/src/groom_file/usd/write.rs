@@ -24,6 +24,12 @@ fn vec3s(v: &[Vec3]) -> Value {
 
 /// `guides` as `.usda` text; `generator` goes into the layer's documentation.
 pub fn write_usda(guides: &Guides, generator: &str) -> Result<String, String> {
+    let data = groom_layer(guides, generator)?;
+    openusd::usda::TextWriter::write_to_string(&data).map_err(|e| format!("{e:#}"))
+}
+
+/// `guides` as a USD layer: one linear `BasisCurves` prim, `/Groom`.
+pub fn groom_layer(guides: &Guides, generator: &str) -> Result<sdf::Data, String> {
     let mut data = sdf::Data::new();
     let root = data.create_spec(sdf::Path::abs_root(), SpecType::PseudoRoot);
     root.add(
@@ -110,5 +116,5 @@ pub fn write_usda(guides: &Guides, generator: &str) -> Result<String, String> {
             a.add("interpolation", Value::Token(i.into()));
         }
     }
-    openusd::usda::TextWriter::write_to_string(&data).map_err(|e| format!("{e:#}"))
+    Ok(data)
 }

@@ -385,7 +385,8 @@ impl Viewer {
             let mut playback = s.playback.clone();
             // The new session starts at time 0: keep the clip where it is.
             playback.start = playback.clip_time(&s.body.rig, self.session.sim.time);
-            (s.body.rig.clone(), playback)
+            // The body's own rig: a drawn groom's session adds its guides' roots.
+            (s.body.rig.body_only(self.mesh.vertex_count()), playback)
         });
         self.session = FurSession::new(
             &self.device,

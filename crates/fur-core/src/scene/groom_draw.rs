@@ -145,6 +145,19 @@ impl DrawnGroom {
     }
 }
 
+impl Rig {
+    /// The rig of the body's own `vertices` first vertices: a drawn groom's rig less
+    /// its guides' roots (what a new session of the same body starts from).
+    pub fn body_only(&self, vertices: usize) -> Rig {
+        let mut rig = self.clone();
+        rig.influences.truncate(vertices);
+        rig.weights.truncate(vertices);
+        rig.bind_positions.truncate(vertices);
+        rig.bind_normals.truncate(vertices);
+        rig
+    }
+}
+
 /// Appends to `rig` a vertex at barycentric weights `b` of the body's `triangle`: its
 /// bind position and normal the same blend of the corners', its skin the corners'
 /// weights blended by `b`, the four heaviest joints kept and their weights summing to 1.

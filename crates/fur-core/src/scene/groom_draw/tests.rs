@@ -200,4 +200,9 @@ fn a_guide_root_skins_with_its_triangles_blended_weights() {
         blended > 0,
         "no guide sat between differently skinned corners"
     );
+    // A new session of the same body starts from the body's own rig.
+    let own = skin.body_only(n);
+    own.validate(n).unwrap();
+    assert_eq!(own.weights, rig.weights);
+    assert_eq!(own.bind_positions, rig.bind_positions);
 }

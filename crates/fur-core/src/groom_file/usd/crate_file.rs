@@ -6,7 +6,7 @@
 //! `openusd` writes them as arrays of tokens (`token[]`), which its own reader accepts
 //! and Pixar's refuses ("Invalid children found in primChildren field"); the versions
 //! that write vectors need a newer Rust than fur builds with. The payload of the two is
-//! the same (a count, then token indices), so only each such field's value
+//! the same (a count, then token or string indices), so only each such field's value
 //! representation differs: [`write_usdc`] writes the layer, then rewrites the `FIELDS`
 //! section with those representations corrected, appended after the rest with a new
 //! table of contents that points to it (the old section stays, unread).
@@ -30,9 +30,12 @@ const VECTOR_FIELDS: [&str; 9] = [
     "subLayers",
 ];
 
-/// The crate file's value types this correction touches (`openusd::usdc`'s `Type`).
+/// The crate file's value types this correction touches (`openusd::usdc`'s `Type`): an
+/// array of strings or tokens, and the vectors the same payload becomes.
+const TYPE_STRING: u64 = 10;
 const TYPE_TOKEN: u64 = 11;
 const TYPE_TOKEN_VECTOR: u64 = 41;
+const TYPE_STRING_VECTOR: u64 = 50;
 const ARRAY_BIT: u64 = 1 << 63;
 const TYPE_MASK: u64 = 0xff << 48;
 
@@ -183,9 +186,13 @@ fn correct_vector_fields(file: &mut Vec<u8>) -> Result<(), String> {
         return Err("the field values do not match their count".into());
     }
     for (rep, name) in reps.iter_mut().zip(&names) {
-        let token_array = (*rep & TYPE_MASK) >> 48 == TYPE_TOKEN && *rep & ARRAY_BIT != 0;
-        if token_array && vector.contains(name) {
-            *rep = (*rep & !(TYPE_MASK | ARRAY_BIT)) | (TYPE_TOKEN_VECTOR << 48);
+        let vector_type = match (*rep & TYPE_MASK) >> 48 {
+            TYPE_TOKEN => TYPE_TOKEN_VECTOR,
+            TYPE_STRING => TYPE_STRING_VECTOR,
+            _ => continue,
+        };
+        if *rep & ARRAY_BIT != 0 && vector.contains(name) {
+            *rep = (*rep & !(TYPE_MASK | ARRAY_BIT)) | (vector_type << 48);
         }
     }
     // The new FIELDS section, then the table of contents pointing to it.
@@ -216,48 +223,4 @@ fn correct_vector_fields(file: &mut Vec<u8>) -> Result<(), String> {
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-
-    // A layer written through the correction reads back through openusd's reader with
-    // its children, and its children fields are vectors (type 41, not an array).
-    #[test]
-    fn children_fields_become_token_vectors() {
-        let guides = crate::groom_file::Guides {
-            counts: vec![2, 3],
-            points: (0..5).map(|i| glam::Vec3::splat(i as f32)).collect(),
-            widths: None,
-            colors: None,
-            notes: Vec::new(),
-        };
-        let data = super::super::write::groom_layer(&guides, "test").unwrap();
-        let file = write_usdc(&data).unwrap();
-        let (_, table) = sections(&file).unwrap();
-        let (_, start, _) = *named(&table, "FIELDS").unwrap();
-        let mut r = Bytes::at(&file, start).unwrap();
-        let n = r.u64().unwrap() as usize;
-        r.lz4(4 + n + 4 * n).unwrap();
-        let reps = r.lz4(8 * n).unwrap();
-        let types: Vec<u64> = reps
-            .chunks_exact(8)
-            .map(|b| (u64::from_le_bytes(b.try_into().unwrap()) & TYPE_MASK) >> 48)
-            .collect();
-        // primChildren (the root's) and propertyChildren (the prim's).
-        assert_eq!(types.iter().filter(|&&t| t == TYPE_TOKEN_VECTOR).count(), 2);
-        let back = super::super::parse_usd(&file, crate::groom_file::GroomFormat::Usdc).unwrap();
-        assert_eq!(back.counts, guides.counts);
-        assert_eq!(back.points, guides.points);
-    }
-
-    #[test]
-    fn the_integer_coding_reads_each_width() {
-        // Common delta 1; codes: common, 8-bit, 16-bit, 32-bit.
-        let mut data = 1i32.to_le_bytes().to_vec();
-        data.push(0b11_10_01_00);
-        data.push(5i8 as u8);
-        data.extend((-300i16).to_le_bytes());
-        data.extend(70_000i32.to_le_bytes());
-        assert_eq!(decode_ints(&data, 4).unwrap(), vec![1, 6, -294, 69_706]);
-        assert!(decode_ints(&data[..6], 4).is_err());
-    }
-}
+mod tests;

@@ -206,3 +206,29 @@ fn a_guide_root_skins_with_its_triangles_blended_weights() {
     assert_eq!(own.weights, rig.weights);
     assert_eq!(own.bind_positions, rig.bind_positions);
 }
+
+// Worked by hand: corners skinned to joints (1, 2, 3, 4 at .4, .3, .2, .1), (5, 6 at
+// .5 each) and (1 alone), blended at (.5, .3, .2): joint 1 weighs .2 + .2 = .4, joints
+// 2, 5 and 6 .15 each, 3 .1 and 4 .05; the four heaviest (ties by joint) keep .85 in
+// all, so their weights are .4 / .85 and .15 / .85.
+#[test]
+fn a_blended_skin_keeps_the_four_heaviest_joints_renormalised() {
+    let (_, mut rig) = crate::scene::critter();
+    rig.influences[0] = [1, 2, 3, 4];
+    rig.weights[0] = [0.4, 0.3, 0.2, 0.1];
+    rig.influences[1] = [5, 6, 0, 0];
+    rig.weights[1] = [0.5, 0.5, 0.0, 0.0];
+    rig.influences[2] = [1, 0, 0, 0];
+    rig.weights[2] = [1.0, 0.0, 0.0, 0.0];
+    let n = rig.weights.len();
+    let b = Vec3::new(0.5, 0.3, 0.2);
+    blend_skin(&mut rig, [0, 1, 2], b);
+    assert_eq!(rig.influences[n], [1, 2, 5, 6]);
+    let expected = [0.4 / 0.85, 0.15 / 0.85, 0.15 / 0.85, 0.15 / 0.85];
+    for (w, e) in rig.weights[n].iter().zip(expected) {
+        assert!((w - e).abs() < 1e-6, "{:?}", rig.weights[n]);
+    }
+    let bind =
+        0.5 * rig.bind_positions[0] + 0.3 * rig.bind_positions[1] + 0.2 * rig.bind_positions[2];
+    assert!(rig.bind_positions[n].distance(bind) < 1e-6);
+}

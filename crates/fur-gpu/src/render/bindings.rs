@@ -262,7 +262,8 @@ mod tests {
             secondary,
             shadow,
             strands,
-            fibre
+            fibre,
+            fibre_terms
         )
     }
 

@@ -45,6 +45,7 @@ fn cyhair_is_read_as_laid_out_and_written_back_the_same() {
     let g = parse_cyhair(&cyhair_by_hand()).unwrap();
     assert_eq!(g.counts, vec![3, 2]);
     assert_eq!(g.points[4], Vec3::new(4.0, 8.0, -1.0));
+    assert!(g.notes.is_empty(), "no transparency array: {:?}", g.notes);
     assert_eq!(g.widths.as_ref().unwrap()[2], 0.03);
     assert_eq!(
         g.colors.as_ref().unwrap()[3],
@@ -55,6 +56,49 @@ fn cyhair_is_read_as_laid_out_and_written_back_the_same() {
     assert_eq!(parse_cyhair(&written).unwrap(), g);
     // The same bytes as the hand layout, apart from the header's defaults and text.
     assert_eq!(written[128..], cyhair_by_hand()[128..]);
+}
+
+/// Three hairs of 300, 1 and 2 segments (a count with a high byte, an odd number of
+/// hairs), the header's default thickness instead of an array, and a transparency
+/// array before the colours, laid out by hand.
+#[test]
+fn cyhair_segments_transparency_and_default_thickness_are_read_as_laid_out() {
+    let segments = [300u16, 1, 2];
+    let points: u32 = segments.iter().map(|&s| u32::from(s) + 1).sum();
+    let mut b = b"HAIR".to_vec();
+    le32(&mut b, 3);
+    le32(&mut b, points);
+    le32(&mut b, 1 | 2 | 8 | 16); // segments, points, transparency, colours
+    le32(&mut b, 7);
+    lef(&mut b, 0.25); // default thickness
+    b.resize(128, 0);
+    for s in segments {
+        b.extend_from_slice(&s.to_le_bytes());
+    }
+    for i in 0..points {
+        for v in [i as f32, 1.0, 2.0] {
+            lef(&mut b, v);
+        }
+    }
+    for _ in 0..points {
+        lef(&mut b, 0.5); // transparency, skipped
+    }
+    for i in 0..points {
+        for v in [0.001 * i as f32, 0.25, 0.75] {
+            lef(&mut b, v);
+        }
+    }
+    let g = parse_cyhair(&b).unwrap();
+    assert_eq!(g.counts, vec![301, 2, 3]);
+    assert_eq!(g.points[305], Vec3::new(305.0, 1.0, 2.0));
+    assert_eq!(g.widths, Some(vec![0.25; points as usize]));
+    assert_eq!(
+        g.colors.as_ref().unwrap()[305],
+        Vec3::new(0.305, 0.25, 0.75)
+    );
+    assert_eq!(g.notes.len(), 1, "{:?}", g.notes);
+    // One byte short of the arrays is refused.
+    assert!(parse_cyhair(&b[..b.len() - 1]).is_err());
 }
 
 #[test]

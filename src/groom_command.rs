@@ -4,7 +4,7 @@
 
 use super::render_command::{open, Opened};
 use super::*;
-use fur::scene::{DrawnGroom, GroomMode};
+use fur::scene::DrawnGroom;
 
 #[derive(Args, Clone)]
 pub(super) struct GroomArgs {
@@ -66,12 +66,11 @@ fn at_rest(args: &GroomArgs) -> anyhow::Result<fur::groom_file::Guides> {
         // As the session does: a skinned body's fur flows along its bones.
         groom.comb_field = Some(fur::skinning::fur_flow(rig));
     }
-    let (strands, warnings) = match groom.source.as_ref().filter(|s| s.mode == GroomMode::Draw) {
+    let (strands, warnings) = match groom.drawn_source() {
         // A drawn groom: its guides' master hairs, not the body's stubs.
         Some(source) => {
             let drawn = DrawnGroom::from_file(mesh, rig.map(|(r, _)| r), &groom, source)?;
-            let (_, radius) = drawn.mesh.bounds();
-            (drawn.guide_strands(), drawn.report.warnings(radius))
+            (drawn.guide_strands(), drawn.warnings())
         }
         None => fur::scene::Strands::grow_reported(&mesh, &groom)?,
     };

@@ -18,26 +18,11 @@ fn scratch(name: &str) -> PathBuf {
 }
 
 fn ok(out: &Output) -> String {
-    assert!(
-        out.status.success(),
-        "fur failed: {}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    String::from_utf8_lossy(&out.stdout).into_owned()
+    common::succeeded(out)
 }
 
 fn s(p: &Path) -> &str {
     p.to_str().unwrap()
-}
-
-/// The number before "hairs drawn" in `fur render`'s report.
-fn hairs_drawn(out: &str) -> usize {
-    let words: Vec<&str> = out.split_whitespace().collect();
-    let i = words
-        .windows(3)
-        .position(|w| w[1] == "hairs" && w[2] == "drawn")
-        .unwrap_or_else(|| panic!("no hair count in: {out}"));
-    words[i].parse().unwrap()
 }
 
 fn length(c: &[Vec3]) -> f32 {
@@ -218,7 +203,7 @@ fn a_drawn_groom_walks_with_the_skin() {
     args.push(s(&frame));
     args.extend(draw);
     let out = ok(&fur(&args));
-    assert_eq!(hairs_drawn(&out), guides.count(), "{out}");
+    assert_eq!(common::hairs_drawn(&out), guides.count() as u64, "{out}");
 }
 
 /// Draw mode without a groom file is refused by name, as is a mode that does not exist.

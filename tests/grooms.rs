@@ -22,12 +22,7 @@ fn scratch(name: &str) -> PathBuf {
 }
 
 fn ok(out: &Output) -> String {
-    assert!(
-        out.status.success(),
-        "fur failed: {}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    String::from_utf8_lossy(&out.stdout).into_owned()
+    common::succeeded(out)
 }
 
 fn fails(out: &Output, says: &[&str]) {
@@ -381,13 +376,7 @@ fn a_bald_region_draws_no_hair() {
             "--groom",
             s(groom),
         ]));
-        // "… 12345 hairs drawn in …"
-        let words: Vec<&str> = out.split_whitespace().collect();
-        let i = words
-            .windows(3)
-            .position(|w| w[1] == "hairs" && w[2] == "drawn")
-            .unwrap_or_else(|| panic!("no hair count in: {out}"));
-        words[i].parse().unwrap()
+        common::hairs_drawn(&out)
     };
     let (full, halved) = (hairs(&whole), hairs(&half_path));
     println!("hairs drawn: whole groom {full}, half {halved}");

@@ -54,6 +54,27 @@ pub fn fur(args: &[&str]) -> std::process::Output {
         .expect("the fur binary runs")
 }
 
+/// The standard output of a `fur` run that must have succeeded (its standard error in
+/// the failure).
+pub fn succeeded(out: &std::process::Output) -> String {
+    assert!(
+        out.status.success(),
+        "fur failed: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    String::from_utf8_lossy(&out.stdout).into_owned()
+}
+
+/// The number before "hairs drawn" in `fur render`'s report ("… 12345 hairs drawn in …").
+pub fn hairs_drawn(report: &str) -> u64 {
+    let words: Vec<&str> = report.split_whitespace().collect();
+    let i = words
+        .windows(3)
+        .position(|w| w[1] == "hairs" && w[2] == "drawn")
+        .unwrap_or_else(|| panic!("no hair count in: {report}"));
+    words[i].parse().unwrap()
+}
+
 /// An empty scratch folder `group/name` under the target's temporary folder.
 pub fn scratch(group: &str, name: &str) -> std::path::PathBuf {
     let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR"))

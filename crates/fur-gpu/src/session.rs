@@ -10,7 +10,7 @@ use crate::error::Error;
 use crate::error::Result;
 use crate::gpu::Device;
 use crate::render::{FrameReport, FrameSettings, Renderer, RgbaImage, Stage};
-use crate::scene::{DrawnGroom, GroomMode, GroomParams, HairPatches, Mesh, Rig, Strands};
+use crate::scene::{DrawnGroom, GroomParams, HairPatches, Mesh, Rig, Strands};
 use crate::sim::{GpuSim, Motion, Sdf, SdfReport, SimParams};
 use crate::skinning::{Playback, SkinnedBody};
 use crate::strand_textures::StrandTextures;
@@ -104,13 +104,11 @@ impl FurSession {
         let mut warnings = Vec::new();
         // A drawn groom: the guides' roots join the body as vertices of their own, with
         // their master hairs and patches (fur_core::scene::DrawnGroom).
-        let draw = groom.source.as_ref().filter(|s| s.mode == GroomMode::Draw);
-        let (mesh, rig, drawn) = match (draw, rig) {
+        let (mesh, rig, drawn) = match (groom.drawn_source(), rig) {
             (Some(source), rig) => {
                 let (rig, playback) = rig.map_or((None, None), |(r, p)| (Some(r), Some(p)));
                 let drawn = DrawnGroom::from_file(mesh, rig, groom, source)?;
-                let (_, radius) = drawn.mesh.bounds();
-                warnings.extend(drawn.report.warnings(radius));
+                warnings.extend(drawn.warnings());
                 let first = drawn.body_vertices;
                 let rig = drawn.rig.zip(playback);
                 (drawn.mesh, rig, Some((drawn.strands, drawn.patches, first)))

@@ -67,11 +67,10 @@ pub fn longitudinal_variance(beta_m: f32) -> f32 {
 /// 1 / d(β_n) of the colour mapping ([`chiang_colour_scale`]).
 pub fn shader_terms(fibre: &Fibre) -> [f32; 4] {
     let sd = longitudinal_variance(fibre.longitudinal_roughness).sqrt();
-    let eta = fibre.ior;
     [
         -0.5 / (sd * sd),
         1.0 / ((2.0 * std::f32::consts::PI).sqrt() * sd),
-        ((1.0 - eta) / (1.0 + eta)).powi(2),
+        fresnel(1.0, fibre.ior),
         1.0 / chiang_colour_scale(fibre.azimuthal_roughness),
     ]
 }
@@ -329,7 +328,8 @@ mod tests {
             let trt = 0.5 * norm * (0.25 * k * x * x).exp();
             assert!(close(trt, gaussian(2.0 * sd, x)), "TRT at {x}");
         }
-        assert!((f0 - fresnel(1.0, f.ior)).abs() < 1e-7);
+        // F0 at η = 1.55: (0.55 / 2.55)² = 0.046521.
+        assert!((f0 - 0.046_521).abs() < 1e-6, "{f0}");
         let c = Vec3::new(0.6, 0.4, 0.2);
         let ln = c.to_array().map(f32::ln);
         let sigma = Vec3::from_array(ln.map(|l| (l * inv_d) * (l * inv_d)));

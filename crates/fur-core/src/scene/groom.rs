@@ -81,6 +81,14 @@ impl GroomParams {
         Ok(())
     }
 
+    /// The groom file to draw guide by guide (`--groom-mode draw`), if this groom is
+    /// one; `None` for grown fur and for a blended groom.
+    pub fn drawn_source(&self) -> Option<&super::GroomSource> {
+        self.source
+            .as_ref()
+            .filter(|s| s.mode == super::GroomMode::Draw)
+    }
+
     pub fn vertices_per_strand(&self) -> u32 {
         self.segments + 1
     }

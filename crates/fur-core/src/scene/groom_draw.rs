@@ -135,6 +135,11 @@ impl DrawnGroom {
         })
     }
 
+    /// What to tell the user: the file's notes and the roots bound far from the body.
+    pub fn warnings(&self) -> Vec<String> {
+        self.report.warnings(self.mesh.bounds().1)
+    }
+
     /// The guides' master hairs alone (what `fur export-groom` writes in draw mode).
     pub fn guide_strands(&self) -> Strands {
         let v = self.strands.vertices_per_strand as usize;

@@ -54,6 +54,9 @@ void select_capsules(uint k, float reach) {
         vec3 rb = pose_rotation * (capsule(2u * c + 1u).xyz - rest_root) + pose_root;
         float moved = max(length(a - ra), length(b - rb));
         float child = capsule(2u * c + 1u).w;
+#ifdef FUR_TEST_NO_CHILD_MOTION
+        child = -1.0; // tests only: the child bone's motion ignored
+#endif
         if (child >= 0.0) {
             // The skin at the capsule's far end bends with its child bone: the child's
             // far end counts too.

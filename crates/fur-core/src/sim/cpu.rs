@@ -25,6 +25,10 @@ use crate::skinning::RootPose;
 /// which never stops, nothing sleeps (and the kernel compiles the test out).
 pub const SLEEP_ULPS: f32 = 16.0;
 /// Slow motion at rest, per frame, at most this fraction of the strand's own length…
+/// (tuned: small enough that hair swinging visibly never sleeps, large enough that hair
+/// pressed into a crease of the walking critter's held pose stops creeping; bound by
+/// `slow_motion_sleeps_and_faster_motion_does_not` and
+/// `a_still_pose_under_gravity_with_collision_comes_to_rest`)
 pub const REST_MOTION: f32 = 1e-3;
 /// …and at most this fraction of `|g| Δt²`, about what gravity moves a free vertex in a
 /// frame from rest, so a hair whose weight is not balanced always wakes.

@@ -306,7 +306,7 @@ fn view(args: ViewArgs) -> anyhow::Result<()> {
     }
     let scene = args::scene(args.scene_file.as_deref(), &args.scene)?;
     scene.sim.validate()?;
-    let target_fps = args.target_fps.unwrap_or(30.0);
+    let target_fps = args.target_fps.unwrap_or(fur::viewer::DEFAULT_TARGET_FPS);
     if !(target_fps.is_finite() && (0.0..=1000.0).contains(&target_fps)) {
         bail!("--target-fps must be 0 (off) to 1000 frames per second, got {target_fps}");
     }

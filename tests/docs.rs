@@ -76,32 +76,70 @@ fn the_figures_the_readme_quotes_come_from_the_benchmark_document() {
         "figures in the README's \"What to expect\" that the run's tables (docs/benchmark.md, docs/ground-truth.md) do not hold: {missing:?}"
     );
     // The tables the README copies row by row (the quality ladder, the ways of colliding
-    // with a walking body): each row's figures all stand in one row of the run's tables,
-    // so a figure cannot be taken from the wrong row.
-    let rows = table_rows(generated);
+    // with a walking body, the drawings against the truth): each figure of a row is the
+    // exact cell under the same column of one row of the run's tables, so a figure cannot
+    // be taken from the wrong row or column, nor be a part of a cell.
+    let run_tables = tables(generated);
     let mut copied = 0;
-    for table in expect.split("\n\n").filter(|t| {
-        let header = t.lines().next().unwrap_or("");
-        header.starts_with("| rung |")
-            || header.starts_with("| way |")
-            || header.starts_with("| drawing |")
+    for (header, rows) in tables(expect).into_iter().filter(|(h, _)| {
+        matches!(
+            h.first().map(String::as_str),
+            Some("rung" | "way" | "drawing")
+        )
     }) {
-        for line in table.lines().skip(2) {
-            let figures: Vec<String> = numbers(line)
-                .into_iter()
-                .filter(|n| n.len() > 1 || n.contains('.'))
-                .collect();
-            let found = rows
+        for row in rows {
+            let figures: Vec<(&str, &str)> = header
                 .iter()
-                .any(|row| figures.iter().all(|f| row.contains(f)));
+                .zip(&row)
+                .filter(|(_, cell)| cell.starts_with(|c: char| c.is_ascii_digit()))
+                .map(|(h, c)| (h.as_str(), c.as_str()))
+                .collect();
+            assert!(!figures.is_empty(), "README row {row:?} holds no figures");
+            let found = run_tables.iter().any(|(run_header, run_rows)| {
+                let column = |name: &str| run_header.iter().position(|h| h == name);
+                figures.iter().all(|(name, _)| column(name).is_some())
+                    && run_rows.iter().any(|run_row| {
+                        figures.iter().all(|(name, cell)| {
+                            column(name)
+                                .and_then(|i| run_row.get(i))
+                                .map(String::as_str)
+                                == Some(*cell)
+                        })
+                    })
+            });
             assert!(
                 found,
-                "README row {line:?}: its figures {figures:?} are not one row of the run's tables"
+                "README row {row:?}: its figures {figures:?} are not the cells of one row of the run's tables"
             );
             copied += 1;
         }
     }
     assert!(copied >= 10, "only {copied} README rows checked row by row");
+}
+
+/// The cells of a table row, trimmed, without the empty ends.
+fn cells(line: &str) -> Vec<String> {
+    let inner = line.trim().trim_start_matches('|').trim_end_matches('|');
+    inner.split('|').map(|c| c.trim().to_string()).collect()
+}
+
+/// The tables of `text`: each as its header's cells and its rows' cells.
+fn tables(text: &str) -> Vec<(Vec<String>, Vec<Vec<String>>)> {
+    let mut out: Vec<(Vec<String>, Vec<Vec<String>>)> = Vec::new();
+    let mut in_table = false;
+    for line in text.lines() {
+        if !line.starts_with('|') {
+            in_table = false;
+        } else if !in_table {
+            out.push((cells(line), Vec::new()));
+            in_table = true;
+        } else if !line.starts_with("| ---") {
+            if let Some((_, rows)) = out.last_mut() {
+                rows.push(cells(line));
+            }
+        }
+    }
+    out
 }
 
 /// Whether `table` (a paragraph of the README) is its table of figures from a GPU run.
@@ -287,4 +325,159 @@ fn the_files_the_documents_name_exist() {
         "named but not there:\n{}",
         missing.join("\n")
     );
+}
+
+/// Text as the documents write it: runs of spaces and line breaks read as one space.
+fn flat(text: &str) -> String {
+    text.split_whitespace().collect::<Vec<_>>().join(" ")
+}
+
+/// The ratios the README works out from the truth tables (docs/ground-truth.md's run):
+/// Marschner's ꟻLIP over Kajiya–Kay's on the blob, sphere and walking critter, then on
+/// white, blond and black fur, and the range of their frame times' ratio.
+struct TruthRatios {
+    scenes: Vec<f64>,
+    colours: Vec<f64>,
+    fastest: f64,
+    slowest: f64,
+}
+
+fn truth_ratios() -> TruthRatios {
+    let truth = read("docs/ground-truth.md");
+    let run = tables(region(&truth, "fur bench"));
+    let figure = |row: &[String], header: &[String], name: &str| -> f64 {
+        let i = header.iter().position(|h| h == name).unwrap();
+        row[i].parse().unwrap()
+    };
+    // Per scene (blob, sphere, walking critter, in the run's order): the default
+    // drawing's row and the Marschner drawing's.
+    let mut scenes = Vec::new();
+    let mut times = Vec::new();
+    for (header, rows) in run.iter().filter(|(h, _)| h[0] == "drawing") {
+        let find = |name: &str| rows.iter().find(|r| r[0] == name);
+        if let (Some(kk), Some(m)) = (find("rung 0 (default)"), find("Marschner lighting")) {
+            scenes.push(figure(m, header, "ꟻLIP") / figure(kk, header, "ꟻLIP"));
+            times.push(figure(m, header, "frame ms") / figure(kk, header, "frame ms"));
+        }
+    }
+    assert_eq!(scenes.len(), 3, "the blob, sphere and critter tables");
+    let (header, rows) = run
+        .iter()
+        .find(|(h, _)| h[0] == "fur")
+        .expect("the fur colours' table");
+    let colour = |fur: &str, drawing: &str| {
+        rows.iter()
+            .find(|r| r[0] == fur && r[1] == drawing)
+            .unwrap_or_else(|| panic!("no {fur} {drawing} row"))
+    };
+    let mut colours = Vec::new();
+    for fur in ["white", "blond", "black"] {
+        let (kk, m) = (colour(fur, "Kajiya–Kay"), colour(fur, "Marschner"));
+        colours.push(figure(m, header, "ꟻLIP") / figure(kk, header, "ꟻLIP"));
+        times.push(figure(m, header, "frame ms") / figure(kk, header, "frame ms"));
+    }
+    let (fastest, slowest) = times
+        .iter()
+        .fold((f64::MAX, f64::MIN), |(lo, hi), &t| (lo.min(t), hi.max(t)));
+    TruthRatios {
+        scenes,
+        colours,
+        fastest,
+        slowest,
+    }
+}
+
+/// The README's sentences on the two lighting models hold the ratios worked out from the
+/// run ([`truth_ratios`]), and the verdict it draws from them (within half or not).
+#[test]
+fn the_ratios_the_readme_draws_from_the_truth_are_the_runs() {
+    let TruthRatios {
+        scenes: ratios,
+        colours,
+        fastest,
+        slowest,
+    } = truth_ratios();
+    let readme = flat(&read("README.md"));
+    let near = format!(
+        "It is at {:.2} of Kajiya–Kay's distance on the blob, {:.2} on the sphere, {:.2} on \
+         the walking critter and {:.2} on white fur, at {fastest:.1}–{slowest:.1}× its frame \
+         time here",
+        ratios[0], ratios[1], ratios[2], colours[0]
+    );
+    let short = format!(
+        "on blond ({:.2}) and black fur ({:.2}) it is short of half, so Kajiya–Kay stays the default",
+        colours[1], colours[2]
+    );
+    for sentence in [&near, &short] {
+        assert!(
+            readme.contains(sentence.as_str()),
+            "the README does not say, from the run: \"{sentence}\""
+        );
+    }
+    // The verdict: the first four within half, the last two not.
+    let within: Vec<bool> = ratios.iter().chain(&colours).map(|r| *r <= 0.5).collect();
+    assert_eq!(
+        within,
+        [true, true, true, true, false, false],
+        "{ratios:?} {colours:?}"
+    );
+}
+
+/// Every figure in the prose of the README's "What to expect" (outside its tables, code
+/// and links) is a figure of a generated run: a whole number of the regions written by
+/// `fur bench --write-docs` (docs/benchmark.md, docs/ground-truth.md) or
+/// `tools/gpu-bench.sh --write-docs` (docs/gpu.md), or one of the ratios worked out in
+/// [`truth_ratios`].
+#[test]
+fn the_readme_prose_figures_come_from_the_runs() {
+    let readme = read("README.md");
+    let expect = section(&readme, "## What to expect");
+    let held: std::collections::HashSet<String> = [
+        generated(&read("docs/benchmark.md")),
+        generated(&read("docs/ground-truth.md")),
+        region(&read("docs/gpu.md"), "fur gpu-bench"),
+    ]
+    .iter()
+    .flat_map(|text| numbers(text))
+    .collect();
+    // The ratios the README derives from the truth tables (checked in their sentence).
+    let r = truth_ratios();
+    let mut derived: Vec<String> = r
+        .scenes
+        .iter()
+        .chain(&r.colours)
+        .map(|x| format!("{x:.2}"))
+        .collect();
+    derived.extend([format!("{:.1}", r.fastest), format!("{:.1}", r.slowest)]);
+    let mut missing = Vec::new();
+    for line in expect.lines().filter(|l| !l.starts_with('|')) {
+        for n in numbers(&without_code_and_links(line)) {
+            if (n.len() > 1 || n.contains('.')) && !held.contains(&n) && !derived.contains(&n) {
+                missing.push(n);
+            }
+        }
+    }
+    assert!(
+        missing.is_empty(),
+        "figures in the README's \"What to expect\" prose that no generated run holds: {missing:?}"
+    );
+}
+
+/// `line` without its code spans and link targets (paths, commands: not figures).
+fn without_code_and_links(line: &str) -> String {
+    let mut out = String::new();
+    let mut in_code = false;
+    let mut in_target = false;
+    let mut previous = ' ';
+    for c in line.chars() {
+        match c {
+            '`' => in_code = !in_code,
+            '(' if previous == ']' => in_target = true,
+            ')' if in_target => in_target = false,
+            _ if !in_code && !in_target => out.push(c),
+            _ => {}
+        }
+        previous = c;
+    }
+    out
 }

@@ -354,11 +354,13 @@ impl Bench<'_> {
              posing the capsules), its sampling (the simulation with collision minus without, \
              {no_collision:.3} ms), its device memory, and the depth of strand vertices inside \
              the posed critter over the second half of a walk cycle (exact point-to-mesh \
-             distances), as fractions of the hair length (targets: max ≤ 0.01, cost ≤ 35 % of \
-             the simulation step). *Share of the step*: collision's part of the step that \
+             distances), as fractions of the hair length (targets: max ≤ {depth}, cost ≤ {cost:.0} % \
+             of the simulation step). *Share of the step*: collision's part of the step that \
              includes it; *adds*: what it adds to the step without it.\n\n\
              | way | update µs (CPU) | sampling ms | share of the step | adds | device KiB | mean depth | max depth |\n\
-             | --- | --- | --- | --- | --- | --- | --- | --- |"
+             | --- | --- | --- | --- | --- | --- | --- | --- |",
+            depth = super::DEPTH_TARGET,
+            cost = 100.0 * super::COLLISION_COST_TARGET,
         );
         for (k, (way, field, way_body)) in ways.iter().enumerate() {
             let start = Instant::now();

@@ -9,6 +9,13 @@
 //! second's binning and misattributes.
 
 mod animation;
+
+/// The collision target on the walking critter that the animation section reports
+/// against: the deepest strand vertex inside the posed body at most this fraction of the
+/// hair length…
+pub const DEPTH_TARGET: f64 = 0.01;
+/// …at a cost of at most this share of the simulation step.
+pub const COLLISION_COST_TARGET: f64 = 0.35;
 mod collision;
 mod docs;
 mod frame;

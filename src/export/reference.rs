@@ -19,7 +19,7 @@ pub const PYTHON_ENV: &str = "FUR_REFERENCE_PYTHON";
 pub const DEFAULT_PYTHON: &str = "tools/reference/.venv/bin/python";
 
 /// The largest reference image read, in bytes (a 16384² float RGB image is 3 GiB).
-const MAX_PFM_BYTES: u64 = 4 << 30;
+pub const MAX_PFM_BYTES: u64 = 4 << 30;
 
 /// How to path-trace a frame.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

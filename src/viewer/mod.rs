@@ -28,6 +28,9 @@ use winit::window::WindowId;
 
 pub use script::{Action, Script};
 
+/// The frame rate `fur view` holds by default (`--target-fps`).
+pub const DEFAULT_TARGET_FPS: f64 = 30.0;
+
 use clock::Clock;
 use display::Display;
 use in_flight::Frames;

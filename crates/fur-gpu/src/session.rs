@@ -18,7 +18,7 @@ use crate::strand_textures::StrandTextures;
 mod options;
 
 pub use fur_core::scene_file::{DrawOptions, SceneOptions};
-pub use options::{check_work, MAX_TARGET_BYTES};
+pub use options::{check_work, MAX_SEGMENTS_PER_FRAME, MAX_STRAND_VERTICES, MAX_TARGET_BYTES};
 
 /// What a frame reports beyond the image.
 #[derive(Clone, Debug)]

@@ -481,3 +481,150 @@ fn without_code_and_links(line: &str) -> String {
     }
     out
 }
+
+/// Figures the measured documents state outside their generated regions that no run
+/// measures, each with what it is: versions, years, the image sizes and the camera a
+/// section is defined by, and the calibration's test sizes.
+const NOT_MEASURED: [(&str, &str, &str); 14] = [
+    ("docs/gpu.md", "500", "the goal: 500K drawn hairs"),
+    ("docs/benchmark.md", "22.3", "Mesa's version"),
+    ("docs/benchmark.md", "2018", "the original demo's year"),
+    (
+        "docs/benchmark.md",
+        "45",
+        "the sphere scene's field of view, in degrees",
+    ),
+    ("docs/benchmark.md", "1920", "the goal's resolution"),
+    ("docs/benchmark.md", "1080", "the goal's resolution"),
+    ("docs/benchmark.md", "320", "the truth section's resolution"),
+    ("docs/benchmark.md", "180", "the truth section's resolution"),
+    ("docs/ground-truth.md", "2016", "Chiang et al.'s year"),
+    ("docs/ground-truth.md", "3.9", "Mitsuba's version"),
+    ("docs/ground-truth.md", "32", "32-bit floats"),
+    (
+        "docs/ground-truth.md",
+        "96",
+        "the calibration test's width (tests/truth.rs)",
+    ),
+    (
+        "docs/ground-truth.md",
+        "54",
+        "the calibration test's height (tests/truth.rs)",
+    ),
+    (
+        "docs/ground-truth.md",
+        "0.03",
+        "the calibration strands' width (tests/truth.rs)",
+    ),
+];
+
+/// The prose of the measured documents (docs/benchmark.md, docs/ground-truth.md,
+/// docs/gpu.md) around their generated regions quotes only figures of a run: every
+/// figure there is a whole number of one of the three regions (commas aside), a ratio
+/// or difference worked out from the truth tables ([`truth_ratios`]; the distance
+/// between the two lighting models), the fibre's defaults (bound to the code by
+/// tests/stated_figures.rs), or one of [`NOT_MEASURED`].
+#[test]
+fn the_measured_documents_prose_quotes_their_runs() {
+    let docs = [
+        ("docs/benchmark.md", "fur bench"),
+        ("docs/ground-truth.md", "fur bench"),
+        ("docs/gpu.md", "fur gpu-bench"),
+    ];
+    let plain = |n: &str| n.replace(',', "");
+    let mut held: std::collections::HashSet<String> = docs
+        .iter()
+        .flat_map(|(doc, name)| numbers(region(&read(doc), name)))
+        .map(|n| plain(&n))
+        .collect();
+    let r = truth_ratios();
+    held.extend(
+        r.scenes
+            .iter()
+            .chain(&r.colours)
+            .map(|x| format!("{x:.2}"))
+            .chain([format!("{:.1}", r.fastest), format!("{:.1}", r.slowest)]),
+    );
+    // The distance between the two models, per scene and fur colour.
+    held.extend(truth_gaps().iter().map(|g| format!("{g:.4}")));
+    let fibre = fur::render::Fibre::default();
+    held.extend(
+        [
+            fibre.longitudinal_roughness,
+            fibre.azimuthal_roughness,
+            fibre.ior,
+        ]
+        .map(|x| x.to_string()),
+    );
+    // The goal's body's vertices (`dense-sphere`: its masters), bound to the code by
+    // tests/stated_figures.rs.
+    let dense: fur::scene::ModelSpec = "dense-sphere".parse().unwrap();
+    held.insert(dense.load().unwrap().positions.len().to_string());
+    let mut unheld = Vec::new();
+    for (doc, name) in docs {
+        let text = read(doc);
+        let (begin, end) = (
+            text.find(&format!("<!-- BEGIN {name} -->")).unwrap(),
+            text.find(&format!("<!-- END {name} -->")).unwrap(),
+        );
+        let prose = format!("{}\n{}", &text[..begin], &text[end..]);
+        // Fenced blocks left out, then code spans (which may run over a line end) and
+        // link targets.
+        let mut in_block = false;
+        let unfenced: Vec<&str> = prose
+            .lines()
+            .filter(|l| {
+                in_block ^= l.starts_with("```");
+                !in_block && !l.starts_with("```")
+            })
+            .collect();
+        for line in without_code_and_links(&unfenced.join("\n")).lines() {
+            for n in numbers(line) {
+                let figure = n.len() > 1 || n.contains('.');
+                let excepted = NOT_MEASURED.iter().any(|(d, f, _)| *d == doc && *f == n);
+                if figure && !held.contains(&plain(&n)) && !excepted {
+                    unheld.push(format!("{doc}: {n} in {line:?}"));
+                }
+            }
+        }
+    }
+    assert!(
+        unheld.is_empty(),
+        "figures in the measured documents' prose that no run holds:\n{}",
+        unheld.join("\n")
+    );
+}
+
+/// Kajiya–Kay's ꟻLIP minus Marschner's in each truth table (blob, sphere, walking
+/// critter, then white, blond and black fur).
+fn truth_gaps() -> Vec<f64> {
+    let truth = read("docs/ground-truth.md");
+    let mut gaps = Vec::new();
+    for (header, rows) in tables(region(&truth, "fur bench")) {
+        let Some(flip) = header.iter().position(|h| h == "ꟻLIP") else {
+            continue;
+        };
+        // The row whose leading cells are `names`.
+        let value = |names: &[&str]| {
+            rows.iter()
+                .find(|r| names.iter().zip(r.iter()).all(|(n, c)| n == c))
+                .and_then(|r| r[flip].parse::<f64>().ok())
+        };
+        if header[0] == "drawing" {
+            if let (Some(kk), Some(m)) =
+                (value(&["rung 0 (default)"]), value(&["Marschner lighting"]))
+            {
+                gaps.push(kk - m);
+            }
+        } else if header[0] == "fur" {
+            for fur in ["white", "blond", "black"] {
+                if let (Some(kk), Some(m)) =
+                    (value(&[fur, "Kajiya–Kay"]), value(&[fur, "Marschner"]))
+                {
+                    gaps.push(kk - m);
+                }
+            }
+        }
+    }
+    gaps
+}

@@ -129,6 +129,9 @@ pub struct Budget {
 }
 
 impl Budget {
+    // The constants below are tuned (docs/design.md, "Tuned constants"); the unit tests
+    // work every frame count out from them.
+
     /// Frames between two changes of rung, at least.
     pub const SETTLE_FRAMES: u32 = 8;
     /// Seconds without input after which the controller refines.

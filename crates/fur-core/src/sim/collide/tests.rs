@@ -208,3 +208,68 @@ fn the_roots_bone_sees_hair_the_skin_folded_over_in_a_crease() {
         seen[1].1
     );
 }
+
+/// The capsules a strand collides with: of seven short capsules at surface distances
+/// 0.5, 0.3, 0.7, 0.1, 0.3, 0.9 and 5 from its root (radius 0.05, each moved far from
+/// where the root pose carries it, so at its full radius), the four nearest within its
+/// reach (hair 1, margin 0.1), nearest first and the tie in index order; a capsule
+/// moved by half the ramp has half its radius, one not moved none.
+#[test]
+fn the_nearest_capsules_within_reach_come_nearest_first() {
+    let radius = 0.05f32;
+    let distances = [0.5f32, 0.3, 0.7, 0.1, 0.3, 0.9, 5.0];
+    let directions = [
+        Vec3::X,
+        Vec3::Y,
+        Vec3::Z,
+        -Vec3::X,
+        -Vec3::Y,
+        -Vec3::Z,
+        Vec3::ONE.normalize(),
+    ];
+    // A capsule along the direction's normal plane, its axis `dist + radius` away.
+    let capsule = |d: Vec3, dist: f32| {
+        let side = d.any_orthonormal_vector();
+        let centre = d * (dist + radius);
+        [
+            (centre - 0.05 * side).extend(radius),
+            (centre + 0.05 * side).extend(-1.0),
+        ]
+    };
+    let capsules: Vec<[glam::Vec4; 2]> = directions
+        .iter()
+        .zip(distances)
+        .map(|(d, dist)| capsule(*d, dist))
+        .collect();
+    // Rest ends far away: every capsule moved by far more than the ramp.
+    let far = glam::Vec4::new(0.0, 0.0, 10.0, 0.0);
+    let rest: Vec<[glam::Vec4; 2]> = capsules.iter().map(|c| [c[0] + far, c[1] + far]).collect();
+    let identity = M3([V3(1.0, 0.0, 0.0), V3(0.0, 1.0, 0.0), V3(0.0, 0.0, 1.0)]);
+    let pose: Pose<f32> = (identity, V3(0.0, 0.0, 0.0), V3(0.0, 0.0, 0.0));
+    let near = near_capsules(&pose, (&capsules, &rest), (1.0, 0.1));
+    let roots: Vec<f32> = near.iter().map(|c| c.root).collect();
+    let expected = [0.1f32, 0.3, 0.3, 0.5].map(|d| d + radius);
+    assert_eq!(near.len(), NEAR_CAPSULES);
+    for (got, want) in roots.iter().zip(expected) {
+        assert!((got - want).abs() < 1e-6, "{roots:?} against {expected:?}");
+    }
+    // The tie: capsule 1 (+y) before capsule 4 (−y).
+    assert!(near[1].a.1 > 0.0 && near[2].a.1 < 0.0, "{:?}", near);
+    assert!(near.iter().all(|c| (c.radius - radius).abs() < 1e-7));
+    // Moved by half the ramp (a quarter of the strand's length): half the radius; not
+    // moved at all: none.
+    let half = glam::Vec4::new(0.0, 0.0, 0.5 * CAPSULE_RAMP, 0.0);
+    let one = [capsules[3]];
+    let near = near_capsules(
+        &pose,
+        (&one, &[[one[0][0] + half, one[0][1] + half]]),
+        (1.0, 0.1),
+    );
+    assert!(
+        (near[0].radius - 0.5 * radius).abs() < 1e-6,
+        "{}",
+        near[0].radius
+    );
+    let near = near_capsules(&pose, (&one, &one), (1.0, 0.1));
+    assert_eq!(near[0].radius, 0.0);
+}

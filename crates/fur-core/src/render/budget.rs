@@ -129,7 +129,7 @@ pub struct Budget {
 }
 
 impl Budget {
-    // The constants below are tuned (docs/design.md, "Tuned constants"); the unit tests
+    // The constants below are tuned (docs/testing.md, "Tuned constants"); the unit tests
     // work every frame count out from them.
 
     /// Frames between two changes of rung, at least.

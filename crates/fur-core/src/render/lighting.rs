@@ -66,7 +66,7 @@ impl Default for Shadows {
         Self {
             enabled: false,
             resolution: 512,
-            // Tuned (docs/design.md, "Tuned constants").
+            // Tuned (docs/testing.md, "Tuned constants").
             opacity: 0.35,
             spacing: 0.0,
             coloured: false,

@@ -135,7 +135,7 @@ impl Default for FurStyle {
             primitive: Primitive::Ribbons,
             ribbon_above_px: 1.0,
             shading: Shading::Vertex,
-            // Tuned, as is `min_pixel_width` (docs/design.md, "Tuned constants").
+            // Tuned, as is `min_pixel_width` (docs/testing.md, "Tuned constants").
             vertex_lod_px: 0.05,
             thickness_compensation: true,
             thin_hair_aa: true,

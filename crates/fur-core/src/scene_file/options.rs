@@ -155,7 +155,7 @@ impl SceneOptions {
             comb: 0.0,
             curl: 0.0,
             thickness_limit: 0.0,
-            // Tuned: the original's 35,129 hairs (docs/design.md, "Tuned constants").
+            // Tuned: the original's 35,129 hairs (docs/testing.md, "Tuned constants").
             density_scale: 0.33,
             yaw_deg: 90.0,
             pitch_deg: 15.0,

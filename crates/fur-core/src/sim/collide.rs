@@ -12,7 +12,7 @@ pub const PROJECTIONS: u32 = 3;
 /// The same on a skinned body, onto each of its constraints in turn. A second and third
 /// round moved the walk's deepest vertex by 3e-4 hair lengths and took a tenth of the
 /// simulation step (docs/benchmark.md); what one leaves, the next substep takes up.
-/// Tuned (docs/design.md, "Tuned constants").
+/// Tuned (docs/testing.md, "Tuned constants").
 pub const PROJECTIONS_SKINNED: u32 = 1;
 
 /// The first vertex of a strand of `vertices` that the skin's blend carries back: from
@@ -20,7 +20,7 @@ pub const PROJECTIONS_SKINNED: u32 = 1;
 /// pose is exact at the root and drifts from the skin with distance along the hair; the
 /// blend's reads are dear on a CPU driver, and the vertices nearer the root measured the
 /// same depths with it as without (docs/benchmark.md).
-/// Tuned (docs/design.md, "Tuned constants"), as is [`bone_to`].
+/// Tuned (docs/testing.md, "Tuned constants"), as is [`bone_to`].
 pub fn blend_from(vertices: usize) -> usize {
     (7 * vertices.saturating_sub(1) / 8).max(1)
 }
@@ -102,14 +102,14 @@ fn segment_parameter<T: Real>(m: V3<T>, a: V3<T>, ab: V3<T>, len2: T) -> T {
 }
 
 /// Capsules a strand collides with in a substep, at most.
-/// Tuned (docs/design.md, "Tuned constants").
+/// Tuned (docs/testing.md, "Tuned constants").
 pub const NEAR_CAPSULES: usize = 4;
 
 /// How far, in strand lengths, a capsule's bone must move relative to a strand's root
 /// for the capsule to reach its full radius (`near_capsules`). Chosen by the walking
 /// critter's deepest vertex: a whole strand length lets hair into the skin near
 /// joints, while a quarter or a tenth leave it as deep as capsules at full radius do.
-/// Tuned (docs/design.md, "Tuned constants").
+/// Tuned (docs/testing.md, "Tuned constants").
 pub const CAPSULE_RAMP: f32 = 0.25;
 
 /// A capsule as the collision loop reads it: `a`, radius, `b − a`, `|b − a|²`, and the

@@ -24,7 +24,7 @@ use crate::skinning::RootPose;
 /// strand: its root moving, or a frame from rest with an unbalanced force. With wind,
 /// which never stops, nothing sleeps (and the kernel compiles the test out).
 ///
-/// Tuned, as are the two below (docs/design.md, "Tuned constants").
+/// Tuned, as are the two below (docs/testing.md, "Tuned constants").
 pub const SLEEP_ULPS: f32 = 16.0;
 /// Slow motion at rest, per frame, at most this fraction of the strand's own length…
 /// (tuned: small enough that hair swinging visibly never sleeps, large enough that hair

@@ -16,7 +16,7 @@ pub const CELLS_PER_HAIR: f32 = 3.0;
 /// root pose must resolve: on the walking critter, ear hair no longer ends up inside
 /// the ear as it does at 3 cells per hair, and the mean depth falls (the benchmark's
 /// collision section, docs/benchmark.md, measures the depths at this resolution).
-/// Tuned (docs/design.md, "Tuned constants").
+/// Tuned (docs/testing.md, "Tuned constants").
 pub const CELLS_PER_HAIR_SKINNED: f32 = 6.0;
 
 /// Han & Harada strand simulation parameters. Units: metres, seconds.

@@ -194,3 +194,31 @@ fn slow_motion_sleeps_and_faster_motion_does_not() {
         "motion at twice the bound moved {moved} (bound {bound})"
     );
 }
+
+/// Weak gravity still bends hair: at 1 m/s² a frame of free fall from rest (2.8e-4) is
+/// under `REST_MOTION` of these strands' 0.4 length (4e-4), so the slow-motion bound
+/// alone would put the hair to sleep in its first frame and it would never fall; the
+/// gravity guard (`REST_GRAVITY` of that frame of free fall) keeps hair whose weight is
+/// not balanced awake (seen failing with the guard taken out: the hair never moved).
+#[test]
+fn hair_under_weak_gravity_still_bends() {
+    let params = SimParams {
+        gravity: Vec3::new(0.0, -1.0, 0.0),
+        collision: false,
+        ..Default::default()
+    };
+    let length = 0.4f32;
+    let frame_fall = 1.0 * (1.0f32 / 60.0).powi(2);
+    assert!(frame_fall < fur_core::sim::cpu::REST_MOTION * length);
+    let mut sim = CpuSim::<f32>::new(&sideways(), params, DMat4::IDENTITY);
+    let start = sim.current.clone();
+    for _ in 0..120 {
+        frame(&mut sim);
+    }
+    let sag = start
+        .iter()
+        .zip(&sim.current)
+        .map(|(a, b)| (*a - *b).length())
+        .fold(0.0, f32::max);
+    assert!(sag > 1e-3, "weak gravity bent the hair by only {sag}");
+}

@@ -308,3 +308,35 @@ fn a_vertex_blends_its_guides_by_inverse_square_distance() {
     let n = mesh.normals[far].normalize();
     assert!((stub[stub.len() - 1] - stub[0]).dot(n) > 0.0, "{stub:?}");
 }
+
+/// The groomed region is twice the roots' median spacing, the median of uneven
+/// spacings: roots at x = −4, −3.5, −2 and 0 on a flat grid are 0.5, 0.5, 1.5 and 2
+/// from their nearest, so the median is 1.5 and the region 3 (the smallest spacing would
+/// give 1). A vertex 2.5 from the last root takes the guides' length; one 3.5 from it is
+/// bald.
+#[test]
+fn the_groomed_region_is_twice_the_median_spacing_of_uneven_roots() {
+    let mesh = Mesh::grid(16, 16, 8.0);
+    let at = |x: f32| {
+        mesh.positions
+            .iter()
+            .position(|p| p.distance(Vec3::new(x, 0.0, 0.0)) < 1e-4)
+            .unwrap()
+    };
+    let mut guides = Guides::default();
+    for x in [-4.0, -3.5, -2.0, 0.0] {
+        let root = at(x);
+        let n = mesh.normals[root].normalize();
+        guides.counts.push(2);
+        guides
+            .points
+            .extend([mesh.positions[root], mesh.positions[root] + n * 0.3]);
+    }
+    let (strands, _) = Strands::from_guides(&mesh, &guides, &groom(), Outside::Bald).unwrap();
+    let length = |x: f32| {
+        let hair = strands.strand(at(x));
+        (hair[hair.len() - 1] - hair[0]).length()
+    };
+    assert!((length(2.5) - 0.3).abs() < 1e-4, "{} at 2.5", length(2.5));
+    assert!(length(3.5) < 0.1, "{} at 3.5: not bald", length(3.5));
+}

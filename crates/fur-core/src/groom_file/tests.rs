@@ -189,9 +189,18 @@ fn bad_tfx_files_are_refused_before_allocating() {
     let mut one = good.clone();
     one[8..12].copy_from_slice(&1u32.to_le_bytes());
     assert!(err(&one).contains("vertices per strand"));
-    let mut version = good;
+    let mut version = good.clone();
     version[0..4].copy_from_slice(&f32::NAN.to_le_bytes());
     assert!(err(&version).contains("version"));
+    // Positions cut short by a vertex (no colours): 8 × 16 bytes are needed, 7 × 16
+    // are there; ending exactly at the file's end is whole.
+    let plain = tfx_by_hand(false);
+    assert!(err(&plain[..plain.len() - 16]).contains("positions"));
+    assert_eq!(parse_tfx(&plain).unwrap().points.len(), 8);
+    // Positions that start inside the header.
+    let mut early = plain;
+    early[12..16].copy_from_slice(&159u32.to_le_bytes());
+    assert!(err(&early).contains("positions"));
 }
 
 fn sample_guides() -> Guides {
@@ -362,4 +371,45 @@ fn validation_names_what_is_wrong() {
         .validate()
         .unwrap_err()
         .contains("no curves"));
+}
+
+/// The cyHair writer at its limits: a curve of 65,535 vertices (65,534 segments, the
+/// most a u16 count holds with room) is written and reads back, one more is refused
+/// naming the curve; the arrays' flags name exactly the arrays written (widths alone,
+/// colours alone); the header's text is the info cut to 87 bytes and a NUL.
+#[test]
+fn the_cyhair_writer_keeps_its_limits_flags_and_text() {
+    let curve = |n: u32, widths: bool, colors: bool| {
+        let points: Vec<Vec3> = (0..n).map(|i| Vec3::new(0.0, i as f32, 0.0)).collect();
+        Guides {
+            counts: vec![n],
+            widths: widths.then(|| vec![0.01; points.len()]),
+            colors: colors.then(|| vec![Vec3::ONE; points.len()]),
+            points,
+            notes: Vec::new(),
+        }
+    };
+    let longest = curve(65_535, false, false);
+    let written = write_cyhair(&longest, "").unwrap();
+    assert_eq!(parse_cyhair(&written).unwrap(), longest);
+    let err = write_cyhair(&curve(65_536, false, false), "").unwrap_err();
+    assert_eq!(
+        err,
+        "curve 0 has 65536 vertices; cyHair holds at most 65535"
+    );
+    let flags = |g: &Guides| {
+        let b = write_cyhair(g, "").unwrap();
+        u32::from_le_bytes([b[12], b[13], b[14], b[15]])
+    };
+    assert_eq!(flags(&curve(3, false, false)), 1 | 2);
+    assert_eq!(flags(&curve(3, true, false)), 1 | 2 | 4);
+    assert_eq!(flags(&curve(3, false, true)), 1 | 2 | 16);
+    assert_eq!(flags(&curve(3, true, true)), 1 | 2 | 4 | 16);
+    let long_info = "x".repeat(100);
+    let b = write_cyhair(&curve(2, false, false), &long_info).unwrap();
+    assert_eq!(&b[40..127], "x".repeat(87).as_bytes());
+    assert_eq!(b[127], 0);
+    let b = write_cyhair(&curve(2, false, false), "fur").unwrap();
+    assert_eq!(&b[40..43], b"fur");
+    assert!(b[43..128].iter().all(|&x| x == 0));
 }

@@ -213,7 +213,8 @@ fn the_roots_bone_sees_hair_the_skin_folded_over_in_a_crease() {
 /// 0.5, 0.3, 0.7, 0.1, 0.3, 0.9 and 5 from its root (radius 0.05, each moved far from
 /// where the root pose carries it, so at its full radius), the four nearest within its
 /// reach (hair 1, margin 0.1), nearest first and the tie in index order; a capsule
-/// moved by half the ramp has half its radius, one not moved none.
+/// moved by half the ramp has half its radius, one not moved none, and one whose child
+/// bone's far end moved by half the ramp half its radius.
 #[test]
 fn the_nearest_capsules_within_reach_come_nearest_first() {
     let radius = 0.05f32;
@@ -272,4 +273,26 @@ fn the_nearest_capsules_within_reach_come_nearest_first() {
     );
     let near = near_capsules(&pose, (&one, &one), (1.0, 0.1));
     assert_eq!(near[0].radius, 0.0);
+    // A capsule that did not move, whose child bone (index 1, out of reach) moved its
+    // far end by half the ramp: half the radius; its child not moved: none.
+    let child = [
+        glam::Vec4::new(-10.0, 0.0, 0.0, radius),
+        glam::Vec4::new(-10.0, 1.0, 0.0, -1.0),
+    ];
+    let mut rest = [one[0], child];
+    rest[0][1].w = 1.0;
+    let mut posed = rest;
+    posed[1][1] += half;
+    let near = near_capsules(&pose, (&posed, &rest), (1.0, 0.1));
+    assert_eq!(near.len(), 1, "the child is out of reach");
+    assert!(
+        (near[0].radius - 0.5 * radius).abs() < 1e-6,
+        "{}",
+        near[0].radius
+    );
+    let near = near_capsules(&pose, (&rest, &rest), (1.0, 0.1));
+    assert_eq!(
+        near[0].radius, 0.0,
+        "a child that did not move moves nothing"
+    );
 }

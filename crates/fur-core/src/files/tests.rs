@@ -181,6 +181,10 @@ fn each_output_is_written_the_way_its_kind_needs() {
     check_output_file(Path::new("/dev/null")).unwrap();
     check_output_file(&dir.join("sub").join("out.png")).unwrap();
     assert!(!dir.join("sub").exists());
+    let err = check_output_file(&dir).unwrap_err().to_string();
+    assert!(err.contains("it is a folder"), "{err}");
+    let err = check_output_file(&new.join("under.png")).unwrap_err().to_string();
+    assert!(err.contains("new.png"), "a file under a regular file: {err}");
     let err = check_output_dir(&new).unwrap_err().to_string();
     assert!(err.contains("it is a regular file, not a folder"), "{err}");
     let _ = std::fs::remove_dir_all(&dir);

@@ -296,3 +296,44 @@ fn the_nearest_capsules_within_reach_come_nearest_first() {
         "a child that did not move moves nothing"
     );
 }
+
+/// The contact's response on a rigid floor (the half-space y < 0, sampled exactly):
+/// a vertex 0.05 deep moving 0.2 along the floor and 0.1 into it ends on the margin
+/// (0.1) with the part into the floor gone and the sliding part less a quarter
+/// (friction 0.25); moving 0.1 out of the floor it keeps that too; a vertex beyond the
+/// margin keeps its previous position.
+#[test]
+fn a_contact_removes_the_velocity_into_the_body_and_friction_part_of_the_sliding() {
+    let (n, cell) = (17u32, 0.25f32);
+    let values: Vec<f32> = (0..n * n * n)
+        .map(|i| -2.0 + cell * ((i / n) % n) as f32)
+        .collect();
+    let sdf = Sdf {
+        dims: [n; 3],
+        origin: Vec3::splat(-2.0),
+        cell,
+        gradients: vec![Vec3::Y; values.len()],
+        values,
+    };
+    let collider = Collider {
+        sdf: &sdf,
+        blend: &[],
+        to_model: Head::new(glam::Mat4::IDENTITY),
+        fraction: 0.0,
+        friction: 0.25f32,
+    };
+    let head = Head::new(glam::Mat4::IDENTITY);
+    let respond = |from: V3<f32>, velocity: V3<f32>| {
+        let (mut x, mut previous) = (from, from - velocity);
+        collider.push_out(&head, 0.1, &mut x, &mut previous);
+        (x, x - previous)
+    };
+    let close = |a: V3<f32>, b: V3<f32>| (a - b).length() < 1e-6;
+    let (x, v) = respond(V3(0.0, -0.05, 0.0), V3(0.2, -0.1, 0.0));
+    assert!(close(x, V3(0.0, 0.1, 0.0)), "{x:?}");
+    assert!(close(v, V3(0.15, 0.0, 0.0)), "into the floor: {v:?}");
+    let (_, v) = respond(V3(0.0, -0.05, 0.0), V3(0.2, 0.1, 0.0));
+    assert!(close(v, V3(0.15, 0.1, 0.0)), "out of the floor: {v:?}");
+    let (x, v) = respond(V3(0.0, 0.5, 0.0), V3(0.2, -0.1, 0.0));
+    assert!(close(x, V3(0.0, 0.5, 0.0)) && close(v, V3(0.2, -0.1, 0.0)), "{x:?} {v:?}");
+}

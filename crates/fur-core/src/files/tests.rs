@@ -121,6 +121,12 @@ fn missing_files_and_other_kinds_are_named() {
     let file = dir.join("a.obj");
     std::fs::write(&file, b"v 0 0 0\n").unwrap();
     read_bounded_check(&file).unwrap();
+    // Under a regular file is not "no such file": the system's own reason.
+    let under = file.join("x.obj");
+    assert!(read_bounded_check(&under)
+        .unwrap_err()
+        .contains("Not a directory"));
+    assert!(output_kind(&under).unwrap_err().contains("Not a directory"));
     assert_eq!(read_text_bounded(&file, 8, "model").unwrap(), "v 0 0 0\n");
     std::fs::write(&file, [0xff, 0xfe]).unwrap();
     let err = read_text_bounded(&file, 8, "model").unwrap_err();
@@ -183,8 +189,13 @@ fn each_output_is_written_the_way_its_kind_needs() {
     assert!(!dir.join("sub").exists());
     let err = check_output_file(&dir).unwrap_err().to_string();
     assert!(err.contains("it is a folder"), "{err}");
-    let err = check_output_file(&new.join("under.png")).unwrap_err().to_string();
-    assert!(err.contains("new.png"), "a file under a regular file: {err}");
+    let err = check_output_file(&new.join("under.png"))
+        .unwrap_err()
+        .to_string();
+    assert!(
+        err.contains("new.png"),
+        "a file under a regular file: {err}"
+    );
     let err = check_output_dir(&new).unwrap_err().to_string();
     assert!(err.contains("it is a regular file, not a folder"), "{err}");
     let _ = std::fs::remove_dir_all(&dir);

@@ -134,9 +134,19 @@ fn bad_cyhair_files_are_refused_before_allocating() {
     let mut sums = good.clone();
     sums[8..12].copy_from_slice(&4u32.to_le_bytes());
     assert!(err(&sums).contains("add up to 5"));
-    let mut none = good;
+    let mut none = good.clone();
     none[12..16].copy_from_slice(&1u32.to_le_bytes());
     assert!(err(&none).contains("no points array"));
+    // No segments array: the header's default count must be 1..65534.
+    for default in [0u32, 65_535] {
+        let mut b = good.clone();
+        b[12..16].copy_from_slice(&2u32.to_le_bytes());
+        b[16..20].copy_from_slice(&default.to_le_bytes());
+        assert!(
+            err(&b).contains("default segment count"),
+            "default {default}"
+        );
+    }
 }
 
 /// Two strands of 4 vertices, laid out as TressFX's header describes.
@@ -189,9 +199,11 @@ fn bad_tfx_files_are_refused_before_allocating() {
     let mut one = good.clone();
     one[8..12].copy_from_slice(&1u32.to_le_bytes());
     assert!(err(&one).contains("vertices per strand"));
-    let mut version = good.clone();
-    version[0..4].copy_from_slice(&f32::NAN.to_le_bytes());
-    assert!(err(&version).contains("version"));
+    for bad in [f32::NAN, f32::INFINITY, 0.0, -1.0] {
+        let mut version = good.clone();
+        version[0..4].copy_from_slice(&bad.to_le_bytes());
+        assert!(err(&version).contains("version"), "version {bad}");
+    }
     // Positions cut short by a vertex (no colours): 8 × 16 bytes are needed, 7 × 16
     // are there; ending exactly at the file's end is whole.
     let plain = tfx_by_hand(false);
@@ -392,6 +404,12 @@ fn the_cyhair_writer_keeps_its_limits_flags_and_text() {
     let longest = curve(65_535, false, false);
     let written = write_cyhair(&longest, "").unwrap();
     assert_eq!(parse_cyhair(&written).unwrap(), longest);
+    // A later curve's count with a high byte (299 segments after a curve of 1).
+    let mut two = curve(2, false, false);
+    two.counts.push(300);
+    two.points
+        .extend((0..300).map(|i| Vec3::new(1.0, i as f32, 0.0)));
+    assert_eq!(parse_cyhair(&write_cyhair(&two, "").unwrap()).unwrap(), two);
     let err = write_cyhair(&curve(65_536, false, false), "").unwrap_err();
     assert_eq!(
         err,
@@ -412,4 +430,74 @@ fn the_cyhair_writer_keeps_its_limits_flags_and_text() {
     let b = write_cyhair(&curve(2, false, false), "fur").unwrap();
     assert_eq!(&b[40..43], b"fur");
     assert!(b[43..128].iter().all(|&x| x == 0));
+}
+
+/// Each transform op and value type the reader takes, on one point (1, 2, 3) of a
+/// two-point curve: a 4×4 matrix (a translation by (10, 0, 0), row-vector layout as USD
+/// writes it), rotateX and rotateY by 90° (in double), rotateXYZ (90, 0, 0) and (0, 90,
+/// 0), orient as quatf and quatd (90° about Z), each worked out by hand; points in
+/// double, widths in double and as one constant float for the whole curve.
+#[test]
+fn every_transform_op_and_value_type_reads_as_worked_out() {
+    let curve = |ops: &str, order: &str, points: &str, widths: &str| {
+        usda(&format!(
+            "    def BasisCurves \"C\"\n    {{\n        uniform token type = \"linear\"\n        \
+             int[] curveVertexCounts = [2]\n        {points}\n        {widths}\n        \
+             {ops}\n        uniform token[] xformOpOrder = [{order}]\n    }}"
+        ))
+    };
+    let first = |ops: &str, order: &str| {
+        let text = curve(
+            ops,
+            order,
+            "point3f[] points = [(1, 2, 3), (1, 2, 4)]",
+            "float[] widths = [0.5, 0.25] (interpolation = \"vertex\")",
+        );
+        read(&text).unwrap_or_else(|e| panic!("{ops}: {e}")).points[0]
+    };
+    let cases: [(&str, &str, Vec3); 7] = [
+        (
+            "matrix4d xformOp:transform = ( (1, 0, 0, 0), (0, 1, 0, 0), (0, 0, 1, 0), (10, 0, 0, 1) )",
+            "\"xformOp:transform\"",
+            Vec3::new(11.0, 2.0, 3.0),
+        ),
+        ("double xformOp:rotateX = 90", "\"xformOp:rotateX\"", Vec3::new(1.0, -3.0, 2.0)),
+        ("double xformOp:rotateY = 90", "\"xformOp:rotateY\"", Vec3::new(3.0, 2.0, -1.0)),
+        ("float3 xformOp:rotateXYZ = (90, 0, 0)", "\"xformOp:rotateXYZ\"", Vec3::new(1.0, -3.0, 2.0)),
+        ("float3 xformOp:rotateXYZ = (0, 90, 0)", "\"xformOp:rotateXYZ\"", Vec3::new(3.0, 2.0, -1.0)),
+        (
+            "quatf xformOp:orient = (0.70710677, 0, 0, 0.70710677)",
+            "\"xformOp:orient\"",
+            Vec3::new(-2.0, 1.0, 3.0),
+        ),
+        (
+            "quatd xformOp:orient = (0.7071067811865476, 0, 0, 0.7071067811865476)",
+            "\"xformOp:orient\"",
+            Vec3::new(-2.0, 1.0, 3.0),
+        ),
+    ];
+    for (ops, order, expected) in cases {
+        let got = first(ops, order);
+        assert!(
+            got.distance(expected) < 1e-5,
+            "{ops}: {got} against {expected}"
+        );
+    }
+    let g = read(&curve(
+        "",
+        "",
+        "point3d[] points = [(1, 2, 3), (1, 2, 4)]",
+        "double[] widths = [0.5, 0.25] (interpolation = \"vertex\")",
+    ))
+    .unwrap();
+    assert_eq!(g.points[1], Vec3::new(1.0, 2.0, 4.0));
+    assert_eq!(g.widths, Some(vec![0.5, 0.25]));
+    let g = read(&curve(
+        "",
+        "",
+        "point3f[] points = [(1, 2, 3), (1, 2, 4)]",
+        "float widths = 0.125 (interpolation = \"constant\")",
+    ))
+    .unwrap();
+    assert_eq!(g.widths, Some(vec![0.125, 0.125]));
 }

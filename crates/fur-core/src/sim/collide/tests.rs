@@ -335,5 +335,8 @@ fn a_contact_removes_the_velocity_into_the_body_and_friction_part_of_the_sliding
     let (_, v) = respond(V3(0.0, -0.05, 0.0), V3(0.2, 0.1, 0.0));
     assert!(close(v, V3(0.15, 0.1, 0.0)), "out of the floor: {v:?}");
     let (x, v) = respond(V3(0.0, 0.5, 0.0), V3(0.2, -0.1, 0.0));
-    assert!(close(x, V3(0.0, 0.5, 0.0)) && close(v, V3(0.2, -0.1, 0.0)), "{x:?} {v:?}");
+    assert!(
+        close(x, V3(0.0, 0.5, 0.0)) && close(v, V3(0.2, -0.1, 0.0)),
+        "{x:?} {v:?}"
+    );
 }

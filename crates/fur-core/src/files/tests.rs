@@ -187,6 +187,8 @@ fn each_output_is_written_the_way_its_kind_needs() {
     check_output_file(Path::new("/dev/null")).unwrap();
     check_output_file(&dir.join("sub").join("out.png")).unwrap();
     assert!(!dir.join("sub").exists());
+    // A new file in a folder where no file can be made (procfs, even for root).
+    assert!(check_output_file(Path::new("/proc/fur-check.png")).is_err());
     let err = check_output_file(&dir).unwrap_err().to_string();
     assert!(err.contains("it is a folder"), "{err}");
     let err = check_output_file(&new.join("under.png"))

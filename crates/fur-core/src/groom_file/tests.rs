@@ -435,8 +435,9 @@ fn the_cyhair_writer_keeps_its_limits_flags_and_text() {
 /// Each transform op and value type the reader takes, on one point (1, 2, 3) of a
 /// two-point curve: a 4×4 matrix (a translation by (10, 0, 0), row-vector layout as USD
 /// writes it), rotateX and rotateY by 90° (in double), rotateXYZ (90, 0, 0) and (0, 90,
-/// 0), orient as quatf and quatd (90° about Z), each worked out by hand; points in
-/// double, widths in double and as one constant float for the whole curve.
+/// 0), orient as quatf and quatd (90° about Z), a translation and a rotation in halves,
+/// each worked out by hand; points in double, widths in double and as one constant
+/// float or double for the whole curve.
 #[test]
 fn every_transform_op_and_value_type_reads_as_worked_out() {
     let curve = |ops: &str, order: &str, points: &str, widths: &str| {
@@ -455,7 +456,9 @@ fn every_transform_op_and_value_type_reads_as_worked_out() {
         );
         read(&text).unwrap_or_else(|e| panic!("{ops}: {e}")).points[0]
     };
-    let cases: [(&str, &str, Vec3); 7] = [
+    let cases: [(&str, &str, Vec3); 9] = [
+        ("half3 xformOp:translate = (10, 0, 0)", "\"xformOp:translate\"", Vec3::new(11.0, 2.0, 3.0)),
+        ("half xformOp:rotateX = 90", "\"xformOp:rotateX\"", Vec3::new(1.0, -3.0, 2.0)),
         (
             "matrix4d xformOp:transform = ( (1, 0, 0, 0), (0, 1, 0, 0), (0, 0, 1, 0), (10, 0, 0, 1) )",
             "\"xformOp:transform\"",
@@ -500,4 +503,29 @@ fn every_transform_op_and_value_type_reads_as_worked_out() {
     ))
     .unwrap();
     assert_eq!(g.widths, Some(vec![0.125, 0.125]));
+    let g = read(&curve(
+        "",
+        "",
+        "point3f[] points = [(1, 2, 3), (1, 2, 4)]",
+        "double widths = 0.125 (interpolation = \"constant\")",
+    ))
+    .unwrap();
+    assert_eq!(g.widths, Some(vec![0.125, 0.125]));
+}
+
+/// Brackets inside a quoted string (escaped quotes included) do not count towards the
+/// nesting limit; the same brackets outside a string are refused before the parser
+/// sees them.
+#[test]
+fn usd_nesting_counts_brackets_outside_strings_only() {
+    let deep = "(".repeat(1100);
+    let quoted = usda(&format!(
+        "    def BasisCurves \"C\" (\n        doc = \"a \\\" {deep} \\\" b\"\n    )\n    {{\n        \
+         uniform token type = \"linear\"\n        int[] curveVertexCounts = [2]\n        \
+         point3f[] points = [(0, 0, 0), (0, 1, 0)]\n    }}"
+    ));
+    let g = read(&quoted).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(g.counts, vec![2]);
+    let err = read(&format!("#usda 1.0\n{deep}\n")).unwrap_err();
+    assert!(err.contains("nested 1100 deep"), "{err}");
 }

@@ -515,7 +515,7 @@ fn every_transform_op_and_value_type_reads_as_worked_out() {
 
 /// Brackets inside a quoted string (escaped quotes included) do not count towards the
 /// nesting limit; the same brackets outside a string are refused before the parser
-/// sees them.
+/// sees them, and as many one after another (a long curve's points) are not deep.
 #[test]
 fn usd_nesting_counts_brackets_outside_strings_only() {
     let deep = "(".repeat(1100);
@@ -528,4 +528,12 @@ fn usd_nesting_counts_brackets_outside_strings_only() {
     assert_eq!(g.counts, vec![2]);
     let err = read(&format!("#usda 1.0\n{deep}\n")).unwrap_err();
     assert!(err.contains("nested 1100 deep"), "{err}");
+    // As many brackets one after another as were nested above: a long curve, not deep.
+    let points: Vec<String> = (0..1100).map(|i| format!("(0, {i}, 0)")).collect();
+    let long = usda(&format!(
+        "    def BasisCurves \"C\"\n    {{\n        uniform token type = \"linear\"\n        \
+         int[] curveVertexCounts = [1100]\n        point3f[] points = [{}]\n    }}",
+        points.join(", ")
+    ));
+    assert_eq!(read(&long).unwrap().counts, vec![1100]);
 }

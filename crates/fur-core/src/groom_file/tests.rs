@@ -537,3 +537,36 @@ fn usd_nesting_counts_brackets_outside_strings_only() {
     ));
     assert_eq!(read(&long).unwrap().counts, vec![1100]);
 }
+
+/// A uniform cubic B-spline reproduces a quadratic up to a constant: through control
+/// points (i, i²) it is (u, u² + 1/3) for the curve parameter u, at every sample (the
+/// basis worked out: (p₀ + 4p₁ + p₂)/6 at a segment's start). Four control points make
+/// one segment; pinned, its phantom ends 2p₀ − p₁ and 2pₙ − pₙ₋₁ take it through its
+/// first and last control points.
+#[test]
+fn a_bspline_reproduces_a_quadratic_and_pinned_meets_its_ends() {
+    let curve = |n: usize, wrap: &str| {
+        let pts: Vec<String> = (0..n).map(|i| format!("({i}, {}, 0)", i * i)).collect();
+        usda(&format!(
+            "    def BasisCurves \"C\"\n    {{\n        uniform token type = \"cubic\"\n        \
+             uniform token basis = \"bspline\"\n        uniform token wrap = \"{wrap}\"\n        \
+             int[] curveVertexCounts = [{n}]\n        point3f[] points = [{}]\n    }}",
+            pts.join(", ")
+        ))
+    };
+    let g = read(&curve(5, "nonperiodic")).unwrap();
+    let samples = CUBIC_SAMPLES as f32;
+    assert_eq!(g.counts, vec![2 * CUBIC_SAMPLES as u32 + 1]);
+    for (k, p) in g.points.iter().enumerate() {
+        let u = 1.0 + k as f32 / samples;
+        let expected = Vec3::new(u, u * u + 1.0 / 3.0, 0.0);
+        assert!(p.distance(expected) < 1e-4, "sample {k}: {p} against {expected}");
+    }
+    assert_eq!(read(&curve(4, "nonperiodic")).unwrap().counts, vec![CUBIC_SAMPLES as u32 + 1]);
+    assert!(read(&curve(3, "nonperiodic")).unwrap_err().contains("at least 4"));
+    let g = read(&curve(5, "pinned")).unwrap();
+    assert_eq!(g.counts, vec![4 * CUBIC_SAMPLES as u32 + 1]);
+    assert!(g.points[0].distance(Vec3::ZERO) < 1e-5, "{}", g.points[0]);
+    let last = *g.points.last().unwrap();
+    assert!(last.distance(Vec3::new(4.0, 16.0, 0.0)) < 1e-4, "{last}");
+}

@@ -560,13 +560,69 @@ fn a_bspline_reproduces_a_quadratic_and_pinned_meets_its_ends() {
     for (k, p) in g.points.iter().enumerate() {
         let u = 1.0 + k as f32 / samples;
         let expected = Vec3::new(u, u * u + 1.0 / 3.0, 0.0);
-        assert!(p.distance(expected) < 1e-4, "sample {k}: {p} against {expected}");
+        assert!(
+            p.distance(expected) < 1e-4,
+            "sample {k}: {p} against {expected}"
+        );
     }
-    assert_eq!(read(&curve(4, "nonperiodic")).unwrap().counts, vec![CUBIC_SAMPLES as u32 + 1]);
-    assert!(read(&curve(3, "nonperiodic")).unwrap_err().contains("at least 4"));
+    assert_eq!(
+        read(&curve(4, "nonperiodic")).unwrap().counts,
+        vec![CUBIC_SAMPLES as u32 + 1]
+    );
+    assert!(read(&curve(3, "nonperiodic"))
+        .unwrap_err()
+        .contains("at least 4"));
     let g = read(&curve(5, "pinned")).unwrap();
     assert_eq!(g.counts, vec![4 * CUBIC_SAMPLES as u32 + 1]);
     assert!(g.points[0].distance(Vec3::ZERO) < 1e-5, "{}", g.points[0]);
     let last = *g.points.last().unwrap();
     assert!(last.distance(Vec3::new(4.0, 16.0, 0.0)) < 1e-4, "{last}");
+}
+
+/// A cubic prim's widths for its second curve, by each interpolation, worked out by
+/// hand: two Bézier curves of one segment each; `vertex` widths (10, 10, 10, 10) and
+/// (1, 2, 3, 4) give the second curve 1 + 3t (control values evenly spaced are
+/// evaluated to a line); `varying` (5, 6) and (7, 9) at the segments' ends give 7 + 2t;
+/// `uniform` (0.5, 0.25) gives 0.25.
+#[test]
+fn a_cubic_prims_widths_follow_each_interpolation_per_curve() {
+    let prim = |widths: &str| {
+        usda(&format!(
+            "    def BasisCurves \"C\"\n    {{\n        uniform token type = \"cubic\"\n        \
+             uniform token basis = \"bezier\"\n        int[] curveVertexCounts = [4, 4]\n        \
+             point3f[] points = [(0, 0, 0), (0, 1, 0), (0, 2, 0), (0, 3, 0), (1, 0, 0), \
+             (1, 1, 0), (1, 2, 0), (1, 3, 0)]\n        {widths}\n    }}"
+        ))
+    };
+    let second = |widths: &str| -> Vec<f32> {
+        let g = read(&prim(widths)).unwrap_or_else(|e| panic!("{widths}: {e}"));
+        let w = g.widths.unwrap();
+        assert_eq!(w.len(), 2 * (CUBIC_SAMPLES + 1));
+        w[CUBIC_SAMPLES + 1..].to_vec()
+    };
+    let t = |k: usize| k as f32 / CUBIC_SAMPLES as f32;
+    let check = |got: Vec<f32>, f: &dyn Fn(f32) -> f32, what: &str| {
+        for (k, w) in got.iter().enumerate() {
+            assert!(
+                (w - f(t(k))).abs() < 1e-5,
+                "{what}, sample {k}: {w} against {}",
+                f(t(k))
+            );
+        }
+    };
+    check(
+        second("float[] widths = [10, 10, 10, 10, 1, 2, 3, 4] (interpolation = \"vertex\")"),
+        &|t| 1.0 + 3.0 * t,
+        "vertex",
+    );
+    check(
+        second("float[] widths = [5, 6, 7, 9] (interpolation = \"varying\")"),
+        &|t| 7.0 + 2.0 * t,
+        "varying",
+    );
+    check(
+        second("float[] widths = [0.5, 0.25] (interpolation = \"uniform\")"),
+        &|_| 0.25,
+        "uniform",
+    );
 }

@@ -625,4 +625,36 @@ fn a_cubic_prims_widths_follow_each_interpolation_per_curve() {
         &|_| 0.25,
         "uniform",
     );
+    // Too few values: the error names how many the second curve needs.
+    for (widths, needs) in [
+        (
+            "float[] widths = [0.5] (interpolation = \"uniform\")",
+            "needs 2",
+        ),
+        (
+            "float[] widths = [1, 2, 3, 4, 5, 6] (interpolation = \"vertex\")",
+            "needs 8",
+        ),
+        (
+            "float[] widths = [1, 2, 3] (interpolation = \"varying\")",
+            "needs 4",
+        ),
+    ] {
+        let err = read(&prim(widths)).unwrap_err();
+        assert!(
+            err.contains(&format!("curve 1 ({needs})")),
+            "{widths}: {err}"
+        );
+    }
+    // Linear curves of three points take three `varying` values each.
+    let linear = usda(
+        "    def BasisCurves \"C\"\n    {\n        uniform token type = \"linear\"\n        \
+         int[] curveVertexCounts = [3, 3]\n        point3f[] points = [(0, 0, 0), (0, 1, 0), \
+         (0, 2, 0), (1, 0, 0), (1, 1, 0), (1, 2, 0)]\n        \
+         float[] widths = [1, 2, 3, 4, 5, 6] (interpolation = \"varying\")\n    }",
+    );
+    assert_eq!(
+        read(&linear).unwrap().widths,
+        Some(vec![1.0, 2.0, 3.0, 4.0, 5.0, 6.0])
+    );
 }

@@ -129,7 +129,21 @@ fn stated() -> Vec<(&'static str, Vec<String>)> {
         ),
         (
             "docs/grooms.md",
-            vec![format!("such a groom: {} curly strands", count_text(dense))],
+            vec![
+                format!("such a groom: {} curly strands", count_text(dense)),
+                format!(
+                    "A curve may have at most {} vertices after evaluation",
+                    count_text(fur::groom_file::MAX_CURVE_VERTICES as u64)
+                ),
+                format!(
+                    "A root farther than **{} bounding radii** from the surface is reported",
+                    fur::scene::BIND_TOLERANCE
+                ),
+                format!(
+                    "A root farther than **{} bounding radii** refuses the groom",
+                    fur::scene::BIND_LIMIT
+                ),
+            ],
         ),
         (
             "docs/ground-truth.md",

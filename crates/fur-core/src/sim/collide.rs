@@ -8,6 +8,7 @@ use super::math::{max, min, min_length, Head, Real, M3, V3};
 use super::sdf::Sdf;
 
 /// Projections onto the margin per vertex and substep, at most, on a rigid body.
+/// Tuned (docs/testing.md, "Tuned constants").
 pub const PROJECTIONS: u32 = 3;
 /// The same on a skinned body, onto each of its constraints in turn. A second and third
 /// round moved the walk's deepest vertex by 3e-4 hair lengths and took a tenth of the

@@ -11,6 +11,7 @@ pub use crate::geometry::sdf::RESOLUTION_RANGE as SDF_RESOLUTION_RANGE;
 
 /// The distance field's cells per hair length on a rigid body: the deepest vertex of the
 /// benchmark's pressing case stays within half a percent of the hair length.
+/// Tuned (docs/testing.md, "Tuned constants").
 pub const CELLS_PER_HAIR: f32 = 3.0;
 /// The same on a skinned body, whose thin parts (ears, paws) the field carried by each
 /// root pose must resolve: on the walking critter, ear hair no longer ends up inside

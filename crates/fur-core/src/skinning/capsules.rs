@@ -28,6 +28,7 @@ use crate::scene::Rig;
 /// Fewest vertices a bone needs to get a capsule.
 const MIN_VERTICES: usize = 4;
 /// The percentile of the vertices' distances that is the radius.
+/// Tuned (docs/testing.md, "Tuned constants").
 const RADIUS_PERCENTILE: f32 = 0.5;
 
 /// A capsule in bind space, moved by one joint.

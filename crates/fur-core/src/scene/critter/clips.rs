@@ -89,7 +89,8 @@ pub(super) fn walk(bones: &[Bone]) -> Clip {
     // Per leg: phase, swing amplitude, and how far the lower leg and paw fold in the
     // swing (positive folds the lower end backwards). The front legs run 0.4 rad (6 % of
     // the cycle) behind their diagonal hind legs: exactly in phase, the paws on each
-    // side met under the body and passed through each other.
+    // side met under the body and passed through each other. Tuned (docs/testing.md,
+    // "Tuned constants").
     for (leg, phase, swing, fold_lower, fold_paw) in [
         ("front_leg.L", -0.4, 0.4, 0.9, 0.8),
         ("front_leg.R", PI - 0.4, 0.4, 0.9, 0.8),

@@ -94,4 +94,25 @@ mod tests {
         let r = Vec3::new(-0.25, 0.5, 0.125);
         assert_eq!(pose.point(r, r), pose.root);
     }
+
+    /// Every joint turned by one rotation R: every root pose's rotation is R (the
+    /// posed frame times the rest frame's transpose), at the rest pose the identity.
+    #[test]
+    fn a_body_turned_whole_turns_every_root_pose_by_the_same_rotation() {
+        let (mesh, rig) = crate::scene::critter();
+        let body = SkinnedBody::new(&mesh, rig);
+        let joints = body.rig.joints.len();
+        let turn = Mat3::from_rotation_y(0.7) * Mat3::from_rotation_x(-0.4);
+        for r in [Mat3::IDENTITY, turn] {
+            let posed = pose(&body, &vec![Mat4::from_mat3(r); joints]);
+            for (v, root) in posed.roots.iter().enumerate().step_by(53) {
+                let off = (root.rotation - r).to_cols_array();
+                assert!(
+                    off.iter().all(|e| e.abs() < 1e-4),
+                    "vertex {v}: {:?}",
+                    root.rotation
+                );
+            }
+        }
+    }
 }

@@ -128,4 +128,29 @@ mod tests {
         let collapsed = Vec3::new(0.0, lbs[0].y, lbs[0].z).length();
         assert!(collapsed < 0.2, "linear blending kept radius {collapsed}");
     }
+
+    /// Two joints 1.1 half turns apart about x, after the same translation, weighted
+    /// equally: the blend takes the shorter way round (the second joint's quaternion
+    /// flipped into the first's hemisphere), to −0.45 half turns, and keeps the
+    /// translation: (0, 1, 0) goes to (1, cos 0.45π, −sin 0.45π).
+    #[test]
+    fn the_blend_takes_the_shorter_way_and_keeps_the_translation() {
+        let (_, mut rig) = crate::scene::critter();
+        rig.bind_positions.truncate(1);
+        rig.bind_normals.truncate(1);
+        rig.bind_positions[0] = Vec3::new(0.0, 1.0, 0.0);
+        rig.influences.truncate(1);
+        rig.weights.truncate(1);
+        rig.influences[0] = [0, 1, 0, 0];
+        rig.weights[0] = [0.5, 0.5, 0.0, 0.0];
+        let move_x = Mat4::from_translation(Vec3::X);
+        let matrices = vec![
+            move_x,
+            move_x * Mat4::from_rotation_x(std::f32::consts::PI * 1.1),
+        ];
+        let (p, _) = skin(&rig, &matrices);
+        let a = std::f32::consts::PI * 0.45;
+        let want = Vec3::new(1.0, a.cos(), -a.sin());
+        assert!((p[0] - want).length() < 1e-5, "{} against {want}", p[0]);
+    }
 }

@@ -340,6 +340,24 @@ struct TruthRatios {
     colours: Vec<f64>,
     fastest: f64,
     slowest: f64,
+    /// Kajiya–Kay's ꟻLIP minus Marschner's, in the same order (scenes, then colours).
+    gaps: Vec<f64>,
+}
+
+impl TruthRatios {
+    /// The figures as the documents write them: ratios to two places, the frame times'
+    /// range to one, the gaps to four.
+    fn derived(&self) -> Vec<String> {
+        let ratios = self.scenes.iter().chain(&self.colours);
+        ratios
+            .map(|x| format!("{x:.2}"))
+            .chain([
+                format!("{:.1}", self.fastest),
+                format!("{:.1}", self.slowest),
+            ])
+            .chain(self.gaps.iter().map(|g| format!("{g:.4}")))
+            .collect()
+    }
 }
 
 fn truth_ratios() -> TruthRatios {
@@ -353,11 +371,13 @@ fn truth_ratios() -> TruthRatios {
     // drawing's row and the Marschner drawing's.
     let mut scenes = Vec::new();
     let mut times = Vec::new();
+    let mut gaps = Vec::new();
     for (header, rows) in run.iter().filter(|(h, _)| h[0] == "drawing") {
         let find = |name: &str| rows.iter().find(|r| r[0] == name);
         if let (Some(kk), Some(m)) = (find("rung 0 (default)"), find("Marschner lighting")) {
             scenes.push(figure(m, header, "ꟻLIP") / figure(kk, header, "ꟻLIP"));
             times.push(figure(m, header, "frame ms") / figure(kk, header, "frame ms"));
+            gaps.push(figure(kk, header, "ꟻLIP") - figure(m, header, "ꟻLIP"));
         }
     }
     assert_eq!(scenes.len(), 3, "the blob, sphere and critter tables");
@@ -375,6 +395,7 @@ fn truth_ratios() -> TruthRatios {
         let (kk, m) = (colour(fur, "Kajiya–Kay"), colour(fur, "Marschner"));
         colours.push(figure(m, header, "ꟻLIP") / figure(kk, header, "ꟻLIP"));
         times.push(figure(m, header, "frame ms") / figure(kk, header, "frame ms"));
+        gaps.push(figure(kk, header, "ꟻLIP") - figure(m, header, "ꟻLIP"));
     }
     let (fastest, slowest) = times
         .iter()
@@ -384,6 +405,7 @@ fn truth_ratios() -> TruthRatios {
         colours,
         fastest,
         slowest,
+        gaps,
     }
 }
 
@@ -396,6 +418,7 @@ fn the_ratios_the_readme_draws_from_the_truth_are_the_runs() {
         colours,
         fastest,
         slowest,
+        ..
     } = truth_ratios();
     let readme = flat(&read("README.md"));
     let near = format!(
@@ -441,14 +464,7 @@ fn the_readme_prose_figures_come_from_the_runs() {
     .flat_map(|text| numbers(text))
     .collect();
     // The ratios the README derives from the truth tables (checked in their sentence).
-    let r = truth_ratios();
-    let mut derived: Vec<String> = r
-        .scenes
-        .iter()
-        .chain(&r.colours)
-        .map(|x| format!("{x:.2}"))
-        .collect();
-    derived.extend([format!("{:.1}", r.fastest), format!("{:.1}", r.slowest)]);
+    let derived = truth_ratios().derived();
     let mut missing = Vec::new();
     for line in expect.lines().filter(|l| !l.starts_with('|')) {
         for n in numbers(&without_code_and_links(line)) {
@@ -521,8 +537,7 @@ const NOT_MEASURED: [(&str, &str, &str); 14] = [
 /// The prose of the measured documents (docs/benchmark.md, docs/ground-truth.md,
 /// docs/gpu.md) around their generated regions quotes only figures of a run: every
 /// figure there is a whole number of one of the three regions (commas aside), a ratio
-/// or difference worked out from the truth tables ([`truth_ratios`]; the distance
-/// between the two lighting models), the fibre's defaults (bound to the code by
+/// or difference worked out from the truth tables ([`TruthRatios::derived`]), the fibre's defaults (bound to the code by
 /// tests/stated_figures.rs), or one of [`NOT_MEASURED`].
 #[test]
 fn the_measured_documents_prose_quotes_their_runs() {
@@ -537,16 +552,8 @@ fn the_measured_documents_prose_quotes_their_runs() {
         .flat_map(|(doc, name)| numbers(region(&read(doc), name)))
         .map(|n| plain(&n))
         .collect();
-    let r = truth_ratios();
-    held.extend(
-        r.scenes
-            .iter()
-            .chain(&r.colours)
-            .map(|x| format!("{x:.2}"))
-            .chain([format!("{:.1}", r.fastest), format!("{:.1}", r.slowest)]),
-    );
-    // The distance between the two models, per scene and fur colour.
-    held.extend(truth_gaps().iter().map(|g| format!("{g:.4}")));
+    // The ratios and the distances between the two models, per scene and fur colour.
+    held.extend(truth_ratios().derived());
     let fibre = fur::render::Fibre::default();
     held.extend(
         [
@@ -563,11 +570,9 @@ fn the_measured_documents_prose_quotes_their_runs() {
     let mut unheld = Vec::new();
     for (doc, name) in docs {
         let text = read(doc);
-        let (begin, end) = (
-            text.find(&format!("<!-- BEGIN {name} -->")).unwrap(),
-            text.find(&format!("<!-- END {name} -->")).unwrap(),
-        );
-        let prose = format!("{}\n{}", &text[..begin], &text[end..]);
+        let inside = region(&text, name);
+        let begin = text.find(inside).unwrap();
+        let prose = format!("{}\n{}", &text[..begin], &text[begin + inside.len()..]);
         // Fenced blocks left out, then code spans (which may run over a line end) and
         // link targets.
         let mut in_block = false;
@@ -593,38 +598,4 @@ fn the_measured_documents_prose_quotes_their_runs() {
         "figures in the measured documents' prose that no run holds:\n{}",
         unheld.join("\n")
     );
-}
-
-/// Kajiya–Kay's ꟻLIP minus Marschner's in each truth table (blob, sphere, walking
-/// critter, then white, blond and black fur).
-fn truth_gaps() -> Vec<f64> {
-    let truth = read("docs/ground-truth.md");
-    let mut gaps = Vec::new();
-    for (header, rows) in tables(region(&truth, "fur bench")) {
-        let Some(flip) = header.iter().position(|h| h == "ꟻLIP") else {
-            continue;
-        };
-        // The row whose leading cells are `names`.
-        let value = |names: &[&str]| {
-            rows.iter()
-                .find(|r| names.iter().zip(r.iter()).all(|(n, c)| n == c))
-                .and_then(|r| r[flip].parse::<f64>().ok())
-        };
-        if header[0] == "drawing" {
-            if let (Some(kk), Some(m)) =
-                (value(&["rung 0 (default)"]), value(&["Marschner lighting"]))
-            {
-                gaps.push(kk - m);
-            }
-        } else if header[0] == "fur" {
-            for fur in ["white", "blond", "black"] {
-                if let (Some(kk), Some(m)) =
-                    (value(&[fur, "Kajiya–Kay"]), value(&[fur, "Marschner"]))
-                {
-                    gaps.push(kk - m);
-                }
-            }
-        }
-    }
-    gaps
 }

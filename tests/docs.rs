@@ -2,12 +2,11 @@
 //! section quotes appears in docs/benchmark.md (which `fur bench --write-docs` writes),
 //! every link between the documents leads to a file, and the README stays a front page.
 
-use std::path::Path;
+#[path = "common/mod.rs"]
+mod common;
 
-fn read(path: &str) -> String {
-    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
-    std::fs::read_to_string(root.join(path)).unwrap_or_else(|e| panic!("{path}: {e}"))
-}
+use common::{flat, read_doc as read};
+use std::path::Path;
 
 /// The numbers in `text` (digits with an optional decimal part), as written.
 fn numbers(text: &str) -> Vec<String> {
@@ -325,11 +324,6 @@ fn the_files_the_documents_name_exist() {
         "named but not there:\n{}",
         missing.join("\n")
     );
-}
-
-/// Text as the documents write it: runs of spaces and line breaks read as one space.
-fn flat(text: &str) -> String {
-    text.split_whitespace().collect::<Vec<_>>().join(" ")
 }
 
 /// The ratios the README works out from the truth tables (docs/ground-truth.md's run):

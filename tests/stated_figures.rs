@@ -7,19 +7,12 @@
 //! tables (`docs.rs`), the ratios it derives from them below, and every figure inside a
 //! `<!-- BEGIN … -->` region is a benchmark figure, written by the run the region names.
 
-use std::path::Path;
+#[path = "common/mod.rs"]
+mod common;
+
+use common::{flat, read_doc as read};
 
 use fur::files::{self, size_text};
-
-fn read(path: &str) -> String {
-    let full = Path::new(env!("CARGO_MANIFEST_DIR")).join(path);
-    std::fs::read_to_string(&full).unwrap_or_else(|e| panic!("{}: {e}", full.display()))
-}
-
-/// Text as the documents write it: runs of spaces and line breaks read as one space.
-fn flat(text: &str) -> String {
-    text.split_whitespace().collect::<Vec<_>>().join(" ")
-}
 
 /// A whole number with thousands separated by commas, as the documents write counts.
 fn count_text(n: u64) -> String {

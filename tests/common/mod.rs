@@ -184,3 +184,14 @@ pub fn take_device_state(cpu: &mut fur::sim::CpuSim<f32>, textures: &StrandTextu
     cpu.current = state(textures.current);
     cpu.previous = state(1 - textures.current);
 }
+
+/// A file of the repository (a document, Cargo.toml) as text.
+pub fn read_doc(path: &str) -> String {
+    let full = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join(path);
+    std::fs::read_to_string(&full).unwrap_or_else(|e| panic!("{}: {e}", full.display()))
+}
+
+/// Text as the documents write it: runs of spaces and line breaks read as one space.
+pub fn flat(text: &str) -> String {
+    text.split_whitespace().collect::<Vec<_>>().join(" ")
+}

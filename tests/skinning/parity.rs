@@ -215,7 +215,7 @@ impl Clip {
     fn index_in(self, rig: &mut Rig) -> usize {
         use fur::scene::{Channel, Interpolation, Property};
         match self {
-            Clip::Walk => rig.clip_index("walk").unwrap(),
+            Clip::Walk => walk(rig).clip.unwrap(),
             Clip::ChildrenTurn => {
                 let turn = |name: &str, axis: Vec3| Channel {
                     node: rig.nodes.iter().position(|n| n.name == name).unwrap(),

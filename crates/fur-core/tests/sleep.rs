@@ -3,7 +3,7 @@
 //! sleep, and the threshold is 16 ulps of a strand's largest coordinate.
 
 use fur_core::scene::Strands;
-use fur_core::sim::{CpuSim, Real, SimParams};
+use fur_core::sim::{CpuSim, Real, SimParams, V3};
 use glam::{DMat4, Vec3};
 
 /// Strands sticking out sideways (along +x) from roots stacked along y: gravity bends
@@ -21,6 +21,14 @@ fn sideways() -> Strands {
     }
 }
 
+/// The farthest any vertex lies from where it was.
+fn farthest<T: Real>(from: &[V3<T>], to: &[V3<T>]) -> f64 {
+    from.iter()
+        .zip(to)
+        .map(|(a, b)| (*a - *b).length().to_f64())
+        .fold(0.0, f64::max)
+}
+
 fn frame<T: Real>(sim: &mut CpuSim<T>) {
     sim.step_frame(|_| DMat4::IDENTITY);
 }
@@ -34,21 +42,13 @@ fn settled_hair_is_exactly_still<T: Real>() {
     let start = sim.current.clone();
     frame(&mut sim);
     // One frame of gravity from rest moves the tips: moving hair is awake.
-    let sag = start
-        .iter()
-        .zip(&sim.current)
-        .map(|(a, b)| (*a - *b).length().to_f64())
-        .fold(0.0, f64::max);
+    let sag = farthest(&start, &sim.current);
     assert!(sag > 1e-4, "the first frame moved the hair by {sag}");
     for _ in 0..400 {
         frame(&mut sim);
     }
     let settled = sim.current.clone();
-    let total = start
-        .iter()
-        .zip(&settled)
-        .map(|(a, b)| (*a - *b).length().to_f64())
-        .fold(0.0, f64::max);
+    let total = farthest(&start, &settled);
     assert!(total > 0.01, "gravity bent the hair by only {total}");
     for k in 0..3 {
         frame(&mut sim);
@@ -96,12 +96,7 @@ fn the_threshold_is_sixteen_ulps_of_the_largest_coordinate() {
         let mut moved = 0.0f64;
         for _ in 0..5 {
             frame(&mut sim);
-            moved = sim
-                .current
-                .iter()
-                .zip(&start)
-                .map(|(a, b)| f64::from((*a - *b).length()))
-                .fold(moved, f64::max);
+            moved = moved.max(farthest(&sim.current, &start));
         }
         moved
     };
@@ -181,11 +176,7 @@ fn slow_motion_sleeps_and_faster_motion_does_not() {
             p.0 -= drift / substeps;
         }
         frame(&mut sim);
-        sim.current
-            .iter()
-            .zip(&settled)
-            .map(|(a, b)| (*a - *b).length())
-            .fold(0.0, f32::max)
+        farthest(&sim.current, &settled) as f32
     };
     assert_eq!(drifted(0.5 * bound), 0.0, "slow motion was not put to rest");
     let moved = drifted(2.0 * bound);
@@ -215,10 +206,6 @@ fn hair_under_weak_gravity_still_bends() {
     for _ in 0..120 {
         frame(&mut sim);
     }
-    let sag = start
-        .iter()
-        .zip(&sim.current)
-        .map(|(a, b)| (*a - *b).length())
-        .fold(0.0, f32::max);
+    let sag = farthest(&start, &sim.current);
     assert!(sag > 1e-3, "weak gravity bent the hair by only {sag}");
 }

@@ -495,22 +495,16 @@ fn every_transform_op_and_value_type_reads_as_worked_out() {
     .unwrap();
     assert_eq!(g.points[1], Vec3::new(1.0, 2.0, 4.0));
     assert_eq!(g.widths, Some(vec![0.5, 0.25]));
-    let g = read(&curve(
-        "",
-        "",
-        "point3f[] points = [(1, 2, 3), (1, 2, 4)]",
-        "float widths = 0.125 (interpolation = \"constant\")",
-    ))
-    .unwrap();
-    assert_eq!(g.widths, Some(vec![0.125, 0.125]));
-    let g = read(&curve(
-        "",
-        "",
-        "point3f[] points = [(1, 2, 3), (1, 2, 4)]",
-        "double widths = 0.125 (interpolation = \"constant\")",
-    ))
-    .unwrap();
-    assert_eq!(g.widths, Some(vec![0.125, 0.125]));
+    for kind in ["float", "double"] {
+        let g = read(&curve(
+            "",
+            "",
+            "point3f[] points = [(1, 2, 3), (1, 2, 4)]",
+            &format!("{kind} widths = 0.125 (interpolation = \"constant\")"),
+        ))
+        .unwrap();
+        assert_eq!(g.widths, Some(vec![0.125, 0.125]), "{kind}");
+    }
 }
 
 /// Brackets inside a quoted string (escaped quotes included) do not count towards the

@@ -106,19 +106,22 @@ mod tests {
         }
     }
 
+    /// The critter's rig cut to one point, (0, 1, 0), weighted equally on joints 0 and 1.
+    fn one_point_on_two_joints() -> crate::scene::Rig {
+        let (_, mut rig) = crate::scene::critter();
+        rig.bind_positions = vec![Vec3::new(0.0, 1.0, 0.0)];
+        rig.bind_normals.truncate(1);
+        rig.influences = vec![[0, 1, 0, 0]];
+        rig.weights = vec![[0.5, 0.5, 0.0, 0.0]];
+        rig
+    }
+
     /// Two joints half a turn apart about an axis, weighted equally: linear blending
     /// collapses the point onto the axis (the candy wrapper), the dual quaternion keeps
     /// its distance from the axis.
     #[test]
     fn a_twist_keeps_its_radius() {
-        let (_, mut rig) = crate::scene::critter();
-        rig.bind_positions.truncate(1);
-        rig.bind_normals.truncate(1);
-        rig.bind_positions[0] = Vec3::new(0.0, 1.0, 0.0);
-        rig.influences.truncate(1);
-        rig.weights.truncate(1);
-        rig.influences[0] = [0, 1, 0, 0];
-        rig.weights[0] = [0.5, 0.5, 0.0, 0.0];
+        let rig = one_point_on_two_joints();
         let twist = Mat4::from_rotation_x(std::f32::consts::PI * 0.9);
         let matrices = vec![Mat4::IDENTITY, twist];
         let (p, _) = skin(&rig, &matrices);
@@ -135,14 +138,7 @@ mod tests {
     /// translation: (0, 1, 0) goes to (1, cos 0.45π, −sin 0.45π).
     #[test]
     fn the_blend_takes_the_shorter_way_and_keeps_the_translation() {
-        let (_, mut rig) = crate::scene::critter();
-        rig.bind_positions.truncate(1);
-        rig.bind_normals.truncate(1);
-        rig.bind_positions[0] = Vec3::new(0.0, 1.0, 0.0);
-        rig.influences.truncate(1);
-        rig.weights.truncate(1);
-        rig.influences[0] = [0, 1, 0, 0];
-        rig.weights[0] = [0.5, 0.5, 0.0, 0.0];
+        let rig = one_point_on_two_joints();
         let move_x = Mat4::from_translation(Vec3::X);
         let matrices = vec![
             move_x,

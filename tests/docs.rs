@@ -5,27 +5,8 @@
 #[path = "common/mod.rs"]
 mod common;
 
-use common::{flat, read_doc as read};
+use common::{flat, numbers, read_doc as read, without_code_and_links};
 use std::path::Path;
-
-/// The numbers in `text` (digits with an optional decimal part), as written.
-fn numbers(text: &str) -> Vec<String> {
-    let mut out = Vec::new();
-    let mut current = String::new();
-    for c in text.chars().chain(std::iter::once(' ')) {
-        if c.is_ascii_digit()
-            || (c == '.' && !current.is_empty())
-            || (c == ',' && !current.is_empty())
-        {
-            current.push(c);
-        } else if !current.is_empty() {
-            let n = current.trim_end_matches(['.', ',']).to_string();
-            out.push(n);
-            current.clear();
-        }
-    }
-    out
-}
 
 /// The README's section that starts at `heading` up to the next `## ` heading.
 fn section<'a>(text: &'a str, heading: &str) -> &'a str {
@@ -471,25 +452,6 @@ fn the_readme_prose_figures_come_from_the_runs() {
         missing.is_empty(),
         "figures in the README's \"What to expect\" prose that no generated run holds: {missing:?}"
     );
-}
-
-/// `line` without its code spans and link targets (paths, commands: not figures).
-fn without_code_and_links(line: &str) -> String {
-    let mut out = String::new();
-    let mut in_code = false;
-    let mut in_target = false;
-    let mut previous = ' ';
-    for c in line.chars() {
-        match c {
-            '`' => in_code = !in_code,
-            '(' if previous == ']' => in_target = true,
-            ')' if in_target => in_target = false,
-            _ if !in_code && !in_target => out.push(c),
-            _ => {}
-        }
-        previous = c;
-    }
-    out
 }
 
 /// Figures the measured documents state outside their generated regions that no run

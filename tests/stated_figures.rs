@@ -10,160 +10,12 @@
 #[path = "common/mod.rs"]
 mod common;
 
+#[path = "stated_figures/phrases.rs"]
+mod phrases;
+
 use common::{flat, read_doc as read};
-
-use fur::files::{self, size_text};
-
-/// A whole number with thousands separated by commas, as the documents write counts.
-fn count_text(n: u64) -> String {
-    let digits = n.to_string();
-    let mut out = String::new();
-    for (i, c) in digits.chars().enumerate() {
-        if i > 0 && (digits.len() - i) % 3 == 0 {
-            out.push(',');
-        }
-        out.push(c);
-    }
-    out
-}
-
-/// Each document and the phrases it must hold, built from the code.
-fn stated() -> Vec<(&'static str, Vec<String>)> {
-    let calibration = fur::export::compare::Calibration::MAX_SHIFT_PX;
-    let radiance = fur::export::compare::Calibration::MAX_RATIO_ERROR;
-    let (low, high) = fur::scene::Mesh::SCALE_RANGE;
-    let cargo = read("Cargo.toml");
-    let rust = cargo
-        .lines()
-        .find_map(|l| l.strip_prefix("rust-version = \""))
-        .and_then(|v| v.strip_suffix('"'))
-        .expect("Cargo.toml states its rust-version");
-    let idle = fur::render::budget::Budget::IDLE_SECONDS;
-    let near = fur::sim::collide::NEAR_CAPSULES;
-    // The goal's body (`dense-sphere`), whose vertices the README's groom and the GPU
-    // goal's masters are.
-    let dense: fur::scene::ModelSpec = "dense-sphere".parse().unwrap();
-    let dense = dense.load().unwrap().positions.len() as u64;
-    vec![
-        (
-            "docs/robustness.md",
-            vec![
-                format!(
-                    "a model over {}, a texture over {}, a material library over {}, a scene file over {}",
-                    size_text(files::MAX_MODEL_BYTES),
-                    size_text(files::MAX_TEXTURE_BYTES),
-                    size_text(files::MAX_MATERIAL_BYTES),
-                    size_text(files::MAX_SCENE_BYTES)
-                ),
-                format!("over {} on a side", fur::scene::Texture::MAX_SIDE),
-                format!(
-                    "over {}, of an unknown extension",
-                    size_text(fur::groom_file::MAX_GROOM_BYTES)
-                ),
-                format!(
-                    "over {} bounding radii from the body",
-                    fur::scene::BIND_LIMIT
-                ),
-                format!("over {}, a warning", fur::scene::BIND_TOLERANCE),
-                format!(
-                    "would pass {}",
-                    size_text(fur::skinning::blend::MAX_BYTES as u64)
-                ),
-                format!(
-                    "more than {} strand vertices",
-                    count_text(fur::session::MAX_STRAND_VERTICES)
-                ),
-                format!(
-                    "more than {} hair segments a frame",
-                    count_text(fur::session::MAX_SEGMENTS_PER_FRAME)
-                ),
-                format!(
-                    "a render target over {}",
-                    size_text(fur::session::MAX_TARGET_BYTES)
-                ),
-                format!(
-                    "over {} to capture, or whose file would pass {}",
-                    size_text(fur::render::MAX_CAPTURE_BYTES),
-                    size_text(fur::export::MAX_EXPORT_BYTES)
-                ),
-                format!(
-                    "big-endian or over {}",
-                    size_text(fur::export::reference::MAX_PFM_BYTES)
-                ),
-                format!("outside {low:e}…{high:e} units"),
-            ],
-        ),
-        (
-            "README.md",
-            vec![
-                format!("Rust {rust} or newer is needed"),
-                format!("an imported groom of {} curly strands", count_text(dense)),
-                format!("the performance goal's {}K-vertex body", (dense + 500) / 1000),
-                // The idle time in words: the phrase exists only for the value it names.
-                (if idle == 0.5 {
-                    "half a second after input stops"
-                } else {
-                    "(IDLE_SECONDS changed: say it in the README)"
-                })
-                .to_string(),
-                format!(
-                    "(`--target-fps`, default {})",
-                    fur::viewer::DEFAULT_TARGET_FPS
-                ),
-                format!(
-                    "the target of {} % of the hair length",
-                    100.0 * fur::bench::DEPTH_TARGET
-                ),
-            ],
-        ),
-        (
-            "docs/gpu.md",
-            vec![format!("{} masters on the built-in `dense-sphere`", count_text(dense))],
-        ),
-        (
-            "docs/grooms.md",
-            vec![
-                format!("such a groom: {} curly strands", count_text(dense)),
-                format!(
-                    "A curve may have at most {} vertices after evaluation",
-                    count_text(fur::groom_file::MAX_CURVE_VERTICES as u64)
-                ),
-                format!(
-                    "A root farther than **{} bounding radii** from the surface is reported",
-                    fur::scene::BIND_TOLERANCE
-                ),
-                format!(
-                    "A root farther than **{} bounding radii** refuses the groom",
-                    fur::scene::BIND_LIMIT
-                ),
-            ],
-        ),
-        (
-            "docs/ground-truth.md",
-            vec![format!(
-                "lie within {calibration} px, and the mean linear radiance over the pixels both cover agrees within {} %",
-                100.0 * radiance
-            )],
-        ),
-        (
-            "docs/design.md",
-            vec![
-                format!(
-                    "(`--shadow-opacity {}` = α",
-                    fur::render::Shadows::default().opacity
-                ),
-                format!(
-                    "(at least `--min-pixel-width`, {} px)",
-                    fur::render::uniforms::FurStyle::default().min_pixel_width
-                ),
-                format!(
-                    "with the {} bone capsules nearest its root",
-                    ["no", "one", "two", "three", "four", "five", "six"][near.min(6)]
-                ),
-            ],
-        ),
-    ]
-}
+use fur::files::size_text;
+use phrases::{count_text, stated};
 
 #[test]
 fn the_limits_targets_and_defaults_the_documents_state_are_the_codes() {
@@ -192,4 +44,341 @@ fn counts_are_written_with_commas() {
     assert_eq!(count_text(999), "999");
     assert_eq!(count_text(1000), "1,000");
     assert_eq!(size_text(2 << 30), "2 GiB");
+}
+
+/// The documents whose prose [`every_figure_in_the_documents_prose_is_bound_or_marked`]
+/// reads. The README's "What to expect" and the measured documents (docs/benchmark.md,
+/// ground-truth.md, gpu.md) quote the runs and are bound by `docs.rs`.
+const PROSE: [&str; 7] = [
+    "README.md",
+    "docs/testing.md",
+    "docs/design.md",
+    "docs/pipeline.md",
+    "docs/grooms.md",
+    "docs/robustness.md",
+    "docs/scene-files.md",
+];
+
+/// Figures the documents state that are neither the code's constants nor measurements:
+/// per document, the phrase that holds them (which must stand there word for word) and
+/// what they are.
+const NOT_MEASURED: [(&str, &str, &str); 37] = [
+    ("docs/design.md", "(Han & Harada §4.2)", "a section of the paper"),
+    ("docs/design.md", "at 60 frames per second", "the frame rate the seed's wind assumes"),
+    (
+        "docs/design.md",
+        "rows hold ⌊16384/V⌋ strands, so 15 M strands fit where the seed's one-row-per-strand layout stopped at 16,384",
+        "lavapipe's largest image side, a device limit, and what it holds",
+    ),
+    ("docs/design.md", "(64 on lavapipe)", "lavapipe's largest tessellation level"),
+    ("docs/design.md", "32-bit floats", "the number format"),
+    ("docs/design.md", "one 16-byte load", "an rgba32f texel's size"),
+    ("docs/design.md", "two joint indices in 16 bits each", "the packing's format"),
+    ("docs/design.md", "**glTF 2.0**", "the format's version"),
+    ("docs/design.md", "Kajiya–Kay (1989)", "a year"),
+    ("docs/design.md", "Chiang et al. 2016's", "a year"),
+    ("docs/design.md", "(Marschner et al. 2003)", "a year"),
+    ("docs/design.md", "Karis 2016's closed forms", "a year"),
+    ("docs/design.md", "(Zinke et al. 2008)", "a year"),
+    ("docs/design.md", "Zinke et al. 2008,", "a year"),
+    (
+        "docs/design.md",
+        "the original drew its 58,240 tessellated points 189,600 times",
+        "the original demo's own counts",
+    ),
+    ("docs/pipeline.md", "the default blob at 480×270", "the pictures' size"),
+    ("docs/pipeline.md", "⌊16384/V⌋ strands a row", "lavapipe's largest image side"),
+    ("docs/pipeline.md", "the 30th frame of the scripted shake", "an example's frame"),
+    ("docs/pipeline.md", "magnified 100 times", "an example's magnification"),
+    (
+        "docs/pipeline.md",
+        "red the device's largest, 64 on lavapipe",
+        "lavapipe's largest tessellation level",
+    ),
+    ("docs/grooms.md", "a 10K-strand head of hair", "an example"),
+    ("docs/grooms.md", "need Rust 1.96", "a version"),
+    ("docs/grooms.md", "tested with (1.95)", "the toolchain's version"),
+    ("docs/robustness.md", "(130 after Ctrl-C)", "the shell's status for an interrupt"),
+    ("docs/robustness.md", "exit status 130", "the shell's status for an interrupt"),
+    ("docs/scene-files.md", "the 2018 demo's sphere", "the original demo's year"),
+    ("docs/testing.md", "KhronosGroup/Vulkan-Loader#2018", "an issue's number"),
+    ("README.md", "frames 28, 32, 36)", "the pictures' frames"),
+    ("README.md", "**Checked on 2026-11-25**", "a date"),
+    ("README.md", "| 1.3.239 | 2023.2, 12.0 |", "versions"),
+    ("README.md", "| 1.4.309 | 2025.2, 15.1 |", "versions"),
+    ("README.md", "the original 2018 demo", "the original demo's year"),
+    (
+        "README.md",
+        "glslang has: 12 on Debian 12, 15 on Debian 13",
+        "versions",
+    ),
+    ("docs/testing.md", "Chiang et al. 2016,", "a year"),
+    ("docs/testing.md", "at 0°, 30°, 90° and 120°", "the test's angles"),
+    (
+        "docs/testing.md",
+        "\"deprecated in SPIR-V 1.6\": glslang 12 and 15 emit it",
+        "versions",
+    ),
+    (
+        "docs/testing.md",
+        "SPIR-V 1.5 (Vulkan 1.2), where it is not deprecated, so that drivers without 1.3",
+        "versions",
+    ),
+];
+
+/// `text` without its generated regions (`<!-- BEGIN x -->` to `<!-- END x -->`, each
+/// written by the run it names) and fenced blocks.
+fn prose(text: &str) -> String {
+    let mut out = Vec::new();
+    let (mut generated, mut fenced) = (false, false);
+    for line in text.lines() {
+        if line.starts_with("<!-- BEGIN ") {
+            generated = true;
+        } else if line.starts_with("<!-- END ") {
+            generated = false;
+        } else if line.starts_with("```") {
+            fenced = !fenced;
+        } else if !generated && !fenced {
+            out.push(line);
+        }
+    }
+    out.join("\n")
+}
+
+/// Names whose following number is their version (Debian 12, Mesa 22.3.6, glTF 2.0),
+/// and in "Debian 12 and 13" the number after `and` or `or` too.
+const VERSIONED: [&str; 9] = [
+    "Debian", "Mesa", "LLVM", "glTF", "SPIR-V", "Vulkan", "glslang", "Rust", "Python",
+];
+
+/// `text` without the versions of [`VERSIONED`] names.
+fn without_versions(text: &str) -> String {
+    let words: Vec<&str> = text.split(' ').collect();
+    let mut out = Vec::new();
+    let mut i = 0;
+    let starts_with_digit = |w: &str| w.starts_with(|c: char| c.is_ascii_digit());
+    while i < words.len() {
+        out.push(words[i]);
+        let name = words[i].trim_start_matches(['(', '*', '[']);
+        if VERSIONED.contains(&name) && words.get(i + 1).is_some_and(|w| starts_with_digit(w)) {
+            i += 2;
+            while words.get(i).is_some_and(|w| *w == "and" || *w == "or")
+                && words.get(i + 1).is_some_and(|w| starts_with_digit(w))
+            {
+                i += 2;
+            }
+        } else {
+            i += 1;
+        }
+    }
+    out.join(" ")
+}
+
+/// Where a passage stands: a paragraph, an item of a list or a table (which belong to
+/// the paragraph before them), or nested in an item (an indented item or paragraph).
+#[derive(Clone, Copy, PartialEq)]
+enum Place {
+    Paragraph,
+    Item,
+    Nested,
+}
+
+/// The passages of `text`, each flattened, with where each stands: paragraphs, list
+/// items, tables and headings.
+fn passages(text: &str) -> Vec<(String, Place)> {
+    let mut out: Vec<(String, Place)> = Vec::new();
+    let mut current = String::new();
+    let mut place = Place::Paragraph;
+    let mut in_list = false;
+    let mut blank = false;
+    for line in text.lines() {
+        let t = line.trim_start();
+        let indented = t.len() < line.len();
+        let row = t.starts_with('|');
+        let item = t.starts_with("- ")
+            || t.starts_with("* ")
+            || t.split_once(". ")
+                .is_some_and(|(n, _)| !n.is_empty() && n.chars().all(|c| c.is_ascii_digit()));
+        let table_goes_on = row && current.starts_with('|');
+        // An indented paragraph after a blank line inside a list belongs to its item.
+        let nested_paragraph = blank && indented && in_list && !item;
+        if t.is_empty() || t.starts_with('#') || item || (row && !table_goes_on) || nested_paragraph
+        {
+            out.push((flat(&std::mem::take(&mut current)), place));
+            place = match (item || row || nested_paragraph, indented) {
+                (true, true) => Place::Nested,
+                (true, false) => Place::Item,
+                (false, _) => Place::Paragraph,
+            };
+        }
+        if !t.is_empty() {
+            in_list = place != Place::Paragraph;
+        }
+        blank = t.is_empty();
+        current.push_str(t);
+        current.push(' ');
+        if t.starts_with('#') {
+            out.push((flat(&std::mem::take(&mut current)), Place::Paragraph));
+            in_list = false;
+        }
+    }
+    out.push((flat(&current), place));
+    out.into_iter().filter(|(p, _)| !p.is_empty()).collect()
+}
+
+/// Every function name in the test sources (the integration tests and the crates'
+/// sources, whose unit tests live beside the code).
+fn test_names() -> std::collections::HashSet<String> {
+    fn walk(dir: &std::path::Path, names: &mut std::collections::HashSet<String>) {
+        for entry in std::fs::read_dir(dir).unwrap().flatten() {
+            let path = entry.path();
+            if path.is_dir() {
+                walk(&path, names);
+            } else if path.extension().is_some_and(|e| e == "rs") {
+                let text = std::fs::read_to_string(&path).unwrap();
+                for rest in text.split("fn ").skip(1) {
+                    let name: String = rest
+                        .chars()
+                        .take_while(|c| c.is_alphanumeric() || *c == '_')
+                        .collect();
+                    names.insert(name);
+                }
+            }
+        }
+    }
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    let mut names = Default::default();
+    for dir in ["tests", "crates", "src"] {
+        walk(&root.join(dir), &mut names);
+    }
+    names
+}
+
+/// The tests a passage names (code spans of three or more words joined by `_` that are
+/// functions of the test sources): in docs/testing.md, a passage that names its test
+/// quotes that test's bound and what it measured.
+fn named_tests(passage: &str, names: &std::collections::HashSet<String>) -> usize {
+    passage
+        .split('`')
+        .skip(1)
+        .step_by(2)
+        .filter(|span| span.matches('_').count() >= 2 && names.contains(*span))
+        .count()
+}
+
+/// How many marks a passage has naming what measures its figures: `measured by \`fur
+/// bench --only SECTION\`` or `measured by \`FILE\``, a test file that prints them.
+/// Errors name a mark that leads nowhere.
+fn marks(passage: &str) -> Result<usize, String> {
+    let sections: Vec<&str> = fur::bench::Section::ALL.iter().map(|s| s.name()).collect();
+    let mut count = 0;
+    for (at, mark) in passage.match_indices("measured by `") {
+        let named = passage[at + mark.len()..]
+            .split('`')
+            .next()
+            .unwrap_or_default();
+        if let Some(section) = named.strip_prefix("fur bench --only ") {
+            if !sections.contains(&section) {
+                return Err(format!("no bench section `{section}`"));
+            }
+            count += 1;
+        } else if named == "cargo mutants" {
+            count += 1;
+        } else if named.ends_with(".rs") {
+            let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join(named);
+            if !(named.contains("tests/") && path.is_file()) {
+                return Err(format!("no test file `{named}`"));
+            }
+            count += 1;
+        }
+    }
+    Ok(count)
+}
+
+/// Every figure in the prose of the documents is bound or marked: it stands in a phrase
+/// built from the constant it states ([`stated`]), or its passage names what measures
+/// it (`measured by \`fur bench --only SECTION\``, `measured by \`cargo mutants\``, or
+/// a test file that prints it; in docs/testing.md, the test the passage names), as
+/// does the paragraph a list or table follows, or it is one of [`NOT_MEASURED`]
+/// (years, versions, an example's settings). Seen failing with a figure added to a
+/// passage without a mark, with a default written wrong (`--friction` 0.2), and with a
+/// mark naming a section the benchmark does not have.
+#[test]
+fn every_figure_in_the_documents_prose_is_bound_or_marked() {
+    let stated = stated();
+    let names = test_names();
+    let mut unbound = Vec::new();
+    for doc in PROSE {
+        let bound: Vec<&String> = stated
+            .iter()
+            .filter(|(d, _)| *d == doc)
+            .flat_map(|(_, p)| p)
+            .collect();
+        // Whether the paragraph a list or table follows is marked, and the item a
+        // nested passage belongs to.
+        let (mut intro, mut parent) = (false, false);
+        let mut text = read(doc);
+        if doc == "README.md" {
+            // Its "What to expect" section quotes the runs: docs.rs binds it.
+            let start = text
+                .find("\n## What to expect")
+                .expect("the README's results");
+            let end = text[start + 1..]
+                .find("\n## ")
+                .map_or(text.len(), |e| start + 1 + e);
+            text.replace_range(start..end, "");
+        }
+        for (passage, place) in passages(&prose(&text)) {
+            let tests = if doc == "docs/testing.md" {
+                named_tests(&passage, &names)
+            } else {
+                0
+            };
+            let marked = marks(&passage).map(|m| m + tests);
+            let own = marked.as_ref().is_ok_and(|&m| m > 0);
+            let inherited = match place {
+                Place::Paragraph => {
+                    intro = own;
+                    false
+                }
+                Place::Item => {
+                    parent = own || intro;
+                    intro
+                }
+                Place::Nested => parent || intro,
+            };
+            match marked {
+                Err(why) => unbound.push(format!("{doc}: {why} in {passage:?}")),
+                Ok(0) if !inherited => {
+                    let mut text = passage.clone();
+                    for phrase in &bound {
+                        text = text.replace(phrase.as_str(), " ");
+                    }
+                    for (_, phrase, _) in NOT_MEASURED.iter().filter(|(d, _, _)| *d == doc) {
+                        text = text.replace(phrase, " ");
+                    }
+                    let text = without_versions(&text);
+                    for n in common::numbers(&common::without_code_and_links(&text)) {
+                        // Versions (1.4.309) are names, not figures.
+                        let version = n.matches('.').count() >= 2;
+                        if (n.len() > 1 || n.contains('.')) && !version {
+                            unbound.push(format!("{doc}: {n} in {passage:?}"));
+                        }
+                    }
+                }
+                Ok(_) => {}
+            }
+        }
+    }
+    for (doc, phrase, what) in NOT_MEASURED {
+        if !flat(&read(doc)).contains(phrase) {
+            unbound.push(format!("{doc} no longer says {phrase:?} ({what})"));
+        }
+    }
+    assert!(
+        unbound.is_empty(),
+        "{} figures neither stated by the code nor marked as measured:\n{}",
+        unbound.len(),
+        unbound.join("\n")
+    );
 }

@@ -195,3 +195,49 @@ pub fn read_doc(path: &str) -> String {
 pub fn flat(text: &str) -> String {
     text.split_whitespace().collect::<Vec<_>>().join(" ")
 }
+
+/// The numbers in `text` (digits with an optional decimal part), as written. Digits
+/// that continue a name (`f32`, `rgba32ui`, `F12`) are not numbers.
+pub fn numbers(text: &str) -> Vec<String> {
+    let mut out = Vec::new();
+    let mut current = String::new();
+    let mut previous = ' ';
+    for c in text.chars().chain(std::iter::once(' ')) {
+        let in_name = previous.is_alphabetic() || previous == '_';
+        if (c.is_ascii_digit() && !(current.is_empty() && in_name))
+            || (c == '.' && !current.is_empty())
+            || (c == ',' && !current.is_empty())
+        {
+            current.push(c);
+        } else if c.is_ascii_digit() {
+            // a digit inside a name: skipped with the name
+        } else if !current.is_empty() {
+            let n = current.trim_end_matches(['.', ',']).to_string();
+            out.push(n);
+            current.clear();
+        }
+        if !(c.is_ascii_digit() && current.is_empty()) {
+            previous = c;
+        }
+    }
+    out
+}
+
+/// `line` without its code spans and link targets (paths, commands: not figures).
+pub fn without_code_and_links(line: &str) -> String {
+    let mut out = String::new();
+    let mut in_code = false;
+    let mut in_target = false;
+    let mut previous = ' ';
+    for c in line.chars() {
+        match c {
+            '`' => in_code = !in_code,
+            '(' if previous == ']' => in_target = true,
+            ')' if in_target => in_target = false,
+            _ if !in_code && !in_target => out.push(c),
+            _ => {}
+        }
+        previous = c;
+    }
+    out
+}

@@ -26,6 +26,9 @@ pub const REGION_SPACINGS: f32 = 2.0;
 /// A bald vertex's master hair: this fraction of the guides' median length, along the
 /// normal (a hair must have length for the simulation's constraints).
 pub const BALD_FRACTION: f32 = 1e-3;
+/// A vertex this close to a guide's root (in bounding radii) is that root: it takes
+/// that guide alone, so a groom fur wrote comes back as the same hairs.
+pub const EXACT_ROOT: f32 = 1e-6;
 
 /// What vertices outside the groomed region get.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -318,7 +321,7 @@ impl Strands {
             Outside::Grow => Some(Strands::grow_from_mesh(mesh, groom).map_err(|e| e.to_string())?),
             Outside::Bald => None,
         };
-        let exact = 1e-6 * radius;
+        let exact = EXACT_ROOT * radius;
         let per_vertex: Vec<Option<Vec<Vec3>>> = mesh
             .positions
             .par_iter()

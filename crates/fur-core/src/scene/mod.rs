@@ -23,7 +23,7 @@ pub use gltf::{load_gltf, write_glb, GltfBody};
 pub use groom::{hash_unit, GroomParams, Strands};
 pub use groom_bind::{
     closest_on_triangle, nearest_surface_point, resample, GroomMode, GroomReport, GroomSource,
-    Outside, SurfacePoint, BALD_FRACTION, BIND_LIMIT, BIND_TOLERANCE, BLEND_GUIDES,
+    Outside, SurfacePoint, BALD_FRACTION, BIND_LIMIT, BIND_TOLERANCE, BLEND_GUIDES, EXACT_ROOT,
     REGION_SPACINGS,
 };
 pub use groom_draw::{DrawnGroom, HairPatches};

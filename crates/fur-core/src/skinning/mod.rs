@@ -243,3 +243,6 @@ impl AnimationSpec {
         Ok(Some((rig, playback)))
     }
 }
+
+#[cfg(test)]
+pub(crate) mod tests;

@@ -1,0 +1,343 @@
+//! The phrases the documents must hold word for word, each built from the constant it
+//! states.
+
+use super::common::read_doc as read;
+use fur::files::{self, size_text};
+
+/// A whole number with thousands separated by commas, as the documents write counts.
+pub fn count_text(n: u64) -> String {
+    let digits = n.to_string();
+    let mut out = String::new();
+    for (i, c) in digits.chars().enumerate() {
+        if i > 0 && (digits.len() - i) % 3 == 0 {
+            out.push(',');
+        }
+        out.push(c);
+    }
+    out
+}
+
+/// Each document and the phrases it must hold, built from the code.
+pub fn stated() -> Vec<(&'static str, Vec<String>)> {
+    let mut all = limits();
+    all.extend(design());
+    all
+}
+
+/// A power of ten as the documents write it (`10⁻⁶`).
+fn power_of_ten(x: f32) -> String {
+    let exponent = x.log10().round() as i32;
+    assert_eq!(10f32.powi(exponent), x, "{x} is not a power of ten");
+    let superscript = |c: char| match c {
+        '-' => '⁻',
+        d => ['⁰', '¹', '²', '³', '⁴', '⁵', '⁶', '⁷', '⁸', '⁹'][d.to_digit(10).unwrap() as usize],
+    };
+    format!(
+        "10{}",
+        exponent
+            .to_string()
+            .chars()
+            .map(superscript)
+            .collect::<String>()
+    )
+}
+
+/// A colour channel as design.md writes it: three decimals, or two significant digits
+/// under a hundredth.
+fn channel(x: f32) -> String {
+    if x >= 0.01 {
+        format!("{x:.3}")
+    } else {
+        let digits = (1 - x.log10().floor() as i32) as usize;
+        format!("{x:.digits$}")
+    }
+}
+
+/// The defaults, formats and counts the design documents state.
+fn design() -> Vec<(&'static str, Vec<String>)> {
+    use fur::render::FurPreset;
+    let scene = fur::scene_file::SceneOptions::default();
+    let sim = fur::sim::params::SimParams::default();
+    let style = fur::render::uniforms::FurStyle::default();
+    let fibre = fur::render::Fibre::default();
+    let frame = format!("1/{}", (1.0 / sim.dt).round());
+    // The critter's body and bones.
+    let (critter, rig) = fur::scene::critter();
+    // The original demo's sphere: its bands from its counts (V = (r − 1)(s + 1) + 2,
+    // T = 2s(r − 1)), its radius and segment length from its size.
+    let sphere: fur::scene::ModelSpec = "sphere".parse().unwrap();
+    let sphere = sphere.load().unwrap();
+    let (v, t) = (sphere.vertex_count() as u64, sphere.triangle_count() as u64);
+    let bands = t / (2 * (v - 2) - t);
+    let rings = t / (2 * bands) + 1;
+    let radius = sphere
+        .positions
+        .iter()
+        .map(|p| p.length())
+        .fold(0.0, f32::max);
+    let original = fur::scene_file::SceneOptions::original();
+    let half_diagonal = radius * 3f32.sqrt();
+    let segment =
+        (original.hair_length * half_diagonal / original.segments as f32 * 1000.0).round() / 1000.0;
+    // The fur presets' melanin, absorption and colours.
+    let melanin: Vec<String> = FurPreset::ALL
+        .iter()
+        .filter_map(|p| p.melanin().map(|m| (p.name(), m)))
+        .map(|(name, (eu, pheo))| match (eu, pheo) {
+            (0.0, 0.0) => format!("`{name}` (none)"),
+            (eu, 0.0) => format!("`{name}` (eumelanin {eu})"),
+            (eu, pheo) => format!("`{name}` (eumelanin {eu}, pheomelanin {pheo})"),
+        })
+        .collect();
+    let triple =
+        |c: glam::Vec3, f: &dyn Fn(f32) -> String| format!("({}, {}, {})", f(c.x), f(c.y), f(c.z));
+    let beta_n = fibre.azimuthal_roughness;
+    let colour = |p: FurPreset| p.colour(beta_n).unwrap();
+    let srgb = |x: f32| format!("{:.2}", f32::from(fur::colour::linear_to_srgb8(x)) / 255.0);
+    let openusd = read("Cargo.lock")
+        .split("name = \"openusd\"\nversion = \"")
+        .nth(1)
+        .and_then(|rest| rest.split('"').next())
+        .map(|v| v.trim_end_matches(".0").to_string())
+        .expect("Cargo.lock pins openusd");
+    let dense: fur::scene::ModelSpec = "dense-sphere".parse().unwrap();
+    let thousands = (dense.load().unwrap().positions.len() + 500) / 1000;
+    vec![
+        (
+            "docs/design.md",
+            vec![
+                format!("`segments` (default {})", scene.segments),
+                format!(
+                    "each at most {} × the model's local half-thickness long",
+                    scene.thickness_limit
+                ),
+                format!("default {frame} s, one substep"),
+                format!("four vectors in a {}° cone", sim.wind_cone_deg),
+                format!(
+                    "One invocation per strand, {} strands per workgroup",
+                    fur::gpu::shader::GROUP_SIZE
+                ),
+                format!(
+                    "moved by at most {} ulps of its largest coordinate",
+                    fur::sim::cpu::SLEEP_ULPS
+                ),
+                format!(
+                    "{}–{} cells along the longest axis",
+                    sim.sdf_cells(1.0, 1e9, false),
+                    sim.sdf_cells(1e9, 1.0, false)
+                ),
+                format!(
+                    "a fraction of each strand's own length, default {})",
+                    sim.collision_margin
+                ),
+                format!("`--friction` (default {})", sim.friction),
+                format!("(vertices 1 and 2 of {})", scene.segments),
+                format!(
+                    "where its grid would pass {}",
+                    size_text(fur::skinning::blend::MAX_BYTES as u64)
+                ),
+                format!(
+                    "({} vertices, closed and outward), {} bones",
+                    count_text(critter.vertex_count() as u64),
+                    rig.joints.len()
+                ),
+                format!(
+                    "defaults {}, {}, {}°, {})",
+                    fibre.longitudinal_roughness,
+                    fibre.azimuthal_roughness,
+                    fibre.cuticle_tilt_deg,
+                    fibre.ior
+                ),
+                format!("melanin, the pigments of hair: {};", melanin.join(", ")),
+                format!(
+                    "σa = eumelanin · {} + pheomelanin · {}",
+                    triple(fur::render::presets::EUMELANIN_SIGMA_A, &|x| x.to_string()),
+                    triple(fur::render::presets::PHEOMELANIN_SIGMA_A, &|x| x.to_string())
+                ),
+                format!(
+                    "at β_n = {beta_n} they are white {}, blond {}, ginger {}, brown {} and black (≈ 0)",
+                    triple(colour(FurPreset::White), &|x| x.to_string()),
+                    triple(colour(FurPreset::Blond), &channel),
+                    triple(colour(FurPreset::Ginger), &channel),
+                    triple(colour(FurPreset::Brown), &channel)
+                ),
+                format!(
+                    "(blond is {} in sRGB)",
+                    triple(colour(FurPreset::Blond), &srgb)
+                ),
+                format!("the tolerance (default {} px)", style.vertex_lod_px),
+                format!("never drawn under {} px", style.min_pixel_width),
+                format!(
+                    "(`--target-fps`, default {};",
+                    fur::viewer::DEFAULT_TARGET_FPS
+                ),
+                format!(
+                    "never more than {} × the model's local half-thickness",
+                    scene.thickness_limit
+                ),
+                format!(
+                    "a UV sphere of radius {radius} with {rings} × {bands} bands ({} vertices with the seam duplicated, {} triangles",
+                    count_text(v),
+                    count_text(t)
+                ),
+                format!(
+                    "one master hair of {} vertices and segments of {segment} per vertex",
+                    original.segments + 1
+                ),
+            ],
+        ),
+        (
+            "docs/pipeline.md",
+            vec![format!("step ({frame} s)")],
+        ),
+        (
+            "docs/grooms.md",
+            vec![
+                format!("(d below {} radii)", power_of_ten(fur::scene::EXACT_ROOT)),
+                format!(
+                    "the {thousands}K-vertex `dense-sphere` reading its own {thousands}K-guide groom"
+                ),
+                format!("version {openusd} of `openusd`"),
+                format!("fur writes the layer with {openusd},"),
+            ],
+        ),
+    ]
+}
+
+/// The limits, targets and defaults the other documents state.
+fn limits() -> Vec<(&'static str, Vec<String>)> {
+    let calibration = fur::export::compare::Calibration::MAX_SHIFT_PX;
+    let radiance = fur::export::compare::Calibration::MAX_RATIO_ERROR;
+    let (low, high) = fur::scene::Mesh::SCALE_RANGE;
+    let cargo = read("Cargo.toml");
+    let rust = cargo
+        .lines()
+        .find_map(|l| l.strip_prefix("rust-version = \""))
+        .and_then(|v| v.strip_suffix('"'))
+        .expect("Cargo.toml states its rust-version");
+    let idle = fur::render::budget::Budget::IDLE_SECONDS;
+    let near = fur::sim::collide::NEAR_CAPSULES;
+    // The goal's body (`dense-sphere`), whose vertices the README's groom and the GPU
+    // goal's masters are.
+    let dense: fur::scene::ModelSpec = "dense-sphere".parse().unwrap();
+    let dense = dense.load().unwrap().positions.len() as u64;
+    vec![
+        (
+            "docs/robustness.md",
+            vec![
+                format!(
+                    "a model over {}, a texture over {}, a material library over {}, a scene file over {}",
+                    size_text(files::MAX_MODEL_BYTES),
+                    size_text(files::MAX_TEXTURE_BYTES),
+                    size_text(files::MAX_MATERIAL_BYTES),
+                    size_text(files::MAX_SCENE_BYTES)
+                ),
+                format!("over {} on a side", fur::scene::Texture::MAX_SIDE),
+                format!(
+                    "over {}, of an unknown extension",
+                    size_text(fur::groom_file::MAX_GROOM_BYTES)
+                ),
+                format!(
+                    "over {} bounding radii from the body",
+                    fur::scene::BIND_LIMIT
+                ),
+                format!("over {}, a warning", fur::scene::BIND_TOLERANCE),
+                format!(
+                    "would pass {}",
+                    size_text(fur::skinning::blend::MAX_BYTES as u64)
+                ),
+                format!(
+                    "more than {} strand vertices",
+                    count_text(fur::session::MAX_STRAND_VERTICES)
+                ),
+                format!(
+                    "more than {} hair segments a frame",
+                    count_text(fur::session::MAX_SEGMENTS_PER_FRAME)
+                ),
+                format!(
+                    "a render target over {}",
+                    size_text(fur::session::MAX_TARGET_BYTES)
+                ),
+                format!(
+                    "over {} to capture, or whose file would pass {}",
+                    size_text(fur::render::MAX_CAPTURE_BYTES),
+                    size_text(fur::export::MAX_EXPORT_BYTES)
+                ),
+                format!(
+                    "big-endian or over {}",
+                    size_text(fur::export::reference::MAX_PFM_BYTES)
+                ),
+                format!("outside {low:e}…{high:e} units"),
+            ],
+        ),
+        (
+            "README.md",
+            vec![
+                format!("Rust {rust} or newer is needed"),
+                format!("an imported groom of {} curly strands", count_text(dense)),
+                format!("the performance goal's {}K-vertex body", (dense + 500) / 1000),
+                // The idle time in words: the phrase exists only for the value it names.
+                (if idle == 0.5 {
+                    "half a second after input stops"
+                } else {
+                    "(IDLE_SECONDS changed: say it in the README)"
+                })
+                .to_string(),
+                format!(
+                    "(`--target-fps`, default {})",
+                    fur::viewer::DEFAULT_TARGET_FPS
+                ),
+                format!(
+                    "the target of {} % of the hair length",
+                    100.0 * fur::bench::DEPTH_TARGET
+                ),
+            ],
+        ),
+        (
+            "docs/gpu.md",
+            vec![format!("{} masters on the built-in `dense-sphere`", count_text(dense))],
+        ),
+        (
+            "docs/grooms.md",
+            vec![
+                format!("such a groom: {} curly strands", count_text(dense)),
+                format!(
+                    "A curve may have at most {} vertices after evaluation",
+                    count_text(fur::groom_file::MAX_CURVE_VERTICES as u64)
+                ),
+                format!(
+                    "A root farther than **{} bounding radii** from the surface is reported",
+                    fur::scene::BIND_TOLERANCE
+                ),
+                format!(
+                    "A root farther than **{} bounding radii** refuses the groom",
+                    fur::scene::BIND_LIMIT
+                ),
+            ],
+        ),
+        (
+            "docs/ground-truth.md",
+            vec![format!(
+                "lie within {calibration} px, and the mean linear radiance over the pixels both cover agrees within {} %",
+                100.0 * radiance
+            )],
+        ),
+        (
+            "docs/design.md",
+            vec![
+                format!(
+                    "(`--shadow-opacity {}` = α",
+                    fur::render::Shadows::default().opacity
+                ),
+                format!(
+                    "(at least `--min-pixel-width`, {} px)",
+                    fur::render::uniforms::FurStyle::default().min_pixel_width
+                ),
+                format!(
+                    "with the {} bone capsules nearest its root",
+                    ["no", "one", "two", "three", "four", "five", "six"][near.min(6)]
+                ),
+            ],
+        ),
+    ]
+}

@@ -253,4 +253,144 @@ mod tests {
             );
         }
     }
+
+    /// The field of the plane y = 0 (distance y, gradient +y), `n` points a side over
+    /// x, z ∈ [0, (n − 1) cell], y ∈ [−1, −1 + (n − 1) cell]: sampled exactly.
+    fn floor(n: u32, cell: f32) -> Sdf {
+        let mut values = Vec::new();
+        for _z in 0..n {
+            for y in 0..n {
+                for _x in 0..n {
+                    values.push(-1.0 + cell * y as f32);
+                }
+            }
+        }
+        Sdf {
+            dims: [n; 3],
+            origin: Vec3::new(0.0, -1.0, 0.0),
+            cell,
+            gradients: vec![Vec3::Y; values.len()],
+            values,
+        }
+    }
+
+    /// The blend grid's size: `REFINE` points per field cell, two points to a 16-byte
+    /// texel along x; a hair's band is half its length.
+    #[test]
+    fn the_grid_has_two_points_a_cell_and_two_a_texel() {
+        let mut field = floor(3, 0.5);
+        field.dims = [3, 4, 5];
+        assert_eq!(dims(&field), [5, 7, 9]);
+        assert_eq!(bytes(&field), 3 * 7 * 9 * 16);
+        assert_eq!(band(0.4), 0.2);
+        assert_eq!(misfit(&field, 9), None);
+        let side = misfit(&field, 8).expect("a side of 9 points on a device of 8");
+        assert!(
+            side.contains("5×7×9 points") && side.contains("(8 texels"),
+            "{side}"
+        );
+        // Only the sizes are read: a field too large to build is refused all the same.
+        field.dims = [512, 512, 64];
+        let big = misfit(&field, u32::MAX).expect("over the byte limit");
+        assert!(
+            big.contains("512×512×64 field needs 1015 MiB") && big.contains("32 MiB"),
+            "{big}"
+        );
+    }
+
+    /// The nearest blend grid point, x fastest: on a grid of 0.25 from (0, −1, 0),
+    /// (0.3, −0.4, 0.1) is point (1, 2, 0); the far corner is the last point; a point
+    /// outside along any axis has none.
+    #[test]
+    fn the_nearest_grid_point_rounds_each_coordinate() {
+        let field = floor(3, 0.5);
+        assert_eq!(dims(&field), [5, 5, 5]);
+        let at = |x: f64, y: f64, z: f64| nearest(&field, V3::<f64>(x, y, z));
+        assert_eq!(at(0.3, -0.4, 0.1), Some(1 + 5 * 2));
+        assert_eq!(at(0.1, -0.9, 0.4), Some(5 * 5 * 2));
+        assert_eq!(at(1.0, 0.0, 1.0), Some(124));
+        assert_eq!(at(0.0, -1.0, 0.0), Some(0));
+        for outside in [
+            (-0.01, 0.0, 0.5),
+            (0.5, 0.01, 0.5),
+            (0.5, -1.01, 0.5),
+            (0.5, 0.0, 1.01),
+        ] {
+            assert_eq!(at(outside.0, outside.1, outside.2), None, "{outside:?}");
+        }
+        assert_eq!(nearest(&field, V3::<f32>(0.3, -0.4, 0.1)), Some(11));
+    }
+
+    /// Each grid point within the band of the surface holds the packed blend of the
+    /// rest vertex nearest to it (ties: the lower index), every other point zero: the
+    /// bucket search against trying every vertex, on the stick's vertices moved to lie
+    /// around the plane, and by hand at three points.
+    #[test]
+    fn each_grid_point_near_the_skin_holds_its_nearest_vertexs_blend() {
+        let field = floor(9, 0.25);
+        let mut rig = crate::skinning::tests::stick();
+        // The stick's 42 vertices, squeezed into the field's box around the plane, and
+        // given blends that tell them apart.
+        let rest: Vec<Vec3> = rig
+            .bind_positions
+            .iter()
+            .map(|p| Vec3::new(0.3 * p.x + 1.0, 0.25 * p.y + 0.1, 0.6 * p.z + 0.1))
+            .collect();
+        for (v, (joints, weights)) in rig.influences.iter_mut().zip(&mut rig.weights).enumerate() {
+            *joints = [v as u16, (v + 1) as u16, 0, 0];
+            *weights = [0.6, 0.4, 0.0, 0.0];
+        }
+        let band = 0.3;
+        let out = grid(&rig, &rest, &field, band);
+        let [nx, ny, nz] = dims(&field);
+        assert_eq!(out.len(), (nx * ny * nz) as usize);
+        let step = field.cell / REFINE as f32;
+        let (mut near, mut far) = (0, 0);
+        for z in 0..nz {
+            for y in 0..ny {
+                for x in 0..nx {
+                    let p = field.origin + Vec3::new(x as f32, y as f32, z as f32) * step;
+                    let got = out[(x + nx * (y + ny * z)) as usize];
+                    if p.y.abs() > band {
+                        assert_eq!(got, [0, 0], "{p} is outside the band");
+                        far += 1;
+                        continue;
+                    }
+                    let mut best = 0;
+                    for (i, q) in rest.iter().enumerate() {
+                        if q.distance(p) < rest[best].distance(p) {
+                            best = i;
+                        }
+                    }
+                    assert_eq!(got, pack(rig.influences[best], rig.weights[best]), "{p}");
+                    near += 1;
+                }
+            }
+        }
+        assert!(
+            near > 500 && far > 500,
+            "{near} points in the band, {far} outside"
+        );
+        // By hand: a blend is its vertex's two joints, the first with 0.6 of the weight.
+        let centre = out[(8 + nx * (8 + ny * 8)) as usize];
+        assert_eq!(unpack(centre).1, 0.6);
+    }
+
+    /// What the simulation asks for: the grid over the body's rest vertices within half
+    /// a hair of the surface; a field whose grid would pass the limit is refused, naming
+    /// what to lower.
+    #[test]
+    fn a_body_gets_the_grid_for_its_hair_or_a_refusal() {
+        let rig = crate::skinning::tests::stick();
+        let body =
+            crate::skinning::SkinnedBody::new(&crate::skinning::tests::stick_mesh(&rig), rig);
+        let field = floor(9, 0.25);
+        let got = for_body(&body, &field, 0.6).unwrap();
+        assert_eq!(got, grid(&body.rig, &body.rest_positions, &field, 0.3));
+        assert_ne!(got, grid(&body.rig, &body.rest_positions, &field, 0.6));
+        let mut huge = field.clone();
+        huge.dims = [512, 512, 64];
+        let refused = for_body(&body, &huge, 0.6).unwrap_err().to_string();
+        assert!(refused.contains("--sdf-resolution"), "{refused}");
+    }
 }

@@ -234,4 +234,84 @@ mod tests {
         assert_eq!(segment_distance(Vec3::new(3.0, 0.0, 0.0), a, b).0, 2.0);
         assert_eq!(segment_distance(Vec3::new(-1.0, 0.0, 0.0), a, b).1, a);
     }
+
+    fn close(a: Vec3, b: Vec3) -> bool {
+        (a - b).abs().max_element() < 1e-5
+    }
+
+    /// The stick's capsules worked out by hand (`crate::skinning::tests::stick`): the
+    /// hips' from its joint to the spine's, radius the median 0.3 of its vertices'
+    /// 0.1…0.5; the spine's to the head's, 0.2; the head, a leaf, along its vertices'
+    /// axis between their 10th and 90th percentiles (z 2.1 to 2.9), 0.1; the leg's to
+    /// the paw's, 0.15; the paw, three vertices, none. Children: the spine's capsule for
+    /// the hips, the head's for the spine, none for the leg (its paw has no capsule).
+    #[test]
+    fn the_sticks_capsules_are_its_bones_with_their_skins_median_radius() {
+        let mut rig = crate::skinning::tests::stick();
+        let capsules = fit(&rig);
+        let joints: Vec<usize> = capsules.iter().map(|c| c.joint).collect();
+        assert_eq!(joints, [0, 1, 2, 3]);
+        let children: Vec<Option<usize>> = capsules.iter().map(|c| c.child).collect();
+        assert_eq!(children, [Some(1), Some(2), None, None]);
+        let radii: Vec<f32> = capsules.iter().map(|c| c.radius).collect();
+        for (r, want) in radii.iter().zip([0.3, 0.2, 0.1, 0.15]) {
+            assert!((r - want).abs() < 1e-6, "radii {radii:?}");
+        }
+        let ends = |c: &Capsule| (c.a, c.b);
+        assert_eq!(ends(&capsules[0]), (Vec3::ZERO, Vec3::Z));
+        assert_eq!(ends(&capsules[1]), (Vec3::Z, 2.0 * Vec3::Z));
+        assert_eq!(ends(&capsules[3]), (-Vec3::Y, -2.0 * Vec3::Y));
+        let (a, b) = ends(&capsules[2]);
+        let (near, far) = if a.z < b.z { (a, b) } else { (b, a) };
+        assert!(
+            close(near, Vec3::new(0.0, 0.0, 2.1)) && close(far, Vec3::new(0.0, 0.0, 2.9)),
+            "{a} {b}"
+        );
+        // A vertex belongs to its heaviest bone: the hips' farthest vertex, bound mostly
+        // to the spine, leaves the hips 0.1…0.4 (median 0.2) and the spine its 0.2.
+        rig.influences[4] = [0, 1, 0, 0];
+        rig.weights[4] = [0.3, 0.7, 0.0, 0.0];
+        let moved = fit(&rig);
+        assert!((moved[0].radius - 0.2).abs() < 1e-6, "{}", moved[0].radius);
+        assert!((moved[1].radius - 0.2).abs() < 1e-6, "{}", moved[1].radius);
+    }
+
+    /// Posed capsules: each end moved by its joint's matrix, the radius scaled by the
+    /// joint's scale, the child's index (or −1) in `b.w`.
+    #[test]
+    fn posed_capsules_follow_their_joints_and_their_scale() {
+        let capsules = fit(&crate::skinning::tests::stick());
+        let matrices = [
+            Mat4::from_translation(Vec3::X),
+            Mat4::from_scale(Vec3::splat(2.0)),
+            Mat4::IDENTITY,
+            Mat4::from_rotation_z(std::f32::consts::FRAC_PI_2),
+        ];
+        let posed = pose(&capsules, &matrices);
+        let want = [
+            (Vec3::X, 0.3, Vec3::new(1.0, 0.0, 1.0), 1.0),
+            (2.0 * Vec3::Z, 0.4, 4.0 * Vec3::Z, 2.0),
+            (
+                Vec3::new(0.0, 0.0, 2.1),
+                0.1,
+                Vec3::new(0.0, 0.0, 2.9),
+                -1.0,
+            ),
+            (Vec3::X, 0.15, 2.0 * Vec3::X, -1.0),
+        ];
+        for (k, (p, (a, r, b, child))) in posed.iter().zip(want).enumerate() {
+            let (pa, pb) = (p[0].truncate(), p[1].truncate());
+            let (pa, pb) = if k == 2 && pa.z > pb.z {
+                (pb, pa)
+            } else {
+                (pa, pb)
+            };
+            assert!(close(pa, a) && close(pb, b), "capsule {k}: {pa} {pb}");
+            assert!((p[0].w - r).abs() < 1e-6, "capsule {k}'s radius {}", p[0].w);
+            assert_eq!(p[1].w, child, "capsule {k}'s child");
+        }
+        // A segment of no length: the distance to its point.
+        let (d, c) = segment_distance(Vec3::new(3.0, 4.0, 0.0), Vec3::ZERO, Vec3::ZERO);
+        assert_eq!((d, c), (5.0, Vec3::ZERO));
+    }
 }

@@ -173,7 +173,7 @@ fn fur_flows_back_along_the_spine_and_down_the_legs() {
 }
 
 /// A mesh vertex-aligned with the rig (no triangles: only what [`SkinnedBody`] reads).
-fn stick_mesh(rig: &Rig) -> crate::scene::Mesh {
+pub(crate) fn stick_mesh(rig: &Rig) -> crate::scene::Mesh {
     crate::scene::Mesh {
         positions: rig.bind_positions.clone(),
         normals: rig.bind_normals.clone(),

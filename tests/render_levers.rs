@@ -251,6 +251,7 @@ fn the_built_in_sphere_is_the_original_demos_scene() {
     // had distinct points (35,129).
     settings.style.cull = false;
     let (_, _, counts) = common::render(&device, &mesh, &groom, &settings, (64, 36));
+    println!("{} interpolated hairs over the sphere", counts.hairs);
     let off = (counts.hairs as f64 / 35_129.0 - 1.0).abs();
     assert!(off < 0.01, "{} hairs over the sphere", counts.hairs);
     common::assert_clean(&device);

@@ -298,27 +298,74 @@ mod tests {
         );
     }
 
-    /// The nearest blend grid point, x fastest: on a grid of 0.25 from (0, −1, 0),
-    /// (0.3, −0.4, 0.1) is point (1, 2, 0); the far corner is the last point; a point
-    /// outside along any axis has none.
+    /// The nearest blend grid point, x fastest: on a grid of 0.2 from (1, −1, 2),
+    /// (1.25, −0.45, 2.05) is point (1, 3, 0); the far corner is the last point; a
+    /// point outside along any axis has none.
     #[test]
     fn the_nearest_grid_point_rounds_each_coordinate() {
-        let field = floor(3, 0.5);
+        let mut field = floor(3, 0.4);
+        field.origin = Vec3::new(1.0, -1.0, 2.0);
         assert_eq!(dims(&field), [5, 5, 5]);
         let at = |x: f64, y: f64, z: f64| nearest(&field, V3::<f64>(x, y, z));
-        assert_eq!(at(0.3, -0.4, 0.1), Some(1 + 5 * 2));
-        assert_eq!(at(0.1, -0.9, 0.4), Some(5 * 5 * 2));
-        assert_eq!(at(1.0, 0.0, 1.0), Some(124));
-        assert_eq!(at(0.0, -1.0, 0.0), Some(0));
+        assert_eq!(at(1.25, -0.45, 2.05), Some(1 + 5 * 3));
+        assert_eq!(at(1.05, -0.95, 2.45), Some(5 * 5 * 2));
+        assert_eq!(at(1.79, -0.21, 2.79), Some(124));
+        assert_eq!(at(1.0, -1.0, 2.0), Some(0));
         for outside in [
-            (-0.01, 0.0, 0.5),
-            (0.5, 0.01, 0.5),
-            (0.5, -1.01, 0.5),
-            (0.5, 0.0, 1.01),
+            (0.99, -0.5, 2.5),
+            (1.5, -0.19, 2.5),
+            (1.5, -1.01, 2.5),
+            (1.5, -0.5, 2.81),
         ] {
             assert_eq!(at(outside.0, outside.1, outside.2), None, "{outside:?}");
         }
-        assert_eq!(nearest(&field, V3::<f32>(0.3, -0.4, 0.1)), Some(11));
+        assert_eq!(nearest(&field, V3::<f32>(1.25, -0.45, 2.05)), Some(16));
+    }
+
+    /// The bucket search is exact however far the nearest vertex is: on a coarse field
+    /// (cells of 2, buckets of 4) with a band wider than the box, every grid point holds
+    /// the blend of the vertex nearest to it among 60 scattered over the box.
+    #[test]
+    fn the_bucket_search_finds_the_nearest_vertex_across_buckets() {
+        let field = floor(9, 2.0);
+        let mut rig = crate::skinning::tests::stick();
+        let hash = |k: u32| ((k.wrapping_mul(2_654_435_761) >> 8) % 1000) as f32 / 1000.0;
+        let rest: Vec<Vec3> = (0..60u32)
+            .map(|v| {
+                Vec3::new(
+                    16.0 * hash(3 * v),
+                    16.0 * hash(3 * v + 1) - 1.0,
+                    16.0 * hash(3 * v + 2),
+                )
+            })
+            .collect();
+        rig.influences = (0..60u16).map(|v| [v, v + 1, 0, 0]).collect();
+        rig.weights = vec![[0.75, 0.25, 0.0, 0.0]; 60];
+        let out = grid(&rig, &rest, &field, 20.0);
+        let [nx, ny, nz] = dims(&field);
+        let step = field.cell / REFINE as f32;
+        let mut distinct = std::collections::HashSet::new();
+        for z in 0..nz {
+            for y in 0..ny {
+                for x in 0..nx {
+                    let p = field.origin + Vec3::new(x as f32, y as f32, z as f32) * step;
+                    let mut best = 0;
+                    for (i, q) in rest.iter().enumerate() {
+                        if q.distance(p) < rest[best].distance(p) {
+                            best = i;
+                        }
+                    }
+                    let got = out[(x + nx * (y + ny * z)) as usize];
+                    assert_eq!(got, pack(rig.influences[best], rig.weights[best]), "{p}");
+                    distinct.insert(best);
+                }
+            }
+        }
+        assert!(
+            distinct.len() > 50,
+            "only {} vertices nearest anywhere",
+            distinct.len()
+        );
     }
 
     /// Each grid point within the band of the surface holds the packed blend of the

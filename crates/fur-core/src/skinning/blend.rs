@@ -289,6 +289,13 @@ mod tests {
             side.contains("5×7×9 points") && side.contains("(8 texels"),
             "{side}"
         );
+        // Exactly the limit fits; a point more does not (2²¹ points along x, two to a
+        // texel, 16 bytes a texel: 32 MiB).
+        field.dims = [1 << 21, 1, 1];
+        assert_eq!(bytes(&field), MAX_BYTES);
+        assert_eq!(misfit(&field, u32::MAX), None);
+        field.dims = [(1 << 21) + 2, 1, 1];
+        assert!(misfit(&field, u32::MAX).is_some());
         // Only the sizes are read: a field too large to build is refused all the same.
         field.dims = [512, 512, 64];
         let big = misfit(&field, u32::MAX).expect("over the byte limit");

@@ -288,6 +288,7 @@ mod tests {
             Mat4::from_rotation_z(std::f32::consts::FRAC_PI_2),
         ];
         let posed = pose(&capsules, &matrices);
+        assert_eq!(posed.len(), capsules.len());
         let want = [
             (Vec3::X, 0.3, Vec3::new(1.0, 0.0, 1.0), 1.0),
             (2.0 * Vec3::Z, 0.4, 4.0 * Vec3::Z, 2.0),
@@ -316,22 +317,45 @@ mod tests {
     }
 
     /// A leaf bone's segment runs along its vertices' principal axis through their
-    /// centroid, between their 10th and 90th percentiles: eleven pairs of vertices
-    /// along (1, 1, 0)/√2 through (3, −2, 1), 0.1 a step, each pair 0.1 to either side
-    /// along z, give the segment from 0.4 before the centroid to 0.4 after it.
+    /// centroid, between their 10th and 90th percentiles: twelve vertices 0.1 apart
+    /// along (1, 1, 0)/√2 through (3, −2, 1), from 0.55 before it to 0.55 after, set
+    /// off ±0.1 along z so that neither the centroid nor the axis moves, give the
+    /// segment from the second to the tenth along the axis (0.45 before the centroid
+    /// and 0.35 after it, counted the way the axis points).
     #[test]
     fn a_leaf_bones_segment_follows_its_vertices_principal_axis() {
         let centre = Vec3::new(3.0, -2.0, 1.0);
         let axis = Vec3::new(1.0, 1.0, 0.0).normalize();
-        let points: Vec<Vec3> = (0..=10)
-            .flat_map(|k| {
-                let along = centre + axis * (0.1 * k as f32 - 0.5);
-                [along + 0.1 * Vec3::Z, along - 0.1 * Vec3::Z]
-            })
+        let offsets = [
+            1.0, -1.0, 0.0, 1.0, -1.0, 0.0, 0.0, -1.0, 1.0, 0.0, -1.0, 1.0,
+        ];
+        let points: Vec<Vec3> = offsets
+            .iter()
+            .enumerate()
+            .map(|(k, s)| centre + axis * (0.1 * k as f32 - 0.55) + 0.1 * s * Vec3::Z)
             .collect();
         let (a, b) = principal_segment(&points);
-        let (first, last) = (centre - 0.4 * axis, centre + 0.4 * axis);
-        let ends_match = (close(a, first) && close(b, last)) || (close(a, last) && close(b, first));
-        assert!(ends_match, "{a} {b}, not {first} {last}");
+        // The percentiles count along the axis either way it points: 0.45 before and
+        // 0.35 after the centroid, or the mirror.
+        let ends = |s: f32| (centre - s * 0.45 * axis, centre + s * 0.35 * axis);
+        let ends_match = [1.0, -1.0].iter().any(|&s| {
+            let (first, last) = ends(s);
+            (close(a, first) && close(b, last)) || (close(a, last) && close(b, first))
+        });
+        assert!(
+            ends_match,
+            "{a} {b}, not {:?} or {:?}",
+            ends(1.0),
+            ends(-1.0)
+        );
+        // Vertices all on a bone's axis leave it no capsule (a radius of 0).
+        let mut rig = crate::skinning::tests::stick();
+        for v in 0..rig.bind_positions.len() {
+            if rig.influences[v][0] == 3 {
+                rig.bind_positions[v] = Vec3::new(0.0, -1.5, 0.0);
+            }
+        }
+        let joints: Vec<usize> = fit(&rig).iter().map(|c| c.joint).collect();
+        assert_eq!(joints, [0, 1, 2]);
     }
 }

@@ -258,3 +258,78 @@ fn lighting_numbers_are_checked_at_their_ends() {
         }
     }
 }
+
+/// Hair layers per unit of depth: 1 / spacing, or with spacing 0 the hairs' own
+/// spacing at the density, √density.
+#[test]
+fn shadow_layers_come_from_the_spacing_or_the_density() {
+    let with = |spacing| Shadows {
+        spacing,
+        ..Shadows::default()
+    };
+    assert_eq!(with(0.5).layers_per_unit(9.0), 2.0);
+    assert_eq!(with(0.0).layers_per_unit(9.0), 3.0);
+}
+
+/// The fibre's defaults pass; each parameter just outside its range, or NaN, is refused
+/// by name.
+#[test]
+fn a_fibre_out_of_range_is_refused_by_name() {
+    assert!(Fibre::default().validate().is_ok());
+    let edges = Fibre {
+        longitudinal_roughness: 0.01,
+        azimuthal_roughness: 1.0,
+        cuticle_tilt_deg: -10.0,
+        ior: 3.0,
+    };
+    assert!(edges.validate().is_ok());
+    let cases: [(&str, fn(&mut Fibre, f32), [f32; 3]); 4] = [
+        (
+            "longitudinal roughness",
+            |f, v| f.longitudinal_roughness = v,
+            [0.009, 1.01, f32::NAN],
+        ),
+        (
+            "azimuthal roughness",
+            |f, v| f.azimuthal_roughness = v,
+            [0.009, 1.01, f32::NAN],
+        ),
+        (
+            "cuticle tilt",
+            |f, v| f.cuticle_tilt_deg = v,
+            [-10.1, 10.1, f32::NAN],
+        ),
+        (
+            "index of refraction",
+            |f, v| f.ior = v,
+            [0.99, 3.01, f32::NAN],
+        ),
+    ];
+    for (name, set, values) in cases {
+        for v in values {
+            let mut fibre = Fibre::default();
+            set(&mut fibre, v);
+            let e = fibre.validate().unwrap_err().to_string();
+            assert!(e.contains(name), "{name} = {v}: {e}");
+        }
+    }
+}
+
+/// Each lighting model reads back from its name; its label is its name in prose; any
+/// other name is refused, listing the two.
+#[test]
+fn lighting_models_read_back_from_their_names() {
+    for (model, name, label) in [
+        (LightingModel::KajiyaKay, "kajiya-kay", "Kajiya–Kay"),
+        (LightingModel::Marschner, "marschner", "Marschner"),
+    ] {
+        assert_eq!(model.name(), name);
+        assert_eq!(model.label(), label);
+        assert_eq!(name.parse::<LightingModel>(), Ok(model));
+    }
+    let e = "phong".parse::<LightingModel>().unwrap_err();
+    assert!(
+        e.contains("kajiya-kay or marschner") && e.contains("phong"),
+        "{e}"
+    );
+}

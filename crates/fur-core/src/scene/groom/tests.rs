@@ -382,3 +382,25 @@ fn hash_unit_spreads_evenly_over_the_unit_interval() {
     let shared = sorted.windows(2).filter(|w| w[0] == w[1]).count();
     assert!(shared < 64, "{shared} values shared");
 }
+
+/// Only a groom file in draw mode is drawn guide by guide: grown fur and a blended
+/// groom are not.
+#[test]
+fn only_a_groom_in_draw_mode_is_drawn_as_it_is() {
+    let source = |mode| super::super::GroomSource {
+        path: "guides.usda".into(),
+        outside: super::super::Outside::Bald,
+        mode,
+    };
+    let with = |source| GroomParams {
+        source,
+        ..GroomParams::default()
+    };
+    assert_eq!(with(None).drawn_source(), None);
+    assert_eq!(
+        with(Some(source(super::super::GroomMode::Blend))).drawn_source(),
+        None
+    );
+    let draw = source(super::super::GroomMode::Draw);
+    assert_eq!(with(Some(draw.clone())).drawn_source(), Some(&draw));
+}

@@ -283,7 +283,8 @@ fn a_fibre_out_of_range_is_refused_by_name() {
         ior: 3.0,
     };
     assert!(edges.validate().is_ok());
-    let cases: [(&str, fn(&mut Fibre, f32), [f32; 3]); 4] = [
+    type Set = fn(&mut Fibre, f32);
+    let cases: [(&str, Set, [f32; 3]); 4] = [
         (
             "longitudinal roughness",
             |f, v| f.longitudinal_roughness = v,

@@ -209,3 +209,56 @@ fn hair_under_weak_gravity_still_bends() {
     let sag = farthest(&start, &sim.current);
     assert!(sag > 1e-3, "weak gravity bent the hair by only {sag}");
 }
+
+/// The gravity guard counts a frame of free fall whatever the substeps: with four
+/// substeps of g (h/4)², gravity moves a free vertex g h² in a frame (n² substeps'
+/// worth of g (h/n)²), so hanging hair given a velocity of 0.7 of the guard a frame is
+/// put back, and at 1.5 of it moves. Gravity here is weak enough that the guard, not the
+/// motion's bound, decides (a guard counted over n + n or 1 substeps, not n², is half or
+/// a sixteenth as large and lets the slower velocity move the hair).
+#[test]
+fn the_gravity_guard_counts_a_whole_frame_at_any_substeps() {
+    let length = 0.4f32;
+    let strand = Strands {
+        vertices_per_strand: 9,
+        positions: (0..9)
+            .map(|i| Vec3::new(0.0, -length * i as f32 / 8.0, 0.0))
+            .collect(),
+    };
+    let params = SimParams {
+        gravity: Vec3::new(0.0, -5.0, 0.0),
+        substeps: 4,
+        damping: 0.0,
+        global_stiffness: 0.0,
+        local_iterations: 0,
+        collision: false,
+        ..Default::default()
+    };
+    params.validate().unwrap();
+    let guard = fur_core::sim::cpu::REST_GRAVITY * 5.0 * (1.0f32 / 60.0).powi(2);
+    let bound = fur_core::sim::cpu::REST_MOTION * length;
+    assert!(2.0 * guard < bound, "the motion's bound would decide");
+    let drifted = |drift: f32| {
+        let mut sim = CpuSim::<f32>::new(&strand, params.clone(), DMat4::IDENTITY);
+        for _ in 0..400 {
+            frame(&mut sim);
+        }
+        let settled = sim.current.clone();
+        frame(&mut sim);
+        assert_eq!(sim.current, settled, "the hanging strand did not settle");
+        for p in sim.previous.iter_mut().skip(1) {
+            p.0 -= drift / 4.0;
+        }
+        frame(&mut sim);
+        farthest(&sim.current, &settled) as f32
+    };
+    assert_eq!(
+        drifted(0.7 * guard),
+        0.0,
+        "motion under the guard was not put to rest"
+    );
+    assert!(
+        drifted(1.5 * guard) > guard,
+        "motion over the guard was put to rest"
+    );
+}

@@ -189,11 +189,6 @@ impl<T: Real> CpuSim<T> {
         }
     }
 
-    /// One substep with the given constants: integrate, global, local, length, wind.
-    pub fn substep(&mut self, c: &StepConstants) {
-        self.substep_posed(c, None);
-    }
-
     /// One substep on a skinned body whose strands each follow their own root pose,
     /// colliding with the rest field carried by that pose and with the bones' capsules
     /// (`None`: the head transform alone, a rigid body).
@@ -444,3 +439,6 @@ pub(crate) fn wind_push<T: Real>(x: &[V3<T>], i: usize, w: V3<T>) -> V3<T> {
     let t = t.scale(T::ONE / len);
     w - t.scale(w.dot(t))
 }
+
+#[cfg(test)]
+mod tests;

@@ -325,29 +325,31 @@ mod tests {
     #[test]
     fn a_leaf_bones_segment_follows_its_vertices_principal_axis() {
         let centre = Vec3::new(3.0, -2.0, 1.0);
-        let axis = Vec3::new(1.0, 1.0, 0.0).normalize();
         let offsets = [
             1.0, -1.0, 0.0, 1.0, -1.0, 0.0, 0.0, -1.0, 1.0, 0.0, -1.0, 1.0,
         ];
-        let points: Vec<Vec3> = offsets
-            .iter()
-            .enumerate()
-            .map(|(k, s)| centre + axis * (0.1 * k as f32 - 0.55) + 0.1 * s * Vec3::Z)
-            .collect();
-        let (a, b) = principal_segment(&points);
-        // The percentiles count along the axis either way it points: 0.45 before and
-        // 0.35 after the centroid, or the mirror.
-        let ends = |s: f32| (centre - s * 0.45 * axis, centre + s * 0.35 * axis);
-        let ends_match = [1.0, -1.0].iter().any(|&s| {
-            let (first, last) = ends(s);
-            (close(a, first) && close(b, last)) || (close(a, last) && close(b, first))
-        });
-        assert!(
-            ends_match,
-            "{a} {b}, not {:?} or {:?}",
-            ends(1.0),
-            ends(-1.0)
-        );
+        // Off the axes, and along x and y (where a wrong covariance column shows).
+        for axis in [Vec3::new(1.0, 1.0, 0.0).normalize(), Vec3::X, Vec3::Y] {
+            let points: Vec<Vec3> = offsets
+                .iter()
+                .enumerate()
+                .map(|(k, s)| centre + axis * (0.1 * k as f32 - 0.55) + 0.1 * s * Vec3::Z)
+                .collect();
+            let (a, b) = principal_segment(&points);
+            // The percentiles count along the axis either way it points: 0.45 before
+            // and 0.35 after the centroid, or the mirror.
+            let ends = |s: f32| (centre - s * 0.45 * axis, centre + s * 0.35 * axis);
+            let ends_match = [1.0, -1.0].iter().any(|&s| {
+                let (first, last) = ends(s);
+                (close(a, first) && close(b, last)) || (close(a, last) && close(b, first))
+            });
+            assert!(
+                ends_match,
+                "{a} {b}, not {:?} or {:?}",
+                ends(1.0),
+                ends(-1.0)
+            );
+        }
         // Vertices all on a bone's axis leave it no capsule (a radius of 0).
         let mut rig = crate::skinning::tests::stick();
         for v in 0..rig.bind_positions.len() {

@@ -141,3 +141,27 @@ impl<T: Real> Sub for V3<T> {
         Self(self.0 - o.0, self.1 - o.1, self.2 - o.2)
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The cross product and the Chebyshev norm, worked out by hand: (1, 2, 3) × (4, 5,
+    /// 6) = (2·6 − 3·5, 3·4 − 1·6, 1·5 − 2·4); the largest absolute component wherever
+    /// it stands and whatever its sign.
+    #[test]
+    fn cross_and_max_abs_are_the_textbooks() {
+        let c = V3::<f64>(1.0, 2.0, 3.0).cross(V3(4.0, 5.0, 6.0));
+        assert_eq!((c.0, c.1, c.2), (-3.0, 6.0, -3.0));
+        let c = V3::<f32>(0.0, 0.0, 2.0).cross(V3(3.0, 0.0, 0.0));
+        assert_eq!((c.0, c.1, c.2), (0.0, 6.0, 0.0));
+        for (v, m) in [
+            (V3::<f64>(-3.0, 1.0, 2.0), 3.0),
+            (V3(1.0, -4.0, 2.0), 4.0),
+            (V3(1.0, 2.0, -5.0), 5.0),
+            (V3(0.0, 0.0, 0.0), 0.0),
+        ] {
+            assert_eq!(v.max_abs(), m, "{v:?}");
+        }
+    }
+}

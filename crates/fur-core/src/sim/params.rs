@@ -241,3 +241,21 @@ impl StepConstants {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The skin's blend is on unless turned off: by default (where it fits) and when
+    /// asked for.
+    #[test]
+    fn the_skins_blend_is_on_unless_turned_off() {
+        let with = |skin_blend| SimParams {
+            skin_blend,
+            ..SimParams::default()
+        };
+        assert!(with(None).blends());
+        assert!(with(Some(true)).blends());
+        assert!(!with(Some(false)).blends());
+    }
+}

@@ -319,3 +319,6 @@ pub fn list<T: std::fmt::Display>(items: &[T], last: &str) -> String {
         None => String::new(),
     }
 }
+
+#[cfg(test)]
+mod tests;

@@ -200,3 +200,6 @@ macro_rules! field {
     };
 }
 pub(crate) use field;
+
+#[cfg(test)]
+mod tests;

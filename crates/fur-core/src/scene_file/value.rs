@@ -37,7 +37,8 @@ impl std::fmt::Display for Value {
 /// `v` with at most four significant digits, for help texts.
 pub(super) fn short(v: f64) -> String {
     let plain = format!("{v}");
-    if plain.len() <= 6 || !v.is_finite() || v == 0.0 {
+    // Zero and the non-finite values (`-0`, `-inf`, `NaN`) are short already.
+    if plain.len() <= 6 {
         return plain;
     }
     let digits = (3 - v.abs().log10().floor() as i32).max(0) as usize;

@@ -203,3 +203,41 @@ fn each_kind_says_its_range_and_what_it_wants() {
         "Setting(key / --flag)"
     );
 }
+
+/// Open at a minimum other than 0 and unbounded above, a number's range is written
+/// in full; a list of one item is the item.
+#[test]
+fn ranges_open_above_other_minimums_and_single_items_read_right() {
+    let from_one = Kind::Number {
+        min: 1.0,
+        max: 1e31,
+        min_open: true,
+        double: false,
+    };
+    assert_eq!(from_one.range_text().as_deref(), Some("(1, 1e31]"));
+    assert_eq!(list(&["x"], "or"), "x");
+    assert_eq!(list(&["x", "y", "z"], "and"), "x, y and z");
+    assert_eq!(list::<&str>(&[], "or"), "");
+}
+
+/// The help text: the help, the range and units, then the default, and the sphere's
+/// where it differs; a switch says no default.
+#[test]
+fn help_texts_carry_range_units_and_both_defaults() {
+    let blob = Scene::defaults(crate::scene::ModelSpec::Blob);
+    let sphere = Scene::defaults(crate::scene::ModelSpec::Sphere);
+    let mut s = setting(Kind::within(0.5, 2.0), None);
+    s.units = "bounding radii";
+    s.get = |scene| Value::Integer(scene.options.segments);
+    assert_eq!(
+        s.help_text(&blob, &sphere),
+        "help, 0.5..2 bounding radii [default: 16; sphere: 11]"
+    );
+    s.get = |_| Value::Integer(3);
+    assert_eq!(
+        s.help_text(&blob, &blob),
+        "help, 0.5..2 bounding radii [default: 3]"
+    );
+    s.flag = Flag::Switch("flag", true);
+    assert_eq!(s.help_text(&blob, &sphere), "help, 0.5..2 bounding radii");
+}

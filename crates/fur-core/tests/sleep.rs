@@ -215,7 +215,8 @@ fn hair_under_weak_gravity_still_bends() {
 /// worth of g (h/n)²), so hanging hair given a velocity of 0.7 of the guard a frame is
 /// put back, and at 1.5 of it moves. Gravity here is weak enough that the guard, not the
 /// motion's bound, decides (a guard counted over n + n or 1 substeps, not n², is half or
-/// a sixteenth as large and lets the slower velocity move the hair).
+/// a sixteenth as large and lets the slower velocity move the hair: seen failing with
+/// each).
 #[test]
 fn the_gravity_guard_counts_a_whole_frame_at_any_substeps() {
     let length = 0.4f32;

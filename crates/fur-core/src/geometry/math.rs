@@ -148,7 +148,8 @@ mod tests {
 
     /// The cross product and the Chebyshev norm, worked out by hand: (1, 2, 3) × (4, 5,
     /// 6) = (2·6 − 3·5, 3·4 − 1·6, 1·5 − 2·4); the largest absolute component wherever
-    /// it stands and whatever its sign.
+    /// it stands and whatever its sign. Seen failing with each product and difference
+    /// of the cross product changed, and with the norm's last comparison made `==`.
     #[test]
     fn cross_and_max_abs_are_the_textbooks() {
         let c = V3::<f64>(1.0, 2.0, 3.0).cross(V3(4.0, 5.0, 6.0));

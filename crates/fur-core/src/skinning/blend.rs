@@ -331,7 +331,9 @@ mod tests {
 
     /// The bucket search is exact however far the nearest vertex is: on a coarse field
     /// (cells of 2, buckets of 4) with a band wider than the box, every grid point holds
-    /// the blend of the vertex nearest to it among 60 scattered over the box.
+    /// the blend of the vertex nearest to it among 60 scattered over the box. Seen
+    /// failing with the buckets keyed by a product or remainder instead of a quotient,
+    /// and with the rings counted by a remainder.
     #[test]
     fn the_bucket_search_finds_the_nearest_vertex_across_buckets() {
         let field = floor(9, 2.0);

@@ -321,7 +321,9 @@ mod tests {
     /// along (1, 1, 0)/√2 through (3, −2, 1), from 0.55 before it to 0.55 after, set
     /// off ±0.1 along z so that neither the centroid nor the axis moves, give the
     /// segment from the second to the tenth along the axis (0.45 before the centroid
-    /// and 0.35 after it, counted the way the axis points).
+    /// and 0.35 after it, counted the way the axis points). Seen failing with a
+    /// covariance column summed instead of multiplied, and with the percentiles counted
+    /// over one vertex more.
     #[test]
     fn a_leaf_bones_segment_follows_its_vertices_principal_axis() {
         let centre = Vec3::new(3.0, -2.0, 1.0);

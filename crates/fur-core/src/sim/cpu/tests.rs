@@ -5,7 +5,8 @@ use super::*;
 /// The wind's push on a vertex is the part of the wind across the hair there: along
 /// the segment to the next vertex, or from the previous one at the tip; none on a
 /// segment of no length. On the bent strand (0, 0, 0), (0, 1, 0), (1, 2, 0) a wind
-/// along x pushes the root fully, the middle and the tip by (½, −½, 0).
+/// along x pushes the root fully, the middle and the tip by (½, −½, 0). Seen failing
+/// with the tangent taken from the wrong neighbour and with either difference summed.
 #[test]
 fn the_wind_pushes_across_the_hair() {
     let x = [

@@ -232,3 +232,29 @@ fn a_blended_skin_keeps_the_four_heaviest_joints_renormalised() {
         0.5 * rig.bind_positions[0] + 0.3 * rig.bind_positions[1] + 0.2 * rig.bind_positions[2];
     assert!(rig.bind_positions[n].distance(bind) < 1e-6);
 }
+
+// What the user is told: the file's notes, and the roots bound from farther than the
+// tolerance with the farthest in bounding radii; nothing for a groom that fits.
+#[test]
+fn a_drawn_groom_warns_of_its_notes_and_far_roots() {
+    let fits = DrawnGroom::new(
+        Mesh::icosphere(2),
+        None,
+        &guides(8, 0.0),
+        &groom(4),
+        Outside::Bald,
+    )
+    .unwrap();
+    assert_eq!(fits.warnings(), Vec::<String>::new());
+    let mut lifted = guides(8, 0.05);
+    lifted.notes.push("a note from the file".into());
+    let far = DrawnGroom::new(Mesh::icosphere(2), None, &lifted, &groom(4), Outside::Bald).unwrap();
+    let warnings = far.warnings();
+    assert_eq!(warnings.len(), 2, "{warnings:?}");
+    assert_eq!(warnings[0], "a note from the file");
+    assert!(
+        warnings[1].starts_with("8 of 8 guide roots lie farther than 0.02 bounding radii")
+            && warnings[1].contains("(the farthest 0.0"),
+        "{warnings:?}"
+    );
+}

@@ -127,6 +127,35 @@ fn with_wind_nothing_sleeps() {
     assert_ne!(sim.current, before, "hair in the wind fell asleep");
 }
 
+/// A strand `length` long hanging straight down from its root, in eight segments.
+fn hanging(length: f32) -> Strands {
+    Strands {
+        vertices_per_strand: 9,
+        positions: (0..9)
+            .map(|i| Vec3::new(0.0, -length * i as f32 / 8.0, 0.0))
+            .collect(),
+    }
+}
+
+/// How far the hanging strand under free, undamped `params` moves in the frame after
+/// it settled and every vertex but the root was given a velocity of `drift` a frame
+/// along x.
+fn drifted(strand: &Strands, params: &SimParams, drift: f32) -> f32 {
+    let mut sim = CpuSim::<f32>::new(strand, params.clone(), DMat4::IDENTITY);
+    for _ in 0..400 {
+        frame(&mut sim);
+    }
+    let settled = sim.current.clone();
+    frame(&mut sim);
+    assert_eq!(sim.current, settled, "the hanging strand did not settle");
+    let substeps = params.substeps as f32;
+    for p in sim.previous.iter_mut().skip(1) {
+        p.0 -= drift / substeps;
+    }
+    frame(&mut sim);
+    farthest(&sim.current, &settled) as f32
+}
+
 /// Slow motion sleeps, faster motion does not: a strand hanging straight down (gravity
 /// balanced by its length constraints, shape constraints off, no damping) settles and
 /// sleeps; then it is given a sideways velocity of `drift` a frame. At half of
@@ -141,12 +170,7 @@ fn with_wind_nothing_sleeps() {
 #[test]
 fn slow_motion_sleeps_and_faster_motion_does_not() {
     let length = 0.4f32;
-    let strand = Strands {
-        vertices_per_strand: 9,
-        positions: (0..9)
-            .map(|i| Vec3::new(0.0, -length * i as f32 / 8.0, 0.0))
-            .collect(),
-    };
+    let strand = hanging(length);
     let params = SimParams {
         gravity: Vec3::new(0.0, -100.0, 0.0),
         damping: 0.0,
@@ -156,28 +180,13 @@ fn slow_motion_sleeps_and_faster_motion_does_not() {
         ..Default::default()
     };
     params.validate().unwrap();
-    let substeps = params.substeps as f32;
     let frame_gravity = 100.0 * (1.0f32 / 60.0).powi(2);
     let bound = fur_core::sim::cpu::REST_MOTION * length;
     assert!(
         fur_core::sim::cpu::REST_GRAVITY * frame_gravity > 2.0 * 2.0 * bound,
         "gravity's guard would decide, not the motion's bound"
     );
-    let drifted = |drift: f32| {
-        let mut sim = CpuSim::<f32>::new(&strand, params.clone(), DMat4::IDENTITY);
-        for _ in 0..400 {
-            frame(&mut sim);
-        }
-        let settled = sim.current.clone();
-        frame(&mut sim);
-        assert_eq!(sim.current, settled, "the hanging strand did not settle");
-        // A velocity of `drift` a frame along x for every vertex but the root.
-        for p in sim.previous.iter_mut().skip(1) {
-            p.0 -= drift / substeps;
-        }
-        frame(&mut sim);
-        farthest(&sim.current, &settled) as f32
-    };
+    let drifted = |drift: f32| drifted(&strand, &params, drift);
     assert_eq!(drifted(0.5 * bound), 0.0, "slow motion was not put to rest");
     let moved = drifted(2.0 * bound);
     assert!(
@@ -220,12 +229,7 @@ fn hair_under_weak_gravity_still_bends() {
 #[test]
 fn the_gravity_guard_counts_a_whole_frame_at_any_substeps() {
     let length = 0.4f32;
-    let strand = Strands {
-        vertices_per_strand: 9,
-        positions: (0..9)
-            .map(|i| Vec3::new(0.0, -length * i as f32 / 8.0, 0.0))
-            .collect(),
-    };
+    let strand = hanging(length);
     let params = SimParams {
         gravity: Vec3::new(0.0, -5.0, 0.0),
         substeps: 4,
@@ -239,20 +243,7 @@ fn the_gravity_guard_counts_a_whole_frame_at_any_substeps() {
     let guard = fur_core::sim::cpu::REST_GRAVITY * 5.0 * (1.0f32 / 60.0).powi(2);
     let bound = fur_core::sim::cpu::REST_MOTION * length;
     assert!(2.0 * guard < bound, "the motion's bound would decide");
-    let drifted = |drift: f32| {
-        let mut sim = CpuSim::<f32>::new(&strand, params.clone(), DMat4::IDENTITY);
-        for _ in 0..400 {
-            frame(&mut sim);
-        }
-        let settled = sim.current.clone();
-        frame(&mut sim);
-        assert_eq!(sim.current, settled, "the hanging strand did not settle");
-        for p in sim.previous.iter_mut().skip(1) {
-            p.0 -= drift / 4.0;
-        }
-        frame(&mut sim);
-        farthest(&sim.current, &settled) as f32
-    };
+    let drifted = |drift: f32| drifted(&strand, &params, drift);
     assert_eq!(
         drifted(0.7 * guard),
         0.0,

@@ -526,20 +526,14 @@ fn the_measured_documents_prose_quotes_their_runs() {
     let mut unheld = Vec::new();
     for (doc, name) in docs {
         let text = read(doc);
-        let inside = region(&text, name);
-        let begin = text.find(inside).unwrap();
-        let prose = format!("{}\n{}", &text[..begin], &text[begin + inside.len()..]);
-        // Fenced blocks left out, then code spans (which may run over a line end) and
+        // The region the run writes must be there; around it, the prose without its
+        // fenced blocks, then without code spans (which may run over a line end) and
         // link targets.
-        let mut in_block = false;
-        let unfenced: Vec<&str> = prose
-            .lines()
-            .filter(|l| {
-                in_block ^= l.starts_with("```");
-                !in_block && !l.starts_with("```")
-            })
-            .collect();
-        for line in without_code_and_links(&unfenced.join("\n")).lines() {
+        assert!(
+            !region(&text, name).is_empty(),
+            "{doc} has no `{name}` region"
+        );
+        for line in without_code_and_links(&common::prose(&text)).lines() {
             for n in numbers(line) {
                 let figure = n.len() > 1 || n.contains('.');
                 let excepted = NOT_MEASURED.iter().any(|(d, f, _)| *d == doc && *f == n);

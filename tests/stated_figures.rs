@@ -126,25 +126,6 @@ const NOT_MEASURED: [(&str, &str, &str); 37] = [
     ),
 ];
 
-/// `text` without its generated regions (`<!-- BEGIN x -->` to `<!-- END x -->`, each
-/// written by the run it names) and fenced blocks.
-fn prose(text: &str) -> String {
-    let mut out = Vec::new();
-    let (mut generated, mut fenced) = (false, false);
-    for line in text.lines() {
-        if line.starts_with("<!-- BEGIN ") {
-            generated = true;
-        } else if line.starts_with("<!-- END ") {
-            generated = false;
-        } else if line.starts_with("```") {
-            fenced = !fenced;
-        } else if !generated && !fenced {
-            out.push(line);
-        }
-    }
-    out.join("\n")
-}
-
 /// Names whose following number is their version (Debian 12, Mesa 22.3.6, glTF 2.0),
 /// and in "Debian 12 and 13" the number after `and` or `or` too.
 const VERSIONED: [&str; 9] = [
@@ -328,7 +309,7 @@ fn every_figure_in_the_documents_prose_is_bound_or_marked() {
                 .map_or(text.len(), |e| start + 1 + e);
             text.replace_range(start..end, "");
         }
-        for (passage, place) in passages(&prose(&text)) {
+        for (passage, place) in passages(&common::prose(&text)) {
             let tests = if doc == "docs/testing.md" {
                 named_tests(&passage, &names)
             } else {

@@ -241,3 +241,22 @@ pub fn without_code_and_links(line: &str) -> String {
     }
     out
 }
+
+/// `text` without its generated regions (`<!-- BEGIN x -->` to `<!-- END x -->`, each
+/// written by the run it names) and fenced blocks.
+pub fn prose(text: &str) -> String {
+    let mut out = Vec::new();
+    let (mut generated, mut fenced) = (false, false);
+    for line in text.lines() {
+        if line.starts_with("<!-- BEGIN ") {
+            generated = true;
+        } else if line.starts_with("<!-- END ") {
+            generated = false;
+        } else if line.starts_with("```") {
+            fenced = !fenced;
+        } else if !generated && !fenced {
+            out.push(line);
+        }
+    }
+    out.join("\n")
+}

@@ -6,9 +6,7 @@
 mod common;
 mod standing;
 
-use fur::render::marschner::{
-    coat_layers, marschner, sigma_a_from_color, through_one_layer, Lobes,
-};
+use fur::render::marschner::{coat_layers, marschner, Layers, Lobes};
 use fur::render::{FrameSettings, FurStyle, Lighting, LightingModel, RgbaImage, Shading, Shadows};
 use fur::scene::{Camera, GroomParams, Mesh};
 use glam::Vec3;
@@ -179,16 +177,17 @@ fn the_coat_dims_the_light_with_depth_as_in_the_twin() {
         })
         .collect();
     let eye = side_on().eye();
-    let opacity = fur::render::Shadows::default().opacity;
-    let through = through_one_layer(opacity, sigma_a_from_color(COLOR, 0.3), 1.55, false);
     // The twin at a row's height, the coat's layers counted by `layers`.
     let twin = |l: Vec3, y: f32, layers: &dyn Fn(Vec3, f32) -> f32| {
         let l = l.normalize();
         let p = Vec3::new(0.0, y, 0.0);
-        let lit = through.powf(layers(l, y));
+        let front = Layers {
+            count: layers(l, y),
+            opacity: opacity(),
+        };
         std::f32::consts::PI
             * INTENSITY
-            * marschner(Vec3::Y, l, (eye - p).normalize(), COLOR, &FIBRE, lit)
+            * marschner(Vec3::Y, l, (eye - p).normalize(), COLOR, &FIBRE, front)
     };
     let off_by = |layers: &dyn Fn(Vec3, f32) -> f32| {
         let mut worst: f32 = 0.0;

@@ -5,7 +5,7 @@
 mod common;
 mod standing;
 
-use fur::render::marschner::{marschner, marschner_of, sigma_a_from_color, Lobes};
+use fur::render::marschner::{marschner, marschner_of, sigma_a_from_color, Layers, Lobes};
 use fur::render::Fibre;
 use glam::Vec3;
 use standing::*;
@@ -27,7 +27,15 @@ fn predicted_of(lobes: Lobes, light: Vec3, fibre: &Fibre) -> Vec3 {
                 );
                 let w = 1.0 / p.distance_squared(eye);
                 let v = (eye - p).normalize();
-                let f = marschner_of(lobes, Vec3::Y, light, v, COLOR, fibre, Vec3::ONE);
+                let f = marschner_of(
+                    lobes,
+                    Vec3::Y,
+                    light,
+                    v,
+                    COLOR,
+                    fibre,
+                    Layers::none(opacity()),
+                );
                 sum += w * std::f32::consts::PI * INTENSITY * f;
                 weight += w;
             }
@@ -159,6 +167,7 @@ fn each_term_switches_off_on_the_device_as_in_the_twin() {
 #[test]
 fn the_twin_has_the_shape_of_the_model() {
     let fibre = Fibre::default();
+    let lit = Layers::none(opacity());
     // White hair absorbs nothing; darker hair more, every channel in order.
     assert_eq!(sigma_a_from_color(Vec3::ONE, 0.3), Vec3::ZERO);
     let s = sigma_a_from_color(COLOR, 0.3);
@@ -177,22 +186,35 @@ fn the_twin_has_the_shape_of_the_model() {
     let from = |theta: f32| Vec3::new(0.0, theta.sin(), theta.cos());
     // (Dark hair: the TRT lobe, shifted the other way, is absorbed.)
     let dark = Vec3::splat(0.01);
-    let shifted = marschner(Vec3::Y, from(2.0 * tilt), v, dark, &fibre, Vec3::ONE);
-    let mirror = marschner(Vec3::Y, from(-2.0 * tilt), v, dark, &fibre, Vec3::ONE);
+    let shifted = marschner(Vec3::Y, from(2.0 * tilt), v, dark, &fibre, lit);
+    let mirror = marschner(Vec3::Y, from(-2.0 * tilt), v, dark, &fibre, lit);
     assert!(shifted.x > mirror.x, "{shifted} {mirror}");
     // TT: light from behind the fibre comes through, less of it through darker hair
     // (absorption along the path).
     let behind = Vec3::new(0.0, 0.0, -1.0);
-    let light_hair = marschner(Vec3::Y, behind, v, Vec3::splat(0.9), &fibre, Vec3::ONE);
-    let dark_hair = marschner(Vec3::Y, behind, v, Vec3::splat(0.1), &fibre, Vec3::ONE);
+    let light_hair = marschner(Vec3::Y, behind, v, Vec3::splat(0.9), &fibre, lit);
+    let dark_hair = marschner(Vec3::Y, behind, v, Vec3::splat(0.1), &fibre, lit);
     assert!(light_hair.x > 1.2 * dark_hair.x, "{light_hair} {dark_hair}");
-    // No light, no direct or scattered light.
-    assert_eq!(
-        marschner(Vec3::Y, behind, v, COLOR, &fibre, Vec3::ZERO),
-        Vec3::ZERO
+    // Behind opaque hair no light comes unscattered: of black fibres, next to none
+    // (a few % per fibre, what their surfaces reflect on); of light fibres, their
+    // forward-scattered light, in their colour.
+    let opaque = Layers {
+        count: 8.0,
+        opacity: 1.0,
+    };
+    let black = Vec3::splat(1e-4);
+    let (open, shut) = (
+        marschner(Vec3::Y, behind, v, black, &fibre, lit),
+        marschner(Vec3::Y, behind, v, black, &fibre, opaque),
     );
+    assert!(
+        shut.max_element() < 1e-6 * open.max_element(),
+        "{shut} {open}"
+    );
+    let through = marschner(Vec3::Y, behind, v, COLOR, &fibre, opaque);
+    assert!(through.x > 1e-3 && through.x > through.z, "{through}");
     // Finite at grazing angles (light and view along the hair).
-    assert!(marschner(Vec3::Y, Vec3::Y, Vec3::Y, COLOR, &fibre, Vec3::ONE).is_finite());
+    assert!(marschner(Vec3::Y, Vec3::Y, Vec3::Y, COLOR, &fibre, lit).is_finite());
 }
 
 /// The light elevation (degrees, towards the tip) of the brightest reflection of a
@@ -219,7 +241,7 @@ fn the_highlight_shifts_the_way_the_path_tracers_does() {
                     v,
                     dark,
                     &fibre,
-                    Vec3::ONE,
+                    Layers::none(opacity()),
                 )
                 .x
             };

@@ -81,7 +81,9 @@ pub fn light_at(angle: f32) -> Vec3 {
 }
 
 /// Straight hairs standing up (+Y) on a plane seen from the side, lit by the fibre
-/// model's terms `lobes` from `light` (None: unlit, ambient 1). Returns the linear
+/// model's terms `lobes` from `light` (None: unlit, each hair its colour: drawn by
+/// Kajiya–Kay with ambient 1 and no light, whose hairs are then exactly their colour, so
+/// the image measures their coverage). Returns the linear
 /// light over the background per channel summed over `mask`, the covered pixels and
 /// the background.
 pub fn standing_hairs(
@@ -106,6 +108,12 @@ pub fn linear_at(image: &fur::render::RgbaImage, x: u32, y: u32) -> Vec3 {
     Vec3::new(linear(p[0]), linear(p[1]), linear(p[2]))
 }
 
+/// The hair layers' opacity the standing hairs are drawn with (the shadow map's, which
+/// the coat's count takes).
+pub fn opacity() -> f32 {
+    fur::render::Shadows::default().opacity
+}
+
 /// The image of [`standing_hairs`] or, given the shadow map's layer spacing (which the
 /// coat's count takes; shadows stay off), of the hairs seen [`side_on`], every hair as
 /// long (no length jitter).
@@ -116,9 +124,9 @@ pub fn render_standing(
     spacing: Option<f32>,
 ) -> fur::render::RgbaImage {
     let (plane, groom) = crate::common::standing_hairs_scene();
-    let (light, intensity, ambient) = match light {
-        Some(l) => (l.normalize(), INTENSITY, 0.0),
-        None => (Vec3::Y, 0.0, 1.0),
+    let (light, intensity, ambient, model) = match light {
+        Some(l) => (l.normalize(), INTENSITY, 0.0, LightingModel::Marschner),
+        None => (Vec3::Y, 0.0, 1.0, LightingModel::KajiyaKay),
     };
     let default = FurStyle::default();
     let settings = FrameSettings {
@@ -128,7 +136,7 @@ pub fn render_standing(
             camera()
         },
         lighting: Lighting {
-            model: LightingModel::Marschner,
+            model,
             fibre: FIBRE,
             light_direction: light,
             intensity,

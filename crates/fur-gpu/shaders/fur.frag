@@ -20,7 +20,7 @@ layout(location = 0) in vec4 g_lit_along;          // ambient + diffuse, specula
 layout(location = 0) in vec4 g_tangent_along;      // world tangent, along
 layout(location = 1) in vec3 g_world;
 #if MARSCHNER
-layout(location = 5) in float g_coat;
+layout(location = 5) in vec2 g_coat;
 #endif
 #endif
 layout(location = 2) in float g_coverage;
@@ -42,7 +42,8 @@ void main() {
     // A stage view: the geometry stage's colour, unlit (always per vertex).
     vec3 color = g_lit_along.xyz;
 #elif MARSCHNER
-    // The fibre model's radiance (per vertex: interpolated), darkened at the root.
+    // The fibre model's radiance (per vertex: interpolated). No root occlusion: the
+    // coat's layers already darken what lies deep in it.
 #if VERTEX_SHADING
     vec3 radiance = g_lit_along.xyz;
     float along = g_lit_along.w;
@@ -50,7 +51,7 @@ void main() {
     float along = g_tangent_along.w;
     vec3 radiance = marschner(normalize(g_tangent_along.xyz), g_world, hair_base(along, texel), g_coat);
 #endif
-    vec3 color = mix(1.0 - frame.root_color.w, 1.0, along) * radiance;
+    vec3 color = radiance;
 #else
 #if VERTEX_SHADING
     vec3 lit = g_lit_along.xyz;

@@ -53,7 +53,7 @@ layout(location = 0) out vec4 g_lit_along;        // ambient + diffuse, specular
 layout(location = 0) out vec4 g_tangent_along;    // world tangent, position along the hair
 layout(location = 1) out vec3 g_world;            // world position
 #if MARSCHNER
-layout(location = 5) out float g_coat;            // hair layers towards the light (coat_layers)
+layout(location = 5) out vec2 g_coat;             // hair layers towards the light and above (coat_layers)
 #endif
 #endif
 layout(location = 2) out float g_coverage;
@@ -108,22 +108,24 @@ vec3 coat_normal;              // the skin's outward normal under the hair
 float coat_height;             // the coat's height there: the hair's tip above its root
 float coat_curvature;          // the skin's curvature there, 1 / radius (0: flat or hollow)
 
-// The coat's estimate of the hair layers between vertex k and the light, for the
-// Marschner model without a shadow map: the light's path out of the coat, a shell of
-// the coat's height on a skin of the coat's curvature, at the layer spacing the shadow
-// map also assumes (frame.shadow.y layers per unit); the skin stops light whose path
-// passes through it. Capped at MAX_LAYERS, as the map's count is. The twin,
-// render::marschner::coat_layers, derives it.
-float coat_layers(uint k) {
+// The coat's estimate of the hair layers around vertex k, for the Marschner model: x,
+// between it and the light (without a shadow map): the light's path out of the coat,
+// a shell of the coat's height on a skin of the coat's curvature, at the layer spacing
+// the shadow map also assumes (frame.shadow.y layers per unit); the skin stops light
+// whose path passes through it. y, above it along the skin's normal: what stands between
+// it and the sky (the environment's light). Both capped at MAX_LAYERS, as the map's
+// count is. The twin, render::marschner::coat_layers, derives x.
+vec2 coat_layers(uint k) {
     float c = dot(coat_normal, frame.light.xyz);
     float h = dot(P[k] - P[0], coat_normal);
+    float above = min(max(coat_height - h, 0.0) * frame.shadow.y, MAX_LAYERS);
     float a = 1.0 + coat_curvature * h;
     if (c < 0.0 && a * a * (1.0 - c * c) < 1.0) {
-        return MAX_LAYERS;
+        return vec2(MAX_LAYERS, above);
     }
     float q = max(coat_height - h, 0.0) * (2.0 + coat_curvature * (coat_height + h));
     float path = q / max(a * c + sqrt(a * a * c * c + coat_curvature * q), 1e-12);
-    return min(path * frame.shadow.y, MAX_LAYERS);
+    return vec2(min(path * frame.shadow.y, MAX_LAYERS), above);
 }
 
 // Sets coat_normal, coat_height and coat_curvature for the hair between masters h.
@@ -161,7 +163,7 @@ void find_coat(uvec3 h) {
 vec4 lit_along;                // the lit vertex, computed once for both ribbon sides
 #endif
 #if MARSCHNER && !SHADOW_CASTER && !VERTEX_SHADING
-float vertex_coat;             // the vertex's coat_layers, computed once for both sides
+vec2 vertex_coat;              // the vertex's coat_layers, computed once for both sides
 #endif
 #if STAGE_VIEW != 0 && STAGE_VIEW != STAGE_SHADOW
 vec3 view_colour;              // the stage view's colour of this hair
@@ -202,7 +204,7 @@ void write_outputs(uint k, vec3 t) {
 void emit_vertex(uint k, vec3 t) {
 #if STAGE_VIEW == STAGE_SHADOW && MARSCHNER
     // The Marschner model's light through the fibres, in their colour.
-    lit_along = vec4(light_through_fibres(P[k], sigma_a_from_color(hair_base(along(k), root_texel()))),
+    lit_along = vec4(light_through_fibres(t, P[k], hair_base(along(k), root_texel()), coat_layers(k)),
                      along(k));
 #elif STAGE_VIEW == STAGE_SHADOW
     lit_along = vec4(vec3(light_through_fur(P[k])), along(k));

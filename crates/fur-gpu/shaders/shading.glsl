@@ -21,20 +21,6 @@
 layout(set = SET_BODY, binding = B_ALBEDO) uniform sampler2D albedo;
 #endif
 
-// The fraction of the light, colour by colour, one hair layer lets through: of the
-// light the layer intercepts (α, frame.shadow.x), the part its fibres of absorption
-// sigma_a pass on forward — transmitted through two interfaces and absorbed along a path
-// of two radii, (1 − F0)² e^(−2σa) — goes on (dual scattering's forward-scattering
-// transmittance, Zinke et al. 2008), with FLAG_COLOURED_SHADOWS; otherwise 1 − α, grey.
-vec3 through_one_layer(vec3 sigma_a) {
-    float f0 = frame.fibre_terms.z;
-    vec3 forward = (1.0 - f0) * (1.0 - f0) * exp(-2.0 * sigma_a);
-    if ((frame.strands.w & FLAG_COLOURED_SHADOWS) == 0u) {
-        forward = vec3(0.0);
-    }
-    return vec3(1.0 - frame.shadow.x) + frame.shadow.x * forward;
-}
-
 #if SHADOWS
 // The fur's depth seen from the light (orthographic, 0 near .. 1 far).
 layout(set = SET_FRAME, binding = B_SHADOW_MAP) uniform sampler2D shadow_map;
@@ -58,27 +44,9 @@ float light_through_fur(vec3 p) {
     return mix(mix(light.w, light.z, f.x), mix(light.x, light.y, f.x), f.y);
 }
 
-// The same through fibres of absorption sigma_a, colour by colour, one layer's
-// transmittance (through_one_layer) to the power of the layers in front: light reddens
-// and deepens through light fur with FLAG_COLOURED_SHADOWS (`[shadows] coloured`).
-// CPU twin: render::marschner::light_through_fibres.
-vec3 light_through_fibres(vec3 p, vec3 sigma_a) {
-    vec2 f;
-    vec4 layers = layers_in_front(p, f);
-    vec3 through = through_one_layer(sigma_a);
-    vec3 a = pow(through, vec3(layers.x));
-    vec3 b = pow(through, vec3(layers.y));
-    vec3 c = pow(through, vec3(layers.z));
-    vec3 d = pow(through, vec3(layers.w));
-    return mix(mix(d, c, f.x), mix(a, b, f.x), f.y);
-}
 #else
 float light_through_fur(vec3 p) {
     return 1.0;
-}
-
-vec3 light_through_fibres(vec3 p, vec3 sigma_a) {
-    return vec3(1.0);
 }
 #endif
 
@@ -120,10 +88,12 @@ vec3 kajiya_kay(vec3 t, vec3 world, float light) {
 // The Marschner-family fibre model (MARSCHNER = 1; crates/fur-core/src/render/marschner.rs is its CPU
 // twin and says where each term comes from): R, TT and TRT lobes with Gaussian
 // longitudinal terms on the fibre's roughness and cuticle tilt, Karis 2016's azimuthal
-// terms and attenuations, absorption from the colour by Chiang et al.'s mapping, and
-// Karis's approximation of multiple scattering, the light through the fur in front in
-// the fibres' colour: the shadow map's layers with SHADOWS, the coat's estimate
-// otherwise (fur.geom's coat_layers). frame.fibre: β_m, β_n, α (radians), η.
+// terms and attenuations, absorption from the colour by Chiang et al.'s mapping;
+// multiple scattering between fibres by dual scattering (Zinke et al. 2008) on the
+// table of the fibre's averages (render::dual_scattering), through the hair layers in
+// front: the shadow map's with SHADOWS, the coat's estimate otherwise (fur.geom's
+// coat_layers); and the environment's light through the coat above. frame.fibre: β_m,
+// β_n, α (radians), η.
 const float PI = 3.14159265;
 
 const float LN_MIN_COLOR = -9.2103404;   // ln 1e-4
@@ -152,11 +122,79 @@ vec3 sigma_a_from_color(vec3 c) {
     return sigma_a_from_log(log_color(c));
 }
 
+// One node of the dual-scattering table (render::dual_scattering::table), bilinear
+// between the nodes around |sin θ| = u and colour coordinate w = ln c / ln 10⁻⁴ (0
+// white, 1 black): [a_f, β_f², Ā_b, Δ_b] and [σ_b², a_b, α, β²].
+void fibre_node(float u, float w, out vec4 first, out vec4 second) {
+    float x = clamp(u, 0.0, 1.0) * float(DS_ANGLE_NODES - 1);
+    float y = clamp(w, 0.0, 1.0) * float(DS_COLOUR_NODES - 1);
+    int i = min(int(x), DS_ANGLE_NODES - 2);
+    int j = min(int(y), DS_COLOUR_NODES - 2);
+    float fx = x - float(i);
+    float fy = y - float(j);
+    int a = 2 * (i * DS_COLOUR_NODES + j);
+    int b = a + 2 * DS_COLOUR_NODES;
+    first = mix(mix(frame.fibre_table[a], frame.fibre_table[a + 2], fy),
+                mix(frame.fibre_table[b], frame.fibre_table[b + 2], fy), fx);
+    second = mix(mix(frame.fibre_table[a + 1], frame.fibre_table[a + 3], fy),
+                 mix(frame.fibre_table[b + 1], frame.fibre_table[b + 3], fy), fx);
+}
+
+// The fibre's averages for light at |sin θ| = u, colour by colour of the colour whose
+// logarithm is `ln_c`.
+struct FibreAverages {
+    vec3 a_f;       // forward-scattered fraction
+    vec3 beta_f2;   // its longitudinal variance
+    vec3 a_back;    // Ā_b: what the neighbourhood scatters back
+    vec3 shift_b;   // Δ_b: its longitudinal shift
+    vec3 sigma_b2;  // σ_b²: its longitudinal variance
+    vec3 a_b;       // backward-scattered fraction
+    vec3 alpha;     // the mean longitudinal shift of all the scattered light
+    vec3 beta2;     // its variance
+};
+
+FibreAverages fibre_averages(float u, vec3 ln_c) {
+    vec3 w = ln_c * (1.0 / LN_MIN_COLOR);
+    vec4 r0, r1, g0, g1, b0, b1;
+    fibre_node(u, w.r, r0, r1);
+    fibre_node(u, w.g, g0, g1);
+    fibre_node(u, w.b, b0, b1);
+    FibreAverages f;
+    f.a_f = vec3(r0.x, g0.x, b0.x);
+    f.beta_f2 = vec3(r0.y, g0.y, b0.y);
+    f.a_back = vec3(r0.z, g0.z, b0.z);
+    f.shift_b = vec3(r0.w, g0.w, b0.w);
+    f.sigma_b2 = vec3(r1.x, g1.x, b1.x);
+    f.a_b = vec3(r1.y, g1.y, b1.y);
+    f.alpha = vec3(r1.z, g1.z, b1.z);
+    f.beta2 = vec3(r1.w, g1.w, b1.w);
+    return f;
+}
+
+// A unit-area Gaussian of variance v at x.
+vec3 gaussian(vec3 x, vec3 v) {
+    return exp(-0.5 * x * x / v) * inversesqrt(2.0 * PI * v);
+}
+
+// What `layers` hair layers in front pass on of the light (dual scattering, Zinke et
+// al. 2008, on layers of opacity frame.shadow.x): `direct`, the fraction no fibre
+// scattered (grey); the return, all that comes through, the forward-scattered part in
+// the fibres' colour: each layer passes 1 − α unscattered and α a_f forward.
+vec3 light_through_layers(float layers, vec3 a_f, out float direct) {
+    float opacity = frame.shadow.x;
+    direct = pow(1.0 - opacity, layers);
+    return pow(vec3(1.0 - opacity) + opacity * a_f, vec3(layers));
+}
+
 // Radiance per unit irradiance of a fibre with tangent t at `world`, colour `base` of
-// absorption `sigma_a`, `light` the fraction of the light that reaches it, colour by
-// colour. The per-frame constants come worked out (frame.fibre_terms), and each lobe's
-// Gaussian, azimuthal exponential and absorption share one exponential per channel.
-vec3 marschner_terms(vec3 t, vec3 world, vec3 base, vec3 ln_c, vec3 light) {
+// logarithm `ln_c`, behind `layers` hair layers towards the light: its single
+// scattering (R, TT, TRT) of the light no fibre in front scattered, and dual
+// scattering's multiple scattering — the forward-scattered light through the fibres in
+// front (global) and what the fibres around scatter back (local). CPU twin:
+// render::marschner::marschner. The per-frame constants come worked out
+// (frame.fibre_terms), and each lobe's Gaussian, azimuthal exponential and absorption
+// share one exponential per channel.
+vec3 marschner_terms(vec3 t, vec3 world, vec3 base, vec3 ln_c, float layers) {
     vec3 v = normalize(frame.eye.xyz - world);
     vec3 l = frame.light.xyz;
     float sin_i = clamp(dot(t, l), -1.0, 1.0);
@@ -191,40 +229,76 @@ vec3 marschner_terms(vec3 t, vec3 world, vec3 base, vec3 ln_c, vec3 light) {
     float x_trt = sum + 4.0 * alpha;
     vec3 trt = exp(-sigma_a * (3.2 * inv_cos_d) + (0.25 * k * x_trt * x_trt + 17.0 * cos_phi - 16.78))
              * (0.5 * norm * (1.0 - f_trt) * (1.0 - f_trt) * f_trt);
-    // Multiple scattering (Karis 2016)
-    float kajiya = 1.0 - abs(dot(t, l));
-    vec3 fake_normal = v - t * dot(v, t);
-    float fn = length(fake_normal);
-    fake_normal = fn > 0.0 ? fake_normal / fn : vec3(0.0);
-    float wrap = clamp((dot(fake_normal, l) + 1.0) / 4.0, 0.0, 1.0);
-    float diffuse = (wrap + (kajiya - wrap) * 0.33) / PI;
-    // √c · (c / luma)^(1 − light) as one exponential of ln c.
-    float ln_luma = log(max(dot(base, vec3(0.2126, 0.7152, 0.0722)), 1e-4));
-    vec3 multiple = exp(0.5 * ln_c + (1.0 - light) * (ln_c - ln_luma)) * (diffuse * light);
     // The truth benchmark drops one term at a time (render::marschner::Lobes).
     uint flags = frame.strands.w;
     float keep_r = (flags & FLAG_NO_R) != 0u ? 0.0 : 1.0;
     float keep_tt = (flags & FLAG_NO_TT) != 0u ? 0.0 : 1.0;
     float keep_trt = (flags & FLAG_NO_TRT) != 0u ? 0.0 : 1.0;
-    float keep_multiple = (flags & FLAG_NO_MULTIPLE) != 0u ? 0.0 : 1.0;
-    return (vec3(keep_r * r) + keep_tt * tt + keep_trt * trt) * light + keep_multiple * multiple;
+    vec3 single = vec3(keep_r * r) + keep_tt * tt + keep_trt * trt;
+    // Dual scattering.
+    FibreAverages f = fibre_averages(abs(sin_i), ln_c);
+    float direct;
+    vec3 through = light_through_layers(layers, f.a_f, direct);
+    vec3 back = f.a_back * gaussian(vec3(sum) - f.shift_b, f.sigma_b2) * (1.0 / PI);
+    vec3 radiance = direct * single;
+    if ((flags & FLAG_NO_MULTIPLE) == 0u) {
+        vec3 scattered = max(through - vec3(direct), 0.0);
+        vec3 spread = frame.shadow.x * layers * f.beta_f2;
+        vec3 global = (f.a_f + f.a_b) * gaussian(vec3(sum) - f.alpha, f.beta2 + spread) * (0.5 / PI);
+        vec3 back_spread = f.a_back * gaussian(vec3(sum) - f.shift_b, f.sigma_b2 + spread) * (1.0 / PI);
+        radiance += direct * DS_DENSITY_BACKWARD * back
+                  + scattered * DS_DENSITY_FORWARD * (global + DS_DENSITY_BACKWARD * back_spread);
+    }
+    return radiance;
 }
 
-// The hair's radiance before root occlusion: the ambient term on the colour plus the
-// fibre's response to the light's irradiance (π · intensity, as the export gives it),
-// the light coming through the fibres in front in their colour.
-// `coat`: without a shadow map, the hair layers between the point and the light as the
-// geometry stage estimates them from the coat (fur.geom's coat_layers).
-vec3 marschner(vec3 t, vec3 world, vec3 base, float coat) {
-    vec3 ln_c = log_color(base);
-    vec3 sigma_a = sigma_a_from_log(ln_c);
+// The light of the uniform environment (radiance ambient / Kd, as the export gives the
+// path tracer) that a fibre of colour `base` (of logarithm `ln_c`), seen at
+// |sin θo| = u_o, sends to the eye from under `above` hair layers. The sky it sees
+// through them, (1 − α)^above, lights it as a lone fibre: its whole albedo a_f + a_b of
+// the sky above and of the coat's glow below (the coat's colour c), (1 + c) / 2 of the
+// light on average. The rest of its light comes from the coat around it, which sends
+// back c of it (what Chiang et al.'s colour means: the colour dense fibres of that
+// absorption take under uniform light). CPU twin: render::marschner::environment.
+vec3 environment(float u_o, vec3 base, vec3 ln_c, float above) {
+    FibreAverages f = fibre_averages(u_o, ln_c);
+    float sky = pow(1.0 - frame.shadow.x, above);
+    vec3 c = clamp(base, 0.0, 1.0);
+    return (frame.shading.w / max(frame.shading.x, 1e-6))
+         * (sky * 0.5 * (f.a_f + f.a_b) * (1.0 + c) + (1.0 - sky) * c);
+}
+
+// The hair layers between world point p and the light, from the shadow map (SHADOWS)
+// or the coat's estimate `coat.x` (fur.geom's coat_layers; none with FLAG_NO_COAT).
+float layers_towards_light(vec3 p, vec2 coat) {
 #if SHADOWS
-    vec3 light = light_through_fibres(world, sigma_a);
+    vec2 f;
+    vec4 layers = layers_in_front(p, f);
+    return mix(mix(layers.w, layers.z, f.x), mix(layers.x, layers.y, f.x), f.y);
 #else
-    bool lit = coat <= 0.0 || (frame.strands.w & FLAG_NO_COAT) != 0u;
-    vec3 light = lit ? vec3(1.0) : pow(through_one_layer(sigma_a), vec3(coat));
+    return (frame.strands.w & FLAG_NO_COAT) != 0u ? 0.0 : max(coat.x, 0.0);
 #endif
-    return frame.shading.w * base + (PI * frame.light.w) * marschner_terms(t, world, base, ln_c, light);
+}
+
+// The hair's radiance: the environment's light plus the fibre's response to the
+// light's irradiance (π · intensity, as the export gives it). `coat`: the hair layers
+// towards the light and above the point, as the geometry stage estimates them from the
+// coat (fur.geom's coat_layers).
+vec3 marschner(vec3 t, vec3 world, vec3 base, vec2 coat) {
+    vec3 ln_c = log_color(base);
+    float layers = layers_towards_light(world, coat);
+    float above = (frame.strands.w & FLAG_NO_COAT) != 0u ? 0.0 : max(coat.y, 0.0);
+    float u_o = abs(dot(t, normalize(frame.eye.xyz - world)));
+    return environment(u_o, base, ln_c, above)
+         + (PI * frame.light.w) * marschner_terms(t, world, base, ln_c, layers);
+}
+
+// The light that comes through the fibres in front of world point p, colour by
+// colour (the shadow stage view under the Marschner model).
+vec3 light_through_fibres(vec3 t, vec3 p, vec3 base, vec2 coat) {
+    FibreAverages f = fibre_averages(abs(dot(t, frame.light.xyz)), log_color(base));
+    float direct;
+    return light_through_layers(layers_towards_light(p, coat), f.a_f, direct);
 }
 #endif
 

@@ -29,8 +29,7 @@ impl Bench<'_> {
         let _ = writeln!(
             self.md,
             "### Light and dark fur ({})\n\nThe {} scene in three fur presets (colours as \
-             melanin, docs/design.md), each against its own reference; the Marschner model \
-             with shadows also with coloured shadows (`--coloured-shadows`).\n\n| fur | \
+             melanin, docs/design.md), each against its own reference.\n\n| fur | \
              drawing | frame ms | ꟻLIP | RMSE |\n| --- | --- | --- | --- | --- |",
             base.name, base.name
         );
@@ -50,29 +49,26 @@ impl Bench<'_> {
             to_srgb8(&truth).write_png(&dir.join(format!("{name}-reference.png")))?;
             let mut drawings = Vec::new();
             let cases = [
-                (LightingModel::KajiyaKay, false, false),
-                (LightingModel::KajiyaKay, true, false),
-                (LightingModel::Marschner, false, false),
-                (LightingModel::Marschner, true, false),
-                (LightingModel::Marschner, true, true),
+                (LightingModel::KajiyaKay, false),
+                (LightingModel::KajiyaKay, true),
+                (LightingModel::Marschner, false),
+                (LightingModel::Marschner, true),
             ];
             {
-                for (model, shadows, coloured) in cases {
+                for (model, shadows) in cases {
                     let mut look = own.clone();
                     look.lighting.model = model;
                     look.lighting.shadows.enabled = shadows;
-                    look.lighting.shadows.coloured = coloured;
                     let drawn = shot.draw_look(&look, self.frames())?;
                     let (f, e) = errors(&drawn.image, &truth)?;
-                    if shadows && !coloured {
+                    if !shadows {
                         let file = format!("{name}-{}.png", model.name());
                         drawn.image.write_png(&dir.join(file))?;
                     }
                     let what = format!(
-                        "{}{}{}",
+                        "{}{}",
                         model.label(),
-                        if shadows { ", shadows on" } else { "" },
-                        if coloured { ", coloured" } else { "" }
+                        if shadows { ", shadows on" } else { "" }
                     );
                     let f_second = errors(&drawn.image, &second)?.0;
                     drawings.push((what, drawn.frame_ms, f, e, f_second));

@@ -39,7 +39,7 @@ use crate::scene_file::Scene;
 mod colours;
 
 /// The looks switched one at a time, each against the scene's own drawing.
-const LOOKS: usize = 6;
+const LOOKS: usize = 5;
 
 /// The fur presets the section draws the first scene in.
 const COLOURS: u64 = 3;
@@ -369,14 +369,6 @@ fn looks(own: &Look) -> Vec<(String, Look)> {
             with(&|k| {
                 k.lighting.model = other;
                 k.lighting.shadows.enabled = true;
-            }),
-        ),
-        (
-            "Marschner lighting, shadows on, coloured shadows".to_string(),
-            with(&|k| {
-                k.lighting.model = LightingModel::Marschner;
-                k.lighting.shadows.enabled = true;
-                k.lighting.shadows.coloured = true;
             }),
         ),
         (

@@ -14,13 +14,14 @@
 //!   each chord, with the higher orders summed as a geometric series;
 //! - N_p: a trimmed logistic in φ around the exact deflection Φ(p, h), scale s from β_n.
 //!
-//! Used only by tests: as the oracle the fast, closed-form twin (`super::marschner`)
-//! is checked against, and to check itself (a white furnace).
+//! The oracle the fast, closed-form twin (`super::marschner`) is checked against (and
+//! checks itself: a white furnace), and the model the dual-scattering table
+//! (`super::dual_scattering`) averages.
 
 use std::f64::consts::PI;
 
 /// Lobes the sum runs over explicitly (R, TT, TRT); the rest are summed in one.
-const P_MAX: usize = 3;
+pub const P_MAX: usize = 3;
 
 /// A fibre: absorption per unit radius (RGB), longitudinal and azimuthal roughness,
 /// cuticle tilt (radians), index of refraction.
@@ -105,79 +106,121 @@ fn n_p(phi: f64, p: usize, s: f64, gamma_o: f64, gamma_t: f64) -> f64 {
     logistic(d, s) / (logistic_cdf(PI, s) - logistic_cdf(-PI, s))
 }
 
+/// The lobes' variances of the longitudinal term for roughness `beta_m` (R, TT, TRT,
+/// the higher orders).
+pub fn variances(beta_m: f64) -> [f64; P_MAX + 1] {
+    let v0 = (0.726 * beta_m + 0.812 * beta_m * beta_m + 3.7 * beta_m.powi(20)).powi(2);
+    [v0, 0.25 * v0, 4.0 * v0, 4.0 * v0]
+}
+
+/// The logistic's scale of the azimuthal term for roughness `beta_n`.
+pub fn azimuthal_scale(beta_n: f64) -> f64 {
+    (PI / 8.0).sqrt() * (0.265 * beta_n + 1.194 * beta_n * beta_n + 5.372 * beta_n.powi(22))
+}
+
+/// What light leaving (or, the model being reciprocal, arriving) along `wo` meets at
+/// offset `h` across the fibre: each lobe's attenuation A_p (RGB), the tilted angles
+/// its longitudinal term is evaluated at, and the angles its azimuthal term deflects by.
+pub struct Crossing {
+    /// A_p for R, TT, TRT and the higher orders summed.
+    pub attenuation: [[f64; 3]; P_MAX + 1],
+    /// (sin, cos) of θo rotated by each lobe's cuticle tilt (R, TT, TRT), then untilted
+    /// for the higher orders.
+    pub tilted: [(f64, f64); P_MAX + 1],
+    gamma_o: f64,
+    gamma_t: f64,
+}
+
+impl Crossing {
+    pub fn new(wo: [f64; 3], h: f64, fibre: &Fibre) -> Self {
+        let Fibre {
+            sigma_a,
+            alpha,
+            eta,
+            ..
+        } = *fibre;
+        // sin and cos of 2^k α, k = 0, 1, 2.
+        let mut sin_2k = [alpha.sin(), 0.0, 0.0];
+        let mut cos_2k = [(1.0 - sin_2k[0] * sin_2k[0]).max(0.0).sqrt(), 0.0, 0.0];
+        for k in 1..3 {
+            sin_2k[k] = 2.0 * cos_2k[k - 1] * sin_2k[k - 1];
+            cos_2k[k] = cos_2k[k - 1].powi(2) - sin_2k[k - 1].powi(2);
+        }
+        let sin_o = wo[0];
+        let cos_o = (1.0 - sin_o * sin_o).max(0.0).sqrt();
+        let sin_t = sin_o / eta;
+        let cos_t = (1.0 - sin_t * sin_t).max(0.0).sqrt();
+        let etap = (eta * eta - sin_o * sin_o).sqrt() / cos_o;
+        let sin_gamma_t = h / etap;
+        let cos_gamma_t = (1.0 - sin_gamma_t * sin_gamma_t).max(0.0).sqrt();
+        let transmittance = sigma_a.map(|a| (-a * (2.0 * cos_gamma_t / cos_t)).exp());
+
+        // A_p: Fresnel at the entry, absorption along each internal chord.
+        let f = fresnel_dielectric(cos_o * (1.0 - h * h).max(0.0).sqrt(), eta);
+        let mut a = [[0.0; 3]; P_MAX + 1];
+        a[0] = [f; 3];
+        a[1] = transmittance.map(|t| (1.0 - f).powi(2) * t);
+        for p in 2..P_MAX {
+            a[p] = [0, 1, 2].map(|c| a[p - 1][c] * transmittance[c] * f);
+        }
+        a[P_MAX] = [0, 1, 2]
+            .map(|c| a[P_MAX - 1][c] * f * transmittance[c] / (1.0 - transmittance[c] * f));
+        Self {
+            attenuation: a,
+            tilted: [
+                (
+                    sin_o * cos_2k[1] - cos_o * sin_2k[1],
+                    cos_o * cos_2k[1] + sin_o * sin_2k[1],
+                ),
+                (
+                    sin_o * cos_2k[0] + cos_o * sin_2k[0],
+                    cos_o * cos_2k[0] - sin_o * sin_2k[0],
+                ),
+                (
+                    sin_o * cos_2k[2] + cos_o * sin_2k[2],
+                    cos_o * cos_2k[2] - sin_o * sin_2k[2],
+                ),
+                (sin_o, cos_o),
+            ],
+            gamma_o: h.clamp(-1.0, 1.0).asin(),
+            gamma_t: sin_gamma_t.clamp(-1.0, 1.0).asin(),
+        }
+    }
+
+    /// The longitudinal term of lobe `p` towards a direction of longitudinal sine
+    /// `sin_i`, for roughness variances `v` ([`variances`]).
+    pub fn longitudinal(&self, p: usize, sin_i: f64, v: &[f64; P_MAX + 1]) -> f64 {
+        let cos_i = (1.0 - sin_i * sin_i).max(0.0).sqrt();
+        let (sin_op, cos_op) = self.tilted[p];
+        m_p(cos_i, cos_op.abs(), sin_i, sin_op, v[p])
+    }
+
+    /// The azimuthal term of lobe `p` at relative azimuth `phi`, logistic scale `s`
+    /// ([`azimuthal_scale`]); the higher orders are uniform.
+    pub fn azimuthal(&self, p: usize, phi: f64, s: f64) -> f64 {
+        if p == P_MAX {
+            1.0 / (2.0 * PI)
+        } else {
+            n_p(phi, p, s, self.gamma_o, self.gamma_t)
+        }
+    }
+}
+
 /// Each lobe's contribution (R, TT, TRT, the higher orders; RGB) to the BSDF times the
 /// cosine, f · |cos θi|, for unit `wo` and `wi` in the fibre's frame and offset `h`:
 /// what reflects towards `wo` per unit radiance arriving from `wi`, per unit solid
 /// angle. pbrt-v3's `HairBSDF::f` is their sum divided by the cosine.
 pub fn lobes(wo: [f64; 3], wi: [f64; 3], h: f64, fibre: &Fibre) -> [[f64; 3]; P_MAX + 1] {
-    let Fibre {
-        sigma_a,
-        beta_m,
-        beta_n,
-        alpha,
-        eta,
-    } = *fibre;
-    let v0 = (0.726 * beta_m + 0.812 * beta_m * beta_m + 3.7 * beta_m.powi(20)).powi(2);
-    let v = [v0, 0.25 * v0, 4.0 * v0, 4.0 * v0];
-    let s =
-        (PI / 8.0).sqrt() * (0.265 * beta_n + 1.194 * beta_n * beta_n + 5.372 * beta_n.powi(22));
-    // sin and cos of 2^k α, k = 0, 1, 2.
-    let mut sin_2k = [alpha.sin(), 0.0, 0.0];
-    let mut cos_2k = [(1.0 - sin_2k[0] * sin_2k[0]).max(0.0).sqrt(), 0.0, 0.0];
-    for k in 1..3 {
-        sin_2k[k] = 2.0 * cos_2k[k - 1] * sin_2k[k - 1];
-        cos_2k[k] = cos_2k[k - 1].powi(2) - sin_2k[k - 1].powi(2);
-    }
-
-    let sin_o = wo[0];
-    let cos_o = (1.0 - sin_o * sin_o).max(0.0).sqrt();
-    let phi_o = wo[2].atan2(wo[1]);
-    let sin_i = wi[0];
-    let cos_i = (1.0 - sin_i * sin_i).max(0.0).sqrt();
-    let phi_i = wi[2].atan2(wi[1]);
-    let sin_t = sin_o / eta;
-    let cos_t = (1.0 - sin_t * sin_t).max(0.0).sqrt();
-    let etap = (eta * eta - sin_o * sin_o).sqrt() / cos_o;
-    let sin_gamma_t = h / etap;
-    let cos_gamma_t = (1.0 - sin_gamma_t * sin_gamma_t).max(0.0).sqrt();
-    let gamma_t = sin_gamma_t.clamp(-1.0, 1.0).asin();
-    let gamma_o = h.clamp(-1.0, 1.0).asin();
-    let transmittance = sigma_a.map(|a| (-a * (2.0 * cos_gamma_t / cos_t)).exp());
-    let phi = phi_i - phi_o;
-
-    // A_p: Fresnel at the entry, absorption along each internal chord.
-    let f = fresnel_dielectric(cos_o * (1.0 - h * h).max(0.0).sqrt(), eta);
-    let mut a = [[0.0; 3]; P_MAX + 1];
-    a[0] = [f; 3];
-    a[1] = transmittance.map(|t| (1.0 - f).powi(2) * t);
-    for p in 2..P_MAX {
-        a[p] = [0, 1, 2].map(|c| a[p - 1][c] * transmittance[c] * f);
-    }
-    a[P_MAX] =
-        [0, 1, 2].map(|c| a[P_MAX - 1][c] * f * transmittance[c] / (1.0 - transmittance[c] * f));
-
+    let v = variances(fibre.beta_m);
+    let s = azimuthal_scale(fibre.beta_n);
+    let crossing = Crossing::new(wo, h, fibre);
+    let phi = wi[2].atan2(wi[1]) - wo[2].atan2(wo[1]);
     let mut out = [[0.0; 3]; P_MAX + 1];
-    for p in 0..P_MAX {
-        let (sin_op, cos_op) = match p {
-            0 => (
-                sin_o * cos_2k[1] - cos_o * sin_2k[1],
-                cos_o * cos_2k[1] + sin_o * sin_2k[1],
-            ),
-            1 => (
-                sin_o * cos_2k[0] + cos_o * sin_2k[0],
-                cos_o * cos_2k[0] - sin_o * sin_2k[0],
-            ),
-            _ => (
-                sin_o * cos_2k[2] + cos_o * sin_2k[2],
-                cos_o * cos_2k[2] - sin_o * sin_2k[2],
-            ),
-        };
-        let m = m_p(cos_i, cos_op.abs(), sin_i, sin_op, v[p]);
-        let n = n_p(phi, p, s, gamma_o, gamma_t);
-        out[p] = a[p].map(|ap| m * ap * n);
+    for (p, lobe) in out.iter_mut().enumerate() {
+        let m = crossing.longitudinal(p, wi[0], &v);
+        let n = crossing.azimuthal(p, phi, s);
+        *lobe = crossing.attenuation[p].map(|ap| m * ap * n);
     }
-    let m = m_p(cos_i, cos_o, sin_i, sin_o, v[P_MAX]);
-    out[P_MAX] = a[P_MAX].map(|ap| m * ap / (2.0 * PI));
     out
 }
 

@@ -53,12 +53,6 @@ pub struct Shadows {
     /// Depth of one hair layer in scene units; 0 takes the spacing of the hairs at
     /// full density, 1 / sqrt(density).
     pub spacing: f32,
-    /// Under the Marschner model, light through the fur takes the fibres' colour (a
-    /// forward-scattering transmittance per layer); off, every layer stops a grey α.
-    /// Off by default: the truth tables measure it further from the path tracer, as it
-    /// counts again the forward-scattered light Karis's multiple-scattering term
-    /// already stands for (docs/design.md).
-    pub coloured: bool,
 }
 
 impl Default for Shadows {
@@ -69,7 +63,6 @@ impl Default for Shadows {
             // Tuned (docs/testing.md, "Tuned constants").
             opacity: 0.35,
             spacing: 0.0,
-            coloured: false,
         }
     }
 }
@@ -152,8 +145,9 @@ pub enum LightingModel {
     #[default]
     KajiyaKay,
     /// A Marschner-family fibre model (R, TT and TRT lobes in Karis 2016's closed
-    /// forms) on the fibre's physical parameters, with an approximation of multiple
-    /// scattering (see `shaders/shading.glsl` and [`super::marschner::marschner`]).
+    /// forms) on the fibre's physical parameters, with dual scattering between fibres
+    /// (Zinke et al. 2008) on averages taken from the path tracer's fibre model (see
+    /// `shaders/shading.glsl` and [`super::marschner::marschner`]).
     Marschner,
 }
 
@@ -203,7 +197,8 @@ pub struct Lighting {
     pub root_color: Vec3,
     pub tip_color: Vec3,
     pub skin_color: Vec3,
-    /// How much darker hair is at the root than at the tip, 0..1 (cheap self-shadowing).
+    /// How much darker hair is at the root than at the tip, 0..1 (cheap self-shadowing;
+    /// Kajiya–Kay only: the Marschner model darkens deep hair by the coat's layers).
     pub root_occlusion: f32,
     pub highlights: Highlights,
     pub shadows: Shadows,

@@ -14,24 +14,30 @@
 //! - σa from the hair's colour by Chiang et al.'s mapping with the azimuthal roughness
 //!   β_n, the same the path tracer is given, so a colour means one material to both.
 //!
-//! Multiple scattering between fibres, which makes light fur bright and soft, follows
-//! Karis 2016 too: a wrapped diffuse lobe (1/π) · lerp(wrap, 1 − |t·l|, 0.33) times
-//! √colour, tinted toward the colour as the light is shadowed.
+//! Multiple scattering between fibres, which makes light fur bright and soft, is dual
+//! scattering (Zinke et al. 2008; [`super::dual_scattering`], whose table of the
+//! fibre's averages is taken from the path tracer's own model): of the light that
+//! reaches a point through the hair layers in front, the part no fibre scattered lights
+//! it directly (the lobes above), the part the fibres in front scattered forward comes
+//! in their colour and spread along the fibre (global multiple scattering), and the
+//! fibres around it scatter some of both back (local multiple scattering).
 //!
-//! The light that reaches a point comes through the fur between it and the light: the
-//! shadow map's count of hair layers when shadows are on; otherwise the coat's own
-//! estimate ([`coat_layers`]): the part of the coat above the point along the light,
-//! at the layer spacing the shadow map assumes, and none from behind the skin. Either
-//! way each layer passes [`through_one_layer`] of it — the fibre count in front that
-//! dual scattering (Zinke et al. 2008) takes from a deep shadow map, here from the
-//! coat's geometry at no cost of a pass.
+//! The hair layers in front are the shadow map's count when shadows are on; otherwise
+//! the coat's own estimate ([`coat_layers`]): the part of the coat above the point along
+//! the light, at the layer spacing the shadow map assumes, and none from behind the
+//! skin — the fibre count in front that dual scattering takes from a deep shadow map,
+//! here from the coat's geometry at no cost of a pass.
 //!
-//! The sum is radiance per unit irradiance; the renderer scales it by the light's
-//! irradiance (π · intensity, as the export gives the path tracer) and the fraction of
-//! light the shadow map lets through, and adds the ambient term.
+//! The environment (uniform, as the path tracer's) lights a fibre through the coat
+//! above it ([`environment`]).
+//!
+//! The lobes and dual scattering are radiance per unit irradiance; the renderer scales
+//! them by the light's irradiance (π · intensity, as the export gives the path tracer)
+//! and adds the environment's light.
 
 use glam::Vec3;
 
+use super::dual_scattering::{self as ds, FibreAverages};
 use super::lighting::Fibre;
 
 /// Chiang et al. 2016's absorption σa (per unit fibre radius) for a fibre of roughly
@@ -84,11 +90,40 @@ fn fresnel(cos_theta: f32, eta: f32) -> f32 {
     f0 + (1.0 - f0) * (1.0 - cos_theta.clamp(0.0, 1.0)).powi(5)
 }
 
+/// The hair in front of a point on the way to the light (or the sky): how many hair
+/// layers, each stopping `opacity` of the light ([`super::Shadows::opacity`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Layers {
+    pub count: f32,
+    pub opacity: f32,
+}
+
+impl Layers {
+    /// No hair in front.
+    pub fn none(opacity: f32) -> Self {
+        Self {
+            count: 0.0,
+            opacity,
+        }
+    }
+
+    /// What the layers pass on of the light: the fraction no fibre scattered (grey),
+    /// and all that comes through, colour by colour, the forward-scattered part in the
+    /// fibres' colour — each layer passes 1 − α unscattered and α · a_f forward (the
+    /// shaders' `light_through_layers`).
+    pub fn through(self, a_f: Vec3) -> (f32, Vec3) {
+        let alpha = self.opacity;
+        let direct = (1.0 - alpha).powf(self.count);
+        let all = (Vec3::splat(1.0 - alpha) + alpha * a_f).powf(self.count);
+        (direct, all)
+    }
+}
+
 /// The fibre's single scattering (R + TT + TRT) and its multiple scattering, per unit
 /// irradiance, for unit tangent `t`, unit `l` towards the light, unit `v` towards the
-/// eye, colour `base` and `light` the fraction of light that reaches the point.
-pub fn marschner(t: Vec3, l: Vec3, v: Vec3, base: Vec3, fibre: &Fibre, light: Vec3) -> Vec3 {
-    marschner_of(Lobes::ALL, t, l, v, base, fibre, light)
+/// eye, colour `base` and `front` the hair layers between it and the light.
+pub fn marschner(t: Vec3, l: Vec3, v: Vec3, base: Vec3, fibre: &Fibre, front: Layers) -> Vec3 {
+    marschner_of(Lobes::ALL, t, l, v, base, fibre, front)
 }
 
 /// Which terms of the model are summed: all of them when drawing; the truth
@@ -101,8 +136,9 @@ pub struct Lobes {
     pub trt: bool,
     /// The multiple-scattering term.
     pub multiple: bool,
-    /// Without a shadow map, the light through the coat in front of the point
-    /// ([`coat_layers`]); off, every point is fully lit.
+    /// Without a shadow map, the hair layers of the coat in front of the point, towards
+    /// the light and the sky ([`coat_layers`]); off, every point is fully lit and sees
+    /// the whole sky.
     pub coat: bool,
 }
 
@@ -141,7 +177,8 @@ impl Default for Lobes {
     }
 }
 
-/// [`marschner`] summing only the terms `lobes` keeps.
+/// [`marschner`] summing only the terms `lobes` keeps (the coat's switch is the
+/// caller's: it chooses the layers in front).
 pub fn marschner_of(
     lobes: Lobes,
     t: Vec3,
@@ -149,12 +186,76 @@ pub fn marschner_of(
     v: Vec3,
     base: Vec3,
     fibre: &Fibre,
-    light: Vec3,
+    front: Layers,
 ) -> Vec3 {
     let [r, tt, trt] = self::lobes(t, l, v, base, fibre);
     let keep = |on: bool, x: Vec3| if on { x } else { Vec3::ZERO };
     let single = keep(lobes.r, r) + keep(lobes.tt, tt) + keep(lobes.trt, trt);
-    single * light + keep(lobes.multiple, multiple(t, l, v, base, light))
+    let sin_i = t.dot(l).clamp(-1.0, 1.0);
+    let sum = sin_i.asin() + t.dot(v).clamp(-1.0, 1.0).asin();
+    let f = ds::fibre_averages(&ds::cached_table(fibre), sin_i.abs(), ln_colour(base));
+    let (direct, through) = front.through(f.a_f);
+    let mut radiance = direct * single;
+    if lobes.multiple {
+        radiance += multiple(&f, sum, front, direct, through);
+    }
+    radiance
+}
+
+/// ln c of a colour, channel by channel (of 1e-30 for black), as the shaders'
+/// `log_color`.
+fn ln_colour(c: Vec3) -> Vec3 {
+    Vec3::from_array(c.max(Vec3::splat(1e-30)).to_array().map(f32::ln))
+}
+
+/// A unit-area Gaussian of variance `var` at `x`, channel by channel.
+fn gaussian3(x: Vec3, var: Vec3) -> Vec3 {
+    let two_pi = 2.0 * std::f32::consts::PI;
+    Vec3::from_array(
+        [0, 1, 2].map(|c| (-0.5 * x[c] * x[c] / var[c]).exp() / (two_pi * var[c]).sqrt()),
+    )
+}
+
+/// Dual scattering's multiple scattering at θi + θo = `sum`, behind `front` of which
+/// `direct` comes through unscattered and `through` in all: what the fibres around
+/// scatter back of the direct light (its spread σ_b²), and of the forward-scattered
+/// light (`through` − `direct`, spread further by α · layers · β_f²) the fibre's
+/// response as if from every azimuth (its whole albedo a_f + a_b over 2π, spread by
+/// β²) and the neighbours' back-scattering; d_f and d_b Zinke et al.'s density
+/// factors. The shaders' `marschner_terms`.
+fn multiple(f: &FibreAverages, sum: f32, front: Layers, direct: f32, through: Vec3) -> Vec3 {
+    let pi = std::f32::consts::PI;
+    let x = Vec3::splat(sum);
+    let back = f.a_back * gaussian3(x - f.shift_b, f.sigma_b2) / pi;
+    let scattered = (through - Vec3::splat(direct)).max(Vec3::ZERO);
+    let spread = front.opacity * front.count * f.beta_f2;
+    let global = (f.a_f + f.a_b) * gaussian3(x - f.alpha, f.beta2 + spread) * (0.5 / pi);
+    let back_spread = f.a_back * gaussian3(x - f.shift_b, f.sigma_b2 + spread) / pi;
+    direct * ds::DENSITY_BACKWARD * back
+        + scattered * ds::DENSITY_FORWARD * (global + ds::DENSITY_BACKWARD * back_spread)
+}
+
+/// The radiance the uniform environment of radiance `radiance` (ambient / Kd, as the
+/// export gives the path tracer) sends to the eye (unit `v`) off a fibre of tangent `t`
+/// and colour `base` under `above`, the hair layers between it and the sky (along the
+/// skin's normal): the sky it sees through them, (1 − α)^layers, lights it as a lone
+/// fibre — its whole albedo a_f + a_b (at θo, by reciprocity) of the sky above and of
+/// the coat's glow c below, (1 + c) / 2 on average; the coat around it sends the rest
+/// back in c, what Chiang et al.'s colour means (the colour dense fibres of that
+/// absorption take under uniform light). The shaders' `environment`.
+pub fn environment(
+    t: Vec3,
+    v: Vec3,
+    base: Vec3,
+    fibre: &Fibre,
+    above: Layers,
+    radiance: f32,
+) -> Vec3 {
+    let u_o = t.dot(v).abs();
+    let f = ds::fibre_averages(&ds::cached_table(fibre), u_o, ln_colour(base));
+    let sky = (1.0 - above.opacity).powf(above.count);
+    let c = base.clamp(Vec3::ZERO, Vec3::ONE);
+    radiance * (sky * 0.5 * (f.a_f + f.a_b) * (Vec3::ONE + c) + (1.0 - sky) * c)
 }
 
 /// The single-scattering lobes R, TT and TRT per unit irradiance (unshadowed), as
@@ -191,51 +292,6 @@ pub fn lobes(t: Vec3, l: Vec3, v: Vec3, base: Vec3, fibre: &Fibre) -> [Vec3; 3] 
     let m_trt = gaussian(2.0 * sd, sum + 4.0 * alpha);
     let trt = t_trt * (m_trt * (17.0 * cos_phi - 16.78).exp() * (1.0 - f_trt).powi(2) * f_trt);
     [Vec3::splat(r), tt, trt]
-}
-
-/// Karis 2016's approximation of multiple scattering between fibres:
-/// √c · (c / luma(c))^(1 − light) · diffuse · light, written as one exponential of
-/// ln c, which the shaders share with the absorption (there clamped as
-/// [`sigma_a_from_color`] clamps the colour).
-fn multiple(t: Vec3, l: Vec3, v: Vec3, base: Vec3, light: Vec3) -> Vec3 {
-    let kajiya = 1.0 - t.dot(l).abs();
-    let fake_normal = (v - t * v.dot(t)).normalize_or_zero();
-    let wrap = ((fake_normal.dot(l) + 1.0) / 4.0).clamp(0.0, 1.0);
-    let diffuse = (wrap + (kajiya - wrap) * 0.33) / std::f32::consts::PI;
-    let luma = base.dot(Vec3::new(0.2126, 0.7152, 0.0722)).max(1e-4).ln();
-    let ln_c = Vec3::from_array(base.max(Vec3::splat(1e-30)).to_array().map(f32::ln));
-    let ln_tinted = 0.5 * ln_c + (Vec3::ONE - light) * (ln_c - Vec3::splat(luma));
-    Vec3::from_array(ln_tinted.to_array().map(f32::exp)) * diffuse * light
-}
-
-/// The fraction of the light, colour by colour, one hair layer of opacity `opacity`
-/// lets through when its fibres have absorption `sigma_a` and index of refraction
-/// `eta`: of the light the layer intercepts, the part its fibres pass on forward —
-/// through two interfaces and two radii of absorbing fibre, (1 − F0)² e^(−2σa) — goes
-/// on (after dual scattering's forward-scattering transmittance, Zinke et al. 2008);
-/// not `coloured`, none of it does (1 − opacity, grey). The shader's
-/// `through_one_layer`.
-pub fn through_one_layer(opacity: f32, sigma_a: Vec3, eta: f32, coloured: bool) -> Vec3 {
-    let f0 = ((1.0 - eta) / (1.0 + eta)).powi(2);
-    let forward = if coloured {
-        (1.0 - f0).powi(2) * (-2.0 * sigma_a).exp()
-    } else {
-        Vec3::ZERO
-    };
-    Vec3::splat(1.0 - opacity) + opacity * forward
-}
-
-/// The fraction of the light, colour by colour, that comes through `layers` hair
-/// layers of coloured [`through_one_layer`]s. Black fibres give the grey
-/// (1 − opacity)^layers. The shader's `light_through_fibres` (before its bilinear
-/// filter) with coloured shadows.
-pub fn light_through_fibres(layers: f32, opacity: f32, sigma_a: Vec3, eta: f32) -> Vec3 {
-    let through = through_one_layer(opacity, sigma_a, eta, true);
-    Vec3::new(
-        through.x.powf(layers),
-        through.y.powf(layers),
-        through.z.powf(layers),
-    )
 }
 
 /// The most hair layers counted in front of a point, by the shadow map and the coat.
@@ -339,34 +395,5 @@ mod tests {
                 .max_element()
                 < 1e-6
         );
-    }
-
-    // The multiple-scattering term is √c · (c / luma)^(1 − light) · diffuse · light,
-    // written as one exponential: both forms agree inside the clamp.
-    #[test]
-    fn multiple_scattering_is_karis_tinted_colour() {
-        let (t, l, v) = (Vec3::Y, Vec3::new(0.6, 0.0, 0.8), Vec3::new(0.0, 0.6, 0.8));
-        let kajiya = 1.0 - t.dot(l).abs();
-        let fake_normal = (v - t * v.dot(t)).normalize();
-        let wrap = ((fake_normal.dot(l) + 1.0) / 4.0).clamp(0.0, 1.0);
-        let diffuse = (wrap + (kajiya - wrap) * 0.33) / std::f32::consts::PI;
-        for (c, light) in [
-            (Vec3::new(0.9, 0.7, 0.4), Vec3::ONE),
-            (Vec3::new(0.9, 0.7, 0.4), Vec3::new(0.3, 0.2, 0.1)),
-            (Vec3::new(0.05, 0.03, 0.02), Vec3::splat(0.5)),
-            // Black fur: below the colour mapping's clamp.
-            (Vec3::new(2e-5, 7e-7, 2e-9), Vec3::new(0.9, 0.8, 0.7)),
-        ] {
-            let luma = c.dot(Vec3::new(0.2126, 0.7152, 0.0722)).max(1e-4);
-            let direct = Vec3::from_array(
-                [0, 1, 2].map(|i| c[i].sqrt() * (c[i] / luma).powf(1.0 - light[i])),
-            ) * diffuse
-                * light;
-            let got = multiple(t, l, v, c, light);
-            assert!(
-                (got - direct).abs().max_element() <= 1e-5 * direct.max_element(),
-                "{got} {direct}"
-            );
-        }
     }
 }

@@ -225,6 +225,9 @@ pub struct FrameUniforms {
     pub fibre: Vec4,
     /// The fibre model's per-frame constants ([`super::marschner::shader_terms`]).
     pub fibre_terms: Vec4,
+    /// The fibre's dual-scattering table ([`super::dual_scattering::table`]) under the
+    /// Marschner model; zeros otherwise.
+    pub fibre_table: [Vec4; super::dual_scattering::TABLE_VEC4S],
 }
 
 pub const FLAG_CULL: u32 = 1;
@@ -232,7 +235,6 @@ pub const FLAG_THICKNESS_COMPENSATION: u32 = 2;
 pub const FLAG_COUNT: u32 = 4;
 pub const FLAG_SECONDARY_HIGHLIGHT: u32 = 8;
 pub const FLAG_THIN_HAIR_AA: u32 = 16;
-pub const FLAG_COLOURED_SHADOWS: u32 = 32;
 /// The Marschner model without its R, TT, TRT or multiple-scattering term, or without
 /// the coat's light ([`super::marschner::Lobes`]).
 pub const FLAG_NO_R: u32 = 64;
@@ -251,7 +253,6 @@ pub fn shader_defines() -> Vec<(&'static str, String)> {
         ("FLAG_COUNT", FLAG_COUNT),
         ("FLAG_SECONDARY_HIGHLIGHT", FLAG_SECONDARY_HIGHLIGHT),
         ("FLAG_THIN_HAIR_AA", FLAG_THIN_HAIR_AA),
-        ("FLAG_COLOURED_SHADOWS", FLAG_COLOURED_SHADOWS),
         ("FLAG_NO_R", FLAG_NO_R),
         ("FLAG_NO_TT", FLAG_NO_TT),
         ("FLAG_NO_TRT", FLAG_NO_TRT),
@@ -260,7 +261,25 @@ pub fn shader_defines() -> Vec<(&'static str, String)> {
     ]
     .into_iter()
     .map(|(name, bit)| (name, format!("{bit}u")))
-    .chain([("MAX_LAYERS", format!("{:?}", super::marschner::MAX_LAYERS))])
+    .chain([
+        ("MAX_LAYERS", format!("{:?}", super::marschner::MAX_LAYERS)),
+        (
+            "DS_ANGLE_NODES",
+            super::dual_scattering::ANGLE_NODES.to_string(),
+        ),
+        (
+            "DS_COLOUR_NODES",
+            super::dual_scattering::COLOUR_NODES.to_string(),
+        ),
+        (
+            "DS_DENSITY_FORWARD",
+            format!("{:?}", super::dual_scattering::DENSITY_FORWARD),
+        ),
+        (
+            "DS_DENSITY_BACKWARD",
+            format!("{:?}", super::dual_scattering::DENSITY_BACKWARD),
+        ),
+    ])
     .chain(super::stage::stage_defines())
     .collect()
 }
@@ -345,9 +364,6 @@ impl FrameUniforms {
         if s.thin_hair_aa {
             flags |= FLAG_THIN_HAIR_AA;
         }
-        if l.shadows.coloured {
-            flags |= FLAG_COLOURED_SHADOWS;
-        }
         for (on, flag) in [
             (l.lobes.r, FLAG_NO_R),
             (l.lobes.tt, FLAG_NO_TT),
@@ -412,6 +428,11 @@ impl FrameUniforms {
                 l.fibre.ior,
             ),
             fibre_terms: Vec4::from_array(super::marschner::shader_terms(&l.fibre)),
+            fibre_table: if l.model == super::LightingModel::Marschner {
+                *super::dual_scattering::cached_table(&l.fibre)
+            } else {
+                [Vec4::ZERO; super::dual_scattering::TABLE_VEC4S]
+            },
         }
     }
 }

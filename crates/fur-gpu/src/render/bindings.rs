@@ -263,7 +263,8 @@ mod tests {
             shadow,
             strands,
             fibre,
-            fibre_terms
+            fibre_terms,
+            fibre_table
         )
     }
 
@@ -324,7 +325,7 @@ mod tests {
         assert_eq!(used.len(), declared, "bindings used: {used:?}");
         assert_eq!(
             std::mem::size_of::<FrameUniforms>(),
-            frame_fields().last().unwrap().1 + 16,
+            frame_fields().last().unwrap().1 + 16 * fur_core::render::dual_scattering::TABLE_VEC4S,
             "FrameUniforms ends with its last vec4"
         );
     }

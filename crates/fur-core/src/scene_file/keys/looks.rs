@@ -142,7 +142,8 @@ pub const LIGHT: Group = Group {
             key: "root_occlusion",
             flag: Flag::Long("root-occlusion"),
             label: "root occlusion",
-            help: "How much darker hair is at the root than at the tip",
+            help: "How much darker hair is at the root than at the tip (Kajiya–Kay; the \
+                   Marschner model darkens deep hair by the coat's layers instead)",
             kind: Kind::within(0.0, 1.0),
             panel: Panel::Slider {
                 min: 0.0,
@@ -274,17 +275,6 @@ pub const SHADOWS: Group = Group {
             kind: Kind::Bool,
             panel: Panel::Plain,
             ..field!(options.lighting.shadows.enabled)
-        },
-        Setting {
-            key: "coloured",
-            flag: Flag::Long("coloured-shadows"),
-            label: "coloured shadows",
-            help: "Under the Marschner model, light through the fur takes the fibres' \
-                   colour (forward scattering per layer) instead of a grey opacity; off by \
-                   default, measured further from the path tracer (docs/design.md)",
-            kind: Kind::Bool,
-            panel: Panel::Plain,
-            ..field!(options.lighting.shadows.coloured)
         },
         Setting {
             key: "resolution",

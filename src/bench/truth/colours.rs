@@ -4,7 +4,7 @@
 use std::fmt::Write as _;
 use std::path::Path;
 
-use super::{cached_trace, export, seed_spread};
+use super::{cached_trace, delta_cell, differences, export, resolved, seed_spread};
 use crate::bench::Bench;
 use crate::error::Result;
 use crate::export::compare::{errors, to_srgb8};
@@ -29,8 +29,10 @@ impl Bench<'_> {
         let _ = writeln!(
             self.md,
             "### Light and dark fur ({})\n\nThe {} scene in three fur presets (colours as \
-             melanin, docs/design.md), each against its own reference.\n\n| fur | \
-             drawing | frame ms | ꟻLIP | RMSE |\n| --- | --- | --- | --- | --- |",
+             melanin, docs/design.md), each against its own reference; Δ: the drawing's \
+             ꟻLIP minus Kajiya–Kay's, with its own noise (how much the second reference \
+             moves it; ≈ where it is not ten times that).\n\n| fur | drawing | frame ms \
+             | ꟻLIP | Δ ꟻLIP (noise) | RMSE |\n| --- | --- | --- | --- | --- | --- |",
             base.name, base.name
         );
         let mut noises = Vec::new();
@@ -77,16 +79,21 @@ impl Bench<'_> {
             (self.progress)(&format!("{name}: drawings"));
             let pairs: Vec<(f64, f64)> = drawings.iter().map(|d| (d.2, d.4)).collect();
             let (spread, gap) = seed_spread(&pairs);
+            let deltas = differences(&pairs);
             self.row("truth", name.clone(), "seed_spread_flip", spread, "0..1");
+            self.difference_rows(&name, &deltas);
+            let (told, all, worst) = resolved(&deltas);
             spreads.push(format!(
-                "{} {spread:.4} (closest two drawings {gap:.4})",
+                "{} {spread:.4} (closest two drawings {gap:.4}; differences' noise at most \
+                 {worst:.4}, {told} of {all} ten times it or more)",
                 preset.name()
             ));
-            for (what, ms, f, e, _) in drawings {
+            for ((what, ms, f, e, _), delta) in drawings.into_iter().zip(deltas) {
                 let _ = writeln!(
                     self.md,
-                    "| {} | {what} | {ms:.1} | {f:.4} | {e:.4} |",
-                    preset.name()
+                    "| {} | {what} | {ms:.1} | {f:.4} | {} | {e:.4} |",
+                    preset.name(),
+                    delta_cell(delta)
                 );
                 let case = format!("{name}: {what}");
                 self.row("truth", case.clone(), "frame_ms", ms, "ms");

@@ -206,6 +206,10 @@ fn design() -> Vec<(&'static str, Vec<String>)> {
 
 /// The limits, targets and defaults the other documents state.
 fn limits() -> Vec<(&'static str, Vec<String>)> {
+    use fur::render::dual_scattering as ds;
+    // The table's darkest colour node, whose logarithm the code holds.
+    let darkest = 1e-4f32;
+    assert!((darkest.ln() - ds::LN_MIN_COLOUR).abs() < 1e-6);
     let calibration = fur::export::compare::Calibration::MAX_SHIFT_PX;
     let radiance = fur::export::compare::Calibration::MAX_RATIO_ERROR;
     let (low, high) = fur::scene::Mesh::SCALE_RANGE;
@@ -336,6 +340,20 @@ fn limits() -> Vec<(&'static str, Vec<String>)> {
                 format!(
                     "with the {} bone capsules nearest its root",
                     ["no", "one", "two", "three", "four", "five", "six"][near.min(6)]
+                ),
+                format!(
+                    "The table holds them at {} angles (|sin θ| 0 to 1) and {} colours (evenly in ln c from 1 to {}",
+                    ds::ANGLE_NODES,
+                    ds::COLOUR_NODES,
+                    power_of_ten(darkest)
+                ),
+                format!(
+                    "the table's colour coordinate (ln c / ln {})",
+                    power_of_ten(darkest)
+                ),
+                format!(
+                    "d_f = d_b = {} are the paper's density factors",
+                    ds::DENSITY_FORWARD
                 ),
             ],
         ),

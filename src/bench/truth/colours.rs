@@ -4,7 +4,7 @@
 use std::fmt::Write as _;
 use std::path::Path;
 
-use super::{cached_trace, delta_cell, differences, export, resolved, seed_spread};
+use super::{cached_trace, delta_cell, differences, export, noise_sentence, seed_spread};
 use crate::bench::Bench;
 use crate::error::Result;
 use crate::export::compare::{errors, to_srgb8};
@@ -31,12 +31,12 @@ impl Bench<'_> {
             "### Light and dark fur ({})\n\nThe {} scene in three fur presets (colours as \
              melanin, docs/design.md), each against its own reference; Δ: the drawing's \
              ꟻLIP minus Kajiya–Kay's, with its own noise (how much the second reference \
-             moves it; ≈ where it is not ten times that).\n\n| fur | drawing | frame ms \
+             moves it; ≈ where it is not ten times that; below the table).\n\n| fur | drawing | frame ms \
              | ꟻLIP | Δ ꟻLIP (noise) | RMSE |\n| --- | --- | --- | --- | --- | --- |",
             base.name, base.name
         );
         let mut noises = Vec::new();
-        let mut spreads = Vec::new();
+        let mut sentences = Vec::new();
         for preset in [FurPreset::White, FurPreset::Blond, FurPreset::Black] {
             let mut scene = base.scene.clone();
             scene.options.lighting.preset = preset;
@@ -78,15 +78,15 @@ impl Bench<'_> {
             }
             (self.progress)(&format!("{name}: drawings"));
             let pairs: Vec<(f64, f64)> = drawings.iter().map(|d| (d.2, d.4)).collect();
-            let (spread, gap) = seed_spread(&pairs);
+            let (spread, _) = seed_spread(&pairs);
             let deltas = differences(&pairs);
             self.row("truth", name.clone(), "seed_spread_flip", spread, "0..1");
-            self.difference_rows(&name, &deltas);
-            let (told, all, worst) = resolved(&deltas);
-            spreads.push(format!(
-                "{} {spread:.4} (closest two drawings {gap:.4}; differences' noise at most \
-                 {worst:.4}, {told} of {all} ten times it or more)",
-                preset.name()
+            self.difference_rows(&name, &pairs);
+            let names: Vec<String> = drawings.iter().map(|d| d.0.clone()).collect();
+            sentences.push(format!(
+                "{} fur: {}",
+                capitalised(preset.name()),
+                noise_sentence(&pairs, &names, "Kajiya–Kay's")
             ));
             for ((what, ms, f, e, _), delta) in drawings.into_iter().zip(deltas) {
                 let _ = writeln!(
@@ -105,11 +105,19 @@ impl Bench<'_> {
         }
         let _ = writeln!(
             self.md,
-            "\nReference noise (ꟻLIP): {}. The seed's spread (the most any ꟻLIP here moves \
-             against a second reference): {}.\n",
+            "\nReference noise (ꟻLIP): {}.\n\n{}\n",
             noises.join(", "),
-            spreads.join(", ")
+            sentences.join("\n\n")
         );
         Ok(())
     }
+}
+
+/// `word` with its first letter in capitals.
+fn capitalised(word: &str) -> String {
+    let mut chars = word.chars();
+    chars
+        .next()
+        .map(|c| c.to_uppercase().chain(chars).collect())
+        .unwrap_or_default()
 }

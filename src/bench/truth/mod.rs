@@ -37,6 +37,9 @@ use crate::scene::ModelSpec;
 use crate::scene_file::Scene;
 
 mod colours;
+mod noise;
+
+use noise::{delta_cell, differences, noise_sentence, resolved, seed_spread, unresolved_pairs};
 
 /// The looks switched one at a time, each against the scene's own drawing.
 const LOOKS: usize = 5;
@@ -311,16 +314,16 @@ impl Bench<'_> {
 
     fn truth_table(&mut self, scene: &str, measured: &[Measured], noise: (f64, f64)) {
         let pairs: Vec<(f64, f64)> = measured.iter().map(|m| (m.flip, m.flip_second)).collect();
+        let names: Vec<String> = measured.iter().map(|m| m.name.clone()).collect();
         let (spread, gap) = seed_spread(&pairs);
         let deltas = differences(&pairs);
         let _ = writeln!(
             self.md,
-            "### {scene}\n\nReference noise: ꟻLIP {:.4}, RMSE {:.4}. {} {}\n\n| drawing | \
+            "### {scene}\n\nReference noise: ꟻLIP {:.4}, RMSE {:.4}. {}\n\n| drawing | \
              frame ms | ꟻLIP | Δ ꟻLIP (noise) | RMSE |\n| --- | --- | --- | --- | --- |",
             noise.0,
             noise.1,
-            spread_sentence(spread, gap),
-            differences_sentence(&deltas, "the scene's drawing")
+            noise_sentence(&pairs, &names, "the scene's drawing")
         );
         self.row(
             "truth",
@@ -330,7 +333,7 @@ impl Bench<'_> {
             "0..1",
         );
         self.row("truth", scene.to_string(), "closest_gap_flip", gap, "0..1");
-        self.difference_rows(scene, &deltas);
+        self.difference_rows(scene, &pairs);
         for (m, delta) in measured.iter().zip(&deltas) {
             let _ = writeln!(
                 self.md,
@@ -349,31 +352,22 @@ impl Bench<'_> {
         self.md.push('\n');
     }
 
-    /// The CSV rows of a table's [`differences`]: the most the second reference moves
-    /// a difference, and how many differences are ten times that or more.
-    pub(super) fn difference_rows(&mut self, case: &str, deltas: &[Option<(f64, f64)>]) {
-        let (resolved, all, worst) = resolved(deltas);
-        self.row(
-            "truth",
-            case.to_string(),
-            "difference_noise_flip",
-            worst,
-            "0..1",
-        );
-        self.row(
-            "truth",
-            case.to_string(),
-            "differences_resolved",
-            resolved as f64,
-            "count",
-        );
-        self.row(
-            "truth",
-            case.to_string(),
-            "differences",
-            all as f64,
-            "count",
-        );
+    /// The CSV rows of a table's noise ([`noise`]): the most the second reference moves
+    /// a difference from the first drawing, how many of those differences and of all
+    /// pairs of drawings are ten times their noise or more, and how many there are.
+    pub(super) fn difference_rows(&mut self, case: &str, pairs: &[(f64, f64)]) {
+        let (told, all, worst) = resolved(&differences(pairs));
+        let pair_count = pairs.len() * pairs.len().saturating_sub(1) / 2;
+        let pairs_told = pair_count - unresolved_pairs(pairs).len();
+        for (metric, value, unit) in [
+            ("difference_noise_flip", worst, "0..1"),
+            ("differences_resolved", told as f64, "count"),
+            ("differences", all as f64, "count"),
+            ("pairs_resolved", pairs_told as f64, "count"),
+            ("pairs", pair_count as f64, "count"),
+        ] {
+            self.row("truth", case.to_string(), metric, value, unit);
+        }
     }
 }
 
@@ -473,100 +467,6 @@ fn cached_trace(
     read_pfm(&pfm)
 }
 
-/// How far the reference's own noise moves a table's figures, from each drawing's ꟻLIP
-/// against the reference and against the second one (another seed), `pairs`: the
-/// largest change of any drawing's ꟻLIP (the seed's spread: the uncertainty of each
-/// figure), and the smallest difference between two drawings' ꟻLIP against the first
-/// (what the table must resolve). A figure is to be trusted to the spread, and two
-/// drawings told apart where they differ by more.
-pub(super) fn seed_spread(pairs: &[(f64, f64)]) -> (f64, f64) {
-    let spread = pairs.iter().map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
-    let mut gap = f64::INFINITY;
-    for (i, (a, _)) in pairs.iter().enumerate() {
-        for (b, _) in &pairs[i + 1..] {
-            gap = gap.min((a - b).abs());
-        }
-    }
-    (spread, if gap.is_finite() { gap } else { 0.0 })
-}
-
-/// The sentence under a truth table that says what [`seed_spread`] found.
-pub(super) fn spread_sentence(spread: f64, gap: f64) -> String {
-    format!(
-        "Against a second reference (another seed) every ꟻLIP below moves by at most \
-         {spread:.4}; the closest two drawings differ by {gap:.4} ({}).",
-        if spread * 10.0 <= gap {
-            "under a tenth of it: the noise orders nothing here"
-        } else if spread < gap {
-            "the order of every two drawings holds"
-        } else {
-            "drawings closer than the spread are not told apart"
-        }
-    )
-}
-
-/// Each drawing's ꟻLIP minus the first drawing's (the scene's own), against the first
-/// reference, and how much that difference moves against the second: its own noise.
-/// The reference's noise is common to both drawings of a difference and cancels in
-/// it but where the two drawings differ, so a difference is far surer than either
-/// figure. None for the first drawing.
-pub(super) fn differences(pairs: &[(f64, f64)]) -> Vec<Option<(f64, f64)>> {
-    let Some(&(base, base_second)) = pairs.first() else {
-        return Vec::new();
-    };
-    pairs
-        .iter()
-        .enumerate()
-        .map(|(i, &(a, b))| {
-            (i > 0).then(|| {
-                let (d, d_second) = (a - base, b - base_second);
-                (d, (d - d_second).abs())
-            })
-        })
-        .collect()
-}
-
-/// Whether a difference is told apart from its noise: ten times it or more (and not
-/// zero: two drawings of the same ꟻLIP against both references are not).
-fn is_resolved((d, noise): (f64, f64)) -> bool {
-    d != 0.0 && d.abs() >= 10.0 * noise
-}
-
-/// Of [`differences`]: how many are resolved, how many there are, and the largest noise.
-pub(super) fn resolved(deltas: &[Option<(f64, f64)>]) -> (usize, usize, f64) {
-    let all: Vec<(f64, f64)> = deltas.iter().flatten().copied().collect();
-    let worst = all.iter().map(|&(_, n)| n).fold(0.0, f64::max);
-    let resolved = all.iter().filter(|&&d| is_resolved(d)).count();
-    (resolved, all.len(), worst)
-}
-
-/// A difference's cell: signed, its noise in brackets, marked ≈ where it is not ten
-/// times its noise (the two drawings are not told apart).
-pub(super) fn delta_cell(delta: Option<(f64, f64)>) -> String {
-    match delta {
-        None => "–".to_string(),
-        Some((d, noise)) => format!(
-            "{}{d:+.4} (±{noise:.4})",
-            if is_resolved((d, noise)) { "" } else { "≈ " }
-        ),
-    }
-}
-
-/// The sentence on a table's [`differences`] from `base`.
-pub(super) fn differences_sentence(deltas: &[Option<(f64, f64)>], base: &str) -> String {
-    let (resolved, all, worst) = resolved(deltas);
-    format!(
-        "Each drawing's difference from {base} (Δ) moves against the second reference by \
-         at most {worst:.4}, the noise in brackets: {resolved} of the {all} differences \
-         are ten times their noise or more{}.",
-        if resolved == all {
-            ""
-        } else {
-            "; those marked ≈ are not, and are not told apart"
-        }
-    )
-}
-
 /// A signed percentage to the nearest whole one ("+3 %", "−12 %", "0 %").
 fn percent(x: f64) -> String {
     let rounded = x.round();
@@ -587,52 +487,4 @@ fn fnv64(parts: &[&[u8]]) -> u64 {
         }
     }
     h
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn the_seed_spread_is_the_largest_move_and_the_gap_the_closest_pair() {
-        let pairs = [(0.10, 0.11), (0.20, 0.19), (0.105, 0.1), (0.3, 0.3)];
-        let (spread, gap) = seed_spread(&pairs);
-        assert!((spread - 0.01).abs() < 1e-12, "{spread}");
-        assert!((gap - 0.005).abs() < 1e-12, "{gap}");
-        assert_eq!(seed_spread(&[(0.1, 0.2)]).1, 0.0, "one drawing has no pair");
-        assert!(spread_sentence(0.001, 0.02).contains("under a tenth"));
-        assert!(spread_sentence(0.005, 0.02).contains("order of every two"));
-        assert!(spread_sentence(0.02, 0.01).contains("not told apart"));
-    }
-
-    /// A difference's noise is how much the difference moves between the references,
-    /// not either figure's move: two drawings that both move by 0.01 differ surely.
-    #[test]
-    fn a_difference_is_measured_against_its_own_noise() {
-        let pairs = [(0.10, 0.11), (0.12, 0.13), (0.105, 0.11), (0.10, 0.11)];
-        let d = differences(&pairs);
-        assert_eq!(d[0], None);
-        let (diff, noise) = d[1].unwrap();
-        assert!(
-            (diff - 0.02).abs() < 1e-12 && noise < 1e-12,
-            "{diff} {noise}"
-        );
-        let (diff, noise) = d[2].unwrap();
-        assert!((diff - 0.005).abs() < 1e-12 && (noise - 0.005).abs() < 1e-12);
-        assert_eq!(d[3], Some((0.0, 0.0)));
-        let (told, all, worst) = resolved(&d);
-        assert_eq!((told, all), (1, 3));
-        assert!((worst - 0.005).abs() < 1e-12, "{worst}");
-        assert_eq!(delta_cell(d[1]), "+0.0200 (±0.0000)");
-        assert!(delta_cell(d[2]).starts_with("≈ +0.0050"));
-        assert!(
-            delta_cell(d[3]).starts_with("≈ "),
-            "equal figures are not told apart"
-        );
-        assert_eq!(delta_cell(None), "–");
-        let sentence = differences_sentence(&d, "the base");
-        assert!(sentence.contains("1 of the 3 differences"), "{sentence}");
-        assert!(sentence.contains("not told apart"));
-        assert!(!differences_sentence(&d[..2], "x").contains("not told apart"));
-    }
 }

@@ -398,13 +398,13 @@ fn the_ratios_the_readme_draws_from_the_truth_are_the_runs() {
     let readme = flat(&read("README.md"));
     let near = format!(
         "It is at {:.2} of Kajiya–Kay's distance on the blob, {:.2} on the sphere, {:.2} on \
-         the walking critter and {:.2} on white fur, at {fastest:.1}–{slowest:.1}× its frame \
-         time here",
-        ratios[0], ratios[1], ratios[2], colours[0]
+         the walking critter, {:.2} on white fur and {:.2} on black fur, at \
+         {fastest:.1}–{slowest:.1}× its frame time here",
+        ratios[0], ratios[1], ratios[2], colours[0], colours[2]
     );
     let short = format!(
-        "on blond ({:.2}) and black fur ({:.2}) it is short of half, so Kajiya–Kay stays the default",
-        colours[1], colours[2]
+        "on blond fur ({:.2}) it is short of half, so Kajiya–Kay stays the default",
+        colours[1]
     );
     for sentence in [&near, &short] {
         assert!(
@@ -412,11 +412,11 @@ fn the_ratios_the_readme_draws_from_the_truth_are_the_runs() {
             "the README does not say, from the run: \"{sentence}\""
         );
     }
-    // The verdict: the first four within half, the last two not.
+    // The verdict: all within half but blond.
     let within: Vec<bool> = ratios.iter().chain(&colours).map(|r| *r <= 0.5).collect();
     assert_eq!(
         within,
-        [true, true, true, true, false, false],
+        [true, true, true, true, false, true],
         "{ratios:?} {colours:?}"
     );
 }

@@ -4,6 +4,7 @@
 use std::fmt::Write as _;
 use std::path::Path;
 
+use super::noise::capitalised;
 use super::{cached_trace, delta_cell, differences, export, noise_sentence, seed_spread};
 use crate::bench::Bench;
 use crate::error::Result;
@@ -111,13 +112,4 @@ impl Bench<'_> {
         );
         Ok(())
     }
-}
-
-/// `word` with its first letter in capitals.
-fn capitalised(word: &str) -> String {
-    let mut chars = word.chars();
-    chars
-        .next()
-        .map(|c| c.to_uppercase().chain(chars).collect())
-        .unwrap_or_default()
 }

@@ -323,7 +323,7 @@ impl Bench<'_> {
              frame ms | ꟻLIP | Δ ꟻLIP (noise) | RMSE |\n| --- | --- | --- | --- | --- |",
             noise.0,
             noise.1,
-            noise_sentence(&pairs, &names, "the scene's drawing")
+            noise::capitalised(&noise_sentence(&pairs, &names, "the scene's drawing"))
         );
         self.row(
             "truth",

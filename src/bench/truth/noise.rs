@@ -77,8 +77,8 @@ pub(super) fn delta_cell(delta: Option<(f64, f64)>) -> String {
     }
 }
 
-/// The sentence under a table of drawings named `names` with figures `pairs`: each
-/// figure's uncertainty, then how many of the table's differences (from its first
+/// The sentence (starting in lower case) on a table of drawings named `names` with
+/// figures `pairs`: each figure's uncertainty, then how many of the table's differences (from its first
 /// drawing, `base`) and of all its pairs of drawings are told apart, naming the pairs
 /// that are not.
 pub(super) fn noise_sentence(pairs: &Figures, names: &[String], base: &str) -> String {
@@ -87,11 +87,11 @@ pub(super) fn noise_sentence(pairs: &Figures, names: &[String], base: &str) -> S
     let pair_count = pairs.len() * pairs.len().saturating_sub(1) / 2;
     let apart = unresolved_pairs(pairs);
     let mut sentence = format!(
-        "Against a second reference (another seed) every ꟻLIP below moves by at most \
-         {spread:.4}, but a difference between two drawings far less, the noise being \
-         common to both: each drawing's difference from {base} (Δ) moves by at most \
-         {worst:.4}, the noise in brackets, and {told} of the {all} are ten times their \
-         noise or more; of all {pair_count} pairs of drawings, {} are.",
+        "every ꟻLIP moves by at most {spread:.4} against a second reference (another \
+         seed), a difference between two drawings far less, the noise being common to \
+         both: each drawing's difference from {base} (Δ) moves by at most {worst:.4}, \
+         the noise in brackets, and {told} of the {all} are ten times their noise or \
+         more; of all {pair_count} pairs of drawings, {} are.",
         pair_count - apart.len()
     );
     if !apart.is_empty() {
@@ -109,6 +109,15 @@ pub(super) fn noise_sentence(pairs: &Figures, names: &[String], base: &str) -> S
         sentence.push_str(&format!(" Not told apart: {}.", listed.join("; ")));
     }
     sentence
+}
+
+/// `word` with its first letter in capitals.
+pub(super) fn capitalised(word: &str) -> String {
+    let mut chars = word.chars();
+    chars
+        .next()
+        .map(|c| c.to_uppercase().chain(chars).collect())
+        .unwrap_or_default()
 }
 
 #[cfg(test)]

@@ -56,8 +56,9 @@ layout(set = SET_FRAME, binding = B_FRAME_UNIFORMS, std140) uniform Frame {
     vec4 fibre;          // longitudinal roughness, azimuthal roughness, cuticle tilt (radians), index of refraction
     vec4 fibre_terms;    // −1/(2 sd²) and 1/(√(2π) sd) of the R lobe, F0, 1/d(β_n) (render::marschner::shader_terms)
     // The dual-scattering table (render::dual_scattering::table): node (angle i,
-    // colour j) at 2 (i · DS_COLOUR_NODES + j): [a_f, β_f², Ā_b, Δ_b], [σ_b², a_b, α, β²].
-    vec4 fibre_table[2 * DS_ANGLE_NODES * DS_COLOUR_NODES];
+    // colour j) at DS_NODE_VEC4S (i · DS_COLOUR_NODES + j): [a_f, β_f², Ā_b, Δ_b],
+    // [σ_b², a_b, α, β²].
+    vec4 fibre_table[DS_NODE_VEC4S * DS_ANGLE_NODES * DS_COLOUR_NODES];
 } frame;
 
 // The flags of strands.w (FLAG_CULL, FLAG_THICKNESS_COMPENSATION, FLAG_COUNT,

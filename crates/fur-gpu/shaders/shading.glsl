@@ -132,12 +132,13 @@ void fibre_node(float u, float w, out vec4 first, out vec4 second) {
     int j = min(int(y), DS_COLOUR_NODES - 2);
     float fx = x - float(i);
     float fy = y - float(j);
-    int a = 2 * (i * DS_COLOUR_NODES + j);
-    int b = a + 2 * DS_COLOUR_NODES;
-    first = mix(mix(frame.fibre_table[a], frame.fibre_table[a + 2], fy),
-                mix(frame.fibre_table[b], frame.fibre_table[b + 2], fy), fx);
-    second = mix(mix(frame.fibre_table[a + 1], frame.fibre_table[a + 3], fy),
-                 mix(frame.fibre_table[b + 1], frame.fibre_table[b + 3], fy), fx);
+    const int N = DS_NODE_VEC4S;
+    int a = N * (i * DS_COLOUR_NODES + j);
+    int b = a + N * DS_COLOUR_NODES;
+    first = mix(mix(frame.fibre_table[a], frame.fibre_table[a + N], fy),
+                mix(frame.fibre_table[b], frame.fibre_table[b + N], fy), fx);
+    second = mix(mix(frame.fibre_table[a + 1], frame.fibre_table[a + N + 1], fy),
+                 mix(frame.fibre_table[b + 1], frame.fibre_table[b + N + 1], fy), fx);
 }
 
 // The fibre's averages for light at |sin θ| = u, colour by colour of the colour whose
@@ -239,9 +240,9 @@ vec3 marschner_terms(vec3 t, vec3 world, vec3 base, vec3 ln_c, float layers) {
     FibreAverages f = fibre_averages(abs(sin_i), ln_c);
     float direct;
     vec3 through = light_through_layers(layers, f.a_f, direct);
-    vec3 back = f.a_back * gaussian(vec3(sum) - f.shift_b, f.sigma_b2) * (1.0 / PI);
     vec3 radiance = direct * single;
     if ((flags & FLAG_NO_MULTIPLE) == 0u) {
+        vec3 back = f.a_back * gaussian(vec3(sum) - f.shift_b, f.sigma_b2) * (1.0 / PI);
         vec3 scattered = max(through - vec3(direct), 0.0);
         vec3 spread = frame.shadow.x * layers * f.beta_f2;
         vec3 global = (f.a_f + f.a_b) * gaussian(vec3(sum) - f.alpha, f.beta2 + spread) * (0.5 / PI);

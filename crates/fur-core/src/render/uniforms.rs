@@ -272,6 +272,10 @@ pub fn shader_defines() -> Vec<(&'static str, String)> {
             super::dual_scattering::COLOUR_NODES.to_string(),
         ),
         (
+            "DS_NODE_VEC4S",
+            super::dual_scattering::NODE_VEC4S.to_string(),
+        ),
+        (
             "DS_DENSITY_FORWARD",
             format!("{:?}", super::dual_scattering::DENSITY_FORWARD),
         ),

@@ -73,15 +73,13 @@ pub struct Averages {
 pub fn averages(fibre: &hair_oracle::Fibre, sin_theta: f64) -> [Averages; 3] {
     let v = variances(fibre.beta_m);
     let s = azimuthal_scale(fibre.beta_n);
-    let cos_theta = (1.0 - sin_theta * sin_theta).max(0.0).sqrt();
-    let wo = [sin_theta, cos_theta, 0.0];
     let theta = sin_theta.asin();
     // Per lobe: the forward and backward energy (RGB), over the width and azimuth.
     let mut forward = [[0.0f64; 3]; P_MAX + 1];
     let mut backward = [[0.0f64; 3]; P_MAX + 1];
     for k in 0..WIDTH_STEPS {
         let h = -1.0 + (2.0 * k as f64 + 1.0) / WIDTH_STEPS as f64;
-        let crossing = Crossing::new(wo, h, fibre);
+        let crossing = Crossing::new(sin_theta, h, fibre);
         for p in 0..=P_MAX {
             let mut ahead = 0.0;
             for j in 0..AZIMUTH_STEPS {
@@ -102,7 +100,7 @@ pub fn averages(fibre: &hair_oracle::Fibre, sin_theta: f64) -> [Averages; 3] {
     // Per lobe: the longitudinal term's mass and the mean and second moment of θ + θ'
     // (over z = sin θ', uniform in solid angle). The term depends on θ only (through
     // the tilted angles), so one crossing at h = 0 gives it.
-    let crossing = Crossing::new(wo, 0.0, fibre);
+    let crossing = Crossing::new(sin_theta, 0.0, fibre);
     let mut moments = [[0.0f64; 3]; P_MAX + 1];
     for (p, m) in moments.iter_mut().enumerate() {
         for i in 0..ANGLE_STEPS {

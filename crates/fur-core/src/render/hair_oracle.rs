@@ -118,8 +118,9 @@ pub fn azimuthal_scale(beta_n: f64) -> f64 {
     (PI / 8.0).sqrt() * (0.265 * beta_n + 1.194 * beta_n * beta_n + 5.372 * beta_n.powi(22))
 }
 
-/// What light leaving (or, the model being reciprocal, arriving) along `wo` meets at
-/// offset `h` across the fibre: each lobe's attenuation A_p (RGB), the tilted angles
+/// What light leaving (or, the model being reciprocal, arriving) at longitudinal sine
+/// `sin_o` meets at offset `h` across the fibre (its azimuth does not matter: the
+/// model depends on the azimuths' difference only): each lobe's attenuation A_p (RGB), the tilted angles
 /// its longitudinal term is evaluated at, and the angles its azimuthal term deflects by.
 pub struct Crossing {
     /// A_p for R, TT, TRT and the higher orders summed.
@@ -132,7 +133,7 @@ pub struct Crossing {
 }
 
 impl Crossing {
-    pub fn new(wo: [f64; 3], h: f64, fibre: &Fibre) -> Self {
+    pub fn new(sin_o: f64, h: f64, fibre: &Fibre) -> Self {
         let Fibre {
             sigma_a,
             alpha,
@@ -146,7 +147,6 @@ impl Crossing {
             sin_2k[k] = 2.0 * cos_2k[k - 1] * sin_2k[k - 1];
             cos_2k[k] = cos_2k[k - 1].powi(2) - sin_2k[k - 1].powi(2);
         }
-        let sin_o = wo[0];
         let cos_o = (1.0 - sin_o * sin_o).max(0.0).sqrt();
         let sin_t = sin_o / eta;
         let cos_t = (1.0 - sin_t * sin_t).max(0.0).sqrt();
@@ -213,7 +213,7 @@ impl Crossing {
 pub fn lobes(wo: [f64; 3], wi: [f64; 3], h: f64, fibre: &Fibre) -> [[f64; 3]; P_MAX + 1] {
     let v = variances(fibre.beta_m);
     let s = azimuthal_scale(fibre.beta_n);
-    let crossing = Crossing::new(wo, h, fibre);
+    let crossing = Crossing::new(wo[0], h, fibre);
     let phi = wi[2].atan2(wi[1]) - wo[2].atan2(wo[1]);
     let mut out = [[0.0; 3]; P_MAX + 1];
     for (p, lobe) in out.iter_mut().enumerate() {

@@ -68,9 +68,18 @@ pub(super) fn export_frame(args: &ExportArgs) -> anyhow::Result<()> {
         .capture(&session.textures, &session.settings)
         .context("capturing the hairs the frame draws")?;
     let posed = session.posed_body()?;
+    // The texture the frame is drawn with, for the body's colours.
+    let texture = session
+        .mesh
+        .texture
+        .as_ref()
+        .map(|t| t.load())
+        .transpose()
+        .context("loading the model's texture")?;
     let frame = fur::export::FrameExport::new(
         hairs,
         &session.mesh,
+        texture.as_ref(),
         posed,
         &session.settings,
         (width, height),

@@ -476,17 +476,17 @@ const NOT_MEASURED: [(&str, &str, &str); 14] = [
     (
         "docs/ground-truth.md",
         "96",
-        "the calibration test's width (tests/truth.rs)",
+        "the calibration test's width (tests/truth/)",
     ),
     (
         "docs/ground-truth.md",
         "54",
-        "the calibration test's height (tests/truth.rs)",
+        "the calibration test's height (tests/truth/)",
     ),
     (
         "docs/ground-truth.md",
         "0.03",
-        "the calibration strands' width (tests/truth.rs)",
+        "the calibration strands' width (tests/truth/)",
     ),
 ];
 

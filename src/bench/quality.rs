@@ -157,6 +157,11 @@ impl Shot {
         })
     }
 
+    /// The scene's colour texture, if it has one.
+    pub fn texture(&self) -> Option<&Texture> {
+        self.texture.as_ref()
+    }
+
     /// The scene's own look with `style`.
     pub fn look(&self, style: &FurStyle) -> Look {
         Look {

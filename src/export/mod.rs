@@ -21,8 +21,9 @@ use glam::{Mat4, Vec3};
 
 use crate::error::{size_text, Error, Result};
 pub use crate::render::Fibre;
+use crate::render::Lighting;
 use crate::render::{CapturedHairs, FrameSettings};
-use crate::scene::Mesh;
+use crate::scene::{Mesh, Texture};
 
 pub use usda::write_usda;
 
@@ -62,8 +63,10 @@ pub struct BodyExport {
     pub positions: Vec<Vec3>,
     pub normals: Vec<Vec3>,
     pub indices: Vec<u32>,
-    /// Lambertian albedo: Kd · the skin colour (linear).
-    pub albedo: Vec3,
+    /// Lambertian albedo, Kd · the skin colour (linear): one colour for the whole body,
+    /// or, where a texture colours the skin, one per triangle (the texture at the
+    /// triangle's centre, darkened as the mesh pass darkens it).
+    pub albedo: Vec<Vec3>,
 }
 
 /// Everything one exported frame holds.
@@ -80,10 +83,12 @@ pub struct FrameExport {
 impl FrameExport {
     /// The frame `settings` draws at `width` × `height`: its captured `hairs` and the
     /// `mesh` with `posed` model-space positions and normals (a skinned body's pose;
-    /// the rest pose when None), placed by the settings' head transform.
+    /// the rest pose when None), placed by the settings' head transform, coloured by
+    /// `texture` where the frame draws one.
     pub fn new(
         hairs: CapturedHairs,
         mesh: &Mesh,
+        texture: Option<&Texture>,
         posed: Option<(Vec<Vec3>, Vec<Vec3>)>,
         settings: &FrameSettings,
         (width, height): (u32, u32),
@@ -104,7 +109,7 @@ impl FrameExport {
                     .map(|&n| head.transform_vector3(n).normalize_or_zero())
                     .collect(),
                 indices: mesh.indices.clone(),
-                albedo: lighting.kd * lighting.skin_color,
+                albedo: body_albedo(mesh, texture, lighting),
             }
         });
         let view = camera.view();
@@ -162,5 +167,22 @@ impl FrameExport {
             )));
         }
         Ok(())
+    }
+}
+
+/// The body's Lambertian albedo as the mesh pass draws it: Kd · the skin colour, or with
+/// a texture (and the mesh's UVs) per triangle the texture at the triangle's centre in
+/// UV, darkened as the skin colour is to the tip colour (`mesh.frag`).
+fn body_albedo(mesh: &Mesh, texture: Option<&Texture>, lighting: &Lighting) -> Vec<Vec3> {
+    let skin = lighting.skin_color;
+    match texture {
+        Some(t) if mesh.uvs.len() == mesh.indices.len() => {
+            let darken = (skin / lighting.tip_color.max(Vec3::splat(1e-4))).min(Vec3::ONE);
+            mesh.uvs
+                .chunks_exact(3)
+                .map(|uv| lighting.kd * t.sample((uv[0] + uv[1] + uv[2]) / 3.0) * darken)
+                .collect()
+        }
+        _ => vec![lighting.kd * skin],
     }
 }

@@ -136,13 +136,19 @@ fn body_mesh(out: &mut String, b: &BodyExport) {
     join(out, b.positions.iter(), |out, p| out.push_str(&vec3(*p)));
     out.push_str("]\n        normal3f[] normals = [");
     join(out, b.normals.iter(), |out, n| out.push_str(&vec3(*n)));
+    out.push_str("] (\n            interpolation = \"vertex\"\n        )\n        color3f[] primvars:displayColor = [");
+    join(out, b.albedo.iter(), |out, c| out.push_str(&vec3(*c)));
+    // One colour for the body, or one per triangle (a texture's).
+    let interpolation = if b.albedo.len() == 1 {
+        "constant"
+    } else {
+        "uniform"
+    };
     let _ = writeln!(
         out,
-        "] (\n            interpolation = \"vertex\"\n        )\n        \
-         color3f[] primvars:displayColor = [{}] (\n            interpolation = \"constant\"\n        )\n        \
+        "] (\n            interpolation = \"{interpolation}\"\n        )\n        \
          uniform token orientation = \"rightHanded\"\n        \
-         uniform token subdivisionScheme = \"none\"\n    }}",
-        vec3(b.albedo)
+         uniform token subdivisionScheme = \"none\"\n    }}"
     );
 }
 

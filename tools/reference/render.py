@@ -82,7 +82,8 @@ def read_frame(path):
             "points": np.array(mesh.GetPointsAttr().Get(), dtype=np.float32),
             "normals": np.array(mesh.GetNormalsAttr().Get(), dtype=np.float32),
             "indices": np.array(mesh.GetFaceVertexIndicesAttr().Get(), dtype=np.uint32),
-            "albedo": list(mesh.GetDisplayColorAttr().Get()[0]),
+            # One colour, or one per triangle (`uniform`: a texture's).
+            "albedo": np.array(mesh.GetDisplayColorAttr().Get(), dtype=np.float32).reshape(-1, 3),
         }
     hair = stage.GetPrimAtPath("/World/Hair")
     curves = UsdGeom.BasisCurves(hair)
@@ -193,11 +194,18 @@ def build_scene(frame, args, directory):
         params["vertex_normals"] = body["normals"].ravel()
         params["faces"] = body["indices"]
         params.update()
-        mesh.set_bsdf(
-            mi.load_dict(
-                {"type": "diffuse", "reflectance": {"type": "rgb", "value": body["albedo"]}}
+        albedo = body["albedo"]
+        if len(albedo) == 1:
+            reflectance = {"type": "rgb", "value": albedo[0].tolist()}
+        elif len(albedo) == len(body["indices"]) // 3:
+            mesh.add_attribute("face_albedo", 3, albedo.ravel())
+            reflectance = {"type": "mesh_attribute", "name": "face_albedo"}
+        else:
+            fail(
+                f"{args.frame}: the body has {len(albedo)} colours for "
+                f"{len(body['indices']) // 3} triangles (expected 1 or one each)"
             )
-        )
+        mesh.set_bsdf(mi.load_dict({"type": "diffuse", "reflectance": reflectance}))
         scene["body"] = mesh
     hair = frame["hair"]
     if len(hair["counts"]) and not args.no_hair:

@@ -1,5 +1,6 @@
-//! The truth section's light and dark fur: the first scene in three fur presets, each
-//! lighting model with and without shadows, against each preset's own reference.
+//! The truth section's light and dark fur, and texture: the first scene in three fur
+//! presets and with the built-in tabby texture, each lighting model with and without
+//! shadows, against each variant's own reference.
 
 use std::fmt::Write as _;
 use std::path::Path;
@@ -11,12 +12,14 @@ use crate::error::Result;
 use crate::export::compare::{errors, to_srgb8};
 use crate::export::reference::Reference;
 use crate::render::{flip, FurPreset, LightingModel};
+use crate::scene::TextureSpec;
 
 use crate::bench::quality::Shot;
 
 impl Bench<'_> {
-    /// Light and dark fur (the first scene in the fur presets `white`, `blond` and
-    /// `black`): each lighting model, alone and with shadows, against its reference.
+    /// Light and dark fur and texture (the first scene in the fur presets `white`,
+    /// `blond` and `black`, and with `--texture tabby`): each lighting model, alone and
+    /// with shadows, against its reference.
     pub(super) fn truth_colours(
         &mut self,
         reference: &Reference,
@@ -29,8 +32,10 @@ impl Bench<'_> {
         };
         let _ = writeln!(
             self.md,
-            "### Light and dark fur ({})\n\nThe {} scene in three fur presets (colours as \
-             melanin, docs/design.md), each against its own reference; Δ: the drawing's \
+            "### Light and dark fur, and texture ({})\n\nThe {} scene in three fur presets \
+             (colours as melanin, docs/design.md) and with the built-in texture \
+             (`--texture tabby`: the fur and skin coloured through the model's UVs), each \
+             against its own reference; Δ: the drawing's \
              ꟻLIP minus Kajiya–Kay's, with its own noise (how much the second reference \
              moves it; ≈ where it is not ten times that; below the table).\n\n| fur | drawing | frame ms \
              | ꟻLIP | Δ ꟻLIP (noise) | RMSE |\n| --- | --- | --- | --- | --- | --- |",
@@ -38,12 +43,19 @@ impl Bench<'_> {
         );
         let mut noises = Vec::new();
         let mut sentences = Vec::new();
-        for preset in [FurPreset::White, FurPreset::Blond, FurPreset::Black] {
+        let presets = [FurPreset::White, FurPreset::Blond, FurPreset::Black]
+            .map(|p| (p.name(), Some(p)))
+            .into_iter()
+            .chain([("tabby", None)]);
+        for (variant, preset) in presets {
             let mut scene = base.scene.clone();
-            scene.options.lighting.preset = preset;
+            match preset {
+                Some(p) => scene.options.lighting.preset = p,
+                None => scene.options.texture = Some(TextureSpec::Tabby),
+            }
             let shot = Shot::new(self.device, &scene, extent)?;
             let own = shot.look(&shot.settings.style);
-            let name = format!("{}-{}", base.name, preset.name());
+            let name = format!("{}-{variant}", base.name);
             let (_, usda, text) = export(&shot, &own, &dir.join(format!("{name}.usda")))?;
             let truth = cached_trace(reference, &usda, &text, spp, 0, None)?;
             let second = cached_trace(reference, &usda, &text, spp, 1, None)?;
@@ -86,14 +98,14 @@ impl Bench<'_> {
             let names: Vec<String> = drawings.iter().map(|d| d.0.clone()).collect();
             sentences.push(format!(
                 "{} fur: {}",
-                capitalised(preset.name()),
+                capitalised(variant),
                 noise_sentence(&pairs, &names, "Kajiya–Kay's")
             ));
             for ((what, ms, f, e, _), delta) in drawings.into_iter().zip(deltas) {
                 let _ = writeln!(
                     self.md,
                     "| {} | {what} | {ms:.1} | {f:.4} | {} | {e:.4} |",
-                    preset.name(),
+                    variant,
                     delta_cell(delta)
                 );
                 let case = format!("{name}: {what}");
@@ -102,7 +114,7 @@ impl Bench<'_> {
                 self.row("truth", case, "rmse", e, "linear");
             }
             self.row("truth", name, "noise_flip", noise, "0..1");
-            noises.push(format!("{} {noise:.4}", preset.name()));
+            noises.push(format!("{} {noise:.4}", variant));
         }
         let _ = writeln!(
             self.md,

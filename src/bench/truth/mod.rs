@@ -44,8 +44,8 @@ use noise::{delta_cell, differences, noise_sentence, resolved, seed_spread, unre
 /// The looks switched one at a time, each against the scene's own drawing.
 const LOOKS: usize = 5;
 
-/// The fur presets the section draws the first scene in.
-const COLOURS: u64 = 3;
+/// The variants the section draws the first scene in: three fur presets and the texture.
+const COLOURS: u64 = 4;
 
 /// Frames of the critter's walk before its shot (in the quick suite: a few).
 const WALK_FRAMES: u32 = 45;
@@ -424,6 +424,7 @@ fn export(shot: &Shot, look: &Look, usda: &Path) -> Result<(RgbaImage, PathBuf, 
     let frame = FrameExport::new(
         hairs,
         &shot.mesh,
+        shot.texture(),
         None,
         &settings,
         (extent.width, extent.height),

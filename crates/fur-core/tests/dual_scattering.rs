@@ -25,8 +25,8 @@ fn oracle(sigma_a: [f64; 3]) -> hair_oracle::Fibre {
 /// The averages by brute force: the oracle's whole BSDF (`lobes_over_width`, every lobe
 /// over the fibre's width) integrated over the sphere of scattered directions, split
 /// by azimuth into forward (|φ| > 90°) and backward, with the mean and variance of
-/// θ + θ' over each.
-fn integrated(fibre: &hair_oracle::Fibre, sin_theta: f64) -> [[f64; 6]; 3] {
+/// θ + θ' over each and over both.
+fn integrated(fibre: &hair_oracle::Fibre, sin_theta: f64) -> [[f64; 8]; 3] {
     let (nz, nphi) = (96, 96);
     let light = [sin_theta, (1.0 - sin_theta * sin_theta).sqrt(), 0.0];
     let theta = sin_theta.asin();
@@ -57,15 +57,17 @@ fn integrated(fibre: &hair_oracle::Fibre, sin_theta: f64) -> [[f64; 6]; 3] {
         };
         let (af, alf, bf) = moments(s[0]);
         let (ab, alb, bb) = moments(s[1]);
-        [af, ab, alf, alb, bf, bb]
+        let (_, al, b) = moments([0, 1, 2].map(|k| s[0][k] + s[1][k]));
+        [af, ab, alf, alb, bf, bb, al, b]
     })
 }
 
 /// The table's averages are the oracle's, integrated plainly over the sphere: the
 /// fractions scattered forward and backward within 2 % of the light, their mean shifts
-/// within a degree and their spreads within 10 %, for light square to the fibre and at
-/// 50°, white, blond-like and nearly black (seen failing with the forward and backward
-/// halves swapped and with the longitudinal moments taken about θ' alone).
+/// within a degree and their spreads within 10 % (each half's and both's), for light
+/// square to the fibre and at 50°, white, blond-like and nearly black (seen failing
+/// with the forward and backward halves swapped and with the longitudinal moments taken
+/// about θ' alone).
 #[test]
 fn the_averages_are_the_oracles_integrated_over_the_sphere() {
     let fibre = oracle([0.0, 0.3, 3.0]);
@@ -73,10 +75,10 @@ fn the_averages_are_the_oracles_integrated_over_the_sphere() {
         let fast = averages(&fibre, sin_theta);
         let slow = integrated(&fibre, sin_theta);
         for ch in 0..3 {
-            let (a, [af, ab, alf, alb, bf, bb]) = (fast[ch], slow[ch]);
+            let (a, [af, ab, alf, alb, bf, bb, al, b]) = (fast[ch], slow[ch]);
             println!(
-                "sin θ {sin_theta:.2}, channel {ch}: a_f {:.4}/{af:.4} a_b {:.4}/{ab:.4} α_f {:.4}/{alf:.4} α_b {:.4}/{alb:.4} β_f² {:.4}/{bf:.4} β_b² {:.4}/{bb:.4}",
-                a.a_f, a.a_b, a.alpha_f, a.alpha_b, a.beta_f2, a.beta_b2
+                "sin θ {sin_theta:.2}, channel {ch}: a_f {:.4}/{af:.4} a_b {:.4}/{ab:.4} α_f {:.4}/{alf:.4} α_b {:.4}/{alb:.4} β_f² {:.4}/{bf:.4} β_b² {:.4}/{bb:.4} α {:.4}/{al:.4} β² {:.4}/{b:.4}",
+                a.a_f, a.a_b, a.alpha_f, a.alpha_b, a.beta_f2, a.beta_b2, a.alpha, a.beta2
             );
             assert!((a.a_f - af).abs() < 0.02, "a_f {} vs {af}", a.a_f);
             assert!((a.a_b - ab).abs() < 0.02, "a_b {} vs {ab}", a.a_b);
@@ -92,6 +94,12 @@ fn the_averages_are_the_oracles_integrated_over_the_sphere() {
                 "β_b² {} vs {bb}",
                 a.beta_b2
             );
+            assert!(
+                (a.alpha - al).abs() < 1f64.to_radians(),
+                "α {} vs {al}",
+                a.alpha
+            );
+            assert!((a.beta2 / b - 1.0).abs() < 0.1, "β² {} vs {b}", a.beta2);
         }
     }
 }
@@ -159,8 +167,15 @@ fn the_table_reads_back_its_nodes() {
         let s = fur_core::render::marschner::sigma_a_from_color(Vec3::splat(c), 0.3).x;
         oracle([f64::from(s); 3])
     };
+    let last = |n: usize| (n - 1) as f32;
     for (i, j) in [(0, 0), (3, 5), (7, 15), (5, 9)] {
-        let (u, c) = (node_angle(i), node_colour(j));
+        // The nodes' places, worked out here: |sin θ| evenly from 0 to 1, ln c evenly
+        // from 0 to ln 10⁻⁴.
+        let (u, c) = (
+            i as f32 / last(ds::ANGLE_NODES),
+            (1e-4f32.ln() * j as f32 / last(COLOUR_NODES)).exp(),
+        );
+        assert!((node_angle(i) - u).abs() < 1e-6 && (node_colour(j) / c - 1.0).abs() < 1e-5);
         assert!((colour_coordinate(c) * (COLOUR_NODES - 1) as f32 - j as f32).abs() < 1e-4);
         let [first, second] = lookup(&table, u, colour_coordinate(c));
         let a = averages(&o(c), f64::from(u).min(0.999))[0];
@@ -178,12 +193,25 @@ fn the_table_reads_back_its_nodes() {
             );
         }
     }
-    // Half way between two angle nodes at a colour node: the mean of the two.
-    let j = 4;
-    let w = colour_coordinate(node_colour(j));
-    let mid = lookup(&table, 0.5 * (node_angle(2) + node_angle(3)), w)[0];
-    let at = |i: usize| table[NODE_VEC4S * (i * COLOUR_NODES + j)];
-    assert!((mid - 0.5 * (at(2) + at(3))).abs().max_element() < 1e-5);
+    // Between nodes, both vec4s are the bilinear mix of the four nodes around: here 0.3
+    // of the way from angle node 2 to 3 and 0.6 from colour node 4 to 5.
+    let at = |i: usize, j: usize, k: usize| table[NODE_VEC4S * (i * COLOUR_NODES + j) + k];
+    let (u, w) = (
+        (2.0 + 0.3) / last(ds::ANGLE_NODES),
+        (4.0 + 0.6) / last(COLOUR_NODES),
+    );
+    let got = lookup(&table, u, w);
+    for (k, g) in got.iter().enumerate() {
+        let near = at(2, 4, k).lerp(at(2, 5, k), 0.6);
+        let far = at(3, 4, k).lerp(at(3, 5, k), 0.6);
+        let want = near.lerp(far, 0.3);
+        assert!(
+            (*g - want).abs().max_element() < 1e-5,
+            "vec4 {k}: {g} vs {want}"
+        );
+        // The four nodes differ, so a wrong corner shows.
+        assert!((at(2, 4, k) - at(3, 5, k)).abs().max_element() > 1e-3);
+    }
     // The RGB reading takes each channel from its own colour.
     let c = Vec3::new(node_colour(2), node_colour(6), node_colour(11));
     let f = fibre_averages(&table, 0.0, Vec3::from_array(c.to_array().map(f32::ln)));
@@ -192,4 +220,20 @@ fn the_table_reads_back_its_nodes() {
     }
     // The density factors are Zinke et al.'s.
     assert_eq!((ds::DENSITY_FORWARD, ds::DENSITY_BACKWARD), (0.7, 0.7));
+}
+
+/// The cache hands back one table per fibre: the same one again for the same fibre,
+/// another for another.
+#[test]
+fn the_cache_keeps_a_table_per_fibre() {
+    let a = Fibre::default();
+    let b = Fibre {
+        longitudinal_roughness: 0.45,
+        ..a
+    };
+    let (first, again, other) = (cached_table(&a), cached_table(&a), cached_table(&b));
+    assert!(std::sync::Arc::ptr_eq(&first, &again));
+    assert!(!std::sync::Arc::ptr_eq(&first, &other));
+    assert!(first.iter().zip(other.iter()).any(|(x, y)| x != y));
+    assert_eq!(*cached_table(&b), *other);
 }

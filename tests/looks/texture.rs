@@ -232,3 +232,56 @@ fn the_texture_colours_the_fur_of_a_finely_divided_sphere() {
     texture_halves_check(&device, &sphere, true, false, &[]).unwrap();
     common::assert_clean(&device);
 }
+
+/// A texture reaches every stage view and both lighting models, lit per vertex and per
+/// fragment, with and without shadows, through stage interfaces that match: a colour
+/// one stage writes and the next never reads is a message of the validation layer (the
+/// textured density view and the Marschner model lit per vertex once had one each).
+#[test]
+fn every_view_of_textured_fur_passes_validation() {
+    use fur::render::{LightingModel, Shading, Stage};
+    let device = common::device();
+    let sphere = Mesh::uv_sphere(1.0, 6, 12);
+    let groom = texture_groom();
+    let strands = fur::scene::Strands::grow(&sphere, &groom).unwrap();
+    let textures =
+        fur::strand_textures::StrandTextures::new(&device, &strands, glam::Mat4::IDENTITY).unwrap();
+    let texture = fur::scene::Texture::from_rgba(2, 2, vec![200; 16]).unwrap();
+    let extent = ash::vk::Extent2D {
+        width: 32,
+        height: 32,
+    };
+    let mut renderer =
+        fur::render::Renderer::textured(&device, &sphere, Some(&texture), &textures, extent, 1, 1)
+            .unwrap();
+    let mut drawn = 0;
+    for show in Stage::ALL {
+        for model in [LightingModel::KajiyaKay, LightingModel::Marschner] {
+            for shading in [Shading::Vertex, Shading::Fragment] {
+                for shadows in [false, true] {
+                    let mut settings = FrameSettings {
+                        show,
+                        ..Default::default()
+                    };
+                    settings.camera.distance = 4.0;
+                    settings.style.shading = shading;
+                    settings.lighting.model = model;
+                    settings.lighting.shadows.enabled = shadows;
+                    let (image, _) = renderer.render(&textures, &settings).unwrap();
+                    drawn += common::covered(&image).iter().filter(|&&c| c).count();
+                    let messages = device.instance().validation_messages();
+                    assert!(
+                        messages.is_empty(),
+                        "{} with {model:?} per {shading:?}, shadows {shadows}: {}",
+                        show.name(),
+                        messages.join("\n")
+                    );
+                }
+            }
+        }
+    }
+    assert!(drawn > 0, "nothing was drawn");
+    drop(renderer);
+    drop(textures);
+    common::assert_clean(&device);
+}

@@ -24,7 +24,7 @@ layout(location = 5) in vec2 g_coat;
 #endif
 #endif
 layout(location = 2) in float g_coverage;
-#if TEXTURED
+#if TEXEL_TO_FRAGMENT
 layout(location = 3) in vec3 g_texel;
 #endif
 #if COVERAGE_SAMPLES > 1
@@ -33,7 +33,7 @@ layout(location = 4) flat in uint g_seed;
 layout(location = 0) out vec4 out_color;
 
 void main() {
-#if TEXTURED
+#if TEXEL_TO_FRAGMENT
     vec3 texel = g_texel;
 #else
     vec3 texel = vec3(1.0);

@@ -57,7 +57,7 @@ layout(location = 5) out vec2 g_coat;             // hair layers towards the lig
 #endif
 #endif
 layout(location = 2) out float g_coverage;
-#if TEXTURED
+#if TEXEL_TO_FRAGMENT
 layout(location = 3) out vec3 g_texel;            // the texture at the root (linear)
 #endif
 #if COVERAGE_SAMPLES > 1
@@ -192,7 +192,7 @@ void write_outputs(uint k, vec3 t) {
 #endif
 #endif
     g_coverage = C[k];
-#if TEXTURED
+#if TEXEL_TO_FRAGMENT
     g_texel = texel;
 #endif
 #if COVERAGE_SAMPLES > 1

@@ -84,6 +84,16 @@ vec3 kajiya_kay(vec3 t, vec3 world, float light) {
 #define MARSCHNER 0
 #endif
 
+// Whether the fragment stage reads the texture's colour at the hair's root from the
+// geometry stage: not in the stage views, and not under the Marschner model lit per
+// vertex (the geometry stage colours those itself). An output that no stage reads is
+// one the validation layer reports.
+#if TEXTURED && STAGE_VIEW == 0 && !(MARSCHNER && VERTEX_SHADING)
+#define TEXEL_TO_FRAGMENT 1
+#else
+#define TEXEL_TO_FRAGMENT 0
+#endif
+
 #if MARSCHNER
 // The Marschner-family fibre model (MARSCHNER = 1; crates/fur-core/src/render/marschner.rs is its CPU
 // twin and says where each term comes from): R, TT and TRT lobes with Gaussian

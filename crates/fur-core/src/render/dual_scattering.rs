@@ -5,7 +5,8 @@
 //! sphere. Those averages are taken here from the oracle of the fibre model
 //! ([`super::hair_oracle`], the path tracer's model), per longitudinal angle and hair
 //! colour, into the table the shaders read (`frame.fibre_table` of
-//! `shaders/common.glsl`); [`multiple`] is the CPU twin of the shader's use of it.
+//! `shaders/common.glsl`); [`fibre_averages`] is the CPU twin of the shader's read of it,
+//! and [`super::marschner`] of its use.
 //!
 //! For light arriving at longitudinal angle θ (its angle to the fibre's normal plane),
 //! the fibre sends a fraction a_f(θ) forward (azimuths more than 90° from the light's

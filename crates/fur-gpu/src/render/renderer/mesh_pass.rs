@@ -154,6 +154,9 @@ impl MeshPass {
         look: MeshLook,
     ) -> Result<Pipeline> {
         let flag = |on: bool| u32::from(on).to_string();
+        // The hatched body of the density view has no colour: it reads no texture (a
+        // UV the fragment stage never reads is an output the validation layer reports).
+        let textured = textured && look != MeshLook::Hatched;
         let stage = if look == MeshLook::Hatched {
             Stage::Density
         } else {

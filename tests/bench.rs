@@ -99,6 +99,12 @@ fn quick_bench_writes_every_expected_measurement() {
                 "{scene}: dropping multiple scattering left ꟻLIP at {without} (all terms {all})"
             );
         }
+        // Each fur variant of the first scene has its terms taken apart too.
+        for variant in ["white", "blond", "black", "tabby"] {
+            for term in ["all terms", "without R", "without multiple scattering"] {
+                expect("truth", &format!("blob-{variant}: {term}"), "flip");
+            }
+        }
     }
     for scene in ["blob", "sphere"] {
         for drawing in ["default", "reference quality"] {

@@ -6,7 +6,9 @@ use std::fmt::Write as _;
 use std::path::Path;
 
 use super::noise::capitalised;
-use super::{cached_trace, delta_cell, differences, export, noise_sentence, seed_spread};
+use super::{
+    cached_trace, delta_cell, differences, export, noise_sentence, percent, seed_spread,
+};
 use crate::bench::Bench;
 use crate::error::Result;
 use crate::export::compare::{errors, to_srgb8};
@@ -43,6 +45,7 @@ impl Bench<'_> {
         );
         let mut noises = Vec::new();
         let mut sentences = Vec::new();
+        let mut term_columns = Vec::new();
         let presets = [FurPreset::White, FurPreset::Blond, FurPreset::Black]
             .map(|p| (p.name(), Some(p)))
             .into_iter()
@@ -90,6 +93,9 @@ impl Bench<'_> {
                 }
             }
             (self.progress)(&format!("{name}: drawings"));
+            let kajiya_kay = drawings[0].2;
+            let terms = self.term_errors(&name, &shot, &own, &truth)?;
+            term_columns.push((variant, kajiya_kay, terms));
             let pairs: Vec<(f64, f64)> = drawings.iter().map(|d| (d.2, d.4)).collect();
             let (spread, _) = seed_spread(&pairs);
             let deltas = differences(&pairs);
@@ -122,6 +128,53 @@ impl Bench<'_> {
             noises.join(", "),
             sentences.join("\n\n")
         );
+        self.colour_terms(&term_columns);
         Ok(())
     }
+
+    /// One table of what each Marschner term does to each fur's distance, beside the
+    /// fidelity target (half of Kajiya–Kay's ꟻLIP).
+    fn colour_terms(&mut self, columns: &[TermColumn]) {
+        let header: Vec<&str> = columns.iter().map(|c| c.0).collect();
+        let _ = writeln!(
+            self.md,
+            "What each term of the Marschner model does to each fur's distance, as in the \
+             scenes' term tables: the drawing without a shadow map, then with one term \
+             dropped (ꟻLIP, and the change as a share of the full drawing's; positive: the \
+             term brings the drawing closer to the truth); last, the fidelity target, half \
+             of Kajiya–Kay's ꟻLIP.\n\n| term dropped | {} |\n| --- |{}",
+            header.join(" | "),
+            " --- |".repeat(columns.len())
+        );
+        let Some(first) = columns.first() else {
+            return;
+        };
+        for (i, (term, _, _)) in first.2.iter().enumerate() {
+            let cells: Vec<String> = columns
+                .iter()
+                .map(|(_, _, terms)| {
+                    let (all, f) = (terms[0].1, terms[i].1);
+                    if i == 0 {
+                        format!("{f:.4}")
+                    } else {
+                        format!("{f:.4} ({})", percent(100.0 * (f - all) / all))
+                    }
+                })
+                .collect();
+            let _ = writeln!(self.md, "| {term} | {} |", cells.join(" | "));
+        }
+        let targets: Vec<String> = columns
+            .iter()
+            .map(|(_, kajiya_kay, _)| format!("{:.4}", kajiya_kay / 2.0))
+            .collect();
+        let _ = writeln!(
+            self.md,
+            "| target: half of Kajiya–Kay's | {} |\n",
+            targets.join(" | ")
+        );
+    }
 }
+
+/// A fur variant's name, Kajiya–Kay's ꟻLIP, and the Marschner drawing's errors with all
+/// its terms and each dropped ([`Bench::term_errors`]).
+type TermColumn = (&'static str, f64, Vec<(&'static str, f64, f64)>);

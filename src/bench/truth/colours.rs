@@ -6,9 +6,7 @@ use std::fmt::Write as _;
 use std::path::Path;
 
 use super::noise::capitalised;
-use super::{
-    cached_trace, delta_cell, differences, export, noise_sentence, percent, seed_spread,
-};
+use super::{cached_trace, delta_cell, differences, export, noise_sentence, percent, seed_spread};
 use crate::bench::Bench;
 use crate::error::Result;
 use crate::export::compare::{errors, to_srgb8};

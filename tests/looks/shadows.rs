@@ -202,3 +202,47 @@ fn light_through_fibres_takes_their_colour() {
     );
     common::assert_clean(&device);
 }
+
+/// Under the Marschner model without a shadow map the skin lies under the coat's
+/// estimate: L hair layers (the coat's mean height at the layer spacing), which the
+/// light crosses slanted by its angle θ to the skin and the sky straight down, each
+/// layer passing 1 − α. The skin alone (the fur not drawn) against the same under
+/// Kajiya–Kay, whose skin the coat does not shade: (ambient · (1 − α)^L + Kd · I ·
+/// cos θ · (1 − α)^(L / cos θ)) / (ambient + Kd · I · cos θ), over every skin pixel.
+#[test]
+fn the_coat_shades_the_skin_under_the_marschner_model() {
+    let device = common::device();
+    let light = Vec3::new(0.0, 1.0, 0.8).normalize();
+    let (mesh, groom, mut settings) = tuft(light, false, false);
+    settings.lighting.skin_color = Vec3::splat(0.5);
+    // Two layers over the skin: a spacing of half the coat's height.
+    let strands = fur::scene::Strands::grow(&mesh, &groom).unwrap();
+    let height = strands.coat_height();
+    settings.lighting.shadows.spacing = height / 2.0;
+    let bare = common::render(&device, &mesh, &groom, &settings, (64, 64)).0;
+    settings.lighting.model = fur::render::LightingModel::Marschner;
+    let shaded = common::render(&device, &mesh, &groom, &settings, (64, 64)).0;
+    let luma = |image: &RgbaImage| {
+        let (mut sum, mut n) = (0.0, 0);
+        for (p, covered) in image.data.chunks(4).zip(common::covered(image)) {
+            if covered {
+                sum += 0.2126 * linear(p[0]) + 0.7152 * linear(p[1]) + 0.0722 * linear(p[2]);
+                n += 1;
+            }
+        }
+        assert!(n > 500, "{n} skin pixels");
+        sum / n as f32
+    };
+    let l = &settings.lighting;
+    let (layers, pass, cos) = (2.0_f32, 1.0 - l.shadows.opacity, light.y);
+    let direct = l.kd * l.intensity * cos;
+    let expected =
+        (l.ambient * pass.powf(layers) + direct * pass.powf(layers / cos)) / (l.ambient + direct);
+    let measured = luma(&shaded) / luma(&bare);
+    eprintln!("skin under the coat / bare: {measured:.4}, expected {expected:.4}");
+    assert!(
+        (measured - expected).abs() < 0.03 * expected,
+        "the skin under the coat takes {measured} of the bare skin's light, not {expected}"
+    );
+    common::assert_clean(&device);
+}

@@ -51,7 +51,7 @@ layout(set = SET_FRAME, binding = B_FRAME_UNIFORMS, std140) uniform Frame {
     vec4 draw;           // ribbon threshold (px), vertex-LOD tolerance (px, 0 = off), texels in the texture, arrow scale
     vec4 highlight;      // cos, sin of the primary lobe's shift; cos, sin of the secondary's
     vec4 secondary;      // secondary lobe: exponent, strength; z: a bald stub's length limit (fur.tesc)
-    vec4 shadow;         // opacity per hair layer, layers per unit of map depth, depth bias, unused
+    vec4 shadow;         // opacity per hair layer, layers per unit of map depth, depth bias, hair layers over the skin (mesh.frag)
     uvec4 strands;       // vertices per strand, strands per row, fixed level (0 = adaptive), flags
     vec4 fibre;          // longitudinal roughness, azimuthal roughness, cuticle tilt (radians), index of refraction
     vec4 fibre_terms;    // −1/(2 sd²) and 1/(√(2π) sd) of the R lobe, F0, 1/d(β_n) (render::marschner::shader_terms)

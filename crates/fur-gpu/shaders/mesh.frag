@@ -27,9 +27,20 @@ void main() {
     return;
 #endif
     float lambert = max(dot(n, frame.light.xyz), 0.0) * frame.light.w * light_through_fur(v_world);
+    float sky = 1.0;
+#if !SHADOWS
+    // Under the Marschner model without a shadow map, the coat's estimate: the skin
+    // lies under frame.shadow.w hair layers (its mean height), which the light crosses
+    // slanted by its angle to the skin and the sky straight down; each passes 1 − α
+    // unscattered. 0 layers otherwise (render::skin_layers).
+    float depth = frame.shadow.w;
+    float slant = max(dot(n, frame.light.xyz), 1e-3);
+    lambert *= pow(1.0 - frame.shadow.x, min(depth / slant, MAX_LAYERS));
+    sky = pow(1.0 - frame.shadow.x, min(depth, MAX_LAYERS));
+#endif
     vec3 skin = frame.skin_color.rgb;
 #if TEXTURED
     skin = texture(albedo, v_uv).rgb * min(skin / max(frame.tip_color.rgb, vec3(1e-4)), vec3(1.0));
 #endif
-    out_color = vec4(skin * (frame.shading.w + frame.shading.x * lambert), 1.0);
+    out_color = vec4(skin * (frame.shading.w * sky + frame.shading.x * lambert), 1.0);
 }

@@ -98,6 +98,8 @@ pub struct StrandTextures {
     pub root_frames: Buffer,
     /// Length of the longest master hair (rest pose), scene units.
     pub hair_length: f32,
+    /// The coat's mean height above the skin (rest pose; [`Strands::coat_height`]).
+    pub coat_height: f32,
     /// The simulation view's arrows: per strand vertex (strand-major), the correction
     /// the chosen step made in the last substep simulated (xyz; `GpuSim::set_probe`).
     /// A placeholder until [`StrandTextures::ensure_probe`] sizes it.
@@ -149,6 +151,7 @@ impl StrandTextures {
             current: 0,
             root_frames,
             hair_length: strands.hair_length(),
+            coat_height: strands.coat_height(),
             probe: Self::probe_buffer(device, 1)?,
         };
         let rest_texels = layout.texels_from(strands.positions.iter().map(|p| p.extend(0.0)));

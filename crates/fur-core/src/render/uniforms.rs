@@ -191,6 +191,10 @@ pub struct StrandShape {
     /// groom's bald region, [`crate::scene::BALD_FRACTION`]); a triangle whose three
     /// masters are all stubs draws nothing. Scene units; 0: none is.
     pub stub_length: f32,
+    /// The coat's mean height above the skin, scene units
+    /// ([`crate::scene::Strands::coat_height`]): under the Marschner model without a
+    /// shadow map, the skin beneath is lit through that many hair layers.
+    pub coat_height: f32,
 }
 
 /// The stub length of [`StrandShape`] as a fraction of the longest master hair: twice
@@ -417,7 +421,7 @@ impl FrameUniforms {
                 l.shadows.opacity,
                 l.shadows.layers_per_unit(s.density),
                 0.0,
-                0.0,
+                skin_layers(l, s.density, strands.coat_height),
             ),
             strands: UVec4::new(
                 strands.vertices_per_strand,
@@ -438,5 +442,21 @@ impl FrameUniforms {
                 [Vec4::ZERO; super::dual_scattering::TABLE_VEC4S]
             },
         }
+    }
+}
+
+/// The hair layers over the skin that the mesh pass lights it through (`shadow.w`):
+/// under the Marschner model without a shadow map, the coat's mean height at the
+/// layer spacing (the coat's estimate, as the hairs' own, `coat_layers` of `fur.geom`);
+/// 0 otherwise (Kajiya–Kay lights the skin as the seed does; a shadow map measures the
+/// light's way through the fur itself).
+pub fn skin_layers(lighting: &super::Lighting, density: f32, coat_height: f32) -> f32 {
+    if lighting.model == super::LightingModel::Marschner
+        && !lighting.shadows.enabled
+        && lighting.lobes.coat
+    {
+        coat_height * lighting.shadows.layers_per_unit(density)
+    } else {
+        0.0
     }
 }

@@ -116,6 +116,24 @@ impl Strands {
             .fold(0.0, f32::max)
     }
 
+    /// The coat's mean height above the skin, scene units: each master's tip measured
+    /// along the way its first segment leaves the skin (its normal, as grown), never
+    /// below zero, averaged over the masters (a bald stub counts as the little it
+    /// stands). 0 for strands of a single vertex.
+    pub fn coat_height(&self) -> f32 {
+        let heights = (0..self.count()).map(|s| {
+            let x = self.strand(s);
+            match (x.first(), x.get(1), x.last()) {
+                (Some(&root), Some(&next), Some(&tip)) => {
+                    (tip - root).dot((next - root).normalize_or_zero()).max(0.0)
+                }
+                _ => 0.0,
+            }
+        });
+        let sum: f32 = heights.sum();
+        sum / self.count().max(1) as f32
+    }
+
     pub fn strand(&self, s: usize) -> &[Vec3] {
         let v = self.vertices_per_strand as usize;
         &self.positions[s * v..(s + 1) * v]

@@ -278,6 +278,7 @@ impl Renderer {
                 vertices_per_strand,
                 strands_per_row: strands.layout.strands_per_row,
                 stub_length: super::uniforms::STUB_LIMIT * strands.hair_length,
+                coat_height: strands.coat_height,
             },
             bounds: mesh.bounds(),
             hair_length: strands.hair_length,

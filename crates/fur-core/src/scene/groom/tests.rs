@@ -404,3 +404,37 @@ fn only_a_groom_in_draw_mode_is_drawn_as_it_is() {
     let draw = source(super::super::GroomMode::Draw);
     assert_eq!(with(Some(draw.clone())).drawn_source(), Some(&draw));
 }
+
+/// The coat's height: hairs standing straight up stand their full length; combed ones,
+/// which lean over, less; hand-placed strands average exactly.
+#[test]
+fn the_coat_height_is_how_far_the_tips_stand_off_the_skin() {
+    let plane = Mesh::grid(4, 4, 1.0);
+    let standing = GroomParams {
+        segments: 5,
+        segment_length: 0.1,
+        comb_strength: 0.0,
+        ..Default::default()
+    };
+    let height = Strands::grow(&plane, &standing).unwrap().coat_height();
+    assert!((height - 0.5).abs() < 1e-5, "standing hairs: {height}");
+    let combed = GroomParams {
+        comb_strength: 4.0,
+        ..standing
+    };
+    let lower = Strands::grow(&plane, &combed).unwrap().coat_height();
+    assert!(lower < 0.45 && lower > 0.0, "combed hairs: {lower}");
+    // One strand up 1 along its first segment, one leaning back below the skin (0).
+    let strands = Strands {
+        vertices_per_strand: 3,
+        positions: vec![
+            Vec3::ZERO,
+            Vec3::Y,
+            Vec3::new(3.0, 1.0, 0.0),
+            Vec3::ZERO,
+            Vec3::X,
+            Vec3::new(-2.0, 0.0, 0.0),
+        ],
+    };
+    assert!((strands.coat_height() - 0.5).abs() < 1e-6);
+}

@@ -35,8 +35,8 @@ void main() {
     // unscattered. 0 layers otherwise (render::skin_layers).
     float depth = frame.shadow.w;
     float slant = max(dot(n, frame.light.xyz), 1e-3);
-    lambert *= pow(1.0 - frame.shadow.x, min(depth / slant, MAX_LAYERS));
-    sky = pow(1.0 - frame.shadow.x, min(depth, MAX_LAYERS));
+    lambert *= through(1.0 - frame.shadow.x, min(depth / slant, MAX_LAYERS));
+    sky = through(1.0 - frame.shadow.x, min(depth, MAX_LAYERS));
 #endif
     vec3 skin = frame.skin_color.rgb;
 #if TEXTURED

@@ -16,6 +16,19 @@
 
 #include "common.glsl"
 
+// base^layers: the light `layers` hair layers of transmittance `base` (0..1) pass on;
+// all of it through none, whatever the base (GLSL leaves pow(0, 0) undefined, and an
+// opacity of 1 makes the base 0).
+float through(float base, float layers) {
+    return layers > 0.0 ? pow(base, layers) : 1.0;
+}
+vec3 through(vec3 base, float layers) {
+    return layers > 0.0 ? pow(base, vec3(layers)) : vec3(1.0);
+}
+vec4 through(vec4 base, vec4 layers) {
+    return mix(vec4(1.0), pow(base, layers), greaterThan(layers, vec4(0.0)));
+}
+
 #if TEXTURED
 // The model's colour texture (sRGB, with mips), for the fur's roots and the skin.
 layout(set = SET_BODY, binding = B_ALBEDO) uniform sampler2D albedo;
@@ -40,7 +53,7 @@ vec4 layers_in_front(vec3 p, out vec2 f) {
 float light_through_fur(vec3 p) {
     vec2 f;
     vec4 layers = layers_in_front(p, f);
-    vec4 light = pow(vec4(1.0 - frame.shadow.x), layers);
+    vec4 light = through(vec4(1.0 - frame.shadow.x), layers);
     return mix(mix(light.w, light.z, f.x), mix(light.x, light.y, f.x), f.y);
 }
 
@@ -193,8 +206,8 @@ vec3 gaussian(vec3 x, vec3 v) {
 // the fibres' colour: each layer passes 1 − α unscattered and α a_f forward.
 vec3 light_through_layers(float layers, vec3 a_f, out float direct) {
     float opacity = frame.shadow.x;
-    direct = pow(1.0 - opacity, layers);
-    return pow(vec3(1.0 - opacity) + opacity * a_f, vec3(layers));
+    direct = through(1.0 - opacity, layers);
+    return through(vec3(1.0 - opacity) + opacity * a_f, layers);
 }
 
 // Radiance per unit irradiance of a fibre with tangent t at `world`, colour `base` of
@@ -273,7 +286,7 @@ vec3 marschner_terms(vec3 t, vec3 world, vec3 base, vec3 ln_c, float layers) {
 // absorption take under uniform light). CPU twin: render::marschner::environment.
 vec3 environment(float u_o, vec3 base, vec3 ln_c, float above) {
     FibreAverages f = fibre_averages(u_o, ln_c);
-    float sky = pow(1.0 - frame.shadow.x, above);
+    float sky = through(1.0 - frame.shadow.x, above);
     vec3 c = clamp(base, 0.0, 1.0);
     return (frame.shading.w / max(frame.shading.x, 1e-6))
          * (sky * 0.5 * (f.a_f + f.a_b) * (1.0 + c) + (1.0 - sky) * c);

@@ -32,7 +32,7 @@ void main() {
     // Under the Marschner model without a shadow map, the coat's estimate: the skin
     // lies under frame.shadow.w hair layers (its mean height), which the light crosses
     // slanted by its angle to the skin and the sky straight down; each passes 1 − α
-    // unscattered. 0 layers otherwise (render::skin_layers).
+    // unscattered. 0 layers otherwise (skin_layers of crates/fur-core/src/render/uniforms.rs).
     float depth = frame.shadow.w;
     float slant = max(dot(n, frame.light.xyz), 1e-3);
     lambert *= through(1.0 - frame.shadow.x, min(depth / slant, MAX_LAYERS));

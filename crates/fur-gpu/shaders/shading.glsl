@@ -262,11 +262,11 @@ vec3 marschner_terms(vec3 t, vec3 world, vec3 base, vec3 ln_c, float layers) {
     // Dual scattering.
     FibreAverages f = fibre_averages(abs(sin_i), ln_c);
     float direct;
-    vec3 through = light_through_layers(layers, f.a_f, direct);
+    vec3 arriving = light_through_layers(layers, f.a_f, direct);
     vec3 radiance = direct * single;
     if ((flags & FLAG_NO_MULTIPLE) == 0u) {
         vec3 back = f.a_back * gaussian(vec3(sum) - f.shift_b, f.sigma_b2) * (1.0 / PI);
-        vec3 scattered = max(through - vec3(direct), 0.0);
+        vec3 scattered = max(arriving - vec3(direct), 0.0);
         vec3 spread = frame.shadow.x * layers * f.beta_f2;
         vec3 global = (f.a_f + f.a_b) * gaussian(vec3(sum) - f.alpha, f.beta2 + spread) * (0.5 / PI);
         vec3 back_spread = f.a_back * gaussian(vec3(sum) - f.shift_b, f.sigma_b2 + spread) * (1.0 / PI);

@@ -450,7 +450,7 @@ impl FrameUniforms {
 /// layer spacing (the coat's estimate, as the hairs' own, `coat_layers` of `fur.geom`);
 /// 0 otherwise (Kajiya–Kay lights the skin as the seed does; a shadow map measures the
 /// light's way through the fur itself).
-pub fn skin_layers(lighting: &super::Lighting, density: f32, coat_height: f32) -> f32 {
+fn skin_layers(lighting: &super::Lighting, density: f32, coat_height: f32) -> f32 {
     if lighting.model == super::LightingModel::Marschner
         && !lighting.shadows.enabled
         && lighting.lobes.coat

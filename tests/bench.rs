@@ -237,6 +237,15 @@ fn quick_bench_writes_every_expected_measurement() {
         }
     }
     assert_eq!(value("stages", "lit", "ratio to lit"), 1.0);
+    // Groom files read: each format timed, USD's decoding memory within its limit.
+    for format in ["usda", "usdc", "hair"] {
+        expect("grooms", format, "read_s");
+        assert!(value("grooms", format, "file_mib") > 0.0);
+    }
+    for format in ["usda", "usdc"] {
+        let peak = value("grooms", format, "peak_mib");
+        assert!(peak > 0.0 && peak < 512.0 + 16.0 * value("grooms", format, "file_mib"));
+    }
     let md = std::fs::read_to_string(dir.join("results.md")).unwrap();
     assert!(md.contains("| iterations | substeps |"));
     assert!(md.contains("| view | frame ms | × lit |"));

@@ -19,6 +19,7 @@ pub const COLLISION_COST_TARGET: f64 = 0.35;
 mod collision;
 mod docs;
 mod frame;
+mod grooms;
 mod ladder;
 mod looks;
 pub mod metrics;
@@ -103,10 +104,11 @@ pub enum Section {
     Animation,
     Truth,
     Stages,
+    Grooms,
 }
 
 impl Section {
-    pub const ALL: [Section; 12] = [
+    pub const ALL: [Section; 13] = [
         Self::Frame,
         Self::RenderQuality,
         Self::SimAccuracy,
@@ -119,6 +121,7 @@ impl Section {
         Self::Animation,
         Self::Truth,
         Self::Stages,
+        Self::Grooms,
     ];
 
     pub fn name(self) -> &'static str {
@@ -135,6 +138,7 @@ impl Section {
             Self::Animation => "animation",
             Self::Truth => "truth",
             Self::Stages => "stages",
+            Self::Grooms => "grooms",
         }
     }
 
@@ -152,6 +156,7 @@ impl Section {
             Self::Animation => "the walking critter: skinning cost, walking against standing, and each way of colliding with the deforming body",
             Self::Truth => "every quality rung and look against a path-traced reference (Mitsuba 3's hair model; needs tools/reference/setup.sh)",
             Self::Stages => "cost of each stage view (--show) against the lit frame",
+            Self::Grooms => "reading a million guide curves as .usda, .usdc and .hair: time, and the decoding's memory against its limit",
         }
     }
 
@@ -262,6 +267,7 @@ pub fn task_count(options: &BenchOptions) -> u64 {
                 truth::tasks(options.scenes().len() + usize::from(options.scene.is_none()))
             }
             Section::Stages => stages::tasks(),
+            Section::Grooms => grooms::TASKS,
         })
         .sum()
 }
@@ -306,6 +312,7 @@ pub fn run(
             Section::Animation => bench.animation()?,
             Section::Truth => bench.truth()?,
             Section::Stages => bench.stages()?,
+            Section::Grooms => bench.grooms()?,
         }
     }
     Ok(Report {

@@ -75,8 +75,21 @@ pub fn read_bounded(path: &Path, limit: u64, what: &str) -> std::result::Result<
             kind_name(&opened)
         ));
     }
-    let mut bytes = Vec::with_capacity(opened.len().min(limit) as usize);
-    file.take(limit + 1)
+    read_at_most(file, limit, opened.len(), what)
+}
+
+/// Reads `source` to its end, refusing it past `limit` bytes: at most `limit + 1`
+/// bytes are read from it (the one past the limit says it is over), whatever the
+/// source; `expected` (its stated size) only sizes the first allocation.
+pub fn read_at_most(
+    source: impl std::io::Read,
+    limit: u64,
+    expected: u64,
+    what: &str,
+) -> std::result::Result<Vec<u8>, String> {
+    let mut bytes = Vec::with_capacity(expected.min(limit) as usize);
+    source
+        .take(limit + 1)
         .read_to_end(&mut bytes)
         .map_err(|e| e.to_string())?;
     if bytes.len() as u64 > limit {

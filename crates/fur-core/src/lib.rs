@@ -9,6 +9,7 @@ pub mod files;
 pub mod geometry;
 pub mod groom_file;
 pub mod interrupt;
+pub mod isolate;
 pub mod render;
 pub mod scene;
 pub mod scene_file;
@@ -16,3 +17,6 @@ pub mod sim;
 pub mod skinning;
 
 pub use error::{Error, Result};
+
+#[cfg(test)]
+mod test_alloc;

@@ -226,3 +226,138 @@ fn a_region_is_rewritten_between_its_lines_only() {
     assert_eq!(std::fs::read_to_string(&doc).unwrap(), "no markers\n");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// A source that never ends, counting what is read from it.
+struct Endless {
+    read: u64,
+}
+
+impl std::io::Read for Endless {
+    fn read(&mut self, buf: &mut [u8]) -> std::io::Result<usize> {
+        buf.fill(7);
+        self.read += buf.len() as u64;
+        Ok(buf.len())
+    }
+}
+
+/// The bound is observed, not inferred: a reader that read a growing source whole and
+/// refused it afterwards would never return here, and one that read past the limit
+/// would count more than one byte over it.
+#[test]
+fn a_source_that_never_ends_is_read_one_byte_past_the_limit() {
+    for limit in [0, 1, 4095, 4096, 1 << 20] {
+        let mut source = Endless { read: 0 };
+        let error = read_at_most(&mut source, limit, 0, "groom").unwrap_err();
+        assert!(error.contains("grew past"), "{error}");
+        assert_eq!(source.read, limit + 1, "limit {limit}");
+    }
+}
+
+/// Bytes this thread has read through system calls (`rchar` of
+/// `/proc/thread-self/io`), less those of reading that file itself.
+fn bytes_read(then: impl FnOnce()) -> u64 {
+    let rchar = || -> (u64, u64) {
+        let text = std::fs::read_to_string("/proc/thread-self/io").unwrap();
+        let n = text
+            .lines()
+            .find_map(|l| l.strip_prefix("rchar: "))
+            .unwrap()
+            .parse()
+            .unwrap();
+        (n, text.len() as u64)
+    };
+    let (before, own) = rchar();
+    then();
+    let (after, _) = rchar();
+    after - before - own
+}
+
+/// Every input fur reads — model, scene file, texture, groom — given a source that
+/// never ends (a FIFO a writer keeps feeding, `/dev/zero`) reads at most its limit and
+/// one byte from it: here none, since such a source is refused from its kind before
+/// it is opened. The writer counts what it got rid of: nothing, as nothing opened the
+/// FIFO.
+#[test]
+fn endless_inputs_are_read_no_further_than_their_limit() {
+    use std::os::unix::fs::OpenOptionsExt as _;
+    use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
+    let dir = temp_dir("endless");
+    let fifo = dir.join("endless");
+    let name = std::ffi::CString::new(fifo.to_str().unwrap()).unwrap();
+    // SAFETY: a valid C string and mode.
+    assert_eq!(unsafe { libc::mkfifo(name.as_ptr(), 0o600) }, 0);
+    let stop = std::sync::Arc::new(AtomicBool::new(false));
+    let written = std::sync::Arc::new(AtomicU64::new(0));
+    let feeder = {
+        let (stop, written, fifo) = (stop.clone(), written.clone(), fifo.clone());
+        std::thread::spawn(move || {
+            while !stop.load(Ordering::Relaxed) {
+                let open = std::fs::OpenOptions::new()
+                    .write(true)
+                    .custom_flags(libc::O_NONBLOCK)
+                    .open(&fifo);
+                match open {
+                    Ok(mut f) => {
+                        let block = [0u8; 4096];
+                        while !stop.load(Ordering::Relaxed) {
+                            match std::io::Write::write(&mut f, &block) {
+                                Ok(n) => written.fetch_add(n as u64, Ordering::Relaxed),
+                                Err(_) => break,
+                            };
+                        }
+                    }
+                    Err(_) => std::thread::sleep(std::time::Duration::from_millis(1)),
+                }
+            }
+        })
+    };
+    let inputs: [(&str, u64, fn(&Path) -> bool); 4] = [
+        ("model", MAX_MODEL_BYTES, |p| {
+            crate::scene::Mesh::load_obj(&p.with_extension("obj")).is_err()
+                && crate::scene::Mesh::load_obj(p).is_err()
+        }),
+        ("scene file", MAX_SCENE_BYTES, |p| {
+            crate::scene_file::SceneFile::load(p).is_err()
+        }),
+        ("texture", MAX_TEXTURE_BYTES, |p| {
+            crate::scene::Texture::load(p).is_err()
+        }),
+        ("groom", crate::groom_file::MAX_GROOM_BYTES, |p| {
+            crate::groom_file::read_groom(&p.with_extension("hair")).is_err()
+                && crate::groom_file::read_groom(&p.with_extension("usdc")).is_err()
+        }),
+    ];
+    // Each source under the names each reader takes: the FIFO, and links to it and
+    // to `/dev/zero` with a model's and a groom's extensions.
+    let zero = dir.join("zero");
+    for (base, target) in [(&fifo, fifo.clone()), (&zero, PathBuf::from("/dev/zero"))] {
+        for ext in ["", "obj", "hair", "usdc"] {
+            let link = base.with_extension(ext);
+            if link != fifo {
+                std::os::unix::fs::symlink(&target, &link).unwrap();
+            }
+        }
+    }
+    for (what, limit, refused) in inputs {
+        for source in [&fifo, &zero] {
+            let mut was_refused = false;
+            let read = bytes_read(|| was_refused = refused(source));
+            assert!(was_refused, "{what} from {}", source.display());
+            assert!(read <= limit + 1, "{what}: {read} bytes read");
+            assert_eq!(
+                read,
+                0,
+                "{what} from {}: {read} bytes read",
+                source.display()
+            );
+        }
+    }
+    stop.store(true, Ordering::Relaxed);
+    feeder.join().unwrap();
+    assert_eq!(
+        written.load(Ordering::Relaxed),
+        0,
+        "something opened the FIFO"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}

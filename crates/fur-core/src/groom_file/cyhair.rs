@@ -60,6 +60,13 @@ pub fn parse_cyhair(b: &[u8]) -> Result<Guides, String> {
             b.len()
         ));
     }
+    // Every hair has at least 2 points, and the points are there (checked above):
+    // the hairs are bounded by the file's bytes before one count is allocated.
+    if hairs > points / 2 {
+        return Err(format!(
+            "its header promises {hairs} hairs but only {points} points (each hair has 2 or more)"
+        ));
+    }
     let mut at = HEADER;
     let counts: Vec<u32> = if arrays & SEGMENTS != 0 {
         let c = (0..hairs as usize)
@@ -71,6 +78,12 @@ pub fn parse_cyhair(b: &[u8]) -> Result<Guides, String> {
         if default_segments == 0 || default_segments >= u32::from(u16::MAX) {
             return Err(format!(
                 "it has no segments array and its default segment count is {default_segments}"
+            ));
+        }
+        if (u64::from(default_segments) + 1) * hairs != points {
+            return Err(format!(
+                "it has no segments array, and {hairs} hairs of its default {default_segments} \
+                 segments are not its {points} points"
             ));
         }
         vec![default_segments + 1; hairs as usize]

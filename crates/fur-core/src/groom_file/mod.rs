@@ -3,13 +3,17 @@
 //! hairs written back out as USD text or cyHair.
 //!
 //! Every reader is bounded: the file is read through [`crate::files::read_bounded`]
-//! (at most [`MAX_GROOM_BYTES`]) and every count a binary header states is checked
-//! against the bytes that are there before anything is allocated for it. Every error
-//! names the file and what is wrong with it.
+//! (at most [`MAX_GROOM_BYTES`]); fur's own readers (cyHair, TressFX) check every count
+//! a header states against the bytes that are there before anything is allocated for
+//! it, and USD, decoded by the `openusd` crate, is decoded in a child process under
+//! stated limits ([`usd_limits`], [`crate::isolate`]), so that no file can abort,
+//! overflow the stack of or panic the reading process. Every error names the file and
+//! what is wrong with it, in one line.
 
 mod cyhair;
 mod tfx;
 mod usd;
+mod wire;
 
 use std::path::Path;
 
@@ -19,7 +23,10 @@ use crate::error::{Error, Result};
 
 pub use cyhair::{parse_cyhair, write_cyhair};
 pub use tfx::parse_tfx;
-pub use usd::{parse_usd, usdc_from_text, write_usda, write_usdc, CUBIC_SAMPLES};
+pub use usd::{
+    check_nesting, decode_usd, parse_usd, parse_usd_measured, usd_limits, usdc_from_text,
+    write_usda, write_usdc, CUBIC_SAMPLES, MAX_TEXT_NESTING, USD_MEMORY_BASE, USD_MEMORY_PER_BYTE,
+};
 
 /// The largest groom file read.
 pub const MAX_GROOM_BYTES: u64 = 1 << 30;

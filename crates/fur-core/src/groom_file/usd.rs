@@ -7,18 +7,21 @@
 //! to polylines of [`CUBIC_SAMPLES`] segments per cubic segment, and the notes say so.
 
 use std::borrow::Cow;
-use std::io::Cursor;
+use std::time::Duration;
 
 use glam::{DMat4, DQuat, DVec3, Vec3};
 use openusd::sdf::{self, AbstractData, Value};
 
-use super::{GroomFormat, Guides, MAX_CURVE_VERTICES};
+use super::{wire, GroomFormat, Guides, MAX_CURVE_VERTICES};
+use crate::isolate;
 
 mod crate_file;
 mod cubic;
+mod layer;
 mod write;
 
 pub use crate_file::{usdc_from_text, write_usdc};
+pub use layer::{check_nesting, MAX_TEXT_NESTING};
 pub use write::{groom_layer, write_usda};
 
 /// Polyline segments per cubic segment when a cubic curve is evaluated.
@@ -28,15 +31,51 @@ pub const CUBIC_SAMPLES: usize = 4;
 const MAX_PRIMS: usize = 1 << 20;
 /// The deepest prim nesting followed (each level is a call: a bound on the stack).
 const MAX_DEPTH: usize = 256;
+/// The most notes kept (a file with a million prims that each earn one says so once).
+const MAX_NOTES: usize = 32;
+
+/// What decoding a USD file may take, beyond the reading process's own: this many
+/// bytes of memory per byte of the file…
+pub const USD_MEMORY_PER_BYTE: u64 = 16;
+/// …plus this many.
+pub const USD_MEMORY_BASE: u64 = 512 << 20;
+/// CPU seconds, plus [`USD_SECONDS_PER_MIB`] a MiB of the file.
+pub const USD_SECONDS_BASE: u64 = 30;
+/// CPU seconds a MiB of the file.
+pub const USD_SECONDS_PER_MIB: u64 = 2;
+
+/// The limits a USD file of `len` bytes is decoded under.
+pub fn usd_limits(len: usize) -> isolate::Limits {
+    let len = len as u64;
+    let cpu_seconds = USD_SECONDS_BASE + USD_SECONDS_PER_MIB * len.div_ceil(1 << 20);
+    isolate::Limits {
+        memory: USD_MEMORY_BASE + USD_MEMORY_PER_BYTE * len,
+        cpu_seconds,
+        wall: Duration::from_secs(2 * cpu_seconds + 30),
+    }
+}
 
 /// Reads the guide curves of a USD file's bytes; `format` from its extension (`.usd`
-/// may hold text or binary: the bytes decide).
+/// may hold text or binary: the bytes decide). The decoding runs in a child process
+/// under [`usd_limits`] ([`crate::isolate`]): `openusd` trusts the counts and offsets
+/// in a file, and a hostile one could otherwise abort the process.
 pub fn parse_usd(bytes: &[u8], format: GroomFormat) -> Result<Guides, String> {
-    // A malformed file must give an error, not take the program down: the crate's
-    // decoders are kept behind a panic boundary.
-    let owned = bytes.to_vec();
-    let data = std::panic::catch_unwind(move || open_layer(owned, format))
-        .map_err(|_| "the USD decoder failed on it (a malformed file)".to_string())??;
+    parse_usd_measured(bytes, format).map(|(guides, _)| guides)
+}
+
+/// [`parse_usd`], and the most memory its decoding took (the child's peak address
+/// space over its start, in bytes).
+pub fn parse_usd_measured(bytes: &[u8], format: GroomFormat) -> Result<(Guides, u64), String> {
+    let reply = isolate::run(usd_limits(bytes.len()), || {
+        decode_usd(bytes, format).map(|g| wire::encode(&g))
+    })?;
+    Ok((wire::decode(&reply.bytes)?, reply.peak_memory))
+}
+
+/// [`parse_usd`] in this process, without its limits: for files that are known to be
+/// sound (and for the isolated child).
+pub fn decode_usd(bytes: &[u8], format: GroomFormat) -> Result<Guides, String> {
+    let data = layer::open_layer(bytes, format)?;
     let mut guides = Guides::default();
     let mut visited = 0;
     walk(
@@ -51,54 +90,6 @@ pub fn parse_usd(bytes: &[u8], format: GroomFormat) -> Result<Guides, String> {
         return Err("it holds no BasisCurves prim with points".into());
     }
     Ok(guides)
-}
-
-fn open_layer(bytes: Vec<u8>, format: GroomFormat) -> Result<Box<dyn AbstractData>, String> {
-    let text = |bytes: Vec<u8>| -> Result<Box<dyn AbstractData>, String> {
-        let text = String::from_utf8(bytes).map_err(|_| "USD text that is not UTF-8")?;
-        check_nesting(&text)?;
-        let data = openusd::usda::parse(&text).map_err(|e| format!("USD text: {e:#}"))?;
-        Ok(Box::new(data))
-    };
-    match format {
-        GroomFormat::Usda => text(bytes),
-        GroomFormat::Usdz => openusd::usdz::Archive::from_reader(Cursor::new(bytes))
-            .and_then(|mut a| a.read_first_layer())
-            .map_err(|e| format!("USD package: {e:#}")),
-        _ if bytes.starts_with(b"#usda") => text(bytes),
-        _ if bytes.starts_with(b"PXR-USDC") => {
-            openusd::usdc::CrateData::open(Cursor::new(bytes), true)
-                .map(|d| Box::new(d) as Box<dyn AbstractData>)
-                .map_err(|e| format!("binary USD: {e:#}"))
-        }
-        _ => Err("neither USD text (`#usda`) nor binary USD (`PXR-USDC`)".into()),
-    }
-}
-
-/// Refuses USD text whose braces nest deeper than the parser should follow (a parser
-/// that recurses would run out of stack, which no error can report).
-fn check_nesting(text: &str) -> Result<(), String> {
-    let (mut depth, mut deepest, mut quoted, mut escaped) = (0usize, 0usize, false, false);
-    for c in text.chars() {
-        match c {
-            _ if escaped => escaped = false,
-            '\\' if quoted => escaped = true,
-            '"' => quoted = !quoted,
-            '{' | '(' | '[' if !quoted => {
-                depth += 1;
-                deepest = deepest.max(depth);
-            }
-            '}' | ')' | ']' if !quoted => depth = depth.saturating_sub(1),
-            _ => {}
-        }
-    }
-    if deepest > 4 * MAX_DEPTH {
-        return Err(format!(
-            "USD text nested {deepest} deep (over {})",
-            4 * MAX_DEPTH
-        ));
-    }
-    Ok(())
 }
 
 fn field<'a>(data: &'a dyn AbstractData, path: &sdf::Path, name: &str) -> Option<Cow<'a, Value>> {
@@ -135,7 +126,7 @@ fn attribute(
 }
 
 fn note(notes: &mut Vec<String>, text: String) {
-    if !notes.contains(&text) {
+    if notes.len() < MAX_NOTES && !notes.contains(&text) {
         notes.push(text);
     }
 }
@@ -365,8 +356,37 @@ fn read_curves(
     let widths = get("widths", notes)
         .map(|(v, i)| (floats(&v), i))
         .and_then(|(v, i)| v.map(|v| (v, i.unwrap_or_else(|| "vertex".into()))));
-    let colours = get("primvars:displayColor", notes)
-        .and_then(|(v, i)| points(&v).map(|v| (v, i.unwrap_or_else(|| "constant".into()))));
+    // A colour is three channels, each interpolated as a scalar: split once.
+    let colours = get("primvars:displayColor", notes).and_then(|(v, i)| {
+        points(&v).map(|v| {
+            let channel = |k: usize| v.iter().map(|p| p[k]).collect::<Vec<f32>>();
+            (
+                [channel(0), channel(1), channel(2)],
+                i.unwrap_or_else(|| "constant".into()),
+            )
+        })
+    });
+    let exact = |what: &str, len: usize, interpolation: &str| -> Result<(), String> {
+        let needed = shape
+            .values_needed(interpolation, &counts)
+            .map_err(|m| format!("`{what}` has {m}"))?;
+        if len != needed {
+            return Err(format!(
+                "`{what}` ({interpolation}) has {len} value{}; {} curves of {} control points \
+                 need exactly {needed}",
+                if len == 1 { "" } else { "s" },
+                counts.len(),
+                cvs.len()
+            ));
+        }
+        Ok(())
+    };
+    if let Some((w, i)) = &widths {
+        exact("widths", w.len(), i)?;
+    }
+    if let Some((c, i)) = &colours {
+        exact("primvars:displayColor", c[0].len(), i)?;
+    }
     let mut out = Guides::default();
     let mut widths_out = widths.as_ref().map(|_| Vec::new());
     let mut colours_out = colours.as_ref().map(|_| Vec::new());
@@ -392,11 +412,9 @@ fn read_curves(
             out.extend(per_vertex(w, i, "widths")?);
         }
         if let (Some(out), Some((v, i))) = (&mut colours_out, &colours) {
-            let channel = |k: usize| -> Result<Vec<f32>, String> {
-                let values: Vec<f32> = v.iter().map(|p| p[k]).collect();
-                per_vertex(&values, i, "displayColor")
-            };
-            let (r, g, b) = (channel(0)?, channel(1)?, channel(2)?);
+            let r = per_vertex(&v[0], i, "displayColor")?;
+            let g = per_vertex(&v[1], i, "displayColor")?;
+            let b = per_vertex(&v[2], i, "displayColor")?;
             out.extend((0..r.len()).map(|k| Vec3::new(r[k], g[k], b[k])));
         }
         out.counts.push(polyline.len() as u32);

@@ -154,6 +154,23 @@ impl Shape {
             .collect()
     }
 
+    /// How many values a primvar of `interpolation` must have, exactly, on a prim of
+    /// curves of `counts` control points (USD's rule: one for `constant`, one per curve
+    /// for `uniform`, one per control point for `vertex`, one per segment end for
+    /// `varying` and `faceVarying`).
+    pub fn values_needed(&self, interpolation: &str, counts: &[usize]) -> Result<usize, String> {
+        Ok(match interpolation {
+            "constant" => 1,
+            "uniform" => counts.len(),
+            "vertex" => counts.iter().sum(),
+            "varying" | "faceVarying" => counts
+                .iter()
+                .map(|&c| self.segments(c).map(|s| s + 1))
+                .sum::<Result<usize, String>>()?,
+            other => return Err(format!("an unknown interpolation \"{other}\"")),
+        })
+    }
+
     /// Curve `c`'s values of a primvar (`values` for the whole prim, with USD's
     /// `interpolation`) at each vertex of its polyline; `cvs` is (curve, first control
     /// point, control points) and `varying_at` where its `varying` values start.

@@ -61,6 +61,18 @@ where
 {
     let reply = memory_file(c"fur-isolate-reply")?;
     let log = memory_file(c"fur-isolate-log")?;
+    // The child holds the write end of this pipe until it ends: the read end then
+    // wakes the parent at once.
+    let mut ends = [0; 2];
+    // SAFETY: `ends` has room for the two descriptors.
+    if unsafe { libc::pipe2(ends.as_mut_ptr(), libc::O_CLOEXEC) } != 0 {
+        return Err(format!(
+            "could not start the decoding process: {}",
+            std::io::Error::last_os_error()
+        ));
+    }
+    // SAFETY: both descriptors were just opened and are owned by nothing else.
+    let (ended, alive) = unsafe { (File::from_raw_fd(ends[0]), File::from_raw_fd(ends[1])) };
     // SAFETY: `fork` has no preconditions; in the child only this thread exists, and
     // `child` calls what the work calls and ends with `_exit`, never returning here.
     let pid = unsafe { libc::fork() };
@@ -73,7 +85,8 @@ where
     if pid == 0 {
         child(limits, &reply, &log, work);
     }
-    let status = wait(pid, limits.wall);
+    drop(alive);
+    let status = wait(pid, &ended, limits.wall);
     let head = read_head(&log);
     let status = status?;
     outcome(status, &reply, &head, limits)
@@ -170,10 +183,11 @@ enum Ended {
     TimedOut,
 }
 
-/// Waits for `pid`, killing it past `wall`.
-fn wait(pid: libc::pid_t, wall: Duration) -> Result<Ended, String> {
+/// Waits for `pid`, killing it past `wall`; `ended` is the read end of a pipe whose
+/// write end only the child holds (another thread's child may hold it a while too: the
+/// wait then falls back to looking every 20 ms).
+fn wait(pid: libc::pid_t, ended: &File, wall: Duration) -> Result<Ended, String> {
     let started = Instant::now();
-    let mut pause = Duration::from_micros(100);
     let mut timed_out = false;
     loop {
         let mut status = 0;
@@ -200,8 +214,17 @@ fn wait(pid: libc::pid_t, wall: Duration) -> Result<Ended, String> {
             unsafe { libc::kill(pid, libc::SIGKILL) };
             timed_out = true;
         }
-        std::thread::sleep(pause);
-        pause = (pause * 2).min(Duration::from_millis(10));
+        let mut poll = libc::pollfd {
+            fd: ended.as_raw_fd(),
+            events: libc::POLLIN,
+            revents: 0,
+        };
+        // SAFETY: one valid pollfd. Its answer is not needed: the loop looks again.
+        let woken = unsafe { libc::poll(&mut poll, 1, 20) };
+        if woken > 0 && poll.revents & libc::POLLHUP != 0 {
+            // The write end is closed: the child is ending; its exit follows shortly.
+            std::thread::sleep(Duration::from_micros(20));
+        }
     }
 }
 
@@ -297,6 +320,31 @@ fn diagnose(log: &str, code: i32, memory: &str) -> String {
 /// `text`'s first line.
 fn one_line(text: &str) -> &str {
     text.lines().next().unwrap_or("")
+}
+
+/// In a test binary: when `RUST_BACKTRACE` asks for backtraces, runs test `name`
+/// again in a process of its own without them and says so (true: the caller is done).
+/// A child that fails a decode prints a symbolised backtrace first when asked, about a
+/// hundred times the cost of the decode: a sweep of thousands of hostile files goes
+/// from seconds to minutes.
+#[doc(hidden)]
+pub fn rerun_without_backtraces(name: &str) -> bool {
+    if std::env::var_os("RUST_BACKTRACE").is_none_or(|v| v == "0") {
+        return false;
+    }
+    let exe = std::env::current_exe().expect("the test binary's path");
+    let out = std::process::Command::new(exe)
+        .args(["--exact", name, "--test-threads", "1"])
+        .env("RUST_BACKTRACE", "0")
+        .output()
+        .expect("the test binary runs");
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success() && text.contains("1 passed"),
+        "{name} without backtraces: {text}{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    true
 }
 
 #[cfg(test)]

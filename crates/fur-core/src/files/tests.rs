@@ -311,7 +311,8 @@ fn endless_inputs_are_read_no_further_than_their_limit() {
             }
         })
     };
-    let inputs: [(&str, u64, fn(&Path) -> bool); 4] = [
+    type Refuses = fn(&Path) -> bool;
+    let inputs: [(&str, u64, Refuses); 4] = [
         ("model", MAX_MODEL_BYTES, |p| {
             crate::scene::Mesh::load_obj(&p.with_extension("obj")).is_err()
                 && crate::scene::Mesh::load_obj(p).is_err()

@@ -242,6 +242,44 @@ fn limits() -> Vec<(&'static str, Vec<String>)> {
                     size_text(fur::groom_file::MAX_GROOM_BYTES)
                 ),
                 format!(
+                    "| a groom file's size | {}, checked before reading; at most {} + 1 byte",
+                    size_text(fur::groom_file::MAX_GROOM_BYTES),
+                    size_text(fur::groom_file::MAX_GROOM_BYTES)
+                ),
+                format!(
+                    "| memory of USD's decoding | {} × the file's size + {} of address space",
+                    fur::groom_file::USD_MEMORY_PER_BYTE,
+                    size_text(fur::groom_file::USD_MEMORY_BASE)
+                ),
+                format!(
+                    "| CPU time of USD's decoding | {} s + {} s a MiB (`RLIMIT_CPU`), and twice \
+                     that + {} s of wall time",
+                    fur::groom_file::USD_SECONDS_BASE,
+                    fur::groom_file::USD_SECONDS_PER_MIB,
+                    fur::groom_file::USD_WALL_SLACK_SECONDS
+                ),
+                format!(
+                    "nested over {} brackets deep",
+                    count_text(fur::groom_file::MAX_TEXT_NESTING as u64)
+                ),
+                format!(
+                    "| USD text nesting | {} brackets |",
+                    count_text(fur::groom_file::MAX_TEXT_NESTING as u64)
+                ),
+                format!(
+                    "| prims visited, prim nesting | 2{} prims, {} deep |",
+                    if fur::groom_file::MAX_PRIMS == 1 << 20 { "²⁰" } else { "(MAX_PRIMS changed)" },
+                    fur::groom_file::MAX_DEPTH
+                ),
+                format!(
+                    "| notes kept (what reading changed) | {} |",
+                    fur::groom_file::MAX_NOTES
+                ),
+                format!(
+                    "| a curve's vertices after reading | {} |",
+                    count_text(fur::groom_file::MAX_CURVE_VERTICES as u64)
+                ),
+                format!(
                     "over {} bounding radii from the body",
                     fur::scene::BIND_LIMIT
                 ),

@@ -25,7 +25,9 @@ pub use cyhair::{parse_cyhair, write_cyhair};
 pub use tfx::parse_tfx;
 pub use usd::{
     check_nesting, decode_usd, parse_usd, parse_usd_measured, usd_limits, usdc_from_text,
-    write_usda, write_usdc, CUBIC_SAMPLES, MAX_TEXT_NESTING, USD_MEMORY_BASE, USD_MEMORY_PER_BYTE,
+    write_usda, write_usdc, CUBIC_SAMPLES, MAX_DEPTH, MAX_NOTES, MAX_PRIMS, MAX_TEXT_NESTING,
+    USD_MEMORY_BASE, USD_MEMORY_PER_BYTE, USD_SECONDS_BASE, USD_SECONDS_PER_MIB,
+    USD_WALL_SLACK_SECONDS,
 };
 
 /// The largest groom file read.

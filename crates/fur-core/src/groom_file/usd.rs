@@ -28,11 +28,11 @@ pub use write::{groom_layer, write_usda};
 pub const CUBIC_SAMPLES: usize = 4;
 
 /// The most prims visited (a bound on a malformed file's hierarchy).
-const MAX_PRIMS: usize = 1 << 20;
+pub const MAX_PRIMS: usize = 1 << 20;
 /// The deepest prim nesting followed (each level is a call: a bound on the stack).
-const MAX_DEPTH: usize = 256;
+pub const MAX_DEPTH: usize = 256;
 /// The most notes kept (a file with a million prims that each earn one says so once).
-const MAX_NOTES: usize = 32;
+pub const MAX_NOTES: usize = 32;
 
 /// What decoding a USD file may take, beyond the reading process's own: this many
 /// bytes of memory per byte of the file…
@@ -43,6 +43,8 @@ pub const USD_MEMORY_BASE: u64 = 512 << 20;
 pub const USD_SECONDS_BASE: u64 = 30;
 /// CPU seconds a MiB of the file.
 pub const USD_SECONDS_PER_MIB: u64 = 2;
+/// Wall-clock seconds past twice the CPU limit before the decoding is killed.
+pub const USD_WALL_SLACK_SECONDS: u64 = 30;
 
 /// The limits a USD file of `len` bytes is decoded under.
 pub fn usd_limits(len: usize) -> isolate::Limits {
@@ -51,7 +53,7 @@ pub fn usd_limits(len: usize) -> isolate::Limits {
     isolate::Limits {
         memory: USD_MEMORY_BASE + USD_MEMORY_PER_BYTE * len,
         cpu_seconds,
-        wall: Duration::from_secs(2 * cpu_seconds + 30),
+        wall: Duration::from_secs(2 * cpu_seconds + USD_WALL_SLACK_SECONDS),
     }
 }
 

@@ -19,7 +19,7 @@ use crate::groom_file::{
 pub(super) const TASKS: u64 = 3;
 
 /// Vertices per guide curve.
-const VERTICES: usize = 8;
+const VERTICES: usize = 4;
 
 /// `curves` guides of [`VERTICES`] vertices with widths and per-vertex colours.
 fn guides(curves: usize) -> Guides {

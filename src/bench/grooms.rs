@@ -38,18 +38,32 @@ fn guides(curves: usize) -> Guides {
     }
 }
 
+/// `n` with its thousands grouped by commas, as the documents write counts.
+fn grouped(n: usize) -> String {
+    let digits = n.to_string();
+    let mut out = String::new();
+    for (i, c) in digits.chars().enumerate() {
+        if i > 0 && (digits.len() - i) % 3 == 0 {
+            out.push(',');
+        }
+        out.push(c);
+    }
+    out
+}
+
 impl Bench<'_> {
     pub(super) fn grooms(&mut self) -> Result<()> {
         let curves = if self.quick { 10_000 } else { 1_000_000 };
         let reads = if self.quick { 1 } else { 3 };
         let _ = writeln!(
             self.md,
-            "## Reading groom files\n\n{curves} curves of {VERTICES} vertices with widths and \
+            "## Reading groom files\n\n{} curves of {VERTICES} vertices with widths and \
              colours, read as `--groom` reads them (median of {reads}); USD is decoded in a \
              child process under its limits (docs/robustness.md), whose peak memory is its \
              address space's growth.\n\n\
              | format | file MiB | read s | decoding's peak MiB | peak ÷ file | limit MiB |\n\
-             | --- | --- | --- | --- | --- | --- |"
+             | --- | --- | --- | --- | --- | --- |",
+            grouped(curves)
         );
         let g = guides(curves);
         let bad = |m: String| Error::Parameter(format!("the groom benchmark: {m}"));
@@ -103,5 +117,15 @@ impl Bench<'_> {
         }
         self.md.push('\n');
         Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn counts_are_grouped_by_thousands() {
+        assert_eq!(super::grouped(1_000_000), "1,000,000");
+        assert_eq!(super::grouped(10_000), "10,000");
+        assert_eq!(super::grouped(999), "999");
     }
 }

@@ -473,7 +473,7 @@ fn a_budget_steps_a_sequence_down_the_ladder_and_prints_the_rungs() {
 }
 
 #[test]
-fn impossible_budgets_and_frame_rates_are_assert_fails_cleanly() {
+fn impossible_budgets_and_frame_rates_are_refused() {
     for ms in ["0", "-5", "NaN", "inf", "1e400", "3600000"] {
         assert_fails_cleanly(
             &["render", "--frames", "4", "--budget-ms", ms],

@@ -367,3 +367,33 @@ fn every_figure_in_the_documents_prose_is_bound_or_marked() {
         unbound.join("\n")
     );
 }
+
+/// Every test a document names exists: a code span of four or more lower-case words
+/// joined by `_` is a function of the sources (seen failing on a test renamed by a
+/// search-and-replace, `impossible_budgets_and_frame_rates_are_assert_fails_cleanly`,
+/// that docs/testing.md still cited by its old name).
+#[test]
+fn the_tests_the_documents_name_exist() {
+    let names = test_names();
+    let mut missing = Vec::new();
+    for doc in PROSE
+        .iter()
+        .chain(&["docs/benchmark.md", "docs/ground-truth.md"])
+    {
+        let text = read(doc);
+        for span in text.split('`').skip(1).step_by(2) {
+            let snake = !span.is_empty()
+                && span
+                    .chars()
+                    .all(|c| c.is_ascii_lowercase() || c.is_ascii_digit() || c == '_');
+            if snake && span.matches('_').count() >= 3 && !names.contains(span) {
+                missing.push(format!("{doc}: `{span}`"));
+            }
+        }
+    }
+    assert!(
+        missing.is_empty(),
+        "tests the documents name but the sources do not have:\n{}",
+        missing.join("\n")
+    );
+}

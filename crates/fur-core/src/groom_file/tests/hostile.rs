@@ -265,10 +265,7 @@ fn a_primvar_of_the_wrong_length_is_refused_naming_it() {
 fn sweep(file: &[u8], mut read: impl FnMut(&[u8]) -> Result<Guides, String>) -> (usize, usize) {
     let (mut loaded, mut refused) = (0, 0);
     let mut tally = |r: Result<Guides, String>| match r {
-        Ok(g) => {
-            g.validate().ok();
-            loaded += 1;
-        }
+        Ok(_) => loaded += 1,
         Err(e) => {
             assert_eq!(e.lines().count(), 1, "{e}");
             refused += 1;

@@ -242,9 +242,17 @@ fn quick_bench_writes_every_expected_measurement() {
         expect("grooms", format, "read_s");
         assert!(value("grooms", format, "file_mib") > 0.0);
     }
+    // The decoding's new address space is within its limit (memory the process had
+    // freed before the fork is reused without being counted: after the other sections
+    // it can be all the decoding needs, so zero is a valid peak here).
     for format in ["usda", "usdc"] {
         let peak = value("grooms", format, "peak_mib");
-        assert!(peak > 0.0 && peak < 512.0 + 16.0 * value("grooms", format, "file_mib"));
+        let limit = fur::groom_file::usd_limits(0).memory as f64 / f64::from(1 << 20)
+            + fur::groom_file::USD_MEMORY_PER_BYTE as f64 * value("grooms", format, "file_mib");
+        assert!(
+            (0.0..limit).contains(&peak),
+            "{format}: {peak} MiB against {limit}"
+        );
     }
     let md = std::fs::read_to_string(dir.join("results.md")).unwrap();
     assert!(md.contains("| iterations | substeps |"));

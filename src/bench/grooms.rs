@@ -59,8 +59,9 @@ impl Bench<'_> {
             self.md,
             "## Reading groom files\n\n{} curves of {VERTICES} vertices with widths and \
              colours, read as `--groom` reads them (median of {reads}); USD is decoded in a \
-             child process under its limits (docs/robustness.md), whose peak memory is its \
-             address space's growth.\n\n\
+             child process under its limits (docs/robustness.md); its peak is the new address \
+             space it took (memory the process had freed before is reused uncounted: run the \
+             section alone for the decoding's whole cost).\n\n\
              | format | file MiB | read s | decoding's peak MiB | peak ÷ file | limit MiB |\n\
              | --- | --- | --- | --- | --- | --- |",
             grouped(curves)

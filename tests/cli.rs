@@ -356,7 +356,11 @@ fn ctrl_c_stops_a_sequence_and_the_benchmark_cleanly() {
     let third = dir.join("frame_0002.png");
     let (code, took, stderr) = interrupt(&args, || third.exists());
     assert_eq!(code, Some(130), "{stderr}");
-    assert!(took.as_secs_f64() < 1.5, "took {took:?} to stop");
+    // A run stops after the unit of work in hand: a frame, or one pipeline build, which
+    // the driver cannot be asked to abandon. Under the suite's parallel load a lavapipe
+    // pipeline build has taken 3.6 s; a run that did not check would go on for minutes.
+    let unit = 6.0;
+    assert!(took.as_secs_f64() < unit, "took {took:?} to stop");
     let names: Vec<String> = std::fs::read_dir(&dir)
         .unwrap()
         .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
@@ -382,7 +386,7 @@ fn ctrl_c_stops_a_sequence_and_the_benchmark_cleanly() {
     );
     assert_eq!(code, Some(130), "{stderr}");
     assert!(
-        took.as_secs_f64() < 2.0,
+        took.as_secs_f64() < unit,
         "the benchmark took {took:?} to stop"
     );
 }

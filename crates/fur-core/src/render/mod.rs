@@ -11,6 +11,7 @@ mod lighting;
 pub mod marschner;
 pub mod presets;
 pub mod stage;
+pub mod strand_raster;
 pub mod uniforms;
 
 pub use image::{flip, RgbaImage};

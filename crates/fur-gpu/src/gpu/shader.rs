@@ -33,11 +33,53 @@ fn kind_of(name: &str) -> Result<shaderc::ShaderKind> {
     })
 }
 
-/// Compiles the embedded shader `name` with the given `#define`s to SPIR-V words.
-pub fn compile(name: &str, defines: &[(&str, String)]) -> Result<Vec<u32>> {
+/// An embedded shader and its `#define`s (the test defines included): what its SPIR-V
+/// depends on.
+type Variant = (String, Vec<(String, String)>);
+
+/// The SPIR-V of every embedded shader variant this process has compiled. Sessions,
+/// benchmark cases and tests build the same pipelines many times, and shaderc is the
+/// slowest part of building them. The embedded sources never change, and the variants
+/// are the finite product of each shader's defines, so the cache is bounded.
+static COMPILED: std::sync::Mutex<Vec<(Variant, Arc<Vec<u32>>)>> =
+    std::sync::Mutex::new(Vec::new());
+
+/// Compiles the embedded shader `name` with the given `#define`s to SPIR-V words,
+/// once a process.
+///
+/// Building pipelines is the longest stretch between frames, so Ctrl-C is checked here
+/// too: a run interrupted while it sets up stops within one shader compilation.
+pub fn compile(name: &str, defines: &[(&str, String)]) -> Result<Arc<Vec<u32>>> {
+    fur_core::interrupt::check()?;
     let text =
         source(name).ok_or_else(|| Error::ShaderCompile(format!("{name}: no such shader")))?;
-    compile_source(name, text, defines)
+    let mut all: Vec<(String, String)> = defines
+        .iter()
+        .map(|(k, v)| (k.to_string(), v.clone()))
+        .collect();
+    TEST_DEFINES.with(|d| all.extend(d.borrow().iter().cloned()));
+    let variant = (name.to_string(), all);
+    let cached = |compiled: &Vec<(Variant, Arc<Vec<u32>>)>| {
+        compiled
+            .iter()
+            .find(|(v, _)| *v == variant)
+            .map(|(_, words)| words.clone())
+    };
+    // A poisoned lock only means another thread panicked mid-lookup; the list itself
+    // is always whole.
+    let lock = || COMPILED.lock().unwrap_or_else(|p| p.into_inner());
+    if let Some(words) = cached(&lock()) {
+        return Ok(words);
+    }
+    // Compiled without the lock held: threads compiling different shaders do not wait
+    // on each other; two compiling the same one both get the same words.
+    let words = Arc::new(compile_source(name, text, defines)?);
+    let mut compiled = lock();
+    if let Some(words) = cached(&compiled) {
+        return Ok(words);
+    }
+    compiled.push((variant, words.clone()));
+    Ok(words)
 }
 
 thread_local! {

@@ -1,0 +1,121 @@
+//! One pixel's strand fragments, blended front to back.
+//!
+//! The nearest `K` fragments are kept in depth order; a fragment pushed out of them
+//! joins the tail, which is blended behind them in a way that does not depend on order
+//! (its colour the coverage-weighted mean, its opacity the product of transparencies).
+//! Two fragments of one strand are one fragment: a strand crossing a pixel in two
+//! segments covers it by the sum of their shares (the shares split the pixel where the
+//! segments meet), not as two layers, which would leave a darker dot at every joint.
+
+use glam::Vec3;
+
+/// What a segment leaves in one pixel.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Fragment {
+    /// Nearer is smaller.
+    pub depth: f32,
+    /// The strand it belongs to.
+    pub strand: u32,
+    /// Its opacity: the pixel's coverage times the strand's own alpha.
+    pub alpha: f32,
+    /// Its colour, not premultiplied.
+    pub color: [f32; 3],
+}
+
+impl Fragment {
+    /// The order the list keeps: depth, then strand (so that ties do not depend on the
+    /// order fragments arrive in).
+    fn nearer_than(&self, other: &Fragment) -> bool {
+        (self.depth, self.strand) < (other.depth, other.strand)
+    }
+}
+
+/// A pixel's fragments: the nearest `K` sorted, the rest summed.
+#[derive(Clone, Debug, Default)]
+pub struct PixelList {
+    nearest: Vec<Fragment>,
+    tail_weighted: Vec3,
+    tail_alpha_sum: f32,
+    tail_transparency: f32,
+    tail_count: u32,
+}
+
+impl PixelList {
+    /// An empty list.
+    pub fn new() -> Self {
+        Self {
+            tail_transparency: 1.0,
+            ..Self::default()
+        }
+    }
+
+    /// Adds `fragment`, keeping at most `k` sorted.
+    pub fn add(&mut self, fragment: Fragment, k: usize) {
+        if let Some(same) = self
+            .nearest
+            .iter_mut()
+            .find(|f| f.strand == fragment.strand)
+        {
+            let alpha = (same.alpha + fragment.alpha).min(1.0);
+            let total = same.alpha + fragment.alpha;
+            for c in 0..3 {
+                same.color[c] =
+                    (same.color[c] * same.alpha + fragment.color[c] * fragment.alpha) / total;
+            }
+            same.alpha = alpha;
+            same.depth = same.depth.min(fragment.depth);
+            // The merged fragment may now be nearer than one before it.
+            self.nearest
+                .sort_by(|p, q| p.depth.total_cmp(&q.depth).then(p.strand.cmp(&q.strand)));
+            return;
+        }
+        let at = self
+            .nearest
+            .iter()
+            .position(|f| fragment.nearer_than(f))
+            .unwrap_or(self.nearest.len());
+        if at >= k {
+            self.blend_into_tail(fragment);
+            return;
+        }
+        self.nearest.insert(at, fragment);
+        if self.nearest.len() > k {
+            let farthest = self.nearest.pop().expect("more than k > 0 fragments");
+            self.blend_into_tail(farthest);
+        }
+    }
+
+    fn blend_into_tail(&mut self, fragment: Fragment) {
+        self.tail_weighted += Vec3::from(fragment.color) * fragment.alpha;
+        self.tail_alpha_sum += fragment.alpha;
+        self.tail_transparency *= 1.0 - fragment.alpha;
+        self.tail_count += 1;
+    }
+
+    /// How many fragments went to the tail.
+    pub fn tail_count(&self) -> u32 {
+        self.tail_count
+    }
+
+    /// The sorted fragments.
+    pub fn nearest(&self) -> &[Fragment] {
+        &self.nearest
+    }
+
+    /// The pixel's colour over the opaque `background`: the sorted fragments front to
+    /// back, then the tail, then the background.
+    pub fn resolve(&self, background: [f32; 3]) -> [f32; 3] {
+        let mut color = Vec3::ZERO;
+        let mut transmit = 1.0;
+        for f in &self.nearest {
+            color += transmit * f.alpha * Vec3::from(f.color);
+            transmit *= 1.0 - f.alpha;
+        }
+        if self.tail_alpha_sum > 0.0 {
+            let alpha = 1.0 - self.tail_transparency;
+            color += transmit * alpha * self.tail_weighted / self.tail_alpha_sum;
+            transmit *= self.tail_transparency;
+        }
+        (color + transmit * Vec3::from(background)).into()
+    }
+}

@@ -207,6 +207,7 @@ fn links_between_the_documents_lead_to_files() {
         "docs/testing.md",
         "docs/scene-files.md",
         "docs/grooms.md",
+        "docs/compute-raster.md",
     ] {
         let text = read(doc);
         let dir = Path::new(env!("CARGO_MANIFEST_DIR"))
@@ -274,6 +275,7 @@ fn the_files_the_documents_name_exist() {
         "docs/testing.md",
         "docs/scene-files.md",
         "docs/grooms.md",
+        "docs/compute-raster.md",
     ] {
         let text = read(doc);
         for prefix in ["src/", "tests/", "shaders/", "crates/", "tools/"] {

@@ -21,6 +21,12 @@ pub fn count_text(n: u64) -> String {
 pub fn stated() -> Vec<(&'static str, Vec<String>)> {
     let mut all = limits();
     all.extend(design());
+    all.push((
+        "docs/compute-raster.md",
+        vec![fur::render::strand_raster::pools::table(
+            &fur::render::strand_raster::pools::PoolBudget::default(),
+        )],
+    ));
     all
 }
 

@@ -21,6 +21,9 @@
 #ifndef SHADOW_CASTER
 #define SHADOW_CASTER 0
 #endif
+#ifndef COMPUTE_RASTER
+#define COMPUTE_RASTER 0
+#endif
 #ifndef COVERAGE_SAMPLES
 #define COVERAGE_SAMPLES 0
 #endif

@@ -27,12 +27,20 @@
 // (blended from its triangle's corners by the evaluation stage) is its base colour.
 // SHADOW_CASTER: the light's view of the fur for the shadow map, positions only.
 // MARSCHNER: the fibre model instead of Kajiya–Kay (per vertex, its radiance).
-// STRAND_VERTICES, LINES, VERTEX_SHADING, TEXTURED, SHADOWS, SHADOW_CASTER, MARSCHNER
-// and COUNT_HAIRS are defined by the renderer.
+// COMPUTE_RASTER: the strand is not emitted but written, lit per vertex, into the
+// strand buffers the compute passes draw from (strand_raster.glsl), with the
+// rasteriser discarded; its hairs and segments are counted as the emitted ones are.
+// STRAND_VERTICES, LINES, VERTEX_SHADING, TEXTURED, SHADOWS, SHADOW_CASTER, MARSCHNER,
+// COUNT_HAIRS and COMPUTE_RASTER are defined by the renderer.
 #include "shading.glsl"
+#if COMPUTE_RASTER
+#include "strand_raster.glsl"
+#endif
 
 layout(points) in;
-#if LINES
+#if COMPUTE_RASTER
+layout(points, max_vertices = 1) out;
+#elif LINES
 layout(line_strip, max_vertices = STRAND_VERTICES) out;
 #else
 layout(triangle_strip, max_vertices = 2 * STRAND_VERTICES) out;
@@ -201,6 +209,68 @@ void write_outputs(uint k, vec3 t) {
 #endif
 }
 
+#if COMPUTE_RASTER
+float TW[STRAND_VERTICES];            // the hair's true width at each
+vec4 kept_position[STRAND_VERTICES];  // x, y (pixels), depth (NDC z), width (pixels)
+vec3 kept_color[STRAND_VERTICES];
+uint kept_count = 0u;
+bool behind_eye = false;
+
+// Keeps vertex k, lit (lit_along), as the compute passes draw it: on the screen, its
+// width in pixels (its true width with thin-hair anti-aliasing, the drawn width
+// otherwise; coverage does the rest), its final colour.
+void keep_vertex(uint k) {
+    vec4 clip = frame.view_proj * vec4(P[k], 1.0);
+    behind_eye = behind_eye || clip.w <= 1e-6;
+    vec3 ndc = clip.xyz / max(clip.w, 1e-6);
+    vec2 pixel = (ndc.xy * 0.5 + 0.5) * frame.viewport.xy;
+    bool thin_hair_aa = (frame.strands.w & FLAG_THIN_HAIR_AA) != 0u;
+    float width = (thin_hair_aa ? TW[k] : W[k]) / S[k];
+#if STAGE_VIEW != 0 || MARSCHNER
+    vec3 color = lit_along.xyz;
+#else
+    vec3 color = hair_color(lit_along.xyz, along(k), root_texel());
+#endif
+    kept_position[kept_count] = vec4(pixel, ndc.z, width);
+    kept_color[kept_count] = color;
+    kept_count += 1u;
+}
+
+// Writes the kept vertices and their segments into the strand buffers (the strand
+// named by its first vertex), or counts the
+// hair lost when they are full or clipped when a vertex lies behind the eye.
+void write_strand() {
+    if (behind_eye) {
+        atomicAdd(raster_counts.hairs_clipped, 1u);
+        return;
+    }
+    uint first = atomicAdd(raster_counts.vertices, kept_count);
+    uint segments = kept_count - 1u;
+    uint first_segment = atomicAdd(raster_counts.segments, segments);
+    uint segment_room = uint(strand_segment_list.length());
+    if (first + kept_count > uint(strand_vertex_list.length())
+        || first_segment + segments > segment_room) {
+        atomicAdd(raster_counts.hairs_lost, 1u);
+        // Its segments that fit are marked as none, so that the bin passes skip them.
+        for (uint i = 0u; i < segments && first_segment + i < segment_room; ++i) {
+            strand_segment_list[first_segment + i] = uvec2(NO_SEGMENT);
+        }
+        return;
+    }
+    for (uint i = 0u; i < kept_count; ++i) {
+        strand_vertex_list[first + i].position = kept_position[i];
+        strand_vertex_list[first + i].color = vec4(kept_color[i], 1.0);
+    }
+    for (uint i = 0u; i < segments; ++i) {
+        strand_segment_list[first_segment + i] = uvec2(first + i, first);
+    }
+    // The bin passes' workgroups, at most the dispatch limit every device has (each
+    // invocation then takes every so-many-th segment).
+    atomicMax(raster_counts.bin_groups,
+              min((first_segment + segments + GROUP_SIZE - 1u) / GROUP_SIZE, 65535u));
+}
+#endif
+
 void emit_vertex(uint k, vec3 t) {
 #if STAGE_VIEW == STAGE_SHADOW && MARSCHNER
     // The Marschner model's light through the fibres, in their colour.
@@ -217,7 +287,9 @@ void emit_vertex(uint k, vec3 t) {
 #elif MARSCHNER && !SHADOW_CASTER
     vertex_coat = coat_layers(k);
 #endif
-#if LINES
+#if COMPUTE_RASTER
+    keep_vertex(k);
+#elif LINES
     write_outputs(k, t);
     gl_Position = frame.view_proj * vec4(P[k], 1.0);
     EmitVertex();
@@ -267,7 +339,9 @@ void main() {
     }
     float root_pixel = pixel * distance(root, frame.eye.xyz);
     float root_pixels = max(thickness / root_pixel, frame.hair.y);
-#if LINES
+#if COMPUTE_RASTER
+    // Every hair: the compute passes draw any width.
+#elif LINES
     if (root_pixels >= frame.draw.x) {
         return;
     }
@@ -301,6 +375,9 @@ void main() {
         P[k] = p + jitter * along(k);
         S[k] = pixel * distance(P[k], frame.eye.xyz);
         float width = true_width(thickness, k);
+#if COMPUTE_RASTER
+        TW[k] = width;
+#endif
         W[k] = max(width, frame.hair.y * S[k]);
 #if LINES
         // A line is a pixel wide: it covers the pixel by the hair's width.
@@ -378,7 +455,11 @@ void main() {
         k = next;
         segments += 1u;
     }
+#if COMPUTE_RASTER
+    write_strand();
+#else
     EndPrimitive();
+#endif
 #if COUNT_HAIRS
     if ((frame.strands.w & FLAG_COUNT) != 0u) {
         uint index = atomicAdd(counters.hairs_drawn, 1u);

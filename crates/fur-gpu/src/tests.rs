@@ -14,6 +14,10 @@ fn every_embedded_shader_compiles() {
         ("BODY_SKINNED", "1"),
         ("COUNT_HAIRS", "1"),
         ("LINES", "1"),
+        ("TILE", "8"),
+        ("NEAREST", "4"),
+        ("DEPTH_SAMPLES", "1"),
+        ("SCATTER", "0"),
     ]
     .map(|(k, v)| (k, v.to_string()));
     let layers = [

@@ -18,5 +18,6 @@ pub use image::{flip, RgbaImage};
 pub use lighting::{kajiya_kay, Fibre, Highlights, Lighting, LightingModel, Shade, Shadows};
 pub use presets::FurPreset;
 pub use uniforms::{
-    FrameSettings, FrameUniforms, FurStyle, Primitive, Shading, Stage, StrandShape, STUB_LIMIT,
+    FrameSettings, FrameUniforms, FurStyle, Primitive, Raster, Shading, Stage, StrandShape,
+    STUB_LIMIT,
 };

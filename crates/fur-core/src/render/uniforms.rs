@@ -75,6 +75,39 @@ impl std::str::FromStr for Shading {
     }
 }
 
+/// What draws the strands the geometry stage makes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum Raster {
+    /// The fixed-function rasteriser: the geometry stage emits lines or ribbons.
+    #[default]
+    Hardware,
+    /// Compute passes: the geometry stage writes its strands into buffers, which are
+    /// binned to screen tiles and drawn with exact coverage, the nearest fragments of
+    /// each pixel blended front to back (the CPU twin: [`crate::render::strand_raster`]).
+    Compute,
+}
+
+impl Raster {
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Hardware => "hardware",
+            Self::Compute => "compute",
+        }
+    }
+}
+
+impl std::str::FromStr for Raster {
+    type Err = String;
+
+    fn from_str(s: &str) -> std::result::Result<Self, String> {
+        match s {
+            "hardware" => Ok(Self::Hardware),
+            "compute" => Ok(Self::Compute),
+            _ => Err(format!("expected hardware or compute, got `{s}`")),
+        }
+    }
+}
+
 /// How the fur is generated and drawn.
 #[derive(Clone, Debug, PartialEq)]
 pub struct FurStyle {
@@ -118,6 +151,8 @@ pub struct FurStyle {
     /// Samples per pixel of the render target (1 = no MSAA); the device decides which
     /// counts exist.
     pub samples: u32,
+    /// What draws the strands.
+    pub raster: Raster,
 }
 
 impl Default for FurStyle {
@@ -140,6 +175,7 @@ impl Default for FurStyle {
             thickness_compensation: true,
             thin_hair_aa: true,
             samples: 4,
+            raster: Raster::Hardware,
         }
     }
 }

@@ -3,7 +3,7 @@
 
 use crate::error::Error;
 use crate::error::Result;
-use crate::render::{FrameSettings, FurStyle, Primitive, Shading};
+use crate::render::{FrameSettings, FurStyle, Primitive, Raster, Shading};
 use crate::scene::{Camera, GroomParams, Mesh, Rig, TextureSpec};
 use crate::skinning::Playback;
 
@@ -67,6 +67,7 @@ pub struct DrawOptions {
     /// Culled when cos(normal, view) < −cull_margin.
     pub cull_margin: f32,
     pub thin_hair_aa: bool,
+    pub raster: Raster,
 }
 
 impl Default for DrawOptions {
@@ -94,6 +95,7 @@ impl DrawOptions {
             cull: style.cull,
             cull_margin: style.cull_margin,
             thin_hair_aa: style.thin_hair_aa,
+            raster: style.raster,
         }
     }
 
@@ -304,6 +306,7 @@ impl SceneOptions {
         style.vertex_lod_px = draw.vertex_lod_px;
         style.thickness_compensation = draw.thickness_compensation;
         style.thin_hair_aa = draw.thin_hair_aa;
+        style.raster = draw.raster;
         settings.lighting.shadows.spacing *= radius;
         settings.show = self.show;
         settings.arrows = self.arrows;

@@ -167,6 +167,7 @@ macro_rules! named_choice {
 
 named_choice!(
     crate::render::Primitive,
+    crate::render::Raster,
     crate::render::Shading,
     crate::render::LightingModel,
     crate::render::Stage,

@@ -33,6 +33,14 @@ pub enum Access {
     /// Sampled by the geometry and fragment stages (the shadow map as the fur and the
     /// skin read it).
     ShadingSampled,
+    /// Read as storage by a compute shader.
+    ComputeRead,
+    /// Sampled by a compute shader (the body's depth as the compute strand passes read it).
+    ComputeSampled,
+    /// Read as the arguments of an indirect dispatch or draw.
+    IndirectRead,
+    /// Read as storage by the fragment stage.
+    FragmentRead,
 }
 
 impl Access {
@@ -53,6 +61,9 @@ impl Access {
             Access::DepthAttachment => S::EARLY_FRAGMENT_TESTS | S::LATE_FRAGMENT_TESTS,
             Access::ColorAttachment => S::COLOR_ATTACHMENT_OUTPUT,
             Access::ShadingSampled => S::GEOMETRY_SHADER | S::FRAGMENT_SHADER,
+            Access::ComputeRead | Access::ComputeSampled => S::COMPUTE_SHADER,
+            Access::IndirectRead => S::DRAW_INDIRECT,
+            Access::FragmentRead => S::FRAGMENT_SHADER,
         }
     }
 
@@ -69,7 +80,9 @@ impl Access {
                 A::DEPTH_STENCIL_ATTACHMENT_READ | A::DEPTH_STENCIL_ATTACHMENT_WRITE
             }
             Access::ColorAttachment => A::COLOR_ATTACHMENT_READ | A::COLOR_ATTACHMENT_WRITE,
-            Access::ShadingSampled => A::SHADER_SAMPLED_READ,
+            Access::ShadingSampled | Access::ComputeSampled => A::SHADER_SAMPLED_READ,
+            Access::ComputeRead | Access::FragmentRead => A::SHADER_STORAGE_READ,
+            Access::IndirectRead => A::INDIRECT_COMMAND_READ,
         }
     }
 
@@ -87,14 +100,17 @@ impl Access {
     pub fn layout(self) -> vk::ImageLayout {
         use vk::ImageLayout as L;
         match self {
-            Access::ComputeWrite | Access::HairStagesRead | Access::CounterStagesReadWrite => {
-                L::GENERAL
-            }
+            Access::ComputeWrite
+            | Access::HairStagesRead
+            | Access::CounterStagesReadWrite
+            | Access::ComputeRead
+            | Access::IndirectRead
+            | Access::FragmentRead => L::GENERAL,
             Access::TransferWrite => L::TRANSFER_DST_OPTIMAL,
             Access::TransferRead => L::TRANSFER_SRC_OPTIMAL,
             Access::DepthAttachment => L::DEPTH_ATTACHMENT_OPTIMAL,
             Access::ColorAttachment => L::COLOR_ATTACHMENT_OPTIMAL,
-            Access::ShadingSampled => L::SHADER_READ_ONLY_OPTIMAL,
+            Access::ShadingSampled | Access::ComputeSampled => L::SHADER_READ_ONLY_OPTIMAL,
         }
     }
 }

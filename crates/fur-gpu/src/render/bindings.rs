@@ -13,6 +13,7 @@ use crate::gpu::{Buffer, Device, Image};
 /// The set numbers.
 pub(super) const SET_FRAME: u32 = 0;
 pub(super) const SET_BODY: u32 = 1;
+pub(super) const SET_RASTER: u32 = 2;
 
 /// The hair stages: vertex, tessellation control and evaluation, geometry.
 const HAIR_STAGES: vk::ShaderStageFlags = vk::ShaderStageFlags::from_raw(
@@ -69,7 +70,8 @@ bindings!(
     /// and the light's).
     FrameBinding {
         /// The `Frame` uniform block (`FrameUniforms`).
-        Uniforms = ("B_FRAME_UNIFORMS", UNIFORM_BUFFER, vk::ShaderStageFlags::ALL_GRAPHICS),
+        Uniforms = ("B_FRAME_UNIFORMS", UNIFORM_BUFFER, vk::ShaderStageFlags::from_raw(
+            vk::ShaderStageFlags::ALL_GRAPHICS.as_raw() | vk::ShaderStageFlags::COMPUTE.as_raw())),
         /// The strand positions the simulation last wrote.
         Positions = ("B_STRAND_POSITIONS", STORAGE_IMAGE, HAIR_STAGES),
         /// Hairs, segments and culled triangles counted (and the capture behind them).
@@ -103,13 +105,50 @@ bindings!(
     }
 );
 
+/// The stages that touch the compute rasteriser's strands and counts: the geometry
+/// stage writes them, the compute passes bin and draw them.
+const RASTER_STAGES: vk::ShaderStageFlags = vk::ShaderStageFlags::from_raw(
+    vk::ShaderStageFlags::GEOMETRY.as_raw() | vk::ShaderStageFlags::COMPUTE.as_raw(),
+);
+
+bindings!(
+    /// Set 2: the compute rasteriser's (`--raster compute`), one per frame in flight
+    /// (each with its own counts).
+    RasterBinding {
+        /// What the passes counted, and the bin passes' indirect dispatch.
+        Counts = ("B_RASTER_COUNTS", STORAGE_BUFFER, RASTER_STAGES),
+        /// The strands' vertices on the screen.
+        Vertices = ("B_STRAND_VERTICES", STORAGE_BUFFER, RASTER_STAGES),
+        /// The segments: first vertex and strand.
+        Segments = ("B_STRAND_SEGMENTS", STORAGE_BUFFER, RASTER_STAGES),
+        /// Per tile: the body's depth and the tile's list in the entry pool.
+        TileBins = ("B_TILE_BINS", STORAGE_BUFFER, vk::ShaderStageFlags::COMPUTE),
+        /// The entry pool: segments listed per tile.
+        TileEntries = ("B_TILE_ENTRIES", STORAGE_BUFFER, vk::ShaderStageFlags::COMPUTE),
+        /// Per pixel: the hair, premultiplied, and the light it lets through.
+        HairLayer = ("B_HAIR_LAYER", STORAGE_BUFFER, RASTER_STAGES),
+        /// The mesh pass's depth.
+        BodyDepth = ("B_BODY_DEPTH", COMBINED_IMAGE_SAMPLER, vk::ShaderStageFlags::COMPUTE),
+        /// The target's resolved colour, which the hair layer is composited over.
+        TargetColor = ("B_TARGET_COLOR", COMBINED_IMAGE_SAMPLER, vk::ShaderStageFlags::COMPUTE),
+        /// The composited image, copied onto the target.
+        Composited = ("B_COMPOSITED", STORAGE_IMAGE, vk::ShaderStageFlags::COMPUTE),
+    }
+);
+
 /// The defines every render shader is compiled with: the set numbers and each
 /// binding's number.
 pub(super) fn binding_defines() -> Vec<(&'static str, String)> {
     let mut defines = vec![
         ("SET_FRAME", SET_FRAME.to_string()),
         ("SET_BODY", SET_BODY.to_string()),
+        ("SET_RASTER", SET_RASTER.to_string()),
     ];
+    defines.extend(
+        RasterBinding::ALL
+            .iter()
+            .map(|b| (b.define(), (*b as u32).to_string())),
+    );
     defines.extend(
         FrameBinding::ALL
             .iter()
@@ -234,7 +273,9 @@ pub(super) fn write_probe(device: &Device, set: vk::DescriptorSet, probe: &Buffe
 mod tests {
     use std::mem::offset_of;
 
-    use super::{binding_defines, BodyBinding, FrameBinding, SET_BODY, SET_FRAME};
+    use super::{
+        binding_defines, BodyBinding, FrameBinding, RasterBinding, SET_BODY, SET_FRAME, SET_RASTER,
+    };
     use crate::gpu::reflect::{check_bindings, check_struct, reflect};
     use crate::gpu::shader::compile;
     use crate::render::uniforms::{shader_defines, FrameUniforms};
@@ -281,12 +322,14 @@ mod tests {
             types(FrameBinding::set_layout()),
             types(BodyBinding::set_layout()),
         );
-        let mut sets = vec![Vec::new(); 2];
+        let mut sets = vec![Vec::new(); 3];
         sets[SET_FRAME as usize] = frame;
         sets[SET_BODY as usize] = body;
+        sets[SET_RASTER as usize] = types(RasterBinding::set_layout());
         let layout: Vec<&[ash::vk::DescriptorType]> = sets.iter().map(Vec::as_slice).collect();
         let mut used = std::collections::BTreeSet::new();
-        for lines in ["0", "1"] {
+        // The two hardware forms, then the geometry stage writing for the compute passes.
+        for (lines, compute) in [("0", "0"), ("1", "0"), ("1", "1")] {
             let mut defines: Vec<(&str, String)> = [
                 ("STRAND_VERTICES", "17"),
                 ("TEXTURED", "1"),
@@ -296,13 +339,20 @@ mod tests {
                 ("MARSCHNER", "1"),
                 ("COVERAGE_SAMPLES", "4"),
                 ("LINES", lines),
+                ("COMPUTE_RASTER", compute),
+                ("VERTEX_SHADING", compute),
+                ("TILE", "8"),
+                ("NEAREST", "4"),
+                ("SCATTER", "1"),
+                ("DEPTH_SAMPLES", "4"),
             ]
             .into_iter()
             .map(|(k, v)| (k, v.to_string()))
             .collect();
             defines.extend(shader_defines());
             defines.extend(binding_defines());
-            // Every render shader embedded (all but the compute kernels and includes).
+            // Every render shader embedded (all but the simulation's kernels and the
+            // includes), the compute rasteriser's passes included.
             let render_shaders = crate::gpu::shader::SOURCES
                 .iter()
                 .map(|(name, _)| *name)
@@ -310,6 +360,7 @@ mod tests {
                     [".vert", ".tesc", ".tese", ".geom", ".frag"]
                         .iter()
                         .any(|e| name.ends_with(e))
+                        || (name.starts_with("strand_") && name.ends_with(".comp"))
                 });
             for shader in render_shaders {
                 let words = compile(shader, &defines).unwrap_or_else(|e| panic!("{shader}: {e}"));

@@ -32,6 +32,15 @@ pub enum Resource {
     Depth,
     Color,
     Resolve,
+    /// The compute rasteriser's strands: their counts, vertices and segments.
+    Strands,
+    /// The compute rasteriser's tiles and the entry pool of their lists.
+    TileBins,
+    /// The compute rasteriser's hair layer, composited over the target.
+    HairLayer,
+    /// The compute rasteriser's composited image (storage, `GENERAL`), copied onto the
+    /// target's single-sample colour.
+    Composited,
 }
 
 impl Resource {
@@ -40,7 +49,11 @@ impl Resource {
     fn is_image(self) -> bool {
         matches!(
             self,
-            Resource::ShadowMap | Resource::Depth | Resource::Color | Resource::Resolve
+            Resource::ShadowMap
+                | Resource::Depth
+                | Resource::Color
+                | Resource::Resolve
+                | Resource::Composited
         )
     }
 }
@@ -106,29 +119,43 @@ pub struct FrameContext<'a> {
     pub indices: vk::Buffer,
     /// The body's descriptor set.
     pub body_set: vk::DescriptorSet,
+    /// The compute rasteriser's set for this slot (null without it).
+    pub raster_set: vk::DescriptorSet,
+    /// The compute rasteriser's counts for this slot (its indirect dispatch too).
+    pub raster_counts: vk::Buffer,
+    /// The compute rasteriser's composited image (null without it).
+    pub composited: vk::Image,
 }
 
 impl FrameContext<'_> {
     /// Binds the frame set of `view` and the body's set for the graphics pipelines.
     fn bind_sets(&self, cmd: vk::CommandBuffer, view: View) {
+        self.bind_sets_at(cmd, view, vk::PipelineBindPoint::GRAPHICS);
+    }
+
+    /// Binds the camera's frame set, the body's and the compute rasteriser's for the
+    /// compute pipelines.
+    pub fn bind_compute_sets(&self, cmd: vk::CommandBuffer) {
+        self.bind_sets_at(cmd, View::Camera, vk::PipelineBindPoint::COMPUTE);
+    }
+
+    fn bind_sets_at(&self, cmd: vk::CommandBuffer, view: View, point: vk::PipelineBindPoint) {
         let frame_set = match view {
             View::Camera => self.slot.sets[self.current],
             View::Light => self.slot.light_sets[self.current],
         };
-        let mut sets = [vk::DescriptorSet::null(); 2];
+        let mut sets = vec![vk::DescriptorSet::null(); 2];
         sets[SET_FRAME as usize] = frame_set;
         sets[SET_BODY as usize] = self.body_set;
+        if self.raster_set != vk::DescriptorSet::null() {
+            sets.push(self.raster_set);
+        }
         // SAFETY: the command buffer is recording; the sets and the layout belong to the
         // renderer, which outlives the frame.
         unsafe {
-            self.device.raw.cmd_bind_descriptor_sets(
-                cmd,
-                vk::PipelineBindPoint::GRAPHICS,
-                self.layout.raw(),
-                0,
-                &sets,
-                &[],
-            );
+            self.device
+                .raw
+                .cmd_bind_descriptor_sets(cmd, point, self.layout.raw(), 0, &sets, &[]);
         }
     }
 
@@ -143,7 +170,14 @@ impl FrameContext<'_> {
             Resource::Depth => Some((self.target.depth.raw(), vk::ImageAspectFlags::DEPTH)),
             Resource::Color => self.target.color.as_ref().map(|c| (c.raw(), colour)),
             Resource::Resolve => Some((self.target.resolve.raw(), colour)),
-            Resource::Positions | Resource::Posed | Resource::Counters | Resource::Probe => None,
+            Resource::Composited => Some((self.composited, colour)),
+            Resource::Positions
+            | Resource::Posed
+            | Resource::Counters
+            | Resource::Probe
+            | Resource::Strands
+            | Resource::TileBins
+            | Resource::HairLayer => None,
         }
     }
 
@@ -163,7 +197,25 @@ impl FrameContext<'_> {
             ),
             (
                 Resource::Depth,
-                State::discarded_after(&[Access::DepthAttachment]),
+                State::discarded_after(&[Access::DepthAttachment, Access::ComputeSampled]),
+            ),
+            // The compute rasteriser's buffers, last used by the previous frame's passes.
+            (
+                Resource::Strands,
+                State::after(&[
+                    Access::ComputeRead,
+                    Access::IndirectRead,
+                    Access::ComputeWrite,
+                ]),
+            ),
+            (
+                Resource::TileBins,
+                State::after(&[Access::ComputeWrite, Access::ComputeRead]),
+            ),
+            (Resource::HairLayer, State::after(&[Access::ComputeRead])),
+            (
+                Resource::Composited,
+                State::discarded_after(&[Access::TransferRead]),
             ),
             (
                 Resource::Color,
@@ -171,7 +223,11 @@ impl FrameContext<'_> {
             ),
             (
                 Resource::Resolve,
-                State::discarded_after(&[Access::TransferRead, Access::ColorAttachment]),
+                State::discarded_after(&[
+                    Access::TransferRead,
+                    Access::ColorAttachment,
+                    Access::TransferWrite,
+                ]),
             ),
         ]
     }
@@ -369,7 +425,12 @@ fn begin_scope(frame: &FrameContext<'_>, cmd: vk::CommandBuffer, attachments: At
                 .image_view(target.depth.view())
                 .image_layout(vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL)
                 .load_op(vk::AttachmentLoadOp::CLEAR)
-                .store_op(vk::AttachmentStoreOp::DONT_CARE)
+                // Kept when the compute strand passes read it.
+                .store_op(if frame.raster_set != vk::DescriptorSet::null() {
+                    vk::AttachmentStoreOp::STORE
+                } else {
+                    vk::AttachmentStoreOp::DONT_CARE
+                })
                 .clear_value(depth_clear);
             let rendering = vk::RenderingInfo::default()
                 .render_area(target.extent.into())

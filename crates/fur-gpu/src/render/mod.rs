@@ -15,6 +15,6 @@ mod texture;
 pub(crate) use bindings::render_defines;
 pub use renderer::CASTER_DENSITY;
 pub use renderer::{
-    CapturedHairs, FrameReport, HairCounts, Renderer, BACKGROUND, MAX_CAPTURE_BYTES,
+    CapturedHairs, FrameReport, HairCounts, RasterCapture, Renderer, BACKGROUND, MAX_CAPTURE_BYTES,
 };
 pub use target::{check_samples, RenderTarget};

@@ -13,19 +13,20 @@ use ash::vk;
 
 use super::bindings::{
     write_body_set, write_probe, write_shadow_map, BodyBinding, BodyResources, FrameBinding,
-    SET_BODY, SET_FRAME,
+    SET_BODY, SET_FRAME, SET_RASTER,
 };
 use super::graph::Pass;
 use super::slot::{RenderSlot, TS_FRAME, TS_FUR, TS_MESH, TS_START};
 use super::target::{check_samples, RenderTarget};
 use super::texture::{GpuTexture, ShadowMap};
-use super::uniforms::{FrameSettings, FrameUniforms, Stage, StrandShape};
+use super::uniforms::{FrameSettings, FrameUniforms, Raster, Stage, StrandShape};
 use super::RgbaImage;
 use crate::error::Error;
 use crate::error::Result;
 use crate::gpu::{Buffer, DescriptorPool, DescriptorSetLayout, Device, PipelineLayout};
 use crate::scene::{HairPatches, Mesh, Texture};
 use crate::strand_textures::StrandTextures;
+use compute_raster::ComputeRaster;
 use density_pass::DensityPass;
 use fur_pass::FurPass;
 use masters_pass::MastersPass;
@@ -33,11 +34,14 @@ use mesh_pass::{MeshLook, MeshPass};
 use shadow_pass::{LightView, ShadowPass};
 
 mod capture;
+mod raster_capture;
+mod raster_steps;
 mod record;
 mod report;
 
 // The frame's passes: each a module here, built and listed by the renderer
 // (`Renderer::passes`).
+pub mod compute_raster;
 mod density_pass;
 mod fur_pass;
 mod masters_pass;
@@ -48,6 +52,7 @@ pub use fur_pass::Variant;
 pub use shadow_pass::CASTER_DENSITY;
 
 pub use capture::{CapturedHairs, MAX_CAPTURE_BYTES};
+pub use raster_capture::RasterCapture;
 pub use report::{FrameReport, HairCounts};
 
 /// The colour behind the model (linear RGB), where nothing is drawn.
@@ -89,6 +94,9 @@ pub struct Renderer {
     fur_pass: FurPass,
     masters_pass: MastersPass,
     density_pass: DensityPass,
+    /// The compute rasteriser's passes (`--raster compute`); its pools are made on
+    /// first use.
+    compute_raster: ComputeRaster,
     pub target: RenderTarget,
     /// The target and fur pass of the sample count in use before the last change, kept
     /// so that changing back (as the frame-time budget does) builds nothing.
@@ -196,14 +204,16 @@ impl Renderer {
             DescriptorSetLayout::new(device, "render.frame_set_layout", &frame_bindings)?;
         let body_layout =
             DescriptorSetLayout::new(device, "render.body_set_layout", &body_bindings)?;
-        // In set order: SET_FRAME, SET_BODY.
-        const _: () = assert!(SET_FRAME == 0 && SET_BODY == 1);
+        let raster_layout = ComputeRaster::set_layout(device)?;
+        // In set order: SET_FRAME, SET_BODY, SET_RASTER.
+        const _: () = assert!(SET_FRAME == 0 && SET_BODY == 1 && SET_RASTER == 2);
         let pipeline_layout = PipelineLayout::new(
             device,
             "render.pipeline_layout",
-            &[&frame_layout, &body_layout],
+            &[&frame_layout, &body_layout, &raster_layout],
             &[],
         )?;
+        let compute_raster = ComputeRaster::new(device, raster_layout, frames_in_flight)?;
         // Four frame sets per slot (two position images, two views), one body set; the
         // pool holds enough of every descriptor type for all of them.
         let set_count = 4 * frames_in_flight.max(1) + 1;
@@ -287,6 +297,7 @@ impl Renderer {
             fur_pass,
             masters_pass,
             density_pass,
+            compute_raster,
             target,
             spare: None,
         })
@@ -376,6 +387,10 @@ impl Renderer {
         if shadows {
             self.shadow_pass.prepare(&self.pipeline_layout)?;
         }
+        if Self::draws_in_compute(settings) {
+            self.compute_raster
+                .prepare(&self.target, &self.pipeline_layout, slot)?;
+        }
         self.mesh_pass.prepare(
             &self.device,
             &self.pipeline_layout,
@@ -441,35 +456,25 @@ impl Renderer {
         if settings.count_hairs && !settings.show.draws_masters() {
             passes.push(&record::CounterReset);
         }
+        let compute = Self::draws_in_compute(settings);
+        if compute {
+            passes.push(self.compute_raster.reset_pass());
+        }
         if shadows {
             passes.push(&self.shadow_pass);
         }
         passes.push(&self.mesh_pass);
         if settings.show.draws_fur() {
             passes.push(&self.fur_pass);
+            if compute {
+                passes.extend(self.compute_raster.draw_passes().map(|p| p as &dyn Pass));
+            }
         } else if settings.show.draws_masters() {
             passes.push(&self.masters_pass);
         } else {
             passes.push(&self.density_pass);
         }
         passes
-    }
-
-    /// Renders one frame of the strands' current state and returns the image.
-    pub fn render(
-        &mut self,
-        strands: &StrandTextures,
-        settings: &FrameSettings,
-    ) -> Result<(RgbaImage, FrameReport)> {
-        self.update(0, settings)?;
-        let device = self.device.clone();
-        device.submit_once(|cmd| {
-            self.begin_frame(cmd, 0);
-            self.record(cmd, 0, strands.current, settings);
-            self.target.copy_out(&device, cmd);
-            Ok(())
-        })?;
-        Ok((self.target.pixels(), self.report(0, settings)?))
     }
 }
 

@@ -95,8 +95,10 @@ impl RenderTarget {
             ImageDesc {
                 extent,
                 format: DEPTH_FORMAT,
+                // Sampled: the compute strand passes hide hair behind the body by it.
                 usage: vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT
-                    | vk::ImageUsageFlags::TRANSIENT_ATTACHMENT,
+                    | vk::ImageUsageFlags::SAMPLED
+                    | vk::ImageUsageFlags::TRANSFER_SRC,
                 samples: sample_flag(samples),
                 aspect: vk::ImageAspectFlags::DEPTH,
             },
@@ -107,7 +109,11 @@ impl RenderTarget {
             ImageDesc {
                 extent,
                 format: COLOR_FORMAT,
-                usage: vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::TRANSFER_SRC,
+                // Sampled and copied into: the compute strand passes composite over it.
+                usage: vk::ImageUsageFlags::COLOR_ATTACHMENT
+                    | vk::ImageUsageFlags::TRANSFER_SRC
+                    | vk::ImageUsageFlags::SAMPLED
+                    | vk::ImageUsageFlags::TRANSFER_DST,
                 samples: vk::SampleCountFlags::TYPE_1,
                 aspect: vk::ImageAspectFlags::COLOR,
             },

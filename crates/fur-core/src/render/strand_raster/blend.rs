@@ -3,6 +3,9 @@
 //! The nearest `K` fragments are kept in depth order; a fragment pushed out of them
 //! joins the tail, which is blended behind them in a way that does not depend on order
 //! (its colour the coverage-weighted mean, its opacity the product of transparencies).
+//! The result does not depend on the order fragments arrive in, but for one case: a
+//! strand whose fragment was pushed into the tail and which leaves another in the
+//! pixel later is two fragments there, not one.
 //! Two fragments of one strand are one fragment: a strand crossing a pixel in two
 //! segments covers it by the sum of their shares (the shares split the pixel where the
 //! segments meet), not as two layers, which would leave a darker dot at every joint.

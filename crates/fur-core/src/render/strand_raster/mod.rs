@@ -2,7 +2,7 @@
 //! passes are tested against, and their specification.
 //!
 //! Three steps, as the GPU runs them:
-//! 1. **Bin** ([`bin`]): each segment is listed in every screen tile it can touch,
+//! 1. **Bin** ([`mod@bin`]): each segment is listed in every screen tile it can touch,
 //!    unless the body's depth hides it from the whole tile. The lists share one pool of
 //!    entries; a segment that finds the pool full is counted, not silently lost.
 //! 2. **Fine raster**: each pixel of a tile walks its tile's list, takes each segment's
@@ -17,6 +17,7 @@
 pub mod bin;
 pub mod blend;
 pub mod coverage;
+pub mod pools;
 #[cfg(test)]
 mod tests;
 
@@ -134,15 +135,21 @@ pub struct Raster {
     pub counts: RasterCounts,
 }
 
-/// The tiles of one frame and their lists.
-struct Bins {
-    columns: u32,
-    rows: u32,
-    lists: Vec<Vec<u32>>,
+/// The tiles of one frame and their lists of segments (indices into the frame's).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Bins {
+    pub columns: u32,
+    pub rows: u32,
+    /// Row by row.
+    pub lists: Vec<Vec<u32>>,
 }
 
 /// Bins `segments` into the tiles of `backdrop` within `budget`.
-fn bin(segments: &[Segment], backdrop: &Backdrop, budget: &RasterBudget) -> (Bins, RasterCounts) {
+pub fn bin(
+    segments: &[Segment],
+    backdrop: &Backdrop,
+    budget: &RasterBudget,
+) -> (Bins, RasterCounts) {
     let tile = budget.tile;
     let columns = backdrop.width.div_ceil(tile);
     let rows = backdrop.height.div_ceil(tile);
@@ -195,7 +202,19 @@ fn bin(segments: &[Segment], backdrop: &Backdrop, budget: &RasterBudget) -> (Bin
 
 /// Draws `segments` over `backdrop` within `budget`.
 pub fn rasterize(segments: &[Segment], backdrop: &Backdrop, budget: &RasterBudget) -> Raster {
-    let (bins, mut counts) = bin(segments, backdrop, budget);
+    let (bins, counts) = bin(segments, backdrop, budget);
+    draw(segments, &bins, backdrop, budget, counts)
+}
+
+/// Draws the tiles' lists `bins` of `segments` over `backdrop`, each pixel taking its
+/// tile's list in order (the order matters only to the tail: see [`blend`]).
+pub fn draw(
+    segments: &[Segment],
+    bins: &Bins,
+    backdrop: &Backdrop,
+    budget: &RasterBudget,
+    mut counts: RasterCounts,
+) -> Raster {
     let tile = budget.tile;
     let mut color = backdrop.color.clone();
     for row in 0..bins.rows {

@@ -19,6 +19,19 @@ pub const RENDER: Group = Group {
             ..field!(options.draw.samples)
         },
         Setting {
+            key: "raster",
+            flag: Flag::Long("raster"),
+            label: "strand rasteriser",
+            help:
+                "What draws the strands the geometry stage makes: `hardware` (the fixed-function \
+                   rasteriser: lines or ribbons) or `compute` (compute passes: strands binned to \
+                   screen tiles, exact coverage, the nearest fragments of each pixel blended \
+                   front to back)",
+            kind: Kind::Choice(&["hardware", "compute"]),
+            panel: Panel::Plain,
+            ..field!(options.draw.raster)
+        },
+        Setting {
             key: "primitive",
             flag: Flag::Long("primitive"),
             label: "hair primitive",

@@ -15,7 +15,7 @@ use super::super::pipeline::{
     graphics_pipeline, Blend, ColourAttachment, DepthAttachment, GraphicsDesc,
 };
 use super::super::target::{sample_flag, COLOR_FORMAT, DEPTH_FORMAT};
-use super::super::uniforms::{FrameSettings, FurStyle, Primitive, Shading, Stage};
+use super::super::uniforms::{FrameSettings, FurStyle, Primitive, Raster, Shading, Stage};
 use super::super::LightingModel;
 use crate::error::Result;
 use crate::gpu::{Access, Device, Pipeline, PipelineLayout, ShaderModule};
@@ -35,6 +35,9 @@ pub struct Variant {
     pub model: LightingModel,
     /// The stage view it draws (`Stage::code`: 0 lit).
     pub view: u32,
+    /// Writes the strands for the compute passes instead of drawing them
+    /// (`--raster compute`): lit per vertex, nothing emitted.
+    pub compute: bool,
 }
 
 impl Variant {
@@ -47,6 +50,7 @@ impl Variant {
         caster: true,
         model: LightingModel::KajiyaKay,
         view: 0,
+        compute: false,
     };
 }
 
@@ -98,7 +102,10 @@ impl FurPass {
         root_px: (f32, f32),
     ) -> Vec<Variant> {
         let view = stage.code();
+        let compute = style.raster == Raster::Compute;
         let (lines, ribbons) = match style.primitive {
+            // One form: the compute passes draw every width.
+            _ if compute => (true, false),
             Primitive::Lines => (true, false),
             Primitive::Ribbons => (false, true),
             Primitive::Auto => (
@@ -111,7 +118,7 @@ impl FurPass {
             .filter(|(wanted, _)| *wanted)
             .map(|(_, lines)| Variant {
                 lines,
-                shading: if view == 0 {
+                shading: if view == 0 && !compute {
                     style.shading
                 } else {
                     Shading::Vertex
@@ -128,6 +135,7 @@ impl FurPass {
                     LightingModel::KajiyaKay
                 },
                 view,
+                compute,
             })
             .collect()
     }
@@ -207,6 +215,7 @@ impl FurPass {
             ("LINES", flag(variant.lines)),
             ("SHADOW_CASTER", flag(variant.caster)),
             ("COUNT_HAIRS", flag(self.counts && !variant.caster)),
+            ("COMPUTE_RASTER", flag(variant.compute)),
         ];
         geometry_defines.extend(common.iter().cloned());
         let device = &self.device;
@@ -240,7 +249,13 @@ impl FurPass {
         } else {
             format!(
                 "fur pass ({}, {} {} shading{}{})",
-                if variant.lines { "lines" } else { "ribbons" },
+                if variant.compute {
+                    "strands for compute"
+                } else if variant.lines {
+                    "lines"
+                } else {
+                    "ribbons"
+                },
                 variant.shading.name(),
                 variant.model.label(),
                 if variant.coverage { ", coverage" } else { "" },
@@ -257,7 +272,7 @@ impl FurPass {
             (vk::ShaderStageFlags::TESSELLATION_EVALUATION, &tese),
             (vk::ShaderStageFlags::GEOMETRY, &geom),
         ];
-        if !variant.caster {
+        if !variant.caster && !variant.compute {
             stages.push((vk::ShaderStageFlags::FRAGMENT, &frag));
         }
         graphics_pipeline(
@@ -329,6 +344,10 @@ impl Pass for FurPass {
     fn uses(&self, frame: &FrameContext<'_>) -> Vec<Use> {
         // The shading samples the shadow map.
         let mut list = hair_uses(self.skinned, frame.settings.count_hairs);
+        if frame.slot.variants.iter().any(|v| v.compute) {
+            // The geometry stage writes the strands for the compute passes.
+            list.push(uses(Resource::Strands, Access::CounterStagesReadWrite));
+        }
         if frame.slot.shadows {
             list.push(uses(Resource::ShadowMap, Access::ShadingSampled));
         }

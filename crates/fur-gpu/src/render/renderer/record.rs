@@ -7,6 +7,7 @@ use super::super::graph::{
 use super::super::slot::COUNTERS_BYTES;
 use super::density_pass::DensityPass;
 use super::masters_pass::MastersPass;
+use super::raster_steps::LAST_NAME;
 use super::*;
 use crate::gpu::Access;
 
@@ -79,8 +80,16 @@ impl Renderer {
             hair_index_count: self.hair_index_count,
             indices: self.indices.raw(),
             body_set: self.body_set,
+            raster_set: if Self::draws_in_compute(settings) {
+                self.compute_raster.set(slot)
+            } else {
+                vk::DescriptorSet::null()
+            },
+            raster_counts: self.compute_raster.counts_buffer(slot),
+            composited: self.compute_raster.composited(),
         };
         let passes = self.passes(settings, frame.shadows);
+        let compute = Self::draws_in_compute(settings);
         d.begin_label(cmd, "frame");
         record_frame(&context, cmd, &passes, &mut |event| match event {
             Event::ScopeOpening(Attachments::Target) => {
@@ -97,9 +106,13 @@ impl Renderer {
                 }
             }
             Event::PassRecorded(MeshPass::NAME) => self.timestamp(cmd, slot, TS_MESH),
+            // The fur's end: the last of its passes (the compute passes' when the strands
+            // are drawn in compute).
+            Event::PassRecorded(FurPass::NAME) if compute => {}
             Event::PassRecorded(FurPass::NAME | MastersPass::NAME | DensityPass::NAME) => {
                 self.timestamp(cmd, slot, TS_FUR)
             }
+            Event::PassRecorded(LAST_NAME) => self.timestamp(cmd, slot, TS_FUR),
             Event::ScopeClosed(Attachments::Target) => {
                 if let Some(q) = &frame.statistics {
                     // SAFETY: the query was begun before this scope, in this command buffer.
@@ -124,5 +137,38 @@ impl Renderer {
                     .cmd_write_timestamp2(cmd, stage, q.raw(), query)
             };
         }
+    }
+
+    /// Whether a frame of `settings` draws its strands with the compute passes.
+    pub(super) fn draws_in_compute(settings: &FrameSettings) -> bool {
+        settings.style.raster == Raster::Compute && settings.show.draws_fur()
+    }
+
+    /// Renders one frame of the strands' current state and returns the image.
+    pub fn render(
+        &mut self,
+        strands: &StrandTextures,
+        settings: &FrameSettings,
+    ) -> Result<(RgbaImage, FrameReport)> {
+        let device = self.device.clone();
+        // Twice when the compute rasteriser's pools were too small for the frame: they
+        // grow to what it asked for, and it is drawn again whole.
+        for _ in 0..2 {
+            self.update(0, settings)?;
+            device.submit_once(|cmd| {
+                self.begin_frame(cmd, 0);
+                self.record(cmd, 0, strands.current, settings);
+                self.target.copy_out(&device, cmd);
+                Ok(())
+            })?;
+            let report = self.report(0, settings)?;
+            if !report
+                .raster
+                .is_some_and(|r| r.hairs_lost > 0 || r.entries_lost > 0)
+            {
+                break;
+            }
+        }
+        Ok((self.target.pixels(), self.report(0, settings)?))
     }
 }

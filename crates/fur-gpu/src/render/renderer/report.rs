@@ -27,6 +27,9 @@ pub struct FrameReport {
     pub fur_ms: f64,
     /// GPU milliseconds of the whole frame, simulation included.
     pub frame_ms: f64,
+    /// What the compute rasteriser counted (`--raster compute`): pools overflowed,
+    /// fragments blended out of order.
+    pub raster: Option<super::compute_raster::ComputeCounts>,
 }
 
 impl Renderer {
@@ -57,12 +60,14 @@ impl Renderer {
                 triangles_culled: u64::from(words[2]),
             }
         });
+        let raster = Self::draws_in_compute(settings).then(|| self.compute_raster.counts(slot));
         Ok(FrameReport {
             statistics,
             counts,
             mesh_ms,
             fur_ms,
             frame_ms,
+            raster,
         })
     }
 }

@@ -1,0 +1,80 @@
+#version 450
+// Strands in compute, passes 2 and 4: each segment walks the tiles it can touch (the
+// rows its widened axis crosses, in each the columns of the part of the axis inside
+// it; render::strand_raster::bin::tiles_touched) and, in a tile the body does not hide
+// it from, is counted (SCATTER 0) or written into the tile's list (SCATTER 1). One
+// invocation per segment (or every so-many-th), dispatched indirectly by the count the
+// geometry stage left.
+// TILE, SCATTER are defined by the renderer.
+#include "common.glsl"
+#include "strand_raster.glsl"
+
+layout(local_size_x = GROUP_SIZE) in;
+
+void bin_segment(uint s) {
+    uvec2 segment = strand_segment_list[s];
+    if (segment.x == NO_SEGMENT) {
+        return;
+    }
+    vec4 a = strand_vertex_list[segment.x].position;
+    vec4 b = strand_vertex_list[segment.x + 1u].position;
+    float radius = 0.5 * max(a.w, b.w) + 0.70710678;
+    float near = min(a.z, b.z);
+    float size = float(TILE);
+    uint columns = (uint(frame.viewport.x) + TILE - 1u) / TILE;
+    uint rows = (uint(frame.viewport.y) + TILE - 1u) / TILE;
+    float y_lo = min(a.y, b.y) - radius;
+    float y_hi = max(a.y, b.y) + radius;
+    if (isnan(y_lo) || isinf(y_lo) || isnan(y_hi) || isinf(y_hi) || isnan(a.x) || isinf(a.x)
+        || isnan(b.x) || isinf(b.x)) {
+        return;
+    }
+    float first_row = max(floor(y_lo / size), 0.0);
+    float last_row = min(floor(y_hi / size), float(rows) - 1.0);
+    if (first_row > last_row) {
+        return;
+    }
+    for (uint row = uint(first_row); row <= uint(last_row); ++row) {
+        float lo = float(row) * size - radius;
+        float hi = float(row + 1u) * size + radius;
+        float x0;
+        float x1;
+        float dy = b.y - a.y;
+        if (abs(dy) < 1e-6) {
+            x0 = min(a.x, b.x);
+            x1 = max(a.x, b.x);
+        } else {
+            float p = a.x + (b.x - a.x) * clamp((lo - a.y) / dy, 0.0, 1.0);
+            float q = a.x + (b.x - a.x) * clamp((hi - a.y) / dy, 0.0, 1.0);
+            x0 = min(p, q);
+            x1 = max(p, q);
+        }
+        float first_col = max(floor((x0 - radius) / size), 0.0);
+        float last_col = min(floor((x1 + radius) / size), float(columns) - 1.0);
+        if (first_col > last_col) {
+            continue;
+        }
+        for (uint column = uint(first_col); column <= uint(last_col); ++column) {
+            uint tile = row * columns + column;
+            if (near >= tile_bins[tile].body_far) {
+                continue;
+            }
+#if SCATTER
+            uint slot = atomicAdd(tile_bins[tile].cursor, 1u);
+            if (slot < tile_bins[tile].kept) {
+                tile_entries[tile_bins[tile].offset + slot] = s;
+            }
+#else
+            atomicAdd(tile_bins[tile].count, 1u);
+#endif
+        }
+    }
+}
+
+void main() {
+    uint segments = min(raster_counts.segments, uint(strand_segment_list.length()));
+    uint stride = gl_NumWorkGroups.x * GROUP_SIZE;
+    for (uint s = gl_GlobalInvocationID.x; s < segments; s += stride) {
+        bin_segment(s);
+    }
+}

@@ -1,0 +1,31 @@
+#version 450
+// Strands in compute, pass 6: the hair layer over what the target's scope drew (the
+// body and the background, resolved): colour = hair + transmittance × target, written
+// sRGB-encoded into an image the size of the target, which is then copied onto it.
+// (Compositing with a draw after the compute passes crashes Mesa 22.3's lavapipe once
+// the simulation has run in the same command buffer.) One invocation per pixel.
+// TILE is defined by the renderer.
+#include "common.glsl"
+#include "strand_raster.glsl"
+
+layout(local_size_x = TILE, local_size_y = TILE) in;
+
+layout(set = SET_RASTER, binding = B_TARGET_COLOR) uniform sampler2D target_color;
+layout(set = SET_RASTER, binding = B_COMPOSITED, rgba8) uniform writeonly image2D composited;
+
+// Linear to sRGB, as an sRGB attachment stores it.
+vec3 encode_srgb(vec3 c) {
+    c = clamp(c, 0.0, 1.0);
+    return mix(c * 12.92, 1.055 * pow(c, vec3(1.0 / 2.4)) - 0.055, step(0.0031308, c));
+}
+
+void main() {
+    ivec2 p = ivec2(gl_GlobalInvocationID.xy);
+    ivec2 size = ivec2(frame.viewport.xy);
+    if (any(greaterThanEqual(p, size))) {
+        return;
+    }
+    vec4 hair = hair_layer[p.y * size.x + p.x];
+    vec3 under = texelFetch(target_color, p, 0).rgb;
+    imageStore(composited, p, vec4(encode_srgb(hair.rgb + hair.a * under), 1.0));
+}

@@ -1,0 +1,140 @@
+// Strands drawn in compute: the buffers the fur pass's geometry stage writes its
+// strands into and the compute passes bin, draw and composite them from, and the
+// exact coverage of a pixel by a segment. The CPU twin is
+// crates/fur-core/src/render/strand_raster/ (coverage.rs, blend.rs): the same
+// arithmetic, step by step, which the tests compare.
+#ifndef STRAND_RASTER_GLSL
+#define STRAND_RASTER_GLSL
+
+#ifndef B_RASTER_COUNTS
+#error "raster shaders are compiled with binding_defines() (crates/fur-gpu/src/render/bindings.rs)"
+#endif
+
+// One end of a segment on the screen: pixels, the depth the mesh pass's depth
+// buffer holds (NDC z), width in pixels; its lit colour (linear) and opacity.
+struct StrandVertex {
+    vec4 position;      // x, y (pixels), depth, width (pixels)
+    vec4 color;         // rgb, alpha
+};
+
+// What the passes counted, and the bin pass's indirect dispatch. The host reads it
+// after the frame (`ComputeCounts` in crates/fur-gpu/src/render/renderer/compute_raster.rs).
+layout(set = SET_RASTER, binding = B_RASTER_COUNTS, std430) buffer RasterCounts {
+    uint vertices;          // strand vertices written
+    uint segments;          // segments written
+    uint bin_groups;        // the bin passes' workgroups (x of the indirect dispatch)
+    uint bin_groups_y;      // 1
+    uint bin_groups_z;      // 1
+    uint hairs_lost;        // hairs that found the vertex or segment pool full
+    uint hairs_clipped;     // hairs with a vertex behind the eye
+    uint entries;           // (segment, tile) entries binned
+    uint entries_lost;      // entries that found the entry pool full
+    uint tail_fragments;    // fragments blended in a pixel's tail, not in order
+} raster_counts;
+
+layout(set = SET_RASTER, binding = B_STRAND_VERTICES, std430) buffer StrandVertices {
+    StrandVertex strand_vertex_list[];
+};
+
+// Per segment: its first vertex (the second follows it) and its strand.
+layout(set = SET_RASTER, binding = B_STRAND_SEGMENTS, std430) buffer StrandSegments {
+    uvec2 strand_segment_list[];
+};
+
+// Per tile: the body's farthest depth in it, its entries counted, where its list
+// starts in the entry pool, how many it keeps, and the cursor the scatter fills by.
+struct TileBin {
+    float body_far;
+    uint count;
+    uint offset;
+    uint kept;
+    uint cursor;
+    uint pad0;
+    uint pad1;
+    uint pad2;
+};
+
+layout(set = SET_RASTER, binding = B_TILE_BINS, std430) buffer TileBins {
+    TileBin tile_bins[];
+};
+
+layout(set = SET_RASTER, binding = B_TILE_ENTRIES, std430) buffer TileEntries {
+    uint tile_entries[];
+};
+
+// Per pixel: the hair's colour premultiplied by its coverage, and the light it lets
+// through (1 where no hair is).
+layout(set = SET_RASTER, binding = B_HAIR_LAYER, std430) buffer HairLayer {
+    vec4 hair_layer[];
+};
+
+// The mean of x clamped to [lo, hi] as x runs evenly from p to q.
+float mean_clamped(float p, float q, float lo, float hi) {
+    float u = min(p, q);
+    float v = max(p, q);
+    float span = v - u;
+    if (span < 1e-6) {
+        return clamp(0.5 * (p + q), lo, hi);
+    }
+    float below = max(min(lo, v) - u, 0.0);
+    float above = max(v - max(hi, u), 0.0);
+    float m = max(u, lo);
+    float n = min(v, hi);
+    float inside = n > m ? 0.5 * (n * n - m * m) : 0.0;
+    return (lo * below + inside + hi * above) / span;
+}
+
+// The signed area between the edge p → q and the right side x = 0.5 of the pixel
+// [-0.5, 0.5]², within its rows, x clamped to its columns.
+float edge_area(vec2 p, vec2 q) {
+    float dy = q.y - p.y;
+    if (dy == 0.0) {
+        return 0.0;
+    }
+    float ya = max(-0.5, min(p.y, q.y));
+    float yb = min(0.5, max(p.y, q.y));
+    if (yb <= ya) {
+        return 0.0;
+    }
+    float slope = (q.x - p.x) / dy;
+    float xa = p.x + (ya - p.y) * slope;
+    float xb = p.x + (yb - p.y) * slope;
+    return sign(dy) * (yb - ya) * (0.5 - mean_clamped(xa, xb, -0.5, 0.5));
+}
+
+// The area of the pixel centred at `centre` inside the segment a–b of widths wa, wb
+// (x), and the parameter of the axis point nearest the centre (y).
+vec2 strand_footprint(vec2 centre, vec2 a, vec2 b, float wa, float wb) {
+    vec2 d = b - a;
+    float len = length(d);
+    if (isnan(len) || len < 1e-3) {
+        return vec2(0.0);
+    }
+    vec2 u = d / len;
+    vec2 n = vec2(-u.y, u.x);
+    vec2 p = centre - a;
+    float s = dot(p, u);
+    float across = dot(p, n);
+    float t = clamp(s / len, 0.0, 1.0);
+    const float reach = 0.70710678;
+    float half_w = 0.5 * max(wa, wb);
+    if (abs(across) >= half_w + reach || s <= -reach || s >= len + reach) {
+        return vec2(0.0, t);
+    }
+    vec2 qa = a - centre;
+    vec2 qb = b - centre;
+    vec2 c0 = qa - 0.5 * wa * n;
+    vec2 c1 = qb - 0.5 * wb * n;
+    vec2 c2 = qb + 0.5 * wb * n;
+    vec2 c3 = qa + 0.5 * wa * n;
+    float area = edge_area(c0, c1) + edge_area(c1, c2) + edge_area(c2, c3) + edge_area(c3, c0);
+    return vec2(min(abs(area), 1.0), t);
+}
+
+// A segment slot left empty (its hair found a pool full).
+const uint NO_SEGMENT = 0xffffffffu;
+
+// Fragments fainter than this are not kept (render::strand_raster::MIN_ALPHA).
+const float MIN_ALPHA = 1.0 / 1024.0;
+
+#endif

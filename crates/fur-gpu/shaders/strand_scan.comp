@@ -1,0 +1,54 @@
+#version 450
+// Strands in compute, pass 3: where each tile's list starts in the entry pool (the
+// counts before it summed) and how many entries it keeps: all, unless the pool runs
+// out, and then what is left, the rest counted as lost. One workgroup; each
+// invocation sums a run of tiles, the runs' sums are scanned in shared memory.
+#include "common.glsl"
+#include "strand_raster.glsl"
+
+layout(local_size_x = GROUP_SIZE) in;
+
+shared uint sums[GROUP_SIZE];
+
+// a + b, held at the largest uint rather than wrapping.
+uint sat_add(uint a, uint b) {
+    uint c = a + b;
+    return c < a ? 0xffffffffu : c;
+}
+
+void main() {
+    uint tiles = uint(tile_bins.length());
+    uint capacity = uint(tile_entries.length());
+    uint me = gl_LocalInvocationIndex;
+    uint run = (tiles + GROUP_SIZE - 1u) / GROUP_SIZE;
+    uint first = min(me * run, tiles);
+    uint last = min(first + run, tiles);
+    uint sum = 0u;
+    for (uint t = first; t < last; ++t) {
+        sum = sat_add(sum, tile_bins[t].count);
+    }
+    sums[me] = sum;
+    barrier();
+    // Inclusive scan (Hillis–Steele) of the runs' sums.
+    for (uint step = 1u; step < GROUP_SIZE; step *= 2u) {
+        uint add = me >= step ? sums[me - step] : 0u;
+        barrier();
+        sums[me] = sat_add(sums[me], add);
+        barrier();
+    }
+    uint offset = sums[me] == 0xffffffffu ? 0xffffffffu : sums[me] - sum;
+    uint kept_total = 0u;
+    uint lost_total = 0u;
+    for (uint t = first; t < last; ++t) {
+        uint count = tile_bins[t].count;
+        uint room = offset < capacity ? capacity - offset : 0u;
+        uint kept = min(count, room);
+        tile_bins[t].offset = min(offset, capacity);
+        tile_bins[t].kept = kept;
+        kept_total += kept;
+        lost_total += count - kept;
+        offset = sat_add(offset, count);
+    }
+    atomicAdd(raster_counts.entries, kept_total);
+    atomicAdd(raster_counts.entries_lost, lost_total);
+}

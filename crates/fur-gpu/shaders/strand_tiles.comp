@@ -1,0 +1,51 @@
+#version 450
+// Strands in compute, pass 1: each tile's farthest body depth (the mesh pass's depth,
+// the farthest of a pixel's samples), and its bin emptied. One workgroup per tile,
+// one invocation per pixel. TILE, DEPTH_SAMPLES are defined by the renderer.
+#include "common.glsl"
+#include "strand_raster.glsl"
+
+layout(local_size_x = TILE, local_size_y = TILE) in;
+
+#if DEPTH_SAMPLES > 1
+layout(set = SET_RASTER, binding = B_BODY_DEPTH) uniform sampler2DMS body_depth;
+#else
+layout(set = SET_RASTER, binding = B_BODY_DEPTH) uniform sampler2D body_depth;
+#endif
+
+shared float farthest[TILE * TILE];
+
+// The farthest depth of pixel p's samples.
+float pixel_depth(ivec2 p) {
+#if DEPTH_SAMPLES > 1
+    float d = 0.0;
+    for (int i = 0; i < DEPTH_SAMPLES; ++i) {
+        d = max(d, texelFetch(body_depth, p, i).r);
+    }
+    return d;
+#else
+    return texelFetch(body_depth, p, 0).r;
+#endif
+}
+
+void main() {
+    ivec2 p = ivec2(gl_GlobalInvocationID.xy);
+    ivec2 size = ivec2(frame.viewport.xy);
+    uint me = gl_LocalInvocationIndex;
+    farthest[me] = all(lessThan(p, size)) ? pixel_depth(p) : 0.0;
+    barrier();
+    for (uint stride = TILE * TILE / 2u; stride > 0u; stride /= 2u) {
+        if (me < stride) {
+            farthest[me] = max(farthest[me], farthest[me + stride]);
+        }
+        barrier();
+    }
+    if (me == 0u) {
+        uint tile = gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x;
+        tile_bins[tile].body_far = farthest[0];
+        tile_bins[tile].count = 0u;
+        tile_bins[tile].offset = 0u;
+        tile_bins[tile].kept = 0u;
+        tile_bins[tile].cursor = 0u;
+    }
+}

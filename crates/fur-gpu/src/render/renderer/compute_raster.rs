@@ -1,0 +1,377 @@
+//! Strands drawn in compute (`--raster compute`): the fur pass's geometry stage writes
+//! each strand, lit per vertex, into buffers and emits nothing; then
+//! compute passes find each tile's farthest body depth, count the segments per tile,
+//! place each tile's list in one pool, list the segments, and draw each tile's pixels
+//! with exact coverage and their nearest fragments blended front to back; a last pass
+//! composites the hair layer over the target. The shaders are `strand_*`; the CPU twin
+//! is `fur_core::render::strand_raster`.
+//!
+//! Every buffer is sized from a per-pixel budget ([`PoolBudget`]); what does not fit
+//! is counted ([`ComputeCounts`]), never written past the end.
+
+use std::sync::Arc;
+
+use ash::vk;
+use gpu_allocator::MemoryLocation;
+
+use super::super::bindings::{render_defines, RasterBinding};
+use super::super::target::RenderTarget;
+use super::raster_steps::{Step, StepPass};
+use crate::error::{Error, Result};
+use crate::gpu::{
+    Buffer, DescriptorPool, DescriptorSetLayout, Device, Image, ImageDesc, Pipeline,
+    PipelineLayout, Sampler, Specialization,
+};
+use fur_core::render::strand_raster::pools::{Demand, PoolBudget, PoolSizes};
+
+/// What the compute passes counted in a frame (`ComputeCounts` in
+/// `shaders/strand_raster.glsl`).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct ComputeCounts {
+    pub vertices: u32,
+    pub segments: u32,
+    pub(super) bin_groups: [u32; 3],
+    /// Hairs that found the vertex or segment pool full: not drawn.
+    pub hairs_lost: u32,
+    /// Hairs with a vertex behind the eye: not drawn.
+    pub hairs_clipped: u32,
+    /// (segment, tile) entries listed.
+    pub entries: u32,
+    /// Entries that found the entry pool full: those segments are missing from those tiles.
+    pub entries_lost: u32,
+    /// Fragments blended in a pixel's tail rather than in depth order.
+    pub tail_fragments: u32,
+}
+
+impl ComputeCounts {
+    /// The counts a frame starts from: nothing, and an indirect dispatch of no groups.
+    pub(super) fn start() -> Self {
+        Self {
+            bin_groups: [0, 1, 1],
+            ..Self::default()
+        }
+    }
+}
+
+/// The pools of one target size.
+pub(super) struct Pools {
+    extent: vk::Extent2D,
+    capacity: Demand,
+    pub(super) columns: u32,
+    pub(super) rows: u32,
+    pub(super) vertices: Buffer,
+    pub(super) segments: Buffer,
+    pub(super) tiles: Buffer,
+    pub(super) entries: Buffer,
+    pub(super) layer: Buffer,
+    /// The hair over the target, sRGB-encoded, copied onto the target.
+    composited: Image,
+}
+
+/// The compute rasteriser: its pools, its sets (one per frame in flight, each with its
+/// own counts), its pipelines and the steps of the frame.
+pub struct ComputeRaster {
+    device: Arc<Device>,
+    budget: PoolBudget,
+    _layout: DescriptorSetLayout,
+    _pool: DescriptorPool,
+    sets: Vec<vk::DescriptorSet>,
+    /// What each set was last pointed at: the depth image it reads (pools change with it).
+    written: Vec<vk::Image>,
+    counts: Vec<Buffer>,
+    sampler: Sampler,
+    pub(super) pools: Option<Pools>,
+    /// The most any frame has asked the pools for, with room to spare.
+    demand: Demand,
+    /// The pipelines, for the target's sample count.
+    pipelines: Option<(u32, Vec<(Step, Pipeline)>)>,
+    steps: Vec<StepPass>,
+}
+
+impl ComputeRaster {
+    /// The raster set's layout (set 2 of the render pipeline layout).
+    pub fn set_layout(device: &Arc<Device>) -> Result<DescriptorSetLayout> {
+        DescriptorSetLayout::new(device, "raster.set_layout", &RasterBinding::set_layout())
+    }
+
+    /// A rasteriser for `slots` frames in flight, its sets of `layout`; nothing sized yet.
+    pub fn new(device: &Arc<Device>, layout: DescriptorSetLayout, slots: usize) -> Result<Self> {
+        let slots = slots.max(1);
+        let pool = DescriptorPool::new(
+            device,
+            "raster.descriptor_pool",
+            slots as u32,
+            &RasterBinding::set_layout(),
+        )?;
+        let sets = pool.allocate(&layout, slots)?;
+        let counts = (0..slots)
+            .map(|slot| {
+                Buffer::new(
+                    device,
+                    &format!("raster.counts[{slot}]"),
+                    std::mem::size_of::<ComputeCounts>() as u64,
+                    vk::BufferUsageFlags::STORAGE_BUFFER
+                        | vk::BufferUsageFlags::INDIRECT_BUFFER
+                        | vk::BufferUsageFlags::TRANSFER_DST,
+                    MemoryLocation::GpuToCpu,
+                )
+            })
+            .collect::<Result<Vec<_>>>()?;
+        let sampler = Sampler::new(
+            device,
+            "raster.depth_sampler",
+            &vk::SamplerCreateInfo::default()
+                .mag_filter(vk::Filter::NEAREST)
+                .min_filter(vk::Filter::NEAREST)
+                .mipmap_mode(vk::SamplerMipmapMode::NEAREST)
+                .address_mode_u(vk::SamplerAddressMode::CLAMP_TO_EDGE)
+                .address_mode_v(vk::SamplerAddressMode::CLAMP_TO_EDGE)
+                .address_mode_w(vk::SamplerAddressMode::CLAMP_TO_EDGE),
+        )?;
+        Ok(Self {
+            device: device.clone(),
+            budget: PoolBudget::default(),
+            _layout: layout,
+            _pool: pool,
+            written: vec![vk::Image::null(); sets.len()],
+            sets,
+            counts,
+            sampler,
+            pools: None,
+            demand: Demand::default(),
+            pipelines: None,
+            steps: Vec::new(),
+        })
+    }
+
+    /// The device it draws on.
+    pub(super) fn device(&self) -> &Arc<Device> {
+        &self.device
+    }
+
+    /// The composited image (null before the first frame drawn in compute).
+    pub fn composited(&self) -> vk::Image {
+        self.pools
+            .as_ref()
+            .map_or(vk::Image::null(), |p| p.composited.raw())
+    }
+
+    /// The set of frame slot `slot`.
+    pub fn set(&self, slot: usize) -> vk::DescriptorSet {
+        self.sets[slot]
+    }
+
+    /// The counts buffer of frame slot `slot`.
+    pub fn counts_buffer(&self, slot: usize) -> vk::Buffer {
+        self.counts[slot].raw()
+    }
+
+    /// What frame slot `slot`'s last frame counted (read once it has finished).
+    pub fn counts(&self, slot: usize) -> ComputeCounts {
+        let bytes = self.counts[slot].mapped();
+        bytemuck::pod_read_unaligned(&bytes[..std::mem::size_of::<ComputeCounts>()])
+    }
+
+    /// Sizes the pools for `target` and builds the pipelines for its sample count,
+    /// unless they are; points frame slot `slot`'s set at them. The slot's last frame
+    /// has finished; a new size needs the device idle (as the target's does).
+    pub fn prepare(
+        &mut self,
+        target: &RenderTarget,
+        layout: &PipelineLayout,
+        slot: usize,
+    ) -> Result<()> {
+        let extent = target.extent;
+        // What this slot's last frame asked for (nothing before its first): pools too
+        // small for it grow, a quarter beyond, for the frames that follow.
+        let last = self.counts(slot);
+        let asked = Demand {
+            vertices: u64::from(last.vertices),
+            segments: u64::from(last.segments),
+            entries: u64::from(last.entries) + u64::from(last.entries_lost),
+        };
+        let outgrown = self
+            .pools
+            .as_ref()
+            .is_some_and(|p| asked.exceeds(&p.capacity));
+        if outgrown {
+            let roomy = |n: u64| n + n / 4;
+            self.demand = self.demand.max(Demand {
+                vertices: roomy(asked.vertices),
+                segments: roomy(asked.segments),
+                entries: roomy(asked.entries),
+            });
+        }
+        if outgrown || self.pools.as_ref().map(|p| p.extent) != Some(extent) {
+            // Other slots' frames may still read the old pools.
+            self.device.wait_idle()?;
+            self.pools = Some(self.make_pools(extent)?);
+            self.written.fill(vk::Image::null());
+        }
+        if self.pipelines.as_ref().map(|p| p.0) != Some(target.samples) {
+            self.pipelines = Some((target.samples, self.build(layout, target.samples)?));
+        }
+        if self.written[slot] != target.depth.raw() {
+            self.write_set(target, slot);
+            self.written[slot] = target.depth.raw();
+        }
+        let pools = self.pools.as_ref().expect("sized above");
+        let grid = (pools.columns, pools.rows);
+        let pipelines = &self.pipelines.as_ref().expect("built above").1;
+        self.steps = [
+            Step::Reset,
+            Step::Tiles,
+            Step::Count,
+            Step::Scan,
+            Step::Scatter,
+            Step::Fine,
+            Step::Composite,
+            Step::Copy,
+            Step::HandBack,
+        ]
+        .into_iter()
+        .map(|step| StepPass {
+            step,
+            pipeline: pipelines
+                .iter()
+                .find(|(s, _)| *s == step)
+                .map_or(vk::Pipeline::null(), |(_, p)| p.raw()),
+            grid,
+            composited: pools.composited.raw(),
+            extent,
+        })
+        .collect();
+        Ok(())
+    }
+
+    fn make_pools(&self, extent: vk::Extent2D) -> Result<Pools> {
+        let sizes = PoolSizes::of(&self.budget, extent.width, extent.height, &self.demand);
+        let pixels = u64::from(extent.width) * u64::from(extent.height);
+        let capacity = PoolSizes::capacity(&self.budget, pixels, &self.demand);
+        let limit = u64::from(self.device.info.limits.max_storage_buffer_range);
+        if sizes.largest() > limit {
+            return Err(Error::Parameter(format!(
+                "the compute rasteriser cannot draw {}×{}: its pools would take {:.1} GiB, \
+                 the largest buffer {:.1} GiB, and {} allows {:.1} GiB a buffer; draw it \
+                 smaller or with --raster hardware",
+                extent.width,
+                extent.height,
+                sizes.total() as f64 / f64::from(1u32 << 30),
+                sizes.largest() as f64 / f64::from(1u32 << 30),
+                self.device.info.name,
+                limit as f64 / f64::from(1u32 << 30),
+            )));
+        }
+        // Transfer sources: the tests read them back (`capture`).
+        let storage = |name: &str, size: u64| {
+            Buffer::new(
+                &self.device,
+                name,
+                size,
+                vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::TRANSFER_SRC,
+                MemoryLocation::GpuOnly,
+            )
+        };
+        Ok(Pools {
+            extent,
+            capacity,
+            columns: extent.width.div_ceil(self.budget.tile),
+            rows: extent.height.div_ceil(self.budget.tile),
+            vertices: storage("raster.vertices", sizes.vertices)?,
+            segments: storage("raster.segments", sizes.segments)?,
+            tiles: storage("raster.tiles", sizes.tiles)?,
+            entries: storage("raster.entries", sizes.entries)?,
+            layer: storage("raster.layer", sizes.layer)?,
+            composited: Image::new(
+                &self.device,
+                "raster.composited",
+                ImageDesc {
+                    extent,
+                    format: vk::Format::R8G8B8A8_UNORM,
+                    usage: vk::ImageUsageFlags::STORAGE | vk::ImageUsageFlags::TRANSFER_SRC,
+                    samples: vk::SampleCountFlags::TYPE_1,
+                    aspect: vk::ImageAspectFlags::COLOR,
+                },
+            )?,
+        })
+    }
+
+    fn write_set(&self, target: &RenderTarget, slot: usize) {
+        let pools = self.pools.as_ref().expect("sized before");
+        let info = |b: &Buffer| {
+            [vk::DescriptorBufferInfo::default()
+                .buffer(b.raw())
+                .range(vk::WHOLE_SIZE)]
+        };
+        let (vertices, segments, tiles, entries, layer) = (
+            info(&pools.vertices),
+            info(&pools.segments),
+            info(&pools.tiles),
+            info(&pools.entries),
+            info(&pools.layer),
+        );
+        let sampled = |view: vk::ImageView| {
+            [vk::DescriptorImageInfo::default()
+                .sampler(self.sampler.raw())
+                .image_view(view)
+                .image_layout(vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL)]
+        };
+        let (depth, under) = (sampled(target.depth.view()), sampled(target.resolve.view()));
+        let composited = [vk::DescriptorImageInfo::default()
+            .image_view(pools.composited.view())
+            .image_layout(vk::ImageLayout::GENERAL)];
+        {
+            let set = &self.sets[slot];
+            let counts = info(&self.counts[slot]);
+            let writes = [
+                RasterBinding::Counts.write(*set).buffer_info(&counts),
+                RasterBinding::Vertices.write(*set).buffer_info(&vertices),
+                RasterBinding::Segments.write(*set).buffer_info(&segments),
+                RasterBinding::TileBins.write(*set).buffer_info(&tiles),
+                RasterBinding::TileEntries.write(*set).buffer_info(&entries),
+                RasterBinding::HairLayer.write(*set).buffer_info(&layer),
+                RasterBinding::BodyDepth.write(*set).image_info(&depth),
+                RasterBinding::TargetColor.write(*set).image_info(&under),
+                RasterBinding::Composited
+                    .write(*set)
+                    .image_info(&composited),
+            ];
+            // SAFETY: the slot's last frame has finished (the caller's contract); every
+            // resource written is owned by this rasteriser or the target, which outlive
+            // the set's use.
+            unsafe { self.device.raw.update_descriptor_sets(&writes, &[]) };
+        }
+    }
+
+    fn build(&self, layout: &PipelineLayout, samples: u32) -> Result<Vec<(Step, Pipeline)>> {
+        let mut defines = render_defines();
+        defines.extend([
+            ("TILE", self.budget.tile.to_string()),
+            ("NEAREST", self.budget.nearest.to_string()),
+            ("DEPTH_SAMPLES", samples.to_string()),
+        ]);
+        let kernel = |shader: &str, scatter: bool| {
+            let mut d = defines.clone();
+            d.push(("SCATTER", u32::from(scatter).to_string()));
+            Pipeline::compute(&self.device, shader, &d, layout, &Specialization::new(&[]))
+        };
+        Ok(vec![
+            (Step::Tiles, kernel("strand_tiles.comp", false)?),
+            (Step::Count, kernel("strand_bin.comp", false)?),
+            (Step::Scan, kernel("strand_scan.comp", false)?),
+            (Step::Scatter, kernel("strand_bin.comp", true)?),
+            (Step::Fine, kernel("strand_fine.comp", false)?),
+            (Step::Composite, kernel("strand_composite.comp", false)?),
+        ])
+    }
+
+    /// The steps of a frame, in order: the reset before the fur pass, the rest after it.
+    pub(in super::super) fn reset_pass(&self) -> &StepPass {
+        &self.steps[0]
+    }
+
+    pub(in super::super) fn draw_passes(&self) -> impl Iterator<Item = &StepPass> {
+        self.steps[1..].iter()
+    }
+}

@@ -1,0 +1,194 @@
+//! What the compute rasteriser drew in the last frame, read back for the tests that
+//! compare it with its CPU twin: the strands on the screen, the body's depth, and the
+//! hair layer.
+
+use ash::vk;
+use gpu_allocator::MemoryLocation;
+
+use super::compute_raster::ComputeRaster;
+use super::Renderer;
+use crate::error::{Error, Result};
+use crate::gpu::Buffer;
+use fur_core::render::strand_raster::pools::{
+    LAYER_BYTES, SEGMENT_BYTES, TILE_BYTES, VERTEX_BYTES,
+};
+use fur_core::render::strand_raster::{Bins, Segment, StrandVertex};
+
+/// The compute rasteriser's last frame.
+#[derive(Clone, Debug)]
+pub struct RasterCapture {
+    pub width: u32,
+    pub height: u32,
+    /// The segments the geometry stage wrote, as the twin takes them.
+    pub segments: Vec<Segment>,
+    /// The mesh pass's depth per pixel, row by row (NDC z; 1 where no body is).
+    pub depth: Vec<f32>,
+    /// Per pixel: the hair premultiplied by its coverage, and the light let through.
+    pub layer: Vec<[f32; 4]>,
+    /// Each tile's list of segments (indices into `segments`' slots), in the order
+    /// the GPU wrote it, as the twin takes them.
+    pub bins: Bins,
+}
+
+impl Renderer {
+    /// Reads back the compute rasteriser's last frame (one sample per pixel only: a
+    /// multisampled depth cannot be copied out). Waits for the device; for tests.
+    #[doc(hidden)]
+    pub fn capture_raster(&self, slot: usize) -> Result<RasterCapture> {
+        capture(&self.compute_raster, &self.target, slot)
+    }
+}
+
+fn capture(
+    raster: &ComputeRaster,
+    target: &super::super::target::RenderTarget,
+    slot: usize,
+) -> Result<RasterCapture> {
+    let pools = raster
+        .pools
+        .as_ref()
+        .ok_or_else(|| Error::Parameter("no frame was drawn in compute".into()))?;
+    if target.samples != 1 {
+        return Err(Error::Parameter(
+            "the capture reads one sample per pixel".into(),
+        ));
+    }
+    let counts = raster.counts(slot);
+    let words =
+        |b: &Buffer| -> Result<Vec<f32>> { Ok(bytemuck::cast_slice(&b.read_back()?).to_vec()) };
+    let vertex_floats = words(&pools.vertices)?;
+    let segment_bytes = pools.segments.read_back()?;
+    let segment_words: &[u32] = bytemuck::cast_slice(&segment_bytes);
+    let vertex = |i: usize| {
+        let v = &vertex_floats[i * (VERTEX_BYTES / 4) as usize..][..8];
+        StrandVertex {
+            position: [v[0], v[1]],
+            depth: v[2],
+            width: v[3],
+            alpha: v[7],
+            color: [v[4], v[5], v[6]],
+        }
+    };
+    let stored = (segment_words.len() / (SEGMENT_BYTES / 4) as usize).min(counts.segments as usize);
+    // Slot for slot, so that the lists' indices hold (an empty slot, NO_SEGMENT, is
+    // never listed).
+    let segments = (0..stored)
+        .map(|i| (segment_words[2 * i], segment_words[2 * i + 1]))
+        .map(|(first, strand)| match first {
+            u32::MAX => Segment {
+                a: vertex(0),
+                b: vertex(0),
+                strand,
+            },
+            first => Segment {
+                a: vertex(first as usize),
+                b: vertex(first as usize + 1),
+                strand,
+            },
+        })
+        .collect();
+    let layer_floats = words(&pools.layer)?;
+    let pixels = (target.extent.width * target.extent.height) as usize;
+    let layer = (0..pixels)
+        .map(|i| {
+            let p = &layer_floats[i * (LAYER_BYTES / 4) as usize..][..4];
+            [p[0], p[1], p[2], p[3]]
+        })
+        .collect();
+    // A tile: body depth, count, offset, kept, cursor (`TileBin`).
+    let tile_bytes = pools.tiles.read_back()?;
+    let tile_words: &[u32] = bytemuck::cast_slice(&tile_bytes);
+    let entry_bytes = pools.entries.read_back()?;
+    let entries: &[u32] = bytemuck::cast_slice(&entry_bytes);
+    let lists = tile_words
+        .chunks_exact((TILE_BYTES / 4) as usize)
+        .map(|t| entries[t[2] as usize..][..t[3] as usize].to_vec())
+        .collect();
+    let bins = Bins {
+        columns: pools.columns,
+        rows: pools.rows,
+        lists,
+    };
+    Ok(RasterCapture {
+        bins,
+        width: target.extent.width,
+        height: target.extent.height,
+        segments,
+        depth: read_depth(raster, target)?,
+        layer,
+    })
+}
+
+/// The target's depth, copied out after the frame (which left it sampled by compute).
+fn read_depth(
+    raster: &ComputeRaster,
+    target: &super::super::target::RenderTarget,
+) -> Result<Vec<f32>> {
+    let device = raster.device();
+    let extent = target.extent;
+    let staging = Buffer::new(
+        device,
+        "raster.capture.depth",
+        u64::from(extent.width) * u64::from(extent.height) * 4,
+        vk::BufferUsageFlags::TRANSFER_DST,
+        MemoryLocation::GpuToCpu,
+    )?;
+    device.submit_once(|cmd| {
+        let aspect = vk::ImageAspectFlags::DEPTH;
+        let to_copy = crate::gpu::image_barrier(
+            target.depth.raw(),
+            aspect,
+            (
+                vk::PipelineStageFlags2::ALL_COMMANDS,
+                vk::AccessFlags2::MEMORY_WRITE,
+            ),
+            (
+                vk::PipelineStageFlags2::COPY,
+                vk::AccessFlags2::TRANSFER_READ,
+            ),
+            vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
+            vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
+        );
+        let back = crate::gpu::image_barrier(
+            target.depth.raw(),
+            aspect,
+            (
+                vk::PipelineStageFlags2::COPY,
+                vk::AccessFlags2::TRANSFER_READ,
+            ),
+            (
+                vk::PipelineStageFlags2::ALL_COMMANDS,
+                vk::AccessFlags2::MEMORY_READ,
+            ),
+            vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
+            vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
+        );
+        let mut region = crate::gpu::whole_image_copy(extent, 0);
+        region.image_subresource.aspect_mask = aspect;
+        // SAFETY: recording; the frame has finished (its fence was waited on) and left
+        // the depth sampled by compute; the staging buffer holds the whole copy.
+        unsafe {
+            let raw = &device.raw;
+            raw.cmd_pipeline_barrier2(
+                cmd,
+                &vk::DependencyInfo::default().image_memory_barriers(&[to_copy]),
+            );
+            raw.cmd_copy_image_to_buffer(
+                cmd,
+                target.depth.raw(),
+                vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
+                staging.raw(),
+                &[region],
+            );
+            raw.cmd_pipeline_barrier2(
+                cmd,
+                &vk::DependencyInfo::default().image_memory_barriers(&[back]),
+            );
+        }
+        Ok(())
+    })?;
+    Ok(
+        bytemuck::cast_slice(&staging.mapped()[..(extent.width * extent.height * 4) as usize])
+            .to_vec(),
+    )
+}

@@ -1,0 +1,153 @@
+//! The compute rasteriser's steps as passes of the frame: what each declares it uses
+//! (the graph derives the barriers) and records.
+
+use ash::vk;
+
+use super::super::graph::{uses, Attachments, FrameContext, Pass, Resource, Use};
+use super::compute_raster::ComputeCounts;
+use crate::gpu::{whole_image_copy, Access};
+
+/// The name of the fur's last pass when its strands are drawn in compute.
+pub const LAST_NAME: &str = "strand target hand-back";
+
+/// One step of the compute passes, as the frame's pass list holds it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(super) enum Step {
+    Reset,
+    Tiles,
+    Count,
+    Scan,
+    Scatter,
+    Fine,
+    Composite,
+    Copy,
+    HandBack,
+}
+
+/// A step and what it records with.
+pub(in super::super) struct StepPass {
+    pub(super) step: Step,
+    pub(super) pipeline: vk::Pipeline,
+    /// The tile grid, for the passes dispatched per tile.
+    pub(super) grid: (u32, u32),
+    /// The composited image and the target's extent, for the copy.
+    pub(super) composited: vk::Image,
+    pub(super) extent: vk::Extent2D,
+}
+
+impl Pass for StepPass {
+    fn name(&self) -> &'static str {
+        match self.step {
+            Step::Reset => "strand counts reset",
+            Step::Tiles => "strand tiles",
+            Step::Count => "strand bin count",
+            Step::Scan => "strand bin scan",
+            Step::Scatter => "strand bin scatter",
+            Step::Fine => "strand fine raster",
+            Step::Composite => "strand composite",
+            Step::Copy => "strand composite copy",
+            Step::HandBack => LAST_NAME,
+        }
+    }
+
+    fn attachments(&self) -> Attachments {
+        Attachments::None
+    }
+
+    fn uses(&self, _frame: &FrameContext<'_>) -> Vec<Use> {
+        use Access as A;
+        use Resource as R;
+        match self.step {
+            Step::Reset => vec![uses(R::Strands, A::TransferWrite)],
+            Step::Tiles => vec![
+                uses(R::Depth, A::ComputeSampled),
+                uses(R::TileBins, A::ComputeWrite),
+            ],
+            Step::Count | Step::Scatter => vec![
+                uses(R::Strands, A::ComputeRead),
+                uses(R::Strands, A::IndirectRead),
+                uses(R::TileBins, A::ComputeWrite),
+            ],
+            Step::Scan => vec![
+                uses(R::Strands, A::ComputeWrite),
+                uses(R::TileBins, A::ComputeWrite),
+            ],
+            Step::Fine => vec![
+                uses(R::Strands, A::ComputeWrite),
+                uses(R::TileBins, A::ComputeRead),
+                uses(R::Depth, A::ComputeSampled),
+                uses(R::HairLayer, A::ComputeWrite),
+            ],
+            Step::Composite => vec![
+                uses(R::HairLayer, A::ComputeRead),
+                uses(R::Resolve, A::ComputeSampled),
+                uses(R::Composited, A::ComputeWrite),
+            ],
+            Step::Copy => vec![
+                uses(R::Composited, A::TransferRead),
+                uses(R::Resolve, A::TransferWrite),
+            ],
+            // The target goes back to being an attachment, as the frame leaves it.
+            Step::HandBack => vec![uses(R::Resolve, A::ColorAttachment)],
+        }
+    }
+
+    fn record(&self, frame: &FrameContext<'_>, cmd: vk::CommandBuffer) {
+        let raw = &frame.device.raw;
+        if self.step == Step::Reset {
+            let start = ComputeCounts::start();
+            // SAFETY: recording outside a rendering scope; the counts belong to the slot,
+            // whose previous frame has finished.
+            unsafe {
+                raw.cmd_update_buffer(cmd, frame.raster_counts, 0, bytemuck::bytes_of(&start))
+            };
+            return;
+        }
+        match self.step {
+            Step::HandBack => return,
+            Step::Copy => {
+                let layers = whole_image_copy(self.extent, 0).image_subresource;
+                let region = vk::ImageCopy::default()
+                    .src_subresource(layers)
+                    .dst_subresource(layers)
+                    .extent(vk::Extent3D {
+                        width: self.extent.width,
+                        height: self.extent.height,
+                        depth: 1,
+                    });
+                // SAFETY: recording outside a scope; the graph left the composited image
+                // a transfer source and the target's a transfer destination; both are
+                // the target's size and of one texel size (RGBA8).
+                unsafe {
+                    raw.cmd_copy_image(
+                        cmd,
+                        self.composited,
+                        vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
+                        frame.target.resolve.raw(),
+                        vk::ImageLayout::TRANSFER_DST_OPTIMAL,
+                        &[region],
+                    )
+                };
+                return;
+            }
+            _ => {}
+        }
+        frame.bind_compute_sets(cmd);
+        // SAFETY: recording outside a rendering scope, the sets bound; the pipeline and
+        // the counts buffer (the indirect arguments at `bin_groups`) outlive the frame.
+        unsafe {
+            raw.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, self.pipeline);
+            match self.step {
+                Step::Tiles | Step::Fine | Step::Composite => {
+                    raw.cmd_dispatch(cmd, self.grid.0, self.grid.1, 1)
+                }
+                Step::Scan => raw.cmd_dispatch(cmd, 1, 1, 1),
+                _ => raw.cmd_dispatch_indirect(
+                    cmd,
+                    frame.raster_counts,
+                    std::mem::offset_of!(ComputeCounts, bin_groups) as u64,
+                ),
+            }
+        }
+    }
+}

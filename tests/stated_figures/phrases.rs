@@ -21,11 +21,17 @@ pub fn count_text(n: u64) -> String {
 pub fn stated() -> Vec<(&'static str, Vec<String>)> {
     let mut all = limits();
     all.extend(design());
+    // The compute rasteriser's pool table, line by line (the documents are read flat).
+    let pools = fur::render::strand_raster::pools::table(
+        &fur::render::strand_raster::pools::PoolBudget::default(),
+    );
     all.push((
         "docs/compute-raster.md",
-        vec![fur::render::strand_raster::pools::table(
-            &fur::render::strand_raster::pools::PoolBudget::default(),
-        )],
+        pools
+            .lines()
+            .filter(|l| !l.trim().is_empty())
+            .map(super::common::flat)
+            .collect(),
     ));
     all
 }

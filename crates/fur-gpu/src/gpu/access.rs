@@ -39,8 +39,6 @@ pub enum Access {
     ComputeSampled,
     /// Read as the arguments of an indirect dispatch or draw.
     IndirectRead,
-    /// Read as storage by the fragment stage.
-    FragmentRead,
 }
 
 impl Access {
@@ -63,7 +61,6 @@ impl Access {
             Access::ShadingSampled => S::GEOMETRY_SHADER | S::FRAGMENT_SHADER,
             Access::ComputeRead | Access::ComputeSampled => S::COMPUTE_SHADER,
             Access::IndirectRead => S::DRAW_INDIRECT,
-            Access::FragmentRead => S::FRAGMENT_SHADER,
         }
     }
 
@@ -81,7 +78,7 @@ impl Access {
             }
             Access::ColorAttachment => A::COLOR_ATTACHMENT_READ | A::COLOR_ATTACHMENT_WRITE,
             Access::ShadingSampled | Access::ComputeSampled => A::SHADER_SAMPLED_READ,
-            Access::ComputeRead | Access::FragmentRead => A::SHADER_STORAGE_READ,
+            Access::ComputeRead => A::SHADER_STORAGE_READ,
             Access::IndirectRead => A::INDIRECT_COMMAND_READ,
         }
     }
@@ -104,8 +101,7 @@ impl Access {
             | Access::HairStagesRead
             | Access::CounterStagesReadWrite
             | Access::ComputeRead
-            | Access::IndirectRead
-            | Access::FragmentRead => L::GENERAL,
+            | Access::IndirectRead => L::GENERAL,
             Access::TransferWrite => L::TRANSFER_DST_OPTIMAL,
             Access::TransferRead => L::TRANSFER_SRC_OPTIMAL,
             Access::DepthAttachment => L::DEPTH_ATTACHMENT_OPTIMAL,

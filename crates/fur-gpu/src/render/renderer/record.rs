@@ -153,7 +153,9 @@ impl Renderer {
         let device = self.device.clone();
         // Twice when the compute rasteriser's pools were too small for the frame: they
         // grow to what it asked for, and it is drawn again whole.
-        for _ in 0..2 {
+        let mut tries = 0;
+        loop {
+            tries += 1;
             self.update(0, settings)?;
             device.submit_once(|cmd| {
                 self.begin_frame(cmd, 0);
@@ -162,13 +164,12 @@ impl Renderer {
                 Ok(())
             })?;
             let report = self.report(0, settings)?;
-            if !report
+            let lost = report
                 .raster
-                .is_some_and(|r| r.hairs_lost > 0 || r.entries_lost > 0)
-            {
-                break;
+                .is_some_and(|r| r.hairs_lost > 0 || r.entries_lost > 0);
+            if !lost || tries == 2 {
+                return Ok((self.target.pixels(), report));
             }
         }
-        Ok((self.target.pixels(), self.report(0, settings)?))
     }
 }

@@ -203,18 +203,25 @@ impl ComputeRaster {
                 entries: roomy(asked.entries),
             });
         }
+        // The steps hold the pools' and pipelines' handles: remade when those are.
+        let mut remade = self.steps.is_empty();
         if outgrown || self.pools.as_ref().map(|p| p.extent) != Some(extent) {
             // Other slots' frames may still read the old pools.
             self.device.wait_idle()?;
             self.pools = Some(self.make_pools(extent)?);
             self.written.fill(vk::Image::null());
+            remade = true;
         }
         if self.pipelines.as_ref().map(|p| p.0) != Some(target.samples) {
             self.pipelines = Some((target.samples, self.build(layout, target.samples)?));
+            remade = true;
         }
         if self.written[slot] != target.depth.raw() {
             self.write_set(target, slot);
             self.written[slot] = target.depth.raw();
+        }
+        if !remade {
+            return Ok(());
         }
         let pools = self.pools.as_ref().expect("sized above");
         let grid = (pools.columns, pools.rows);

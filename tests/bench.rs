@@ -169,6 +169,34 @@ fn quick_bench_writes_every_expected_measurement() {
             expect("savings", saving, metric);
         }
     }
+    // The two strand rasterisers on both scenes: every figure, each compute step, the
+    // pools' counts, and the same hair drawn by both.
+    for scene in ["blob", "sphere"] {
+        for raster in ["hardware", "compute"] {
+            let case = format!("{scene}, {raster}");
+            for metric in ["wall_ms", "gpu_ms", "fur_gpu_ms", "flip", "rmse"] {
+                expect("raster", &case, metric);
+            }
+        }
+        let hairs = |raster: &str| value("raster", &format!("{scene}, {raster}"), "hairs_drawn");
+        assert_eq!(hairs("hardware"), hairs("compute"), "{scene}: hairs drawn");
+        assert!(hairs("compute") > 0.0, "{scene}: no hair drawn");
+        expect("raster", &format!("{scene}, between"), "flip");
+        for step in fur::render::STEP_NAMES {
+            let step = step.trim_start_matches("strand ");
+            expect("raster_steps", &format!("{scene}, {step}"), "gpu_ms");
+        }
+        let count = |metric: &str| value("raster_counts", scene, metric);
+        assert!(
+            count("entries") >= count("segments"),
+            "{scene}: fewer entries than segments"
+        );
+        assert_eq!(
+            count("hairs_lost") + count("entries_lost"),
+            0.0,
+            "{scene}: pools overflowed"
+        );
+    }
     // The quality ladder: every rung measured on both scenes, and its image error
     // ordered (each rung errs more than the one above; cost is the benchmark's to
     // measure, not a test's).

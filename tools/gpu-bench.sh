@@ -19,11 +19,15 @@
 #      primitive, the hair density, culling and the image size, to show what bounds it;
 #   4. the blob's frame under each lighting model, with and without shadows
 #      (lighting-*/): what the Marschner model and the shadows cost;
-# and writes bench-<device>/results.md: every table, in that order. `--write-docs FILE`
-# before any other argument puts the tables between FILE's
-# `<!-- BEGIN fur gpu-bench -->` and `<!-- END fur gpu-bench -->` lines (docs/gpu.md).
-# GPU_BENCH_PARTS (e.g. "lighting") runs only the parts named: sections, goal, bounds,
-# lighting.
+#   5. the two strand rasterisers (hardware, compute) on the goal's scene at 1920x1080
+#      (goal-raster/; the blob and the sphere are in the sections' raster/);
+# and writes bench-<device>/results.md: every table. `--write-docs FILE` before any
+# other argument puts the tables between FILE's `<!-- BEGIN fur gpu-bench -->` and
+# `<!-- END fur gpu-bench -->` lines (docs/gpu.md).
+# GPU_BENCH_PARTS (e.g. "raster lighting") runs only the parts named, in the order named:
+# sections, goal, bounds, lighting, raster (the default: all, in that order).
+# GPU_BENCH_SECTIONS (e.g. "raster frame") runs only those sections in the sections part.
+# GPU_BENCH_TIMEOUT (seconds) stops any one `fur bench` run that takes longer, and goes on.
 set -euo pipefail
 
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
@@ -82,23 +86,21 @@ bench() { # folder, arguments...
     local dir=$1
     shift
     echo "== $dir"
-    "$fur" bench ${device_args[@]+"${device_args[@]}"} --out-dir "$out/$dir" "$@"
+    local limit=(timeout --signal INT --kill-after 20 "${GPU_BENCH_TIMEOUT:-0}")
+    "${limit[@]}" "$fur" bench ${device_args[@]+"${device_args[@]}"} --out-dir "$out/$dir" "$@" ||
+        echo "== $dir stopped or failed (exit $?); going on" >&2
 }
 
-parts="${GPU_BENCH_PARTS:-sections goal bounds lighting}"
-part() { [[ " $parts " == *" $1 "* ]]; }
-
-sections=(frame render_quality sim_accuracy sim_steps sim_scaling collision savings looks
-    ladder animation stages)
-if part sections; then
+read -r -a sections <<<"${GPU_BENCH_SECTIONS:-frame render_quality sim_accuracy sim_steps sim_scaling collision savings looks ladder animation stages raster}"
+part_sections() {
     for section in "${sections[@]}"; do
         bench "$section" --only "$section" "$@"
     done
-fi
+}
 goal=(--only frame --width 1920 --height 1080)
-if part goal; then
+part_goal() {
     bench goal "${goal[@]}" --scene assets/scenes/goal.toml "$@"
-fi
+}
 
 # The goal's frame with one thing changed: the scene files are the goal's plus a line.
 variant() { # name, what it changes (scene text appended, or a sed edit)
@@ -108,7 +110,7 @@ variant() { # name, what it changes (scene text appended, or a sed edit)
         *) { cat assets/scenes/goal.toml; printf '\n%s\n' "$2"; } >"$file" ;;
     esac
 }
-if part bounds; then
+part_bounds() {
     variant base ""
     variant samples1 $'[render]\nsamples = 1'
     variant lines $'[render]\nprimitive = "lines"'
@@ -120,10 +122,10 @@ if part bounds; then
     done
     bench goal-half --only frame --width 960 --height 540 --scene "$out/scenes/base.toml" "$@"
     bench goal-4k --only frame --width 3840 --height 2160 --scene "$out/scenes/base.toml" "$@"
-fi
+}
 
 # The blob under each lighting model, with and without shadows.
-if part lighting; then
+part_lighting() {
     marschner=$'[light]\nlighting_model = "marschner"'
     shadows=$'[shadows]\nenabled = true'
     for v in kajiya-kay marschner shadows marschner-shadows; do
@@ -136,7 +138,22 @@ if part lighting; then
         printf 'model = "blob"\n%s\n' "$text" >"$out/scenes/blob-$v.toml"
         bench "lighting-$v" --only frame --scene "$out/scenes/blob-$v.toml" "$@"
     done
-fi
+}
+
+# The goal's scene drawn by each strand rasteriser.
+part_raster() {
+    bench goal-raster --only raster --width 1920 --height 1080 --scene assets/scenes/goal.toml "$@"
+}
+
+for p in ${GPU_BENCH_PARTS:-sections goal bounds lighting raster}; do
+    case "$p" in
+        sections | goal | bounds | lighting | raster) "part_$p" "$@" ;;
+        *)
+            echo "unknown part $p; the parts are sections, goal, bounds, lighting, raster" >&2
+            exit 1
+            ;;
+    esac
+done
 
 bash tools/gpu-report.sh "$out" >"$out/results.md"
 if [[ -n "$docs" ]]; then

@@ -16,7 +16,7 @@ if [[ "${2:-}" == --into ]]; then
 fi
 
 sections=(frame render_quality sim_accuracy sim_steps sim_scaling collision savings looks
-    ladder animation stages)
+    ladder animation stages raster)
 
 # A section's tables without the file's title and device lines.
 tables() { tail -n +4 "$1"; }
@@ -47,6 +47,13 @@ report() {
         echo
         echo "\`assets/scenes/goal.toml\` at 1920×1080: the goal is a frame under 2 ms (GPU ms)."
         tables "$dir/goal/results.md" | sed 's/^## /### /'
+    fi
+    if [[ -f "$dir/goal-raster/results.md" ]]; then
+        echo
+        echo "## The goal's frame, each strand rasteriser"
+        echo
+        echo "\`assets/scenes/goal.toml\` at 1920×1080 (\`fur bench --only raster\`)."
+        tables "$dir/goal-raster/results.md" | sed 's/^## /### /'
     fi
     echo
     [[ -f "$dir/goal-base/results.md" ]] || { lighting; return 0; }

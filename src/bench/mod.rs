@@ -27,6 +27,7 @@ pub use docs::{check_docs, write_docs, DOCS_BEGIN, DOCS_END};
 mod orbit;
 pub mod plot;
 pub mod quality;
+mod raster;
 mod render;
 mod savings;
 mod sim;
@@ -105,10 +106,11 @@ pub enum Section {
     Truth,
     Stages,
     Grooms,
+    Raster,
 }
 
 impl Section {
-    pub const ALL: [Section; 13] = [
+    pub const ALL: [Section; 14] = [
         Self::Frame,
         Self::RenderQuality,
         Self::SimAccuracy,
@@ -122,6 +124,7 @@ impl Section {
         Self::Truth,
         Self::Stages,
         Self::Grooms,
+        Self::Raster,
     ];
 
     pub fn name(self) -> &'static str {
@@ -139,6 +142,7 @@ impl Section {
             Self::Truth => "truth",
             Self::Stages => "stages",
             Self::Grooms => "grooms",
+            Self::Raster => "raster",
         }
     }
 
@@ -156,6 +160,7 @@ impl Section {
             Self::Animation => "the walking critter: skinning cost, walking against standing, and each way of colliding with the deforming body",
             Self::Truth => "every quality rung and look against a path-traced reference (Mitsuba 3's hair model; needs tools/reference/setup.sh)",
             Self::Stages => "cost of each stage view (--show) against the lit frame",
+            Self::Raster => "the two strand rasterisers (hardware, compute) on each scene: frame, fur and each compute pass, image error, pool counts",
             Self::Grooms => "reading a million guide curves as .usda, .usdc and .hair: time, and the decoding's memory against its limit",
         }
     }
@@ -268,6 +273,7 @@ pub fn task_count(options: &BenchOptions) -> u64 {
             }
             Section::Stages => stages::tasks(),
             Section::Grooms => grooms::TASKS,
+            Section::Raster => raster::tasks(options.scenes().len()),
         })
         .sum()
 }
@@ -313,6 +319,7 @@ pub fn run(
             Section::Truth => bench.truth()?,
             Section::Stages => bench.stages()?,
             Section::Grooms => bench.grooms()?,
+            Section::Raster => bench.raster()?,
         }
     }
     Ok(Report {

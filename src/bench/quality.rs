@@ -175,6 +175,7 @@ impl Shot {
     pub fn style(&self, draw: &DrawOptions) -> FurStyle {
         FurStyle {
             samples: draw.samples,
+            raster: draw.raster,
             primitive: draw.primitive,
             ribbon_above_px: draw.ribbon_above_px,
             shading: draw.shading,

@@ -16,7 +16,7 @@ use super::bindings::{
     SET_BODY, SET_FRAME, SET_RASTER,
 };
 use super::graph::Pass;
-use super::slot::{RenderSlot, TS_FRAME, TS_FUR, TS_MESH, TS_START};
+use super::slot::{RenderSlot, TS_FRAME, TS_FUR, TS_MESH, TS_START, TS_STRANDS};
 use super::target::{check_samples, RenderTarget};
 use super::texture::{GpuTexture, ShadowMap};
 use super::uniforms::{FrameSettings, FrameUniforms, Raster, Stage, StrandShape};
@@ -53,6 +53,7 @@ pub use shadow_pass::CASTER_DENSITY;
 
 pub use capture::{CapturedHairs, MAX_CAPTURE_BYTES};
 pub use raster_capture::RasterCapture;
+pub use raster_steps::STEP_NAMES;
 pub use report::{FrameReport, HairCounts};
 
 /// The colour behind the model (linear RGB), where nothing is drawn.

@@ -14,12 +14,17 @@ use crate::gpu::{Buffer, DescriptorPool, DescriptorSetLayout, Device, QueryPool}
 use crate::strand_textures::StrandTextures;
 
 /// Timestamp slots: the frame's start (before its simulation), the passes' start, after
-/// the mesh pass, after the fur pass.
+/// the mesh pass, after the fur pass; when the strands are drawn in compute, after the
+/// geometry stage wrote them (`TS_STRANDS`) and after each compute step that follows
+/// (`renderer::STEP_NAMES`, in order).
 pub(super) const TS_FRAME: u32 = 0;
 pub(super) const TS_START: u32 = 1;
 pub(super) const TS_MESH: u32 = 2;
 pub(super) const TS_FUR: u32 = 3;
-pub(super) const TIMESTAMPS: u32 = 4;
+pub(super) const TS_STRANDS: u32 = 4;
+/// The queries a frame drawn by the fixed-function rasteriser writes.
+pub(super) const TS_HARDWARE: u32 = 4;
+pub(super) const TIMESTAMPS: u32 = TS_STRANDS + 1 + super::renderer::STEP_NAMES.len() as u32;
 
 /// The counters' header: hairs drawn, segments drawn, triangles culled, one unused word
 /// (the capture that follows it in `shaders/common.glsl` is 16-byte aligned).

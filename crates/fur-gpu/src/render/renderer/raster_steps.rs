@@ -10,6 +10,18 @@ use crate::gpu::{whole_image_copy, Access};
 /// The name of the fur's last pass when its strands are drawn in compute.
 pub const LAST_NAME: &str = "strand target hand-back";
 
+/// The compute steps that do work after the geometry stage, in the order they run:
+/// each is timed from the previous one's end (`FrameReport::raster_steps_ms`).
+pub const STEP_NAMES: [&str; 7] = [
+    "strand tiles",
+    "strand bin count",
+    "strand bin scan",
+    "strand bin scatter",
+    "strand fine raster",
+    "strand composite",
+    "strand composite copy",
+];
+
 /// One step of the compute passes, as the frame's pass list holds it.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub(super) enum Step {
@@ -39,13 +51,13 @@ impl Pass for StepPass {
     fn name(&self) -> &'static str {
         match self.step {
             Step::Reset => "strand counts reset",
-            Step::Tiles => "strand tiles",
-            Step::Count => "strand bin count",
-            Step::Scan => "strand bin scan",
-            Step::Scatter => "strand bin scatter",
-            Step::Fine => "strand fine raster",
-            Step::Composite => "strand composite",
-            Step::Copy => "strand composite copy",
+            Step::Tiles => STEP_NAMES[0],
+            Step::Count => STEP_NAMES[1],
+            Step::Scan => STEP_NAMES[2],
+            Step::Scatter => STEP_NAMES[3],
+            Step::Fine => STEP_NAMES[4],
+            Step::Composite => STEP_NAMES[5],
+            Step::Copy => STEP_NAMES[6],
             Step::HandBack => LAST_NAME,
         }
     }

@@ -7,7 +7,7 @@ use super::super::graph::{
 use super::super::slot::COUNTERS_BYTES;
 use super::density_pass::DensityPass;
 use super::masters_pass::MastersPass;
-use super::raster_steps::LAST_NAME;
+use super::raster_steps::{LAST_NAME, STEP_NAMES};
 use super::*;
 use crate::gpu::Access;
 
@@ -107,12 +107,17 @@ impl Renderer {
             }
             Event::PassRecorded(MeshPass::NAME) => self.timestamp(cmd, slot, TS_MESH),
             // The fur's end: the last of its passes (the compute passes' when the strands
-            // are drawn in compute).
-            Event::PassRecorded(FurPass::NAME) if compute => {}
+            // are drawn in compute, each of which is timed too).
+            Event::PassRecorded(FurPass::NAME) if compute => self.timestamp(cmd, slot, TS_STRANDS),
             Event::PassRecorded(FurPass::NAME | MastersPass::NAME | DensityPass::NAME) => {
                 self.timestamp(cmd, slot, TS_FUR)
             }
             Event::PassRecorded(LAST_NAME) => self.timestamp(cmd, slot, TS_FUR),
+            Event::PassRecorded(name) if compute => {
+                if let Some(i) = STEP_NAMES.iter().position(|n| *n == name) {
+                    self.timestamp(cmd, slot, TS_STRANDS + 1 + i as u32)
+                }
+            }
             Event::ScopeClosed(Attachments::Target) => {
                 if let Some(q) = &frame.statistics {
                     // SAFETY: the query was begun before this scope, in this command buffer.

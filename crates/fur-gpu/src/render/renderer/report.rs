@@ -1,7 +1,10 @@
 //! What a rendered frame reports: its timestamps, pipeline statistics and counts of
 //! the hairs drawn and triangles culled, read from its slot once it has finished.
 
-use super::super::slot::{TIMESTAMPS, TS_FRAME, TS_FUR, TS_MESH, TS_START};
+use super::super::slot::{
+    TIMESTAMPS, TS_FRAME, TS_FUR, TS_HARDWARE, TS_MESH, TS_START, TS_STRANDS,
+};
+use super::raster_steps::STEP_NAMES;
 use super::*;
 use crate::gpu::FurStatistics;
 
@@ -30,17 +33,32 @@ pub struct FrameReport {
     /// What the compute rasteriser counted (`--raster compute`): pools overflowed,
     /// fragments blended out of order.
     pub raster: Option<super::compute_raster::ComputeCounts>,
+    /// When the strands are drawn in compute: GPU milliseconds of the geometry stage
+    /// that writes them (`strand geometry`), then of each compute step
+    /// ([`STEP_NAMES`]), each from the previous one's end. Empty otherwise, or without
+    /// timestamps. Misattributed on binning rasterisers, as `fur_ms`.
+    pub raster_steps_ms: Vec<(&'static str, f64)>,
 }
 
 impl Renderer {
     /// Reads the queries of slot `slot`'s last submitted frame (waits for them).
     pub fn report(&self, slot: usize, settings: &FrameSettings) -> Result<FrameReport> {
         let frame = &self.slots[slot];
+        let compute = Self::draws_in_compute(settings);
+        let mut raster_steps_ms = Vec::new();
         let (mesh_ms, fur_ms, frame_ms) = match &frame.timestamps {
             Some(q) => {
-                let t = q.timestamps_ms(TIMESTAMPS)?;
+                // A frame drawn by the fixed-function rasteriser wrote only the first.
+                let t = q.timestamps_ms(if compute { TIMESTAMPS } else { TS_HARDWARE })?;
                 let [frame, start, mesh, fur] =
                     [TS_FRAME, TS_START, TS_MESH, TS_FUR].map(|i| t[i as usize]);
+                if compute {
+                    let ends = &t[TS_STRANDS as usize..];
+                    raster_steps_ms.push(("strand geometry", ends[0] - mesh));
+                    for (name, pair) in STEP_NAMES.iter().zip(ends.windows(2)) {
+                        raster_steps_ms.push((*name, pair[1] - pair[0]));
+                    }
+                }
                 (mesh - start, fur - mesh, fur - frame)
             }
             None => (f64::NAN, f64::NAN, f64::NAN),
@@ -60,7 +78,7 @@ impl Renderer {
                 triangles_culled: u64::from(words[2]),
             }
         });
-        let raster = Self::draws_in_compute(settings).then(|| self.compute_raster.counts(slot));
+        let raster = compute.then(|| self.compute_raster.counts(slot));
         Ok(FrameReport {
             statistics,
             counts,
@@ -68,6 +86,7 @@ impl Renderer {
             fur_ms,
             frame_ms,
             raster,
+            raster_steps_ms,
         })
     }
 }

@@ -1,0 +1,233 @@
+//! The two strand rasterisers side by side: the fixed-function rasteriser (the
+//! geometry stage's ribbons or lines into MSAA) and the compute passes (`--raster
+//! compute`: strands binned to screen tiles, exact coverage, the nearest fragments of
+//! each pixel blended front to back). For each scene: the simulated frame's wall-clock
+//! and GPU time and the fur's GPU time; each still frame's ꟻLIP and RMSE against the
+//! supersampled reference, and between the two; the compute passes step by step
+//! (timestamps); and what their pools counted.
+
+use std::fmt::Write as _;
+use std::time::Instant;
+
+use super::metrics::{flip, median, rmse};
+use super::quality::Shot;
+use super::{Bench, BenchScene};
+use crate::error::Result;
+use crate::render::strand_raster::pools::PoolBudget;
+use crate::render::{Raster, STEP_NAMES};
+use crate::session::DrawOptions;
+
+/// Progress ticks per scene: the reference, then each rasteriser.
+pub(super) fn tasks(scenes: usize) -> u64 {
+    3 * scenes as u64
+}
+
+/// One rasteriser's measurements on one scene.
+struct Measured {
+    name: &'static str,
+    hairs: u64,
+    segments: u64,
+    wall: f64,
+    gpu: f64,
+    fur: f64,
+    flip: f64,
+    rmse: f64,
+    /// The compute passes: (step, median GPU ms), the geometry stage's first.
+    steps: Vec<(&'static str, f64)>,
+    counts: Option<crate::render::ComputeCounts>,
+}
+
+impl Bench<'_> {
+    pub(super) fn raster(&mut self) -> Result<()> {
+        let extent = self.frame_extent();
+        let factor = if self.quick { 2 } else { 4 };
+        let (warm, measured) = if self.quick { (1, 5) } else { (5, 20) };
+        let _ = writeln!(
+            self.md,
+            "## The two strand rasterisers ({}×{})\n\n*Hardware*: the geometry stage's \
+             strands drawn by the fixed-function rasteriser (the default); *compute*: the same \
+             strands drawn by compute passes (`--raster compute`). Both with the scene's other \
+             settings. Simulated frames as in the frame-time table (median of {measured} after \
+             {warm} warm-up): wall clock, GPU time of the whole frame and of the fur (the \
+             geometry stage to the last compute step). ꟻLIP and RMSE: a still frame against \
+             the same frame at {factor}×{factor} the pixels with 4× MSAA ribbons lit per \
+             fragment ({} samples per pixel); *between*: the compute frame against the \
+             hardware one.\n\n\
+             | scene | rasteriser | hairs drawn | segments | wall ms | GPU ms | fur GPU ms | \
+             ꟻLIP | RMSE |\n| --- | --- | --- | --- | --- | --- | --- | --- | --- |",
+            extent.width,
+            extent.height,
+            factor * factor * 4
+        );
+        let mut all = Vec::new();
+        for scene in self.scenes.clone() {
+            let shot = Shot::new(self.device, &scene.scene, extent)?;
+            let reference = shot.reference(factor)?;
+            (self.progress)(&format!("{} reference", scene.name));
+            let mut images = Vec::new();
+            let mut rows = Vec::new();
+            for (name, raster) in [("hardware", Raster::Hardware), ("compute", Raster::Compute)] {
+                let draw = DrawOptions {
+                    raster,
+                    ..scene.scene.options.draw.clone()
+                };
+                let still = shot.draw(&shot.style(&draw), self.frames())?;
+                let mut m = self.simulated(&scene, &draw, (warm, measured))?;
+                m.name = name;
+                m.flip = flip(&reference, &still.image);
+                m.rmse = rmse(&reference, &still.image);
+                images.push(still.image);
+                rows.push(m);
+                (self.progress)(&format!("{}, {name}", scene.name));
+            }
+            let between = flip(&images[0], &images[1]);
+            let name = &scene.name;
+            for m in &rows {
+                let case = format!("{name}, {}", m.name);
+                for (metric, value, unit) in [
+                    ("hairs_drawn", m.hairs as f64, "count"),
+                    ("segments_drawn", m.segments as f64, "count"),
+                    ("wall_ms", m.wall, "ms"),
+                    ("gpu_ms", m.gpu, "ms"),
+                    ("fur_gpu_ms", m.fur, "ms"),
+                    ("flip", m.flip, "0..1"),
+                    ("rmse", m.rmse, "0..1"),
+                ] {
+                    self.row("raster", case.clone(), metric, value, unit);
+                }
+                let _ = writeln!(
+                    self.md,
+                    "| {name} | {} | {} | {} | {:.1} | {:.2} | {:.2} | {:.4} | {:.4} |",
+                    m.name, m.hairs, m.segments, m.wall, m.gpu, m.fur, m.flip, m.rmse
+                );
+            }
+            self.row(
+                "raster",
+                format!("{name}, between"),
+                "flip",
+                between,
+                "0..1",
+            );
+            let _ = writeln!(self.md, "| {name} | between | | | | | | {between:.4} | |");
+            all.push((name.clone(), rows.pop().expect("the compute row")));
+        }
+        self.raster_steps(&all);
+        Ok(())
+    }
+
+    /// The compute passes' tables: each step's GPU time, then what the pools counted.
+    fn raster_steps(&mut self, all: &[(String, Measured)]) {
+        let short = |step: &str| step.trim_start_matches("strand ").to_string();
+        let tile = PoolBudget::default().tile;
+        let header: Vec<String> = std::iter::once("geometry".to_string())
+            .chain(STEP_NAMES.iter().map(|s| short(s)))
+            .collect();
+        let _ = writeln!(
+            self.md,
+            "\nThe compute frame step by step: GPU ms of each pass from the previous one's \
+             end (median; timestamps, which a binning rasteriser such as lavapipe's \
+             misattributes), the geometry stage's writing of the strands first.\n\n\
+             | scene | {} |\n| --- |{}",
+            header.join(" | "),
+            " --- |".repeat(header.len())
+        );
+        for (name, m) in all {
+            let cells: Vec<String> = m.steps.iter().map(|(_, ms)| format!("{ms:.2}")).collect();
+            for (step, ms) in &m.steps {
+                self.row(
+                    "raster_steps",
+                    format!("{name}, {}", short(step)),
+                    "gpu_ms",
+                    *ms,
+                    "ms",
+                );
+            }
+            let _ = writeln!(self.md, "| {name} | {} |", cells.join(" | "));
+        }
+        let _ = writeln!(
+            self.md,
+            "\nWhat the compute passes counted on the last frame: strand vertices and \
+             segments written, (segment, tile) entries binned and their mean over the \
+             {tile}×{tile}-pixel tiles, fragments blended out of depth order (a pixel's tail), and what found \
+             a pool full (hairs not drawn, entries missing).\n\n\
+             | scene | vertices | segments | entries | per tile | tail fragments | \
+             hairs lost | entries lost |\n| --- | --- | --- | --- | --- | --- | --- | --- |"
+        );
+        for (name, m) in all {
+            let Some(c) = m.counts else { continue };
+            let extent = self.frame_extent();
+            let tiles = extent.width.div_ceil(tile) * extent.height.div_ceil(tile);
+            let per_tile = f64::from(c.entries) / f64::from(tiles.max(1));
+            for (metric, value) in [
+                ("vertices", c.vertices),
+                ("segments", c.segments),
+                ("entries", c.entries),
+                ("tail_fragments", c.tail_fragments),
+                ("hairs_lost", c.hairs_lost),
+                ("entries_lost", c.entries_lost),
+            ] {
+                self.row(
+                    "raster_counts",
+                    name.clone(),
+                    metric,
+                    f64::from(value),
+                    "count",
+                );
+            }
+            let _ = writeln!(
+                self.md,
+                "| {name} | {} | {} | {} | {per_tile:.0} | {} | {} | {} |",
+                c.vertices, c.segments, c.entries, c.tail_fragments, c.hairs_lost, c.entries_lost
+            );
+        }
+        self.md.push('\n');
+    }
+
+    /// Simulated frames of `scene` drawn with `draw`: medians, counts and steps.
+    fn simulated(
+        &self,
+        scene: &BenchScene,
+        draw: &DrawOptions,
+        (warm, measured): (usize, usize),
+    ) -> Result<Measured> {
+        let mut session = self.session(scene, draw)?;
+        let (mut wall, mut gpu, mut fur) = (Vec::new(), Vec::new(), Vec::new());
+        let mut steps: Vec<Vec<f64>> = Vec::new();
+        let mut names = Vec::new();
+        for frame in 0..warm + measured {
+            crate::interrupt::check()?;
+            let start = Instant::now();
+            let (_, timings) = session.step_and_render()?;
+            if frame < warm {
+                continue;
+            }
+            wall.push(start.elapsed().as_secs_f64() * 1e3);
+            gpu.push(timings.render.frame_ms);
+            fur.push(timings.render.fur_ms);
+            let report = &timings.render.raster_steps_ms;
+            steps.resize(report.len(), Vec::new());
+            names = report.iter().map(|(name, _)| *name).collect();
+            for (i, (_, ms)) in report.iter().enumerate() {
+                steps[i].push(*ms);
+            }
+        }
+        session.settings.count_hairs = true;
+        let report = session.render()?.1;
+        let counts = report.counts.unwrap_or_default();
+        Ok(Measured {
+            name: "",
+            hairs: counts.hairs,
+            segments: counts.segments,
+            wall: median(&wall),
+            gpu: median(&gpu),
+            fur: median(&fur),
+            flip: f64::NAN,
+            rmse: f64::NAN,
+            steps: names
+                .into_iter()
+                .zip(steps.iter().map(|v| median(v)))
+                .collect(),
+            counts: report.raster,
+        })
+    }
+}

@@ -182,6 +182,12 @@ fn quick_bench_writes_every_expected_measurement() {
         assert_eq!(hairs("hardware"), hairs("compute"), "{scene}: hairs drawn");
         assert!(hairs("compute") > 0.0, "{scene}: no hair drawn");
         expect("raster", &format!("{scene}, between"), "flip");
+        // More fragments kept in depth order: closer to the supersampled reference.
+        let error = |case: &str| value("raster", &format!("{scene}, {case}"), "flip");
+        assert!(
+            error("compute, 16 in order") < error("compute, 4 in order"),
+            "{scene}: 16 fragments in order err no less than 4"
+        );
         for step in fur::render::STEP_NAMES {
             let step = step.trim_start_matches("strand ");
             expect("raster_steps", &format!("{scene}, {step}"), "gpu_ms");

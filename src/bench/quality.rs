@@ -176,6 +176,7 @@ impl Shot {
         FurStyle {
             samples: draw.samples,
             raster: draw.raster,
+            nearest: draw.nearest,
             primitive: draw.primitive,
             ribbon_above_px: draw.ribbon_above_px,
             shading: draw.shading,

@@ -14,17 +14,21 @@ use super::quality::Shot;
 use super::{Bench, BenchScene};
 use crate::error::Result;
 use crate::render::strand_raster::pools::PoolBudget;
-use crate::render::{Raster, STEP_NAMES};
+use crate::render::{Raster, MAX_NEAREST, STEP_NAMES};
 use crate::session::DrawOptions;
 
-/// Progress ticks per scene: the reference, then each rasteriser.
+/// The fragments a pixel keeps in order that the compute rows also measure, beside the
+/// scene's own.
+const NEAREST_SWEEP: [u32; 2] = [4, MAX_NEAREST];
+
+/// Progress ticks per scene: the reference, then each row (at most).
 pub(super) fn tasks(scenes: usize) -> u64 {
-    3 * scenes as u64
+    (3 + NEAREST_SWEEP.len() as u64) * scenes as u64
 }
 
 /// One rasteriser's measurements on one scene.
 struct Measured {
-    name: &'static str,
+    name: String,
     hairs: u64,
     segments: u64,
     wall: f64,
@@ -46,8 +50,9 @@ impl Bench<'_> {
             self.md,
             "## The two strand rasterisers ({}×{})\n\n*Hardware*: the geometry stage's \
              strands drawn by the fixed-function rasteriser (the default); *compute*: the same \
-             strands drawn by compute passes (`--raster compute`). Both with the scene's other \
-             settings. Simulated frames as in the frame-time table (median of {measured} after \
+             strands drawn by compute passes (`--raster compute`), each pixel keeping the \
+             scene's number of fragments in depth order (`nearest`), then {} and {}. All \
+             with the scene's other settings. Simulated frames as in the frame-time table (median of {measured} after \
              {warm} warm-up): wall clock, GPU time of the whole frame and of the fur (the \
              geometry stage to the last compute step). ꟻLIP and RMSE: a still frame against \
              the same frame at {factor}×{factor} the pixels with 4× MSAA ribbons lit per \
@@ -57,6 +62,8 @@ impl Bench<'_> {
              ꟻLIP | RMSE |\n| --- | --- | --- | --- | --- | --- | --- | --- | --- |",
             extent.width,
             extent.height,
+            NEAREST_SWEEP[0],
+            NEAREST_SWEEP[1],
             factor * factor * 4
         );
         let mut all = Vec::new();
@@ -66,14 +73,23 @@ impl Bench<'_> {
             (self.progress)(&format!("{} reference", scene.name));
             let mut images = Vec::new();
             let mut rows = Vec::new();
-            for (name, raster) in [("hardware", Raster::Hardware), ("compute", Raster::Compute)] {
+            let own = scene.scene.options.draw.nearest;
+            let mut cases = vec![
+                ("hardware".to_string(), Raster::Hardware, own),
+                ("compute".to_string(), Raster::Compute, own),
+            ];
+            for k in NEAREST_SWEEP.into_iter().filter(|k| *k != own) {
+                cases.push((format!("compute, {k} in order"), Raster::Compute, k));
+            }
+            for (name, raster, nearest) in cases {
                 let draw = DrawOptions {
                     raster,
+                    nearest,
                     ..scene.scene.options.draw.clone()
                 };
                 let still = shot.draw(&shot.style(&draw), self.frames())?;
                 let mut m = self.simulated(&scene, &draw, (warm, measured))?;
-                m.name = name;
+                m.name = name.clone();
                 m.flip = flip(&reference, &still.image);
                 m.rmse = rmse(&reference, &still.image);
                 images.push(still.image);
@@ -109,7 +125,7 @@ impl Bench<'_> {
                 "0..1",
             );
             let _ = writeln!(self.md, "| {name} | between | | | | | | {between:.4} | |");
-            all.push((name.clone(), rows.pop().expect("the compute row")));
+            all.push((name.clone(), rows.swap_remove(1)));
         }
         self.raster_steps(&all);
         Ok(())
@@ -215,7 +231,7 @@ impl Bench<'_> {
         let report = session.render()?.1;
         let counts = report.counts.unwrap_or_default();
         Ok(Measured {
-            name: "",
+            name: String::new(),
             hairs: counts.hairs,
             segments: counts.segments,
             wall: median(&wall),

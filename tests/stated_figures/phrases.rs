@@ -25,14 +25,26 @@ pub fn stated() -> Vec<(&'static str, Vec<String>)> {
     let pools = fur::render::strand_raster::pools::table(
         &fur::render::strand_raster::pools::PoolBudget::default(),
     );
-    all.push((
-        "docs/compute-raster.md",
-        pools
-            .lines()
-            .filter(|l| !l.trim().is_empty())
-            .map(super::common::flat)
-            .collect(),
-    ));
+    let mut raster: Vec<String> = pools
+        .lines()
+        .filter(|l| !l.trim().is_empty())
+        .map(super::common::flat)
+        .collect();
+    // The fragments a pixel keeps in order, in words: the phrase exists only for the
+    // values it names.
+    let nearest = (
+        fur::render::FurStyle::default().nearest,
+        fur::render::MAX_NEAREST,
+    );
+    raster.push(
+        (if nearest == (8, 16) {
+            "`--nearest`: eight by default, one to sixteen)"
+        } else {
+            "(the default or the most of `nearest` changed: say it in docs/compute-raster.md)"
+        })
+        .to_string(),
+    );
+    all.push(("docs/compute-raster.md", raster));
     all
 }
 

@@ -4,10 +4,10 @@
 use std::sync::Arc;
 
 use ash::vk;
-use fur_core::render::{FrameSettings, FurStyle, Raster, RgbaImage};
+use fur_core::render::{FrameSettings, FurStyle, Raster, RgbaImage, MAX_NEAREST};
 use fur_core::scene::{Camera, GroomParams, Mesh, Strands};
 use fur_gpu::gpu::Device;
-use fur_gpu::render::{FrameReport, Renderer};
+use fur_gpu::render::{FineForm, FrameReport, Renderer};
 use fur_gpu::strand_textures::StrandTextures;
 
 fn device() -> Arc<Device> {
@@ -103,6 +103,12 @@ fn the_compute_backend_draws_the_hardware_backends_hairs() {
         );
         let flip = fur_core::render::flip(&hardware, &compute);
         eprintln!("{samples}×: ꟻLIP hardware against compute {flip:?}");
+        // The same hair, drawn: the two images within 0.15 of each other against the
+        // hardware's default 4× MSAA (0.094 measured). One sample aliases the
+        // hardware's image itself (0.21 measured), so it is not held to it.
+        if samples == 4 {
+            assert!(flip < 0.15, "ꟻLIP {flip} between the backends at 4×");
+        }
     }
     assert_clean(&device);
 }
@@ -111,16 +117,35 @@ fn the_compute_backend_draws_the_hardware_backends_hairs() {
 /// geometry stage wrote over the very depth the mesh pass left: every tile lists the
 /// same segments, and drawing the GPU's lists (in the GPU's order, which the tail's
 /// merging depends on) gives each pixel's colour and transmittance to float rounding
-/// over the hundreds of fragments of a dense pixel (within 10⁻³; the GPU's division
-/// and fused arithmetic differ from the CPU's by up to 3·10⁻⁴ here).
+/// over the hundreds of fragments of a dense pixel: within 10⁻³ (the GPU's division and
+/// fused arithmetic differ from the CPU's by up to 3·10⁻⁴ here), but for at most one
+/// pixel in a thousand, within 10⁻², where two fragments nearer to each other than that
+/// rounding sort either way (two of 6,912 with 8 or 16 kept in order, none with 2 or 4).
+/// Both forms of the fine pass (batched for GPUs, per pixel for CPU drivers), with lists
+/// of 2 (most fragments in the tail), the default and the most fragments in order.
 /// Seen failing against the fine pass walking a dense tile's list in one loop (lavapipe
 /// ends an invocation's loops after 65,535 turns: whole tiles drawn empty).
 #[test]
 fn the_gpu_draws_what_its_cpu_twin_draws() {
+    let default = FurStyle::default().nearest;
+    for (form, nearest) in [
+        (FineForm::Batched, 2),
+        (FineForm::PerPixel, 2),
+        (FineForm::Batched, default),
+        (FineForm::PerPixel, default),
+        (FineForm::Batched, MAX_NEAREST),
+        (FineForm::PerPixel, MAX_NEAREST),
+    ] {
+        draws_what_its_twin_draws(form, nearest);
+    }
+}
+
+fn draws_what_its_twin_draws(form: FineForm, nearest: u32) {
     use fur_core::render::strand_raster::{bin, draw, Backdrop, RasterBudget};
     let device = device();
     let size = (96, 72);
-    let settings = blob_settings(Raster::Compute, 1);
+    let mut settings = blob_settings(Raster::Compute, 1);
+    settings.style.nearest = nearest;
     let mesh = Mesh::blob();
     let strands = Strands::grow(&mesh, &groom()).unwrap();
     let textures = StrandTextures::new(&device, &strands, settings.head).unwrap();
@@ -129,6 +154,7 @@ fn the_gpu_draws_what_its_cpu_twin_draws() {
         height: size.1,
     };
     let mut renderer = Renderer::new(&device, &mesh, &textures, extent, 1, 1).unwrap();
+    renderer.force_fine_form(form);
     renderer.render(&textures, &settings).unwrap();
     let capture = renderer.capture_raster(0).unwrap();
     assert!(
@@ -138,7 +164,7 @@ fn the_gpu_draws_what_its_cpu_twin_draws() {
     );
     let budget = RasterBudget {
         tile: 8,
-        nearest: 4,
+        nearest: nearest as usize,
         entries: 1 << 24,
     };
     let backdrop = |background: [f32; 3]| Backdrop {
@@ -175,11 +201,13 @@ fn the_gpu_draws_what_its_cpu_twin_draws() {
     };
     let (black, white) = (drawn([0.0; 3]), drawn([1.0; 3]));
     let mut worst = (0.0f32, 0usize);
+    let mut off = 0;
     for (i, gpu) in capture.layer.iter().enumerate() {
         let transmit = white[i][0] - black[i][0];
         let error = (0..3)
             .map(|c| (gpu[c] - black[i][c]).abs())
             .fold((gpu[3] - transmit).abs(), f32::max);
+        off += usize::from(error >= 1e-3);
         if error > worst.0 {
             worst = (error, i);
         }
@@ -188,9 +216,11 @@ fn the_gpu_draws_what_its_cpu_twin_draws() {
         worst.1 as u32 % capture.width,
         worst.1 as u32 / capture.width,
     );
+    // Fragments nearer to each other than the two's rounding may sort either way.
     assert!(
-        worst.0 < 1e-3,
-        "pixel ({x}, {y}): {:?} on the GPU, {:?} + {} transmitted in the twin",
+        off <= capture.layer.len() / 1000 && worst.0 < 1e-2,
+        "{form:?}, {nearest} in order: {off} pixels off by 1e-3 or more; the worst, ({x}, {y}): \
+         {:?} on the GPU, {:?} + {} transmitted in the twin",
         capture.layer[worst.1],
         black[worst.1],
         white[worst.1][0] - black[worst.1][0]
@@ -202,59 +232,79 @@ fn the_gpu_draws_what_its_cpu_twin_draws() {
 
 /// A simulated sequence drawn in compute: frames after the first (the simulation's
 /// kernels then run in the frame's command buffer) are drawn, validation-clean, with
-/// the same hairs as the hardware backend's.
+/// the same hairs and segments as the hardware backend's, on the default blob, the
+/// original's sphere and the critter walking (skinned on the device).
 /// Seen failing against a composite drawn by a graphics pass after the compute passes:
 /// Mesa 22.3's lavapipe crashes on the second frame.
 #[test]
 fn a_simulated_sequence_is_drawn_in_compute() {
-    use fur_core::scene_file::Scene;
-    use fur_gpu::session::{FurSession, SessionSetup};
     let device = device();
-    let counts = |raster: Raster| {
-        let scene = Scene::load(None, None).unwrap();
-        let mesh = scene.model.prepare(None).unwrap().0;
-        let mut options = scene.options.clone();
-        options.draw.raster = raster;
-        options.density_scale = 0.03;
-        let (groom, mut settings) = options.resolve(&mesh).unwrap();
-        settings.count_hairs = true;
-        let motion = scene.motion.motion(mesh.bounds().1);
-        let mut session = FurSession::new(
-            &device,
-            SessionSetup {
-                mesh,
-                rig: None,
-                groom: &groom,
-                sim: scene.sim.clone(),
-                motion,
-                settings,
-                extent: vk::Extent2D {
-                    width: 96,
-                    height: 64,
-                },
-                frames_in_flight: 1,
-            },
-        )
-        .unwrap();
-        (0..2)
-            .map(|_| {
-                let (image, timings) = session.step_and_render().unwrap();
-                (image, timings.render.counts.unwrap())
-            })
-            .collect::<Vec<_>>()
-    };
-    let hardware = counts(Raster::Hardware);
-    let compute = counts(Raster::Compute);
-    for (frame, ((_, h), (image, c))) in hardware.iter().zip(&compute).enumerate() {
-        assert_eq!(h, c, "frame {frame}");
-        let drawn = (0..image.height)
-            .flat_map(|y| (0..image.width).map(move |x| (x, y)))
-            .filter(|&(x, y)| image.pixel(x, y) != image.pixel(0, 0))
-            .count();
-        assert!(
-            drawn > 500,
-            "frame {frame}: {drawn} pixels differ from the corner"
-        );
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
+    for scene in [
+        None,
+        Some(root.join("assets/scenes/original.toml")),
+        Some(root.join("assets/scenes/critter.toml")),
+    ] {
+        let name = scene
+            .as_ref()
+            .map_or("default".into(), |p| p.display().to_string());
+        let hardware = sequence(&device, scene.as_deref(), Raster::Hardware);
+        let compute = sequence(&device, scene.as_deref(), Raster::Compute);
+        for (frame, ((_, h), (image, c))) in hardware.iter().zip(&compute).enumerate() {
+            assert_eq!(h, c, "{name}, frame {frame}");
+            assert!(c.hairs > 100, "{name}, frame {frame}: {c:?}");
+            let drawn = (0..image.height)
+                .flat_map(|y| (0..image.width).map(move |x| (x, y)))
+                .filter(|&(x, y)| image.pixel(x, y) != image.pixel(0, 0))
+                .count();
+            assert!(
+                drawn > 500,
+                "{name}, frame {frame}: {drawn} pixels differ from the corner"
+            );
+        }
     }
     assert_clean(&device);
+}
+
+/// Two simulated frames of the scene file `path` (the default scene for none), its
+/// rig and clip played when it has them, at a small fraction of its density.
+fn sequence(
+    device: &Arc<Device>,
+    path: Option<&std::path::Path>,
+    raster: Raster,
+) -> Vec<(RgbaImage, fur_gpu::render::HairCounts)> {
+    use fur_core::scene_file::Scene;
+    use fur_gpu::session::{FurSession, SessionSetup};
+    let scene = Scene::load(path, None).unwrap();
+    let (mesh, rig, _) = scene.model.prepare_body(None).unwrap();
+    let rig = scene.animation.resolve(rig, &scene.model.name()).unwrap();
+    let mut options = scene.options.clone();
+    options.draw.raster = raster;
+    options.density_scale *= 0.03;
+    let (groom, mut settings) = options.resolve(&mesh).unwrap();
+    settings.count_hairs = true;
+    let motion = scene.motion.motion(mesh.bounds().1);
+    let mut session = FurSession::new(
+        device,
+        SessionSetup {
+            mesh,
+            rig,
+            groom: &groom,
+            sim: scene.sim.clone(),
+            motion,
+            settings,
+            extent: vk::Extent2D {
+                width: 96,
+                height: 64,
+            },
+            frames_in_flight: 1,
+        },
+    )
+    .unwrap();
+    (0..2)
+        .map(|_| {
+            let (image, timings) = session.step_and_render().unwrap();
+            (image, timings.render.counts.unwrap())
+        })
+        .collect()
 }

@@ -19,5 +19,5 @@ pub use lighting::{kajiya_kay, Fibre, Highlights, Lighting, LightingModel, Shade
 pub use presets::FurPreset;
 pub use uniforms::{
     FrameSettings, FrameUniforms, FurStyle, Primitive, Raster, Shading, Stage, StrandShape,
-    STUB_LIMIT,
+    MAX_NEAREST, STUB_LIMIT,
 };

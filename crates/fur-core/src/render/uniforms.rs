@@ -153,7 +153,14 @@ pub struct FurStyle {
     pub samples: u32,
     /// What draws the strands.
     pub raster: Raster,
+    /// With `Raster::Compute`: the fragments each pixel keeps in depth order (1 to
+    /// [`MAX_NEAREST`]); the rest are blended in an order-free tail. More is closer to
+    /// the true order and costs more (`fur bench --only raster` measures the trade).
+    pub nearest: u32,
 }
+
+/// The most fragments a pixel of the compute rasteriser keeps in depth order.
+pub const MAX_NEAREST: u32 = 16;
 
 impl Default for FurStyle {
     fn default() -> Self {
@@ -176,6 +183,7 @@ impl Default for FurStyle {
             thin_hair_aa: true,
             samples: 4,
             raster: Raster::Hardware,
+            nearest: 8,
         }
     }
 }
@@ -207,6 +215,12 @@ impl FurStyle {
                     "{name} must be in [0, {hi}], got {v}"
                 )));
             }
+        }
+        if !(1..=MAX_NEAREST).contains(&self.nearest) {
+            return Err(Error::Parameter(format!(
+                "fragments kept in depth order must be 1 to {MAX_NEAREST}, got {}",
+                self.nearest
+            )));
         }
         if !matches!(self.samples, 1 | 2 | 4 | 8 | 16) {
             return Err(Error::Parameter(format!(

@@ -68,6 +68,7 @@ pub struct DrawOptions {
     pub cull_margin: f32,
     pub thin_hair_aa: bool,
     pub raster: Raster,
+    pub nearest: u32,
 }
 
 impl Default for DrawOptions {
@@ -96,6 +97,7 @@ impl DrawOptions {
             cull_margin: style.cull_margin,
             thin_hair_aa: style.thin_hair_aa,
             raster: style.raster,
+            nearest: style.nearest,
         }
     }
 
@@ -307,6 +309,7 @@ impl SceneOptions {
         style.thickness_compensation = draw.thickness_compensation;
         style.thin_hair_aa = draw.thin_hair_aa;
         style.raster = draw.raster;
+        style.nearest = draw.nearest;
         settings.lighting.shadows.spacing *= radius;
         settings.show = self.show;
         settings.arrows = self.arrows;

@@ -389,8 +389,12 @@ impl Renderer {
             self.shadow_pass.prepare(&self.pipeline_layout)?;
         }
         if Self::draws_in_compute(settings) {
-            self.compute_raster
-                .prepare(&self.target, &self.pipeline_layout, slot)?;
+            self.compute_raster.prepare(
+                &self.target,
+                &self.pipeline_layout,
+                slot,
+                settings.style.nearest,
+            )?;
         }
         self.mesh_pass.prepare(
             &self.device,

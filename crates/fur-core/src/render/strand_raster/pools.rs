@@ -8,8 +8,6 @@
 pub struct PoolBudget {
     /// Tile side, pixels.
     pub tile: u32,
-    /// Fragments each pixel keeps in depth order; the rest are blended in its tail.
-    pub nearest: u32,
     /// Strand vertices, segments and tile entries the pools hold, per pixel.
     pub vertices_per_pixel: u32,
     pub segments_per_pixel: u32,
@@ -20,7 +18,6 @@ impl Default for PoolBudget {
     fn default() -> Self {
         Self {
             tile: 8,
-            nearest: 4,
             vertices_per_pixel: 4,
             segments_per_pixel: 3,
             entries_per_pixel: 6,

@@ -32,6 +32,21 @@ pub const RENDER: Group = Group {
             ..field!(options.draw.raster)
         },
         Setting {
+            key: "nearest",
+            flag: Flag::Long("nearest"),
+            label: "fragments in order",
+            help: "With `raster = \"compute\"`: the fragments each pixel keeps in depth order \
+                   and blends front to back; the rest are blended in an order-free tail. More \
+                   is closer to the true order, and costs more",
+            kind: Kind::Integer {
+                min: 1,
+                max: crate::render::MAX_NEAREST,
+                zero: false,
+            },
+            panel: Panel::Plain,
+            ..field!(options.draw.nearest)
+        },
+        Setting {
             key: "primitive",
             flag: Flag::Long("primitive"),
             label: "hair primitive",

@@ -69,6 +69,33 @@ pub(super) struct Pools {
     composited: Image,
 }
 
+/// The fine pass's two forms (`shaders/strand_fine.comp`), each the faster measured on
+/// its kind of device (docs/compute-raster.md); both draw the same image.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum FineForm {
+    /// The tile's list fetched a batch at a time into shared memory, each pixel's
+    /// fragments shifted at run-time indices: GPUs.
+    Batched,
+    /// Each pixel reads the list itself, its fragments at constant indices: CPU drivers,
+    /// which run barriers slowly and keep only constant-indexed arrays in registers.
+    PerPixel,
+}
+
+impl FineForm {
+    /// The form for a device of type `kind`.
+    pub fn for_device(kind: vk::PhysicalDeviceType) -> Self {
+        if kind == vk::PhysicalDeviceType::CPU {
+            Self::PerPixel
+        } else {
+            Self::Batched
+        }
+    }
+}
+
+/// What the pipelines are built for: the target's sample count, the fragments a pixel
+/// keeps in order, the fine pass's form.
+type PipelineKey = (u32, u32, FineForm);
+
 /// The compute rasteriser: its pools, its sets (one per frame in flight, each with its
 /// own counts), its pipelines and the steps of the frame.
 pub struct ComputeRaster {
@@ -84,8 +111,10 @@ pub struct ComputeRaster {
     pub(super) pools: Option<Pools>,
     /// The most any frame has asked the pools for, with room to spare.
     demand: Demand,
-    /// The pipelines, for the target's sample count.
-    pipelines: Option<(u32, Vec<(Step, Pipeline)>)>,
+    /// The pipelines, and what they were built for.
+    pipelines: Option<(PipelineKey, Vec<(Step, Pipeline)>)>,
+    /// The fine pass's form: the device's, unless forced.
+    pub(super) form: FineForm,
     steps: Vec<StepPass>,
 }
 
@@ -141,6 +170,7 @@ impl ComputeRaster {
             pools: None,
             demand: Demand::default(),
             pipelines: None,
+            form: FineForm::for_device(device.info.device_type),
             steps: Vec::new(),
         })
     }
@@ -173,14 +203,16 @@ impl ComputeRaster {
         bytemuck::pod_read_unaligned(&bytes[..std::mem::size_of::<ComputeCounts>()])
     }
 
-    /// Sizes the pools for `target` and builds the pipelines for its sample count,
-    /// unless they are; points frame slot `slot`'s set at them. The slot's last frame
-    /// has finished; a new size needs the device idle (as the target's does).
+    /// Sizes the pools for `target` and builds the pipelines for its sample count and
+    /// `nearest` fragments a pixel, unless they are; points frame slot `slot`'s set at
+    /// them. The slot's last frame has finished; a new size or new pipelines need the
+    /// device idle (other slots' frames may still use the old).
     pub fn prepare(
         &mut self,
         target: &RenderTarget,
         layout: &PipelineLayout,
         slot: usize,
+        nearest: u32,
     ) -> Result<()> {
         let extent = target.extent;
         // What this slot's last frame asked for (nothing before its first): pools too
@@ -212,8 +244,12 @@ impl ComputeRaster {
             self.written.fill(vk::Image::null());
             remade = true;
         }
-        if self.pipelines.as_ref().map(|p| p.0) != Some(target.samples) {
-            self.pipelines = Some((target.samples, self.build(layout, target.samples)?));
+        let key = (target.samples, nearest, self.form);
+        if self.pipelines.as_ref().map(|p| p.0) != Some(key) {
+            if self.pipelines.is_some() {
+                self.device.wait_idle()?;
+            }
+            self.pipelines = Some((key, self.build(layout, key)?));
             remade = true;
         }
         if self.written[slot] != target.depth.raw() {
@@ -351,12 +387,17 @@ impl ComputeRaster {
         }
     }
 
-    fn build(&self, layout: &PipelineLayout, samples: u32) -> Result<Vec<(Step, Pipeline)>> {
+    fn build(
+        &self,
+        layout: &PipelineLayout,
+        (samples, nearest, form): PipelineKey,
+    ) -> Result<Vec<(Step, Pipeline)>> {
         let mut defines = render_defines();
         defines.extend([
             ("TILE", self.budget.tile.to_string()),
-            ("NEAREST", self.budget.nearest.to_string()),
+            ("NEAREST", nearest.to_string()),
             ("DEPTH_SAMPLES", samples.to_string()),
+            ("BATCHED", u32::from(form == FineForm::Batched).to_string()),
         ]);
         let kernel = |shader: &str, scatter: bool| {
             let mut d = defines.clone();

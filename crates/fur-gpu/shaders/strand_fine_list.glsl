@@ -1,0 +1,194 @@
+// Strands in compute: one pixel's list of fragments in the fine pass
+// (strand_fine.comp): its NEAREST nearest fragments in depth order, a strand's
+// fragments in the pixel merged into one, and the order-free tail the rest are
+// blended into. The twin: render::strand_raster::blend::PixelList.
+// Two forms of `add_fragment`, each the faster measured on its kind of device
+// (docs/compute-raster.md): BATCHED (GPUs) and not (CPU drivers).
+#ifndef STRAND_FINE_LIST_GLSL
+#define STRAND_FINE_LIST_GLSL
+
+float k_depth[NEAREST];
+uint k_strand[NEAREST];
+float k_alpha[NEAREST];
+vec3 k_color[NEAREST];
+uint k_count = 0u;
+vec3 tail_weighted = vec3(0.0);
+float tail_alpha_sum = 0.0;
+float tail_transparency = 1.0;
+uint tail_count = 0u;
+
+// Whether (d, s) comes before (e, t): nearer, or as near with a smaller strand.
+bool nearer(float d, uint s, float e, uint t) {
+    return d < e || (d == e && s < t);
+}
+
+void into_tail(float alpha, vec3 color) {
+    tail_weighted += color * alpha;
+    tail_alpha_sum += alpha;
+    tail_transparency *= 1.0 - alpha;
+    tail_count += 1u;
+}
+
+#if BATCHED
+// blend::PixelList::add, the batched form's: the list is shifted at an index known
+// only at run time (which a GPU's compiler keeps cheap).
+void add_fragment(float depth, uint strand, float alpha, vec3 color) {
+    int same = -1;
+    [[unroll]] for (uint i = 0u; i < NEAREST; ++i) {
+        if (i < k_count && k_strand[i] == strand) {
+            same = int(i);
+        }
+    }
+    if (same >= 0) {
+        uint at = uint(same);
+        float total = k_alpha[at] + alpha;
+        vec3 merged_color = (k_color[at] * k_alpha[at] + color * alpha) / total;
+        float merged_depth = min(k_depth[at], depth);
+        // Only its depth fell: move it nearer past the ones now behind it.
+        uint to = at;
+        bool moving = true;
+        [[unroll]] for (int j = int(NEAREST) - 1; j >= 1; --j) {
+            if (uint(j) <= at && moving) {
+                if (nearer(merged_depth, strand, k_depth[j - 1], k_strand[j - 1])) {
+                    k_depth[j] = k_depth[j - 1];
+                    k_strand[j] = k_strand[j - 1];
+                    k_alpha[j] = k_alpha[j - 1];
+                    k_color[j] = k_color[j - 1];
+                    to = uint(j - 1);
+                } else {
+                    moving = false;
+                }
+            }
+        }
+        k_depth[to] = merged_depth;
+        k_strand[to] = strand;
+        k_alpha[to] = min(total, 1.0);
+        k_color[to] = merged_color;
+        return;
+    }
+    // The list is sorted: the fragment goes after every one nearer than it.
+    uint at = 0u;
+    [[unroll]] for (uint i = 0u; i < NEAREST; ++i) {
+        if (i < k_count && nearer(k_depth[i], k_strand[i], depth, strand)) {
+            at += 1u;
+        }
+    }
+    if (at >= NEAREST) {
+        into_tail(alpha, color);
+        return;
+    }
+    if (k_count == NEAREST) {
+        into_tail(k_alpha[NEAREST - 1u], k_color[NEAREST - 1u]);
+        k_count -= 1u;
+    }
+    [[unroll]] for (int j = int(NEAREST) - 1; j >= 1; --j) {
+        if (uint(j) <= k_count && uint(j) > at) {
+            k_depth[j] = k_depth[j - 1];
+            k_strand[j] = k_strand[j - 1];
+            k_alpha[j] = k_alpha[j - 1];
+            k_color[j] = k_color[j - 1];
+        }
+    }
+    k_depth[at] = depth;
+    k_strand[at] = strand;
+    k_alpha[at] = alpha;
+    k_color[at] = color;
+    k_count += 1u;
+}
+#else
+// Slot i of the list and slot j swapped.
+#define SWAP_SLOTS(i, j)                                                                   \
+    {                                                                                      \
+        float d_ = k_depth[i]; k_depth[i] = k_depth[j]; k_depth[j] = d_;                   \
+        uint s_ = k_strand[i]; k_strand[i] = k_strand[j]; k_strand[j] = s_;                \
+        float a_ = k_alpha[i]; k_alpha[i] = k_alpha[j]; k_alpha[j] = a_;                   \
+        vec3 c_ = k_color[i]; k_color[i] = k_color[j]; k_color[j] = c_;                    \
+    }
+
+// blend::PixelList::add, the per-pixel form's: every index into the list is a
+// constant once the loops are unrolled, so a CPU driver keeps the list in registers
+// (an index known only at run time puts it in memory there).
+void add_fragment(float depth, uint strand, float alpha, vec3 color) {
+    // A strand already in the list: the two shares become one fragment, as near as
+    // the nearer, which then moves nearer past the ones now behind it.
+    bool merged = false;
+    [[unroll]] for (uint i = 0u; i < NEAREST; ++i) {
+        if (i < k_count && k_strand[i] == strand) {
+            float total = k_alpha[i] + alpha;
+            k_color[i] = (k_color[i] * k_alpha[i] + color * alpha) / total;
+            k_alpha[i] = min(total, 1.0);
+            k_depth[i] = min(k_depth[i], depth);
+            merged = true;
+        }
+    }
+    if (merged) {
+        [[unroll]] for (int j = int(NEAREST) - 1; j >= 1; --j) {
+            if (uint(j) < k_count &&
+                nearer(k_depth[j], k_strand[j], k_depth[j - 1], k_strand[j - 1])) {
+                SWAP_SLOTS(j, j - 1)
+            }
+        }
+        return;
+    }
+    // Behind a full list: straight to the tail.
+    if (k_count == NEAREST &&
+        !nearer(depth, strand, k_depth[NEAREST - 1u], k_strand[NEAREST - 1u])) {
+        into_tail(alpha, color);
+        return;
+    }
+    // Carried down the sorted list: at each slot the nearer of the two stays, the
+    // other goes on; what comes out of a full list's end joins the tail.
+    float cd = depth;
+    uint cs = strand;
+    float ca = alpha;
+    vec3 cc = color;
+    [[unroll]] for (uint i = 0u; i < NEAREST; ++i) {
+        if (i < k_count) {
+            if (nearer(cd, cs, k_depth[i], k_strand[i])) {
+                float d = k_depth[i];
+                uint s = k_strand[i];
+                float a = k_alpha[i];
+                vec3 c = k_color[i];
+                k_depth[i] = cd;
+                k_strand[i] = cs;
+                k_alpha[i] = ca;
+                k_color[i] = cc;
+                cd = d;
+                cs = s;
+                ca = a;
+                cc = c;
+            }
+        } else if (i == k_count) {
+            k_depth[i] = cd;
+            k_strand[i] = cs;
+            k_alpha[i] = ca;
+            k_color[i] = cc;
+        }
+    }
+    if (k_count == NEAREST) {
+        into_tail(ca, cc);
+    } else {
+        k_count += 1u;
+    }
+}
+#endif
+
+// The list blended front to back, the tail behind it: the colour premultiplied by
+// coverage, and the light let through.
+vec4 resolve_list() {
+    vec3 color = vec3(0.0);
+    float transmit = 1.0;
+    [[unroll]] for (uint i = 0u; i < NEAREST; ++i) {
+        if (i < k_count) {
+            color += transmit * k_alpha[i] * k_color[i];
+            transmit *= 1.0 - k_alpha[i];
+        }
+    }
+    if (tail_alpha_sum > 0.0) {
+        color += transmit * (1.0 - tail_transparency) * tail_weighted / tail_alpha_sum;
+        transmit *= tail_transparency;
+    }
+    return vec4(color, transmit);
+}
+
+#endif

@@ -137,8 +137,9 @@ struct ViewArgs {
     #[arg(long, allow_negative_numbers = true)]
     frames: Option<u64>,
     /// Scripted input, e.g. "10:resize=320x240; 30:orbit=40,-10; 50:wind=on; 60:pause=on;
-    /// 70:key=n; 90:screenshot=shot.png" (`key=` presses a character key: `n` steps the
-    /// paused simulation once, `1`…`8` choose a stage view).
+    /// 70:key=n; 80:set=render.nearest=4; 90:screenshot=shot.png" (`key=` presses a
+    /// character key: `n` steps the paused simulation once, `1`…`8` choose a stage view;
+    /// `set=SECTION.KEY=VALUE` changes a scene-file setting as the panel does).
     #[arg(long, default_value = "", allow_hyphen_values = true)]
     script: String,
     /// Folder for screenshots taken with F12 or P.

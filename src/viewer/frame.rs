@@ -94,7 +94,19 @@ impl Viewer {
             &self.display.window,
             std::mem::take(&mut output.platform_output),
         );
+        // Settings the script changes, as the panel would have.
+        for action in &actions {
+            // Checked when the script was read.
+            let Action::Set(name, value) = action else {
+                continue;
+            };
+            if let Some(setting) = crate::scene_file::find_setting(name) {
+                (setting.set)(&mut scene, value.clone());
+                changes.note(setting.effect, &scene);
+            }
+        }
         self.apply_changes(changes)?;
+        self.hold_raster();
         self.update_scene();
         if self.session.settings.style.samples != self.session.renderer.target.samples {
             // The target and every pipeline are rebuilt: nothing may be in flight.

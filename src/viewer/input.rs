@@ -159,6 +159,8 @@ impl Viewer {
             Action::Screenshot(path) => {
                 self.panel.ui.pending_screenshot = Some(path.clone());
             }
+            // Applied with the panel's changes (`Viewer::frame`).
+            Action::Set(..) => {}
         }
     }
 

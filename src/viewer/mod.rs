@@ -292,6 +292,9 @@ struct Viewer {
     screenshots_taken: u32,
     /// Simulation frames run (each all its substeps); paused, one per step key.
     frames_simulated: u64,
+    /// Whether the viewer has said it draws with the fixed-function rasteriser on a CPU
+    /// driver (`Viewer::hold_raster`).
+    raster_held: bool,
 }
 
 impl Drop for Viewer {

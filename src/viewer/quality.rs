@@ -5,7 +5,7 @@
 use super::Viewer;
 use crate::error::Result;
 use crate::render::budget::{Budget, LADDER};
-use crate::render::FurStyle;
+use crate::render::{FurStyle, Raster};
 
 /// The frame-time budget and the styles it steers between.
 pub(super) struct Quality {
@@ -45,6 +45,28 @@ impl Quality {
 }
 
 impl Viewer {
+    /// On a CPU driver the strands are drawn by the fixed-function rasteriser whatever
+    /// the scene or the panel asks: Mesa 22.3's lavapipe crashes drawing the window (the
+    /// image onto the swapchain, the panel) after a simulated frame drew its strands in
+    /// compute. Said once; `fur render` and `fur bench` draw in compute there.
+    pub(super) fn hold_raster(&mut self) {
+        let style = &mut self.session.settings.style;
+        if style.raster != Raster::Compute
+            || self.device.info().device_type != ash::vk::PhysicalDeviceType::CPU
+        {
+            return;
+        }
+        style.raster = Raster::Hardware;
+        if !std::mem::replace(&mut self.raster_held, true) {
+            eprintln!(
+                "warning: the viewer draws the strands with the fixed-function rasteriser on \
+                 {} (a CPU driver: Mesa's lavapipe crashes drawing the window after the \
+                 compute strand passes); fur render and fur bench draw them in compute",
+                self.device.info().name
+            );
+        }
+    }
+
     /// Chooses this frame's rung from the last frame's time `dt` (seconds) and applies it.
     pub(super) fn steer_quality(&mut self, dt: f64) {
         // A change made in the panel since the last frame is the new base.

@@ -23,6 +23,9 @@ pub enum Action {
     Key(String),
     Minimize(bool),
     Screenshot(PathBuf),
+    /// A setting changed as the panel would change it (`set=render.raster=compute`):
+    /// its scene-file name and the value, checked when the script is read.
+    Set(String, crate::scene_file::Value),
 }
 
 /// Actions keyed by the frame they run before.
@@ -55,7 +58,7 @@ impl Script {
                 Error::Parameter(format!(
                     "bad script event `{item}` (expected FRAME:ACTION[=ARGS], e.g. 10:resize=320x240, \
                      20:orbit=30,-10, 25:zoom=0.8, 30:move=0.1,0,0, 40:wind=on, 45:shake=on, 50:pause=off, 55:key=n, \
-                     60:minimize=on, 90:screenshot=shot.png)"
+                     60:minimize=on, 70:set=render.raster=compute, 90:screenshot=shot.png)"
                 ))
             };
             let (frame, action) = item.split_once(':').ok_or_else(error)?;
@@ -79,6 +82,19 @@ impl Script {
                 "minimize" => on_off(args.trim()).map(Action::Minimize),
                 "screenshot" if !args.trim().is_empty() => {
                     Some(Action::Screenshot(PathBuf::from(args.trim())))
+                }
+                "set" => {
+                    let (name, text) = args.split_once('=').ok_or_else(error)?;
+                    let (setting, value) = crate::scene_file::setting_value(name.trim(), text)?;
+                    if setting.effect == crate::scene_file::Effect::Restart {
+                        return Err(Error::Parameter(format!(
+                            "bad script event `{item}`: `{}` takes effect only when the viewer \
+                             starts; give it as --{} instead",
+                            name.trim(),
+                            setting.flag.name()
+                        )));
+                    }
+                    Some(Action::Set(name.trim().to_string(), value))
                 }
                 _ => None,
             }
@@ -175,8 +191,27 @@ mod tests {
             "10:fly",
             "10:orbit=1",
             "10:screenshot=",
+            "10:set=render.nearest",
+            "10:set=render.nearest=0",
+            "10:set=render.nearest=17",
+            "10:set=nearest=4",
+            "10:set=render.raster=sideways",
+            "10:set=shadows.enabled=maybe",
         ] {
             assert!(Script::parse(bad).is_err(), "{bad}");
         }
+    }
+
+    #[test]
+    fn a_setting_is_set_by_its_scene_file_name() {
+        use crate::scene_file::Value;
+        let s = Script::parse("9:set=render.raster=compute; 8:set=render.nearest=4").unwrap();
+        assert_eq!(
+            s.events,
+            [
+                (8, Action::Set("render.nearest".into(), Value::Integer(4))),
+                (9, Action::Set("render.raster".into(), Value::Text("compute".into()))),
+            ]
+        );
     }
 }

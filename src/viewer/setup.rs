@@ -87,6 +87,7 @@ impl Viewer {
             save_scene: options.save_scene.clone(),
             screenshots_taken: 0,
             frames_simulated: 0,
+            raster_held: false,
         })
     }
 }

@@ -34,6 +34,18 @@ pub(crate) struct Changes {
     pub texture: Option<bool>,
 }
 
+impl Changes {
+    /// What a setting of `effect` changed in `scene` asks for.
+    pub fn note(&mut self, effect: Effect, scene: &Scene) {
+        match effect {
+            Effect::Regrow => self.groom = Some(scene.options.clone()),
+            Effect::Simulation => self.sim = Some(scene.sim.clone()),
+            Effect::Frame => self.frame = Some(scene.options.clone()),
+            Effect::Restart => {}
+        }
+    }
+}
+
 /// Panel state kept between frames.
 pub(crate) struct PanelState {
     pub reset_requested: bool,
@@ -132,12 +144,7 @@ impl PanelState {
                 // Every setting whose definition asks for a control.
                 let samples = session.renderer.supported_samples();
                 for effect in super::settings_ui::show(ui, scene, &samples) {
-                    match effect {
-                        Effect::Regrow => changes.groom = Some(scene.options.clone()),
-                        Effect::Simulation => changes.sim = Some(scene.sim.clone()),
-                        Effect::Frame => changes.frame = Some(scene.options.clone()),
-                        Effect::Restart => {}
-                    }
+                    changes.note(effect, scene);
                 }
                 ui.small("drag: orbit · right-drag: pan · wheel: zoom · WASD/arrows, Q/E: move the model · Esc: quit");
             });

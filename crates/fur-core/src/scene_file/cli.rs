@@ -48,6 +48,38 @@ impl SettingArgs {
     }
 }
 
+/// The setting named `section.key`, as a scene file writes it (`render.raster`).
+pub fn find_setting(name: &str) -> Option<&'static Setting> {
+    let (section, key) = name.split_once('.')?;
+    GROUPS
+        .iter()
+        .find(|g| g.section == section)
+        .and_then(|g| g.settings.iter().find(|s| s.key == key))
+}
+
+/// The setting `section.key` (as a scene file writes it: `render.raster`) and `text`
+/// as its value, checked against its range: for the viewer's scripted `set=` events.
+pub fn setting_value(name: &str, text: &str) -> Result<(&'static Setting, Value)> {
+    let Some(setting) = find_setting(name) else {
+        return Err(Error::Parameter(format!(
+            "no setting `{name}`: settings are named as in a scene file, SECTION.KEY \
+             (render.raster, light.lighting_model; docs/scene-files.md lists them)"
+        )));
+    };
+    let fail =
+        |message: String| Error::Parameter(format!("`{name}` ({}) {message}", setting.label));
+    let value = match setting.kind {
+        Kind::Bool => match text.trim() {
+            "on" | "true" => Value::Bool(true),
+            "off" | "false" => Value::Bool(false),
+            _ => return Err(fail(format!("expected on or off, got `{text}`"))),
+        },
+        kind => parse(kind, text).map_err(fail)?,
+    };
+    setting.check(&value).map_err(fail)?;
+    Ok((setting, value))
+}
+
 /// A command-line value of `kind`.
 fn parse(kind: Kind, text: &str) -> std::result::Result<Value, String> {
     let number = |t: &str| {

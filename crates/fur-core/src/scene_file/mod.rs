@@ -21,7 +21,7 @@ mod options;
 mod setting;
 mod value;
 
-pub use cli::SettingArgs;
+pub use cli::{find_setting, setting_value, SettingArgs};
 pub use file::SceneFile;
 pub use keys::GROUPS;
 pub use options::{DrawOptions, SceneOptions};

@@ -433,6 +433,7 @@ impl Renderer {
         frame.uniforms.write(0, bytemuck::bytes_of(&uniforms));
         frame.variants = variants;
         frame.shadows = shadows;
+        frame.compute = Self::draws_in_compute(settings);
         Ok(())
     }
 

@@ -51,6 +51,9 @@ pub(super) struct RenderSlot {
     pub(super) shadow_drawn: bool,
     /// Whether this slot's frame draws shadows.
     pub(super) shadows: bool,
+    /// Whether this slot's frame draws its strands in compute (which timestamps it
+    /// writes, whether it has compute counts to report).
+    pub(super) compute: bool,
 }
 
 impl RenderSlot {
@@ -126,6 +129,7 @@ impl RenderSlot {
             shadow,
             shadow_drawn: false,
             shadows: false,
+            compute: false,
         })
     }
 }

@@ -44,7 +44,8 @@ impl Renderer {
     /// Reads the queries of slot `slot`'s last submitted frame (waits for them).
     pub fn report(&self, slot: usize, settings: &FrameSettings) -> Result<FrameReport> {
         let frame = &self.slots[slot];
-        let compute = Self::draws_in_compute(settings);
+        // What the slot's last frame drew, whatever `settings` ask of the next.
+        let compute = frame.compute;
         let mut raster_steps_ms = Vec::new();
         let (mesh_ms, fur_ms, frame_ms) = match &frame.timestamps {
             Some(q) => {

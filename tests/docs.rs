@@ -6,7 +6,10 @@
 mod common;
 
 use common::{flat, numbers, read_doc as read, without_code_and_links};
+#[path = "docs/truth_ratios.rs"]
+mod truth_ratios;
 use std::path::Path;
+use truth_ratios::{truth_ratios, TruthRatios};
 
 /// The README's section that starts at `heading` up to the next `## ` heading.
 fn section<'a>(text: &'a str, heading: &str) -> &'a str {
@@ -307,83 +310,6 @@ fn the_files_the_documents_name_exist() {
         "named but not there:\n{}",
         missing.join("\n")
     );
-}
-
-/// The ratios the README works out from the truth tables (docs/ground-truth.md's run):
-/// Marschner's ꟻLIP over Kajiya–Kay's on the blob, sphere and walking critter, then on
-/// white, blond and black fur, and the range of their frame times' ratio.
-struct TruthRatios {
-    scenes: Vec<f64>,
-    colours: Vec<f64>,
-    fastest: f64,
-    slowest: f64,
-    /// Kajiya–Kay's ꟻLIP minus Marschner's, in the same order (scenes, then colours).
-    gaps: Vec<f64>,
-}
-
-impl TruthRatios {
-    /// The figures as the documents write them: ratios to two places, the frame times'
-    /// range to one, the gaps to four.
-    fn derived(&self) -> Vec<String> {
-        let ratios = self.scenes.iter().chain(&self.colours);
-        ratios
-            .map(|x| format!("{x:.2}"))
-            .chain([
-                format!("{:.1}", self.fastest),
-                format!("{:.1}", self.slowest),
-            ])
-            .chain(self.gaps.iter().map(|g| format!("{g:.4}")))
-            .collect()
-    }
-}
-
-fn truth_ratios() -> TruthRatios {
-    let truth = read("docs/ground-truth.md");
-    let run = tables(region(&truth, "fur bench"));
-    let figure = |row: &[String], header: &[String], name: &str| -> f64 {
-        let i = header.iter().position(|h| h == name).unwrap();
-        row[i].parse().unwrap()
-    };
-    // Per scene (blob, sphere, walking critter, in the run's order): the default
-    // drawing's row and the Marschner drawing's.
-    let mut scenes = Vec::new();
-    let mut times = Vec::new();
-    let mut gaps = Vec::new();
-    for (header, rows) in run.iter().filter(|(h, _)| h[0] == "drawing") {
-        let find = |name: &str| rows.iter().find(|r| r[0] == name);
-        if let (Some(kk), Some(m)) = (find("rung 0 (default)"), find("Marschner lighting")) {
-            scenes.push(figure(m, header, "ꟻLIP") / figure(kk, header, "ꟻLIP"));
-            times.push(figure(m, header, "frame ms") / figure(kk, header, "frame ms"));
-            gaps.push(figure(kk, header, "ꟻLIP") - figure(m, header, "ꟻLIP"));
-        }
-    }
-    assert_eq!(scenes.len(), 3, "the blob, sphere and critter tables");
-    let (header, rows) = run
-        .iter()
-        .find(|(h, _)| h[0] == "fur")
-        .expect("the fur colours' table");
-    let colour = |fur: &str, drawing: &str| {
-        rows.iter()
-            .find(|r| r[0] == fur && r[1] == drawing)
-            .unwrap_or_else(|| panic!("no {fur} {drawing} row"))
-    };
-    let mut colours = Vec::new();
-    for fur in ["white", "blond", "black"] {
-        let (kk, m) = (colour(fur, "Kajiya–Kay"), colour(fur, "Marschner"));
-        colours.push(figure(m, header, "ꟻLIP") / figure(kk, header, "ꟻLIP"));
-        times.push(figure(m, header, "frame ms") / figure(kk, header, "frame ms"));
-        gaps.push(figure(kk, header, "ꟻLIP") - figure(m, header, "ꟻLIP"));
-    }
-    let (fastest, slowest) = times
-        .iter()
-        .fold((f64::MAX, f64::MIN), |(lo, hi), &t| (lo.min(t), hi.max(t)));
-    TruthRatios {
-        scenes,
-        colours,
-        fastest,
-        slowest,
-        gaps,
-    }
 }
 
 /// The README's sentences on the two lighting models hold the ratios worked out from the

@@ -210,7 +210,10 @@ mod tests {
             s.events,
             [
                 (8, Action::Set("render.nearest".into(), Value::Integer(4))),
-                (9, Action::Set("render.raster".into(), Value::Text("compute".into()))),
+                (
+                    9,
+                    Action::Set("render.raster".into(), Value::Text("compute".into()))
+                ),
             ]
         );
     }

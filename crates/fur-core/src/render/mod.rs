@@ -4,6 +4,7 @@
 //! `render` module).
 
 pub mod budget;
+mod drawing;
 pub mod dual_scattering;
 pub mod hair_oracle;
 mod image;

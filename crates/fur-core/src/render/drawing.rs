@@ -5,7 +5,7 @@
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 pub enum Primitive {
     /// Line strips carrying their coverage as alpha for hairs narrower than
-    /// [`FurStyle::ribbon_above_px`] at the root, ribbons for the wider ones.
+    /// [`FurStyle::ribbon_above_px`](super::FurStyle::ribbon_above_px) at the root, ribbons for the wider ones.
     Auto,
     /// Line strips for every hair.
     Lines,

@@ -61,6 +61,23 @@ fn oversized_work_is_refused_before_it_starts() {
         "GiB",
         "a 16384² image",
     );
+    // One sample fits the target's limit; the compute rasteriser's pools do not, and
+    // are refused before the target is made.
+    fails(
+        &run(&[
+            "render",
+            "--raster",
+            "compute",
+            "--samples",
+            "1",
+            "--width",
+            "16384",
+            "--height",
+            "16384",
+        ]),
+        "compute rasteriser's pools for a 16384×16384 image",
+        "a 16384² image in compute",
+    );
 }
 
 #[test]

@@ -3,7 +3,8 @@
 use ash::vk;
 
 use crate::error::{Error, Result};
-use crate::render::FrameSettings;
+use crate::render::strand_raster::pools::{Demand, PoolBudget, PoolSizes};
+use crate::render::{FrameSettings, Raster};
 use crate::scene::{GroomParams, Mesh};
 
 /// Strand vertices (master hairs × their vertices) a scene may have: 8 M take 512 MiB
@@ -11,13 +12,15 @@ use crate::scene::{GroomParams, Mesh};
 pub const MAX_STRAND_VERTICES: u64 = 8_000_000;
 /// Hair segments a frame may draw at most (about 15 s a frame on lavapipe).
 pub const MAX_SEGMENTS_PER_FRAME: u64 = 20_000_000;
-/// Render-target memory an image may take (colour, depth and resolve).
+/// Render-target memory an image may take (colour, depth and resolve), and, apart,
+/// the compute rasteriser's pools for it.
 pub const MAX_TARGET_BYTES: u64 = 4 << 30;
 
 /// Refuses, before any work, a scene whose size would run for minutes or exhaust
 /// memory, naming the limit and the value: the strand vertices, the hairs the density
-/// asks for (an upper bound: every triangle in view at full density) and the render
-/// target's memory.
+/// asks for (an upper bound: every triangle in view at full density), the render
+/// target's memory and, with `--raster compute`, its pools' (sized per pixel before any
+/// frame asks for more).
 pub fn check_work(
     mesh: &Mesh,
     groom: &GroomParams,
@@ -66,6 +69,25 @@ pub fn check_work(
             bytes as f64 / f64::from(1u32 << 30),
             MAX_TARGET_BYTES >> 30
         )));
+    }
+    if settings.style.raster == Raster::Compute {
+        let pools = PoolSizes::of(
+            &PoolBudget::default(),
+            extent.width,
+            extent.height,
+            &Demand::default(),
+        )
+        .total();
+        if pools > MAX_TARGET_BYTES {
+            return Err(Error::Parameter(format!(
+                "the compute rasteriser's pools for a {}×{} image need {:.1} GiB, over the \
+                 limit of {} GiB; draw it smaller or with --raster hardware",
+                extent.width,
+                extent.height,
+                pools as f64 / f64::from(1u32 << 30),
+                MAX_TARGET_BYTES >> 30
+            )));
+        }
     }
     Ok(())
 }

@@ -114,6 +114,34 @@ fn each_guide_is_drawn_once_as_it_is() {
         // The root moved onto the surface: the blob's own roots are on it already.
         assert!(shift.length() < 1e-5, "guide {g}'s root moved by {shift}");
     }
+    // Both strand rasterisers draw the same hairs and segments of the drawn groom.
+    let counts = |raster: &str| {
+        let out = ok(&fur(&[
+            "render",
+            "--groom",
+            s(&path),
+            "--groom-mode",
+            "draw",
+            "--segments",
+            "8",
+            "--width",
+            "96",
+            "--height",
+            "54",
+            "--raster",
+            raster,
+            "--validate",
+            "--out",
+            s(&dir.join(format!("{raster}.png"))),
+        ]));
+        let at = out.find(" hairs drawn in ").expect("the hairs drawn are reported");
+        let hairs = out[..at].rsplit(' ').next().unwrap().to_string();
+        let segments = out[at..].split(' ').nth(4).unwrap().to_string();
+        (hairs, segments)
+    };
+    let (hardware, compute) = (counts("hardware"), counts("compute"));
+    assert_eq!(hardware, compute, "hairs and segments, hardware against compute");
+    assert!(hardware.0.parse::<usize>().unwrap() > 0, "{hardware:?}");
 }
 
 /// On the walking critter the drawn guides are the master hairs the skin carries:

@@ -134,13 +134,18 @@ fn each_guide_is_drawn_once_as_it_is() {
             "--out",
             s(&dir.join(format!("{raster}.png"))),
         ]));
-        let at = out.find(" hairs drawn in ").expect("the hairs drawn are reported");
+        let at = out
+            .find(" hairs drawn in ")
+            .expect("the hairs drawn are reported");
         let hairs = out[..at].rsplit(' ').next().unwrap().to_string();
         let segments = out[at..].split(' ').nth(4).unwrap().to_string();
         (hairs, segments)
     };
     let (hardware, compute) = (counts("hardware"), counts("compute"));
-    assert_eq!(hardware, compute, "hairs and segments, hardware against compute");
+    assert_eq!(
+        hardware, compute,
+        "hairs and segments, hardware against compute"
+    );
     assert!(hardware.0.parse::<usize>().unwrap() > 0, "{hardware:?}");
 }
 

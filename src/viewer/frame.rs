@@ -312,6 +312,7 @@ impl Viewer {
             self.hud.segments = c.segments;
             self.hud.culled = c.triangles_culled;
         }
+        self.hud.raster = timings.render.raster;
         if let Some(path) = screenshot {
             self.session.renderer.target.pixels().write_png(&path)?;
             log::info!("screenshot written to {}", path.display());

@@ -261,6 +261,8 @@ pub(crate) struct Hud {
     pub target_fps: f64,
     /// The device bins (lavapipe): timestamps between stages misattribute.
     pub binning: bool,
+    /// What the compute rasteriser counted, when it drew the last frame.
+    pub raster: Option<crate::render::ComputeCounts>,
 }
 
 // The viewer in parts, each freeing what it holds itself, in the order its own fields

@@ -100,6 +100,14 @@ impl PanelState {
                      {} triangles culled",
                     hud.masters, hud.points, hud.hairs, hud.segments, hud.culled
                 ));
+                if let Some(counts) = &hud.raster {
+                    let (line, overflowed) = raster_line(counts);
+                    if overflowed {
+                        ui.colored_label(egui::Color32::YELLOW, line);
+                    } else {
+                        ui.label(line);
+                    }
+                }
                 let max_level = session.renderer.max_level();
                 if let Some(legend) = crate::legend::Legend::of(&session.settings, max_level) {
                     super::legend_ui::show(ui, &legend);
@@ -149,5 +157,51 @@ impl PanelState {
                 ui.small("drag: orbit · right-drag: pan · wheel: zoom · WASD/arrows, Q/E: move the model · Esc: quit");
             });
         changes
+    }
+}
+
+/// The HUD's line for a frame drawn by the compute rasteriser: what it binned and
+/// blended out of order, and what found a pool full (then true: the line is a warning).
+fn raster_line(c: &crate::render::ComputeCounts) -> (String, bool) {
+    let mut line = format!(
+        "drawn in compute: {} tile entries, {} fragments blended out of depth order",
+        c.entries, c.tail_fragments
+    );
+    let overflowed = c.hairs_lost > 0 || c.entries_lost > 0;
+    if overflowed {
+        line += &format!(
+            "; pools full: {} hairs and {} tile entries not drawn (the pools grow for the \
+             next frame)",
+            c.hairs_lost, c.entries_lost
+        );
+    }
+    (line, overflowed)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::raster_line;
+    use crate::render::ComputeCounts;
+
+    #[test]
+    fn the_raster_line_warns_only_when_a_pool_was_full() {
+        let mut counts = ComputeCounts::default();
+        counts.entries = 1200;
+        counts.tail_fragments = 34;
+        let (line, warned) = raster_line(&counts);
+        assert!(!warned && line.contains("1200 tile entries") && line.contains("34 fragments"));
+        assert!(!line.contains("pools full"), "{line}");
+        for (hairs, entries) in [(2, 0), (0, 5)] {
+            counts.hairs_lost = hairs;
+            counts.entries_lost = entries;
+            let (line, warned) = raster_line(&counts);
+            assert!(warned, "{line}");
+            assert!(
+                line.contains(&format!(
+                    "{hairs} hairs and {entries} tile entries not drawn"
+                )),
+                "{line}"
+            );
+        }
     }
 }

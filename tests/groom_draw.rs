@@ -64,25 +64,32 @@ fn each_guide_is_drawn_once_as_it_is() {
     let path = dir.join("curled.hair");
     fur::groom_file::write_groom(&path, &guides, "test").unwrap();
     let frame = dir.join("frame.usda");
-    let out = ok(&fur(&[
-        "export-frame",
-        s(&frame),
-        "--groom",
-        s(&path),
-        "--groom-mode",
-        "draw",
-        "--segments",
-        "8",
-        "--motion",
-        "still",
-        "--width",
-        "96",
-        "--height",
-        "54",
-        "--validate",
-        "--out",
-        s(&dir.join("frame.png")),
-    ]));
+    // The groom drawn as it is, small, validation on: the export and the renders below.
+    let drawing = |command: &[&str], more: &[&str], out: &Path| {
+        let mut args = command.to_vec();
+        args.extend([
+            "--groom",
+            s(&path),
+            "--groom-mode",
+            "draw",
+            "--segments",
+            "8",
+            "--width",
+            "96",
+            "--height",
+            "54",
+            "--validate",
+            "--out",
+            s(out),
+        ]);
+        args.extend_from_slice(more);
+        ok(&fur(&args))
+    };
+    let out = drawing(
+        &["export-frame", s(&frame)],
+        &["--motion", "still"],
+        &dir.join("frame.png"),
+    );
     let drawn = read_groom(&frame).unwrap();
     assert_eq!(drawn.count(), guides.count(), "{out}");
     // Each drawn hair against the guide rooted nearest it.
@@ -116,24 +123,8 @@ fn each_guide_is_drawn_once_as_it_is() {
     }
     // Both strand rasterisers draw the same hairs and segments of the drawn groom.
     let counts = |raster: &str| {
-        let out = ok(&fur(&[
-            "render",
-            "--groom",
-            s(&path),
-            "--groom-mode",
-            "draw",
-            "--segments",
-            "8",
-            "--width",
-            "96",
-            "--height",
-            "54",
-            "--raster",
-            raster,
-            "--validate",
-            "--out",
-            s(&dir.join(format!("{raster}.png"))),
-        ]));
+        let image = dir.join(format!("{raster}.png"));
+        let out = drawing(&["render"], &["--raster", raster], &image);
         let at = out
             .find(" hairs drawn in ")
             .expect("the hairs drawn are reported");

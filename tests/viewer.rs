@@ -94,21 +94,10 @@ fn scripted_session_is_validated_and_its_screenshot_shows_fur() {
         Duration::from_secs(240),
     );
     assert_ok(&out);
-    let file = std::fs::File::open(&shot).expect("the screenshot was written");
-    let mut reader = png::Decoder::new(std::io::BufReader::new(file))
-        .read_info()
-        .unwrap();
-    let mut data = vec![0; reader.output_buffer_size()];
-    let info = reader.next_frame(&mut data).unwrap();
+    let (pixels, size) = screenshot(&shot);
     // The window was resized to 300×220 before the screenshot.
-    assert_eq!((info.width, info.height), (300, 220));
-    let pixels: Vec<&[u8]> = data.chunks_exact(4).collect();
-    let background = pixels[0];
-    let covered: Vec<&[u8]> = pixels
-        .iter()
-        .copied()
-        .filter(|p| (0..3).any(|c| p[c].abs_diff(background[c]) > 8))
-        .collect();
+    assert_eq!(size, (300, 220));
+    let covered = covered(&pixels);
     assert!(
         covered.len() > pixels.len() / 10,
         "the model covers only {} pixels",
@@ -214,6 +203,16 @@ fn screenshot(path: &Path) -> (Vec<[u8; 4]>, (u32, u32)) {
     (pixels, (info.width, info.height))
 }
 
+/// The pixels unlike the first (the background's): what the model covers.
+fn covered(pixels: &[[u8; 4]]) -> Vec<[u8; 4]> {
+    let background = pixels[0];
+    pixels
+        .iter()
+        .copied()
+        .filter(|p| (0..3).any(|c| p[c].abs_diff(background[c]) > 8))
+        .collect()
+}
+
 /// The strand rasteriser switched live, as the panel switches it (a scripted `set=`):
 /// hardware to compute, the fragments in order changed, back to hardware, the hair
 /// paused so that only the drawing changes; every frame validation-clean, each
@@ -256,11 +255,7 @@ fn the_strand_rasteriser_switches_live() {
     let [compute, nearest1, hardware] = ["compute", "nearest1", "hardware"].map(|name| {
         let (pixels, size) = screenshot(&shot(name));
         assert_eq!(size, (240, 180), "{name}");
-        let background = pixels[0];
-        let covered = pixels
-            .iter()
-            .filter(|p| (0..3).any(|c| p[c].abs_diff(background[c]) > 8))
-            .count();
+        let covered = covered(&pixels).len();
         assert!(
             covered > pixels.len() / 10,
             "{name}: {covered} pixels covered"

@@ -23,7 +23,7 @@ pub(super) const TS_MESH: u32 = 2;
 pub(super) const TS_FUR: u32 = 3;
 pub(super) const TS_STRANDS: u32 = 4;
 /// The queries a frame drawn by the fixed-function rasteriser writes.
-pub(super) const TS_HARDWARE: u32 = 4;
+pub(super) const TS_HARDWARE: u32 = TS_FUR + 1;
 pub(super) const TIMESTAMPS: u32 = TS_STRANDS + 1 + super::renderer::STEP_NAMES.len() as u32;
 
 /// The counters' header: hairs drawn, segments drawn, triangles culled, one unused word

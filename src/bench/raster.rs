@@ -137,6 +137,10 @@ impl Bench<'_> {
     fn raster_steps(&mut self, all: &[(String, Measured)]) {
         let short = |step: &str| step.trim_start_matches("strand ").to_string();
         let tile = PoolBudget::default().tile;
+        let pixels = {
+            let e = self.frame_extent();
+            e.width * e.height
+        };
         let header: Vec<String> = std::iter::once("geometry".to_string())
             .chain(STEP_NAMES.iter().map(|s| short(s)))
             .collect();
@@ -166,10 +170,11 @@ impl Bench<'_> {
             self.md,
             "\nWhat the compute passes counted on the last frame: strand vertices and \
              segments written, (segment, tile) entries binned and their mean over the \
-             {tile}×{tile}-pixel tiles, fragments blended out of depth order (a pixel's tail), and what found \
-             a pool full (hairs not drawn, entries missing).\n\n\
-             | scene | vertices | segments | entries | per tile | tail fragments | \
-             hairs lost | entries lost |\n| --- | --- | --- | --- | --- | --- | --- | --- |"
+             {tile}×{tile}-pixel tiles, fragments blended out of depth order (a pixel's tail), pixels \
+             that stopped walking their tile's list once opaque (of the image's {pixels}), and what \
+             found a pool full (hairs not drawn, entries missing).\n\n\
+             | scene | vertices | segments | entries | per tile | tail fragments | pixels stopped | \
+             hairs lost | entries lost |\n| --- | --- | --- | --- | --- | --- | --- | --- | --- |"
         );
         for (name, m) in all {
             let Some(c) = m.counts else { continue };
@@ -181,6 +186,7 @@ impl Bench<'_> {
                 ("segments", c.segments),
                 ("entries", c.entries),
                 ("tail_fragments", c.tail_fragments),
+                ("pixels_stopped", c.pixels_stopped),
                 ("hairs_lost", c.hairs_lost),
                 ("entries_lost", c.entries_lost),
             ] {
@@ -194,8 +200,14 @@ impl Bench<'_> {
             }
             let _ = writeln!(
                 self.md,
-                "| {name} | {} | {} | {} | {per_tile:.0} | {} | {} | {} |",
-                c.vertices, c.segments, c.entries, c.tail_fragments, c.hairs_lost, c.entries_lost
+                "| {name} | {} | {} | {} | {per_tile:.0} | {} | {} | {} | {} |",
+                c.vertices,
+                c.segments,
+                c.entries,
+                c.tail_fragments,
+                c.pixels_stopped,
+                c.hairs_lost,
+                c.entries_lost
             );
         }
         self.md.push('\n');

@@ -44,6 +44,13 @@ pub fn stated() -> Vec<(&'static str, Vec<String>)> {
         })
         .to_string(),
     );
+    // The depth bins and the opacity a pixel stops at.
+    use fur::render::strand_raster::order::{DEPTH_BINS, OPAQUE_TRANSMIT};
+    raster.push(format!("is cut into {DEPTH_BINS} equal depth bins"));
+    raster.push(format!(
+        "let through less than 1/{} of the light",
+        (1.0 / OPAQUE_TRANSMIT).round()
+    ));
     all.push(("docs/compute-raster.md", raster));
     all
 }

@@ -2,7 +2,8 @@
 // Strands in compute, passes 2 and 4: each segment walks the tiles it can touch (the
 // rows its widened axis crosses, in each the columns of the part of the axis inside
 // it; render::strand_raster::bin::tiles_touched) and, in a tile the body does not hide
-// it from, is counted (SCATTER 0) or written into the tile's list (SCATTER 1). One
+// it from, is counted and its sort key taken into the tile's range (SCATTER 0) or
+// written into the tile's list (SCATTER 1). One
 // invocation per segment (or every so-many-th), dispatched indirectly by the count the
 // geometry stage left.
 // TILE, SCATTER are defined by the renderer.
@@ -20,6 +21,10 @@ void bin_segment(uint s) {
     vec4 b = strand_vertex_list[segment.x + 1u].position;
     float radius = 0.5 * max(a.w, b.w) + 0.70710678;
     float near = min(a.z, b.z);
+#if !SCATTER
+    // Non-negative floats order as their bits do.
+    uint key = floatBitsToUint(depth_key(a.z, b.z));
+#endif
     float size = float(TILE);
     uint columns = (uint(frame.viewport.x) + TILE - 1u) / TILE;
     uint rows = (uint(frame.viewport.y) + TILE - 1u) / TILE;
@@ -66,6 +71,8 @@ void bin_segment(uint s) {
             }
 #else
             atomicAdd(tile_bins[tile].count, 1u);
+            atomicMin(tile_bins[tile].near_lo, key);
+            atomicMax(tile_bins[tile].near_hi, key);
 #endif
         }
     }

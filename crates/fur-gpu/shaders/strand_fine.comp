@@ -1,12 +1,14 @@
 #version 450
-// Strands in compute, pass 5: each pixel of a tile walks the tile's list, takes each
-// segment's exact coverage and keeps its NEAREST nearest fragments in depth order, a
-// strand's fragments in the pixel merged into one; the rest are blended in an
-// order-free tail (strand_fine_list.glsl). The fragments are blended front to back
-// into the hair layer: the colour premultiplied by coverage, and the light let
-// through. One workgroup per tile, one invocation per pixel. The twin:
-// render::strand_raster (rasterize, blend::PixelList), which takes the entries in the
-// same order.
+// Strands in compute, pass 6: each pixel of a tile walks the tile's list, sorted front
+// to back by depth bin, takes each segment's exact coverage and keeps its NEAREST
+// nearest fragments in depth order, a strand's fragments in the pixel merged into one;
+// the rest are blended in an order-free tail (strand_fine_list.glsl). At each of the
+// tile's stops (where a depth bin ends) a pixel whose fragments let through less than
+// OPAQUE_TRANSMIT stops; in the batched form the tile stops once every pixel has. The
+// fragments are blended front to back into the hair layer: the colour premultiplied by
+// coverage, and the light let through. One workgroup per tile, one invocation per
+// pixel. The twin: render::strand_raster (draw, blend::PixelList), which takes the
+// entries in the same order.
 //
 // Two forms, each the faster measured on its kind of device (docs/compute-raster.md):
 // - BATCHED (GPUs): the workgroup walks the tile's list a batch at a time: each
@@ -18,7 +20,8 @@
 // Every loop but the walk is unrolled, and the walk takes UNROLL entries a turn:
 // lavapipe ends any invocation whose loops have turned 65,535 times in all (Mesa's
 // gallivm loop limiter), which a pixel of a dense tile would otherwise reach.
-// TILE, NEAREST, DEPTH_SAMPLES and BATCHED are defined by the renderer.
+// TILE, NEAREST, DEPTH_SAMPLES, BATCHED, DEPTH_BINS and OPAQUE_TRANSMIT are defined by
+// the renderer.
 #extension GL_EXT_control_flow_attributes : require
 #include "common.glsl"
 #include "strand_raster.glsl"
@@ -34,6 +37,47 @@ layout(set = SET_RASTER, binding = B_BODY_DEPTH) uniform sampler2D body_depth;
 
 // Entries a turn of the walk takes.
 const uint UNROLL = 16u;
+
+// Where a pixel is in its walk of the tile's list: the next stop (the index where a
+// depth bin ends), which of the tile's stops it is, and whether the pixel has stopped.
+struct Walk {
+    uint stop_at;
+    uint next;
+    bool done;
+};
+
+Walk start_walk(uint tile, uint count) {
+    Walk walk;
+    walk.next = 0u;
+    walk.stop_at = tile_bins[tile].stop_count > 0u ? tile_bins[tile].stops[0] : count;
+    walk.done = false;
+    return walk;
+}
+
+// Whether the pixel stops before entry `i` of the list: at a stop, once opaque (and
+// counted). Past a stop it is not at, the walk moves on to the next.
+bool stops_at(inout Walk walk, uint tile, uint i) {
+    if (i != walk.stop_at) {
+        return false;
+    }
+    if (seen_transmit < OPAQUE_TRANSMIT) {
+        walk.done = true;
+        atomicAdd(raster_counts.pixels_stopped, 1u);
+        return true;
+    }
+    walk.next += 1u;
+    walk.stop_at = walk.next < tile_bins[tile].stop_count ? tile_bins[tile].stops[walk.next]
+                                                          : 0xffffffffu;
+    return false;
+}
+
+// The pixel's list blended into the hair layer, and its tail counted.
+void finish(ivec2 p, ivec2 size) {
+    hair_layer[p.y * size.x + p.x] = resolve_list();
+    if (tail_count > 0u) {
+        atomicAdd(raster_counts.tail_fragments, tail_count);
+    }
+}
 
 float pixel_depth(ivec2 p) {
 #if DEPTH_SAMPLES > 1
@@ -58,10 +102,12 @@ shared vec4 batch_shape[BATCH];
 shared vec4 batch_color_a[BATCH];
 shared vec4 batch_color_b[BATCH];
 shared uint batch_strand[BATCH];
+// The tile's pixels still walking (inside the image and not yet stopped).
+shared uint open_pixels;
 
 // Fetches entry `entry` of the pool into the batch's slot `slot`.
 void fetch(uint entry, uint slot) {
-    uvec2 segment = strand_segment_list[tile_entries[entry]];
+    uvec2 segment = strand_segment_list[tile_order[entry]];
     StrandVertex va = strand_vertex_list[segment.x];
     StrandVertex vb = strand_vertex_list[segment.x + 1u];
     batch_ends[slot] = vec4(va.position.xy, vb.position.xy);
@@ -102,36 +148,49 @@ void main() {
     uint count = tile_bins[tile].kept;
     uint offset = tile_bins[tile].offset;
     uint lane = gl_LocalInvocationIndex;
+    if (lane == 0u) {
+        ivec2 corner = ivec2(gl_WorkGroupID.xy) * int(TILE);
+        ivec2 span = clamp(size - corner, ivec2(0), ivec2(TILE));
+        open_pixels = uint(span.x * span.y);
+    }
+    Walk walk = start_walk(tile, count);
+    walk.done = !inside;
     for (uint base = 0u; base < count; base += BATCH) {
         if (base + lane < count) {
             fetch(offset + base + lane, lane);
         }
         barrier();
         uint batch = min(BATCH, count - base);
-        if (inside) {
-            for (uint first = 0u; first < batch; first += UNROLL) {
+        if (!walk.done) {
+            for (uint first = 0u; first < batch && !walk.done; first += UNROLL) {
                 [[unroll]] for (uint j = 0u; j < UNROLL; ++j) {
-                    if (first + j < batch) {
-                        take(first + j, centre, body);
+                    if (first + j < batch && !walk.done) {
+                        if (!stops_at(walk, tile, base + first + j)) {
+                            take(first + j, centre, body);
+                        } else {
+                            atomicAdd(open_pixels, 0xffffffffu);
+                        }
                     }
                 }
             }
         }
         barrier();
+        // Every pixel of the tile opaque: the rest of the list cannot show. (Read by
+        // all between two barriers, written only after the next.)
+        if (open_pixels == 0u) {
+            break;
+        }
     }
     if (!inside) {
         return;
     }
-    hair_layer[p.y * size.x + p.x] = resolve_list();
-    if (tail_count > 0u) {
-        atomicAdd(raster_counts.tail_fragments, tail_count);
-    }
+    finish(p, size);
 }
 #else
 // The fragment entry `entry` of the pool leaves in the pixel centred at `centre`, if
 // it is in front of the body there.
 void take(uint entry, vec2 centre, float body) {
-    uvec2 segment = strand_segment_list[tile_entries[entry]];
+    uvec2 segment = strand_segment_list[tile_order[entry]];
     StrandVertex va = strand_vertex_list[segment.x];
     StrandVertex vb = strand_vertex_list[segment.x + 1u];
     vec2 foot = strand_footprint(centre, va.position.xy, vb.position.xy, va.position.w,
@@ -157,16 +216,14 @@ void main() {
     uint tile = gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x;
     uint count = tile_bins[tile].kept;
     uint offset = tile_bins[tile].offset;
-    for (uint base = 0u; base < count; base += UNROLL) {
+    Walk walk = start_walk(tile, count);
+    for (uint base = 0u; base < count && !walk.done; base += UNROLL) {
         [[unroll]] for (uint j = 0u; j < UNROLL; ++j) {
-            if (base + j < count) {
+            if (base + j < count && !walk.done && !stops_at(walk, tile, base + j)) {
                 take(offset + base + j, centre, body);
             }
         }
     }
-    hair_layer[p.y * size.x + p.x] = resolve_list();
-    if (tail_count > 0u) {
-        atomicAdd(raster_counts.tail_fragments, tail_count);
-    }
+    finish(p, size);
 }
 #endif

@@ -16,6 +16,9 @@ vec3 tail_weighted = vec3(0.0);
 float tail_alpha_sum = 0.0;
 float tail_transparency = 1.0;
 uint tail_count = 0u;
+// The light every fragment met lets through, each as a layer of its own
+// (blend::PixelList::transmitted): the pixel is opaque below OPAQUE_TRANSMIT.
+float seen_transmit = 1.0;
 
 // Whether (d, s) comes before (e, t): nearer, or as near with a smaller strand.
 bool nearer(float d, uint s, float e, uint t) {
@@ -33,6 +36,7 @@ void into_tail(float alpha, vec3 color) {
 // blend::PixelList::add, the batched form's: the list is shifted at an index known
 // only at run time (which a GPU's compiler keeps cheap).
 void add_fragment(float depth, uint strand, float alpha, vec3 color) {
+    seen_transmit *= 1.0 - alpha;
     int same = -1;
     [[unroll]] for (uint i = 0u; i < NEAREST; ++i) {
         if (i < k_count && k_strand[i] == strand) {
@@ -109,6 +113,7 @@ void add_fragment(float depth, uint strand, float alpha, vec3 color) {
 // constant once the loops are unrolled, so a CPU driver keeps the list in registers
 // (an index known only at run time puts it in memory there).
 void add_fragment(float depth, uint strand, float alpha, vec3 color) {
+    seen_transmit *= 1.0 - alpha;
     // A strand already in the list: the two shares become one fragment, as near as
     // the nearer, which then moves nearer past the ones now behind it.
     bool merged = false;

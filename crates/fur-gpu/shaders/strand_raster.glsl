@@ -30,6 +30,7 @@ layout(set = SET_RASTER, binding = B_RASTER_COUNTS, std430) buffer RasterCounts 
     uint entries;           // (segment, tile) entries binned
     uint entries_lost;      // entries that found the entry pool full
     uint tail_fragments;    // fragments blended in a pixel's tail, not in order
+    uint pixels_stopped;    // pixels that stopped, opaque, before their tile's list ended
 } raster_counts;
 
 layout(set = SET_RASTER, binding = B_STRAND_VERTICES, std430) buffer StrandVertices {
@@ -42,16 +43,20 @@ layout(set = SET_RASTER, binding = B_STRAND_SEGMENTS, std430) buffer StrandSegme
 };
 
 // Per tile: the body's farthest depth in it, its entries counted, where its list
-// starts in the entry pool, how many it keeps, and the cursor the scatter fills by.
+// starts in the entry pool, how many it keeps, and the cursor the scatter fills by;
+// the range of its segments' sort keys (their bits: render::strand_raster::order), and
+// where each depth bin that holds an entry ends in the sorted list.
+// DEPTH_BINS is defined by the renderer (render::strand_raster::order::DEPTH_BINS).
 struct TileBin {
     float body_far;
     uint count;
     uint offset;
     uint kept;
     uint cursor;
-    uint pad0;
-    uint pad1;
-    uint pad2;
+    uint near_lo;
+    uint near_hi;
+    uint stop_count;
+    uint stops[DEPTH_BINS];
 };
 
 layout(set = SET_RASTER, binding = B_TILE_BINS, std430) buffer TileBins {
@@ -61,6 +66,27 @@ layout(set = SET_RASTER, binding = B_TILE_BINS, std430) buffer TileBins {
 layout(set = SET_RASTER, binding = B_TILE_ENTRIES, std430) buffer TileEntries {
     uint tile_entries[];
 };
+
+// The entry pool again, each tile's list sorted front to back by depth bin.
+layout(set = SET_RASTER, binding = B_TILE_ORDER, std430) buffer TileOrder {
+    uint tile_order[];
+};
+
+// A segment's sort key: its nearer end's depth, at least 0 (order::depth_key).
+float depth_key(float a, float b) {
+    return max(min(a, b), 0.0);
+}
+
+// The bin of `key` in a tile whose keys start at `lo`, `scale` bins a unit of depth
+// (order::bin_scale, order::depth_bin).
+float bin_scale(float lo, float hi) {
+    return hi > lo ? float(DEPTH_BINS) / (hi - lo) : 0.0;
+}
+
+uint depth_bin(float key, float lo, float scale) {
+    float b = (key - lo) * scale;
+    return b > 0.0 ? min(uint(b), uint(DEPTH_BINS) - 1u) : 0u;
+}
 
 // Per pixel: the hair's colour premultiplied by its coverage, and the light it lets
 // through (1 where no hair is).

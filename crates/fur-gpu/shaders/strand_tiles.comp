@@ -1,6 +1,6 @@
 #version 450
 // Strands in compute, pass 1: each tile's farthest body depth (the mesh pass's depth,
-// the farthest of a pixel's samples), and its bin emptied. One workgroup per tile,
+// the farthest of a pixel's samples), and its bin emptied (its key range too). One workgroup per tile,
 // one invocation per pixel. TILE, DEPTH_SAMPLES are defined by the renderer.
 #include "common.glsl"
 #include "strand_raster.glsl"
@@ -47,5 +47,8 @@ void main() {
         tile_bins[tile].offset = 0u;
         tile_bins[tile].kept = 0u;
         tile_bins[tile].cursor = 0u;
+        tile_bins[tile].near_lo = 0x7f800000u; // +infinity: no key yet
+        tile_bins[tile].near_hi = 0u;
+        tile_bins[tile].stop_count = 0u;
     }
 }

@@ -189,6 +189,22 @@ fn draws_what_its_twin_draws(form: FineForm, nearest: u32) {
         sorted(&twin_bins.lists),
         "the tiles list different segments"
     );
+    // Sorted alike: each depth bin that holds an entry ends where the twin's does, and
+    // the GPU's lists hold the twin's bins in order (within a bin, in any order).
+    assert_eq!(
+        capture.bins.stops, twin_bins.stops,
+        "the tiles' depth bins differ"
+    );
+    for (tile, stops) in twin_bins.stops.iter().enumerate() {
+        let mut start = 0;
+        for &end in stops {
+            let range = start as usize..end as usize;
+            let gpu = sorted(&[capture.bins.lists[tile][range.clone()].to_vec()]);
+            let twin = sorted(&[twin_bins.lists[tile][range].to_vec()]);
+            assert_eq!(gpu, twin, "tile {tile}: the bin ending at {end} differs");
+            start = end;
+        }
+    }
     let drawn = |background| {
         draw(
             &capture.segments,

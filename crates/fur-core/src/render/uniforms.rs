@@ -200,7 +200,8 @@ pub const FLAG_NO_COAT: u32 = 1024;
 
 /// What the render shaders share with Rust, given to every one of them as `#define`s
 /// so no constant is typed twice: the flags of `strands.w` and the most hair layers
-/// counted in front of a point (`MAX_LAYERS`).
+/// counted in front of a point (`MAX_LAYERS`), and the compute rasteriser's depth bins
+/// and opacity to stop at.
 pub fn shader_defines() -> Vec<(&'static str, String)> {
     [
         ("FLAG_CULL", FLAG_CULL),
@@ -229,6 +230,14 @@ pub fn shader_defines() -> Vec<(&'static str, String)> {
         (
             "DS_NODE_VEC4S",
             super::dual_scattering::NODE_VEC4S.to_string(),
+        ),
+        (
+            "DEPTH_BINS",
+            super::strand_raster::order::DEPTH_BINS.to_string(),
+        ),
+        (
+            "OPAQUE_TRANSMIT",
+            format!("{:?}", super::strand_raster::order::OPAQUE_TRANSMIT),
         ),
         (
             "DS_DENSITY_FORWARD",

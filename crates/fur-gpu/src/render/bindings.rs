@@ -125,6 +125,8 @@ bindings!(
         TileBins = ("B_TILE_BINS", STORAGE_BUFFER, vk::ShaderStageFlags::COMPUTE),
         /// The entry pool: segments listed per tile.
         TileEntries = ("B_TILE_ENTRIES", STORAGE_BUFFER, vk::ShaderStageFlags::COMPUTE),
+        /// The entry pool again, each tile's list sorted front to back by depth bin.
+        TileOrder = ("B_TILE_ORDER", STORAGE_BUFFER, vk::ShaderStageFlags::COMPUTE),
         /// Per pixel: the hair, premultiplied, and the light it lets through.
         HairLayer = ("B_HAIR_LAYER", STORAGE_BUFFER, RASTER_STAGES),
         /// The mesh pass's depth.

@@ -41,6 +41,9 @@ pub struct PixelList {
     tail_alpha_sum: f32,
     tail_transparency: f32,
     tail_count: u32,
+    /// The light every fragment met lets through, each taken whole (a strand's two
+    /// shares as two layers: never less than the list and tail let through).
+    transmitted: f32,
 }
 
 impl PixelList {
@@ -48,12 +51,14 @@ impl PixelList {
     pub fn new() -> Self {
         Self {
             tail_transparency: 1.0,
+            transmitted: 1.0,
             ..Self::default()
         }
     }
 
     /// Adds `fragment`, keeping at most `k` sorted.
     pub fn add(&mut self, fragment: Fragment, k: usize) {
+        self.transmitted *= 1.0 - fragment.alpha;
         if let Some(same) = self
             .nearest
             .iter_mut()
@@ -98,6 +103,11 @@ impl PixelList {
     /// How many fragments went to the tail.
     pub fn tail_count(&self) -> u32 {
         self.tail_count
+    }
+
+    /// The light the fragments added so far let through, each as a layer of its own.
+    pub fn transmitted(&self) -> f32 {
+        self.transmitted
     }
 
     /// The sorted fragments.

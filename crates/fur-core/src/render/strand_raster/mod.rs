@@ -5,9 +5,10 @@
 //! 1. **Bin** ([`mod@bin`]): each segment is listed in every screen tile it can touch,
 //!    unless the body's depth hides it from the whole tile. The lists share one pool of
 //!    entries; a segment that finds the pool full is counted, not silently lost.
+//!    Each tile's list is then sorted front to back into depth bins ([`order`]).
 //! 2. **Fine raster**: each pixel of a tile walks its tile's list, takes each segment's
 //!    analytic coverage ([`coverage`]) and keeps the nearest fragments in depth order
-//!    ([`blend`]).
+//!    ([`blend`]), until it is opaque at the end of a depth bin.
 //! 3. **Resolve**: the fragments blended front to back over the mesh pass's colour.
 //!
 //! Positions are in pixels (x right, y down, the pixel `(i, j)` spanning
@@ -17,6 +18,7 @@
 pub mod bin;
 pub mod blend;
 pub mod coverage;
+pub mod order;
 pub mod pools;
 #[cfg(test)]
 mod tests;
@@ -121,6 +123,8 @@ pub struct RasterCounts {
     pub hidden: u32,
     /// Fragments blended in a pixel's tail rather than in order.
     pub tail_fragments: u64,
+    /// Pixels that stopped walking their tile's list, opaque, before its end.
+    pub pixels_stopped: u64,
     /// Entries per tile, row by row.
     pub per_tile: Vec<u32>,
 }
@@ -140,8 +144,10 @@ pub struct Raster {
 pub struct Bins {
     pub columns: u32,
     pub rows: u32,
-    /// Row by row.
+    /// Row by row, each sorted by depth bin ([`order`]).
     pub lists: Vec<Vec<u32>>,
+    /// Row by row: where each depth bin that holds an entry ends in the tile's list.
+    pub stops: Vec<Vec<u32>>,
 }
 
 /// Bins `segments` into the tiles of `backdrop` within `budget`.
@@ -161,14 +167,20 @@ pub fn bin(
             body_far[at] = body_far[at].max(backdrop.depth[(y * backdrop.width + x) as usize]);
         }
     }
+    let tiles = (columns * rows) as usize;
     let mut bins = Bins {
         columns,
         rows,
-        lists: vec![Vec::new(); (columns * rows) as usize],
+        lists: vec![Vec::new(); tiles],
+        stops: vec![Vec::new(); tiles],
     };
+    // Each tile's range of sort keys, over every segment it lists or would have but for
+    // a full pool.
+    let mut range = vec![(f32::INFINITY, 0.0f32); tiles];
     let mut counts = RasterCounts::default();
     for (index, segment) in segments.iter().enumerate() {
         let near = segment.a.depth.min(segment.b.depth);
+        let key = order::depth_key(segment.a.depth, segment.b.depth);
         let (mut listed, mut touched, mut lost) = (false, false, false);
         bin::tiles_touched(
             segment.a.position,
@@ -183,6 +195,7 @@ pub fn bin(
                 if near >= body_far[at] {
                     return;
                 }
+                range[at] = (range[at].0.min(key), range[at].1.max(key));
                 if counts.entries as usize >= budget.entries {
                     counts.entries_lost += 1;
                     lost = true;
@@ -196,6 +209,14 @@ pub fn bin(
         counts.segments += u32::from(listed);
         counts.hidden += u32::from(touched && !listed && !lost);
     }
+    for (at, list) in bins.lists.iter_mut().enumerate() {
+        let keys: Vec<f32> = list
+            .iter()
+            .map(|&i| &segments[i as usize])
+            .map(|s| order::depth_key(s.a.depth, s.b.depth))
+            .collect();
+        bins.stops[at] = order::sort_by_depth(list, &keys, range[at].0, range[at].1);
+    }
     counts.per_tile = bins.lists.iter().map(|l| l.len() as u32).collect();
     (bins, counts)
 }
@@ -207,7 +228,8 @@ pub fn rasterize(segments: &[Segment], backdrop: &Backdrop, budget: &RasterBudge
 }
 
 /// Draws the tiles' lists `bins` of `segments` over `backdrop`, each pixel taking its
-/// tile's list in order (the order matters only to the tail: see [`blend`]).
+/// tile's list in order (the order within a depth bin matters only to the tail: see
+/// [`blend`]) and stopping at the first of the tile's stops where it is opaque.
 pub fn draw(
     segments: &[Segment],
     bins: &Bins,
@@ -220,6 +242,7 @@ pub fn draw(
     for row in 0..bins.rows {
         for column in 0..bins.columns {
             let list = &bins.lists[(row * bins.columns + column) as usize];
+            let stops = &bins.stops[(row * bins.columns + column) as usize];
             if list.is_empty() {
                 continue;
             }
@@ -228,7 +251,15 @@ pub fn draw(
                     let at = (y * backdrop.width + x) as usize;
                     let centre = [x as f32 + 0.5, y as f32 + 0.5];
                     let mut pixel = PixelList::new();
-                    for &index in list {
+                    let mut next = 0;
+                    for (i, &index) in list.iter().enumerate() {
+                        if stops.get(next) == Some(&(i as u32)) {
+                            if pixel.transmitted() < order::OPAQUE_TRANSMIT {
+                                counts.pixels_stopped += 1;
+                                break;
+                            }
+                            next += 1;
+                        }
                         if let Some(f) = segments[index as usize].fragment(centre) {
                             if f.depth < backdrop.depth[at] {
                                 pixel.add(f, budget.nearest);

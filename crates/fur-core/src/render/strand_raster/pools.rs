@@ -25,10 +25,11 @@ impl Default for PoolBudget {
     }
 }
 
-/// Bytes of one strand vertex, segment, tile and entry, and of a pixel of the layer.
+/// Bytes of one strand vertex, segment, tile (its bin and its stops) and entry, and of
+/// a pixel of the layer.
 pub const VERTEX_BYTES: u64 = 32;
 pub const SEGMENT_BYTES: u64 = 8;
-pub const TILE_BYTES: u64 = 32;
+pub const TILE_BYTES: u64 = 32 + 4 * super::order::DEPTH_BINS as u64;
 pub const ENTRY_BYTES: u64 = 4;
 pub const LAYER_BYTES: u64 = 16;
 
@@ -68,7 +69,9 @@ pub struct PoolSizes {
     pub vertices: u64,
     pub segments: u64,
     pub tiles: u64,
+    /// The entries, binned; and again, each tile's list sorted by depth.
     pub entries: u64,
+    pub sorted: u64,
     pub layer: u64,
 }
 
@@ -84,6 +87,7 @@ impl PoolSizes {
             segments: capacity.segments * SEGMENT_BYTES,
             tiles: tiles * TILE_BYTES,
             entries: capacity.entries * ENTRY_BYTES,
+            sorted: capacity.entries * ENTRY_BYTES,
             layer: pixels * LAYER_BYTES,
         }
     }
@@ -99,7 +103,7 @@ impl PoolSizes {
     }
 
     pub fn total(&self) -> u64 {
-        self.vertices + self.segments + self.tiles + self.entries + self.layer
+        self.vertices + self.segments + self.tiles + self.entries + self.sorted + self.layer
     }
 
     pub fn largest(&self) -> u64 {
@@ -108,6 +112,7 @@ impl PoolSizes {
             self.segments,
             self.tiles,
             self.entries,
+            self.sorted,
             self.layer,
         ]
         .into_iter()
@@ -128,17 +133,18 @@ pub const TABLED_SIZES: [(&str, u32, u32); 3] = [
 pub fn table(budget: &PoolBudget) -> String {
     use crate::error::size_text;
     let mut out = String::from(
-        "| image | strand vertices | segments | tiles | entries | hair layer | all |\n\
-         | --- | --- | --- | --- | --- | --- | --- |\n",
+        "| image | strand vertices | segments | tiles | entries | sorted entries | hair layer | all |\n\
+         | --- | --- | --- | --- | --- | --- | --- | --- |\n",
     );
     for (name, width, height) in TABLED_SIZES {
         let s = PoolSizes::of(budget, width, height, &Demand::default());
         out += &format!(
-            "| {name} ({width}×{height}) | {} | {} | {} | {} | {} | {} |\n",
+            "| {name} ({width}×{height}) | {} | {} | {} | {} | {} | {} | {} |\n",
             size_text(s.vertices),
             size_text(s.segments),
             size_text(s.tiles),
             size_text(s.entries),
+            size_text(s.sorted),
             size_text(s.layer),
             size_text(s.total()),
         );
@@ -146,7 +152,7 @@ pub fn table(budget: &PoolBudget) -> String {
     let b = budget;
     out += &format!(
         "\nPer pixel: {} strand vertices of {VERTEX_BYTES} bytes, {} segments of \
-         {SEGMENT_BYTES} bytes, {} entries of {ENTRY_BYTES} bytes, a layer pixel of \
+         {SEGMENT_BYTES} bytes, {} entries of {ENTRY_BYTES} bytes (twice: binned and sorted), a layer pixel of \
          {LAYER_BYTES} bytes; per {}×{} tile {TILE_BYTES} bytes; at least {} vertices, {} \
          segments and {} entries.\n",
         b.vertices_per_pixel,

@@ -314,8 +314,15 @@ fn the_body_hides_the_hair_behind_it() {
 /// read 0).
 #[test]
 fn overflowing_every_pool_is_counted_and_still_draws() {
+    // Half-transparent: two layers in order and one in the tail leave the pixel far
+    // from opaque, so none stops before its tail.
     let layers: Vec<Segment> = (0..12)
-        .map(|i| segment([0.0, 8.0], [16.0, 8.0], 1.0 + i as f32, 2.0, [1.0; 3], i))
+        .map(|i| {
+            let mut s = segment([0.0, 8.0], [16.0, 8.0], 1.0 + i as f32, 2.0, [1.0; 3], i);
+            s.a.alpha = 0.5;
+            s.b.alpha = 0.5;
+            s
+        })
         .collect();
     let small = RasterBudget {
         tile: 8,
@@ -330,9 +337,55 @@ fn overflowing_every_pool_is_counted_and_still_draws() {
     assert_eq!(counts.entries_lost, 12 * 4 - 10);
     assert!(counts.tail_fragments > 0, "{counts:?}");
     assert!(
-        (drawn.color[8 * 16 + 3][0] - 1.0).abs() < 1e-5,
-        "the frame was not drawn"
+        drawn.color[8 * 16 + 3][0] > 0.5,
+        "the frame was not drawn: {:?}",
+        drawn.color[8 * 16 + 3]
     );
+}
+
+/// A pixel stops walking its list once it is opaque, and what it skips would not have
+/// shown: 24 half-transparent layers of three colours, listed in a shuffled order,
+/// drawn within 1/512 of every layer composited front to back, with every covered
+/// pixel stopping early.
+/// Seen failing against lists left in the order they were binned (the pixel meets
+/// far layers first and stops on them: 0.15 off) and against a pixel stopping when
+/// half opaque (0.21 off).
+#[test]
+fn a_pixel_stops_once_opaque_and_what_it_skips_would_not_show() {
+    let colors = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
+    let depths: Vec<u32> = (0..24u32).map(|i| (i * 7) % 24).collect();
+    let layers: Vec<Segment> = depths
+        .iter()
+        .map(|&d| {
+            let color = colors[(d % 3) as usize];
+            let mut s = segment([0.0, 8.0], [16.0, 8.0], 1.0 + d as f32, 20.0, color, d);
+            s.a.alpha = 0.5;
+            s.b.alpha = 0.5;
+            s
+        })
+        .collect();
+    let backdrop = Backdrop::clear(16, 16, [1.0; 3]);
+    let mut wide = budget(8);
+    wide.nearest = crate::render::MAX_NEAREST as usize;
+    let drawn = rasterize(&layers, &backdrop, &wide);
+    // Every layer, front to back, over white.
+    let (mut want, mut transmit) = ([0.0f32; 3], 1.0f32);
+    for d in 0..24 {
+        for c in 0..3 {
+            want[c] += transmit * 0.5 * colors[d % 3][c];
+        }
+        transmit *= 0.5;
+    }
+    want = want.map(|w| w + transmit);
+    for (i, got) in drawn.color.iter().enumerate() {
+        for c in 0..3 {
+            assert!(
+                (got[c] - want[c]).abs() <= order::OPAQUE_TRANSMIT,
+                "pixel {i}: {got:?} against {want:?}"
+            );
+        }
+    }
+    assert_eq!(drawn.counts.pixels_stopped, 16 * 16, "{:?}", drawn.counts);
 }
 
 /// Extreme inputs: coordinates far off the screen, enormous and zero widths, NaN and

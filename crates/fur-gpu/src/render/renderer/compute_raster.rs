@@ -1,8 +1,9 @@
 //! Strands drawn in compute (`--raster compute`): the fur pass's geometry stage writes
 //! each strand, lit per vertex, into buffers and emits nothing; then
 //! compute passes find each tile's farthest body depth, count the segments per tile,
-//! place each tile's list in one pool, list the segments, and draw each tile's pixels
-//! with exact coverage and their nearest fragments blended front to back; a last pass
+//! place each tile's list in one pool, list the segments, sort each list front to back
+//! into depth bins, and draw each tile's pixels with exact coverage and their nearest
+//! fragments blended front to back, each stopping once opaque; a last pass
 //! composites the hair layer over the target. The shaders are `strand_*`; the CPU twin
 //! is `fur_core::render::strand_raster`.
 //!
@@ -42,6 +43,8 @@ pub struct ComputeCounts {
     pub entries_lost: u32,
     /// Fragments blended in a pixel's tail rather than in depth order.
     pub tail_fragments: u32,
+    /// Pixels that stopped, opaque, before their tile's list ended.
+    pub pixels_stopped: u32,
 }
 
 impl ComputeCounts {
@@ -64,6 +67,8 @@ pub(super) struct Pools {
     pub(super) segments: Buffer,
     pub(super) tiles: Buffer,
     pub(super) entries: Buffer,
+    /// The entries again, each tile's list sorted front to back by depth bin.
+    pub(super) sorted: Buffer,
     pub(super) layer: Buffer,
     /// The hair over the target, sRGB-encoded, copied onto the target.
     composited: Image,
@@ -268,6 +273,7 @@ impl ComputeRaster {
             Step::Count,
             Step::Scan,
             Step::Scatter,
+            Step::Sort,
             Step::Fine,
             Step::Composite,
             Step::Copy,
@@ -325,6 +331,7 @@ impl ComputeRaster {
             segments: storage("raster.segments", sizes.segments)?,
             tiles: storage("raster.tiles", sizes.tiles)?,
             entries: storage("raster.entries", sizes.entries)?,
+            sorted: storage("raster.sorted", sizes.sorted)?,
             layer: storage("raster.layer", sizes.layer)?,
             composited: Image::new(
                 &self.device,
@@ -347,11 +354,12 @@ impl ComputeRaster {
                 .buffer(b.raw())
                 .range(vk::WHOLE_SIZE)]
         };
-        let (vertices, segments, tiles, entries, layer) = (
+        let (vertices, segments, tiles, entries, sorted, layer) = (
             info(&pools.vertices),
             info(&pools.segments),
             info(&pools.tiles),
             info(&pools.entries),
+            info(&pools.sorted),
             info(&pools.layer),
         );
         let sampled = |view: vk::ImageView| {
@@ -373,6 +381,7 @@ impl ComputeRaster {
                 RasterBinding::Segments.write(*set).buffer_info(&segments),
                 RasterBinding::TileBins.write(*set).buffer_info(&tiles),
                 RasterBinding::TileEntries.write(*set).buffer_info(&entries),
+                RasterBinding::TileOrder.write(*set).buffer_info(&sorted),
                 RasterBinding::HairLayer.write(*set).buffer_info(&layer),
                 RasterBinding::BodyDepth.write(*set).image_info(&depth),
                 RasterBinding::TargetColor.write(*set).image_info(&under),
@@ -409,6 +418,7 @@ impl ComputeRaster {
             (Step::Count, kernel("strand_bin.comp", false)?),
             (Step::Scan, kernel("strand_scan.comp", false)?),
             (Step::Scatter, kernel("strand_bin.comp", true)?),
+            (Step::Sort, kernel("strand_sort.comp", false)?),
             (Step::Fine, kernel("strand_fine.comp", false)?),
             (Step::Composite, kernel("strand_composite.comp", false)?),
         ])

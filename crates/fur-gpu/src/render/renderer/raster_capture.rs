@@ -9,6 +9,7 @@ use super::compute_raster::ComputeRaster;
 use super::Renderer;
 use crate::error::{Error, Result};
 use crate::gpu::Buffer;
+use fur_core::render::strand_raster::order::DEPTH_BINS;
 use fur_core::render::strand_raster::pools::{
     LAYER_BYTES, SEGMENT_BYTES, TILE_BYTES, VERTEX_BYTES,
 };
@@ -25,8 +26,8 @@ pub struct RasterCapture {
     pub depth: Vec<f32>,
     /// Per pixel: the hair premultiplied by its coverage, and the light let through.
     pub layer: Vec<[f32; 4]>,
-    /// Each tile's list of segments (indices into `segments`' slots), in the order
-    /// the GPU wrote it, as the twin takes them.
+    /// Each tile's list of segments (indices into `segments`' slots), sorted by depth
+    /// bin in the order the GPU wrote it, and its stops, as the twin takes them.
     pub bins: Bins,
 }
 
@@ -102,19 +103,25 @@ fn capture(
             [p[0], p[1], p[2], p[3]]
         })
         .collect();
-    // A tile: body depth, count, offset, kept, cursor (`TileBin`).
+    // A tile: body depth, count, offset, kept, cursor, key range, stop count, stops
+    // (`TileBin`).
     let tile_bytes = pools.tiles.read_back()?;
     let tile_words: &[u32] = bytemuck::cast_slice(&tile_bytes);
-    let entry_bytes = pools.entries.read_back()?;
+    let entry_bytes = pools.sorted.read_back()?;
     let entries: &[u32] = bytemuck::cast_slice(&entry_bytes);
-    let lists = tile_words
-        .chunks_exact((TILE_BYTES / 4) as usize)
+    let tiles = tile_words.chunks_exact((TILE_BYTES / 4) as usize);
+    let lists = tiles
+        .clone()
         .map(|t| entries[t[2] as usize..][..t[3] as usize].to_vec())
+        .collect();
+    let stops = tiles
+        .map(|t| t[8..][..(t[7] as usize).min(DEPTH_BINS as usize)].to_vec())
         .collect();
     let bins = Bins {
         columns: pools.columns,
         rows: pools.rows,
         lists,
+        stops,
     };
     Ok(RasterCapture {
         bins,

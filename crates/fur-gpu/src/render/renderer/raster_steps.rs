@@ -12,11 +12,12 @@ pub const LAST_NAME: &str = "strand target hand-back";
 
 /// The compute steps that do work after the geometry stage, in the order they run:
 /// each is timed from the previous one's end (`FrameReport::raster_steps_ms`).
-pub const STEP_NAMES: [&str; 7] = [
+pub const STEP_NAMES: [&str; 8] = [
     "strand tiles",
     "strand bin count",
     "strand bin scan",
     "strand bin scatter",
+    "strand bin sort",
     "strand fine raster",
     "strand composite",
     "strand composite copy",
@@ -30,6 +31,7 @@ pub(super) enum Step {
     Count,
     Scan,
     Scatter,
+    Sort,
     Fine,
     Composite,
     Copy,
@@ -55,9 +57,10 @@ impl Pass for StepPass {
             Step::Count => STEP_NAMES[1],
             Step::Scan => STEP_NAMES[2],
             Step::Scatter => STEP_NAMES[3],
-            Step::Fine => STEP_NAMES[4],
-            Step::Composite => STEP_NAMES[5],
-            Step::Copy => STEP_NAMES[6],
+            Step::Sort => STEP_NAMES[4],
+            Step::Fine => STEP_NAMES[5],
+            Step::Composite => STEP_NAMES[6],
+            Step::Copy => STEP_NAMES[7],
             Step::HandBack => LAST_NAME,
         }
     }
@@ -81,6 +84,10 @@ impl Pass for StepPass {
                 uses(R::TileBins, A::ComputeWrite),
             ],
             Step::Scan => vec![
+                uses(R::Strands, A::ComputeWrite),
+                uses(R::TileBins, A::ComputeWrite),
+            ],
+            Step::Sort => vec![
                 uses(R::Strands, A::ComputeWrite),
                 uses(R::TileBins, A::ComputeWrite),
             ],
@@ -150,7 +157,7 @@ impl Pass for StepPass {
         unsafe {
             raw.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, self.pipeline);
             match self.step {
-                Step::Tiles | Step::Fine | Step::Composite => {
+                Step::Tiles | Step::Sort | Step::Fine | Step::Composite => {
                     raw.cmd_dispatch(cmd, self.grid.0, self.grid.1, 1)
                 }
                 Step::Scan => raw.cmd_dispatch(cmd, 1, 1, 1),

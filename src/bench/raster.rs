@@ -13,17 +13,19 @@ use super::metrics::{flip, median, rmse};
 use super::quality::Shot;
 use super::{Bench, BenchScene};
 use crate::error::Result;
-use crate::render::strand_raster::pools::PoolBudget;
-use crate::render::{Raster, MAX_NEAREST, STEP_NAMES};
+use crate::render::{default_tile, Raster, MAX_NEAREST, STEP_NAMES};
 use crate::session::DrawOptions;
 
 /// The fragments a pixel keeps in order that the compute rows also measure, beside the
 /// scene's own.
 const NEAREST_SWEEP: [u32; 2] = [4, MAX_NEAREST];
 
+/// The tile sides the compute rows also measure, beside the device's.
+const TILE_SWEEP: [u32; 3] = [4, 8, 16];
+
 /// Progress ticks per scene: the reference, then each row (at most).
 pub(super) fn tasks(scenes: usize) -> u64 {
-    (3 + NEAREST_SWEEP.len() as u64) * scenes as u64
+    (3 + NEAREST_SWEEP.len() as u64 + TILE_SWEEP.len() as u64) * scenes as u64
 }
 
 /// One rasteriser's measurements on one scene.
@@ -44,6 +46,7 @@ struct Measured {
 impl Bench<'_> {
     pub(super) fn raster(&mut self) -> Result<()> {
         let extent = self.frame_extent();
+        let tile = self.device_tile();
         let factor = if self.quick { 2 } else { 4 };
         // The quick suite's frames only have to exist (CI runs it on lavapipe).
         let (warm, measured) = if self.quick { (1, 2) } else { (5, 20) };
@@ -52,8 +55,9 @@ impl Bench<'_> {
             "## The two strand rasterisers ({}×{})\n\n*Hardware*: the geometry stage's \
              strands drawn by the fixed-function rasteriser (the default); *compute*: the same \
              strands drawn by compute passes (`--raster compute`), each pixel keeping the \
-             scene's number of fragments in depth order (`nearest`), then {} and {}. All \
-             with the scene's other settings. Simulated frames as in the frame-time table (median of {measured} after \
+             scene's number of fragments in depth order (`nearest`), then {} and {}, and \
+             binned to tiles of the device's side ({tile}×{tile} px), then the other sides \
+             of {:?}. All with the scene's other settings. Simulated frames as in the frame-time table (median of {measured} after \
              {warm} warm-up): wall clock, GPU time of the whole frame and of the fur (the \
              geometry stage to the last compute step). ꟻLIP and RMSE: a still frame against \
              the same frame at {factor}×{factor} the pixels with 4× MSAA ribbons lit per \
@@ -65,6 +69,7 @@ impl Bench<'_> {
             extent.height,
             NEAREST_SWEEP[0],
             NEAREST_SWEEP[1],
+            TILE_SWEEP,
             factor * factor * 4
         );
         let mut all = Vec::new();
@@ -75,17 +80,31 @@ impl Bench<'_> {
             let mut images = Vec::new();
             let mut rows = Vec::new();
             let own = scene.scene.options.draw.nearest;
+            let own_tile = scene.scene.options.draw.tile;
             let mut cases = vec![
-                ("hardware".to_string(), Raster::Hardware, own),
-                ("compute".to_string(), Raster::Compute, own),
+                ("hardware".to_string(), Raster::Hardware, own, own_tile),
+                ("compute".to_string(), Raster::Compute, own, own_tile),
             ];
             for k in NEAREST_SWEEP.into_iter().filter(|k| *k != own) {
-                cases.push((format!("compute, {k} in order"), Raster::Compute, k));
+                cases.push((
+                    format!("compute, {k} in order"),
+                    Raster::Compute,
+                    k,
+                    own_tile,
+                ));
             }
-            for (name, raster, nearest) in cases {
+            let scene_tile = match own_tile {
+                0 => tile,
+                side => side,
+            };
+            for t in TILE_SWEEP.into_iter().filter(|t| *t != scene_tile) {
+                cases.push((format!("compute, {t}×{t} tiles"), Raster::Compute, own, t));
+            }
+            for (name, raster, nearest, tile) in cases {
                 let draw = DrawOptions {
                     raster,
                     nearest,
+                    tile,
                     ..scene.scene.options.draw.clone()
                 };
                 // Only its image is used: one frame.
@@ -133,10 +152,15 @@ impl Bench<'_> {
         Ok(())
     }
 
+    /// The compute rasteriser's tile side on this device, pixels.
+    fn device_tile(&self) -> u32 {
+        default_tile(self.device.info.device_type == ash::vk::PhysicalDeviceType::CPU)
+    }
+
     /// The compute passes' tables: each step's GPU time, then what the pools counted.
     fn raster_steps(&mut self, all: &[(String, Measured)]) {
         let short = |step: &str| step.trim_start_matches("strand ").to_string();
-        let tile = PoolBudget::default().tile;
+        let tile = self.device_tile();
         let pixels = {
             let e = self.frame_extent();
             e.width * e.height

@@ -51,6 +51,12 @@ pub fn stated() -> Vec<(&'static str, Vec<String>)> {
         "let through less than 1/{} of the light",
         (1.0 / OPAQUE_TRANSMIT).round()
     ));
+    // The tile sides.
+    let sides = fur::render::TILE_SIZES.map(|t| t.to_string());
+    let (last, first) = sides.split_last().expect("tile sides");
+    raster.push(format!("`--tile`: {} or {last} pixels)", first.join(", ")));
+    let gpu = fur::render::default_tile(false);
+    raster.push(format!("whose {}-pixel workgroup", gpu * gpu));
     all.push(("docs/compute-raster.md", raster));
     all
 }

@@ -4,7 +4,7 @@
 use std::sync::Arc;
 
 use ash::vk;
-use fur_core::render::{FrameSettings, FurStyle, Raster, RgbaImage, MAX_NEAREST};
+use fur_core::render::{FrameSettings, FurStyle, Raster, RgbaImage, MAX_NEAREST, TILE_SIZES};
 use fur_core::scene::{Camera, GroomParams, Mesh, Strands};
 use fur_gpu::gpu::Device;
 use fur_gpu::render::{FineForm, FrameReport, Renderer};
@@ -122,30 +122,38 @@ fn the_compute_backend_draws_the_hardware_backends_hairs() {
 /// pixel in a thousand, within 10⁻², where two fragments nearer to each other than that
 /// rounding sort either way (two of 6,912 with 8 or 16 kept in order, none with 2 or 4).
 /// Both forms of the fine pass (batched for GPUs, per pixel for CPU drivers), with lists
-/// of 2 (most fragments in the tail), the default and the most fragments in order.
+/// of 2 (most fragments in the tail), the default and the most fragments in order, on
+/// the device's tiles; and the smallest and largest tile sides.
 /// Seen failing against the fine pass walking a dense tile's list in one loop (lavapipe
 /// ends an invocation's loops after 65,535 turns: whole tiles drawn empty).
 #[test]
 fn the_gpu_draws_what_its_cpu_twin_draws() {
     let default = FurStyle::default().nearest;
-    for (form, nearest) in [
-        (FineForm::Batched, 2),
-        (FineForm::PerPixel, 2),
-        (FineForm::Batched, default),
-        (FineForm::PerPixel, default),
-        (FineForm::Batched, MAX_NEAREST),
-        (FineForm::PerPixel, MAX_NEAREST),
+    for (form, nearest, tile) in [
+        (FineForm::Batched, 2, 0),
+        (FineForm::PerPixel, 2, 0),
+        (FineForm::Batched, default, 0),
+        (FineForm::PerPixel, default, 0),
+        (FineForm::Batched, MAX_NEAREST, 0),
+        (FineForm::PerPixel, MAX_NEAREST, 0),
+        (FineForm::Batched, default, TILE_SIZES[0]),
+        (
+            FineForm::PerPixel,
+            default,
+            TILE_SIZES[TILE_SIZES.len() - 1],
+        ),
     ] {
-        draws_what_its_twin_draws(form, nearest);
+        draws_what_its_twin_draws(form, nearest, tile);
     }
 }
 
-fn draws_what_its_twin_draws(form: FineForm, nearest: u32) {
+fn draws_what_its_twin_draws(form: FineForm, nearest: u32, tile: u32) {
     use fur_core::render::strand_raster::{bin, draw, Backdrop, RasterBudget};
     let device = device();
     let size = (96, 72);
     let mut settings = blob_settings(Raster::Compute, 1);
     settings.style.nearest = nearest;
+    settings.style.tile = tile;
     let mesh = Mesh::blob();
     let strands = Strands::grow(&mesh, &groom()).unwrap();
     let textures = StrandTextures::new(&device, &strands, settings.head).unwrap();
@@ -163,7 +171,7 @@ fn draws_what_its_twin_draws(form: FineForm, nearest: u32) {
         capture.segments.len()
     );
     let budget = RasterBudget {
-        tile: 8,
+        tile: capture.tile,
         nearest: nearest as usize,
         entries: 1 << 24,
     };
@@ -235,8 +243,9 @@ fn draws_what_its_twin_draws(form: FineForm, nearest: u32) {
     // Fragments nearer to each other than the two's rounding may sort either way.
     assert!(
         off <= capture.layer.len() / 1000 && worst.0 < 1e-2,
-        "{form:?}, {nearest} in order: {off} pixels off by 1e-3 or more; the worst, ({x}, {y}): \
+        "{form:?}, {nearest} in order, tile {}: {off} pixels off by 1e-3 or more; the worst, ({x}, {y}): \
          {:?} on the GPU, {:?} + {} transmitted in the twin",
+        capture.tile,
         capture.layer[worst.1],
         black[worst.1],
         white[worst.1][0] - black[worst.1][0]

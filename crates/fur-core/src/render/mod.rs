@@ -19,6 +19,6 @@ pub use image::{flip, RgbaImage};
 pub use lighting::{kajiya_kay, Fibre, Highlights, Lighting, LightingModel, Shade, Shadows};
 pub use presets::FurPreset;
 pub use uniforms::{
-    FrameSettings, FrameUniforms, FurStyle, Primitive, Raster, Shading, Stage, StrandShape,
-    MAX_NEAREST, STUB_LIMIT,
+    default_tile, FrameSettings, FrameUniforms, FurStyle, Primitive, Raster, Shading, Stage,
+    StrandShape, MAX_NEAREST, STUB_LIMIT, TILE_SIZES,
 };

@@ -58,6 +58,24 @@ pub struct FurStyle {
     /// [`MAX_NEAREST`]); the rest are blended in an order-free tail. More is closer to
     /// the true order and costs more (`fur bench --only raster` measures the trade).
     pub nearest: u32,
+    /// With `Raster::Compute`: the side of the screen tiles the strands are binned to,
+    /// pixels (one of [`TILE_SIZES`]), or 0 for the device's ([`default_tile`]).
+    pub tile: u32,
+}
+
+/// The tile sides the compute rasteriser draws with, pixels.
+pub const TILE_SIZES: [u32; 4] = [2, 4, 8, 16];
+
+/// The compute rasteriser's tile side on a device, pixels: 4 on a CPU driver, where a
+/// pixel's walk of its tile's list is the cost and a smaller tile lists fewer segments
+/// per pixel, and 8 on a GPU, whose workgroup of a tile's pixels fills two warps
+/// (`fur bench --only raster` measures the other sides).
+pub fn default_tile(cpu_driver: bool) -> u32 {
+    if cpu_driver {
+        4
+    } else {
+        8
+    }
 }
 
 /// The most fragments a pixel of the compute rasteriser keeps in depth order.
@@ -85,6 +103,7 @@ impl Default for FurStyle {
             samples: 4,
             raster: Raster::Hardware,
             nearest: 8,
+            tile: 0,
         }
     }
 }
@@ -121,6 +140,12 @@ impl FurStyle {
             return Err(Error::Parameter(format!(
                 "fragments kept in depth order must be 1 to {MAX_NEAREST}, got {}",
                 self.nearest
+            )));
+        }
+        if self.tile != 0 && !TILE_SIZES.contains(&self.tile) {
+            return Err(Error::Parameter(format!(
+                "the tile side must be 0 (the device's) or one of {TILE_SIZES:?} pixels, got {}",
+                self.tile
             )));
         }
         if !matches!(self.samples, 1 | 2 | 4 | 8 | 16) {

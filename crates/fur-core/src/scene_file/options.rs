@@ -69,6 +69,7 @@ pub struct DrawOptions {
     pub thin_hair_aa: bool,
     pub raster: Raster,
     pub nearest: u32,
+    pub tile: u32,
 }
 
 impl Default for DrawOptions {
@@ -98,6 +99,7 @@ impl DrawOptions {
             thin_hair_aa: style.thin_hair_aa,
             raster: style.raster,
             nearest: style.nearest,
+            tile: style.tile,
         }
     }
 
@@ -310,6 +312,7 @@ impl SceneOptions {
         style.thin_hair_aa = draw.thin_hair_aa;
         style.raster = draw.raster;
         style.nearest = draw.nearest;
+        style.tile = draw.tile;
         settings.lighting.shadows.spacing *= radius;
         settings.show = self.show;
         settings.arrows = self.arrows;

@@ -393,7 +393,7 @@ impl Renderer {
                 &self.target,
                 &self.pipeline_layout,
                 slot,
-                settings.style.nearest,
+                &settings.style,
             )?;
         }
         self.mesh_pass.prepare(

@@ -71,8 +71,17 @@ pub fn check_work(
         )));
     }
     if settings.style.raster == Raster::Compute {
+        // The device's tile side is not known yet: the smaller default, the larger
+        // tile pool.
+        let tile = match settings.style.tile {
+            0 => fur_core::render::default_tile(true),
+            side => side,
+        };
         let pools = PoolSizes::of(
-            &PoolBudget::default(),
+            &PoolBudget {
+                tile,
+                ..PoolBudget::default()
+            },
             extent.width,
             extent.height,
             &Demand::default(),

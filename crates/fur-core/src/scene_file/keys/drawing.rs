@@ -47,6 +47,18 @@ pub const RENDER: Group = Group {
             ..field!(options.draw.nearest)
         },
         Setting {
+            key: "tile",
+            flag: Flag::Long("tile"),
+            label: "tile side (px)",
+            help: "With `raster = \"compute\"`: the side of the screen tiles strands are binned \
+                   to, pixels; 0 takes the device's (4 on a CPU driver, 8 on a GPU). A pixel \
+                   walks its tile's list: a smaller tile lists fewer segments a pixel, and \
+                   lists each segment in more tiles",
+            kind: Kind::OneOf(&[0, 2, 4, 8, 16]),
+            panel: Panel::Plain,
+            ..field!(options.draw.tile)
+        },
+        Setting {
             key: "primitive",
             flag: Flag::Long("primitive"),
             label: "hair primitive",

@@ -24,6 +24,7 @@ use crate::gpu::{
     PipelineLayout, Sampler, Specialization,
 };
 use fur_core::render::strand_raster::pools::{Demand, PoolBudget, PoolSizes};
+use fur_core::render::{default_tile, FurStyle};
 
 /// What the compute passes counted in a frame (`ComputeCounts` in
 /// `shaders/strand_raster.glsl`).
@@ -98,8 +99,8 @@ impl FineForm {
 }
 
 /// What the pipelines are built for: the target's sample count, the fragments a pixel
-/// keeps in order, the fine pass's form.
-type PipelineKey = (u32, u32, FineForm);
+/// keeps in order, the fine pass's form, the tile side.
+type PipelineKey = (u32, u32, FineForm, u32);
 
 /// The compute rasteriser: its pools, its sets (one per frame in flight, each with its
 /// own counts), its pipelines and the steps of the frame.
@@ -208,18 +209,34 @@ impl ComputeRaster {
         bytemuck::pod_read_unaligned(&bytes[..std::mem::size_of::<ComputeCounts>()])
     }
 
-    /// Sizes the pools for `target` and builds the pipelines for its sample count and
-    /// `nearest` fragments a pixel, unless they are; points frame slot `slot`'s set at
-    /// them. The slot's last frame has finished; a new size or new pipelines need the
-    /// device idle (other slots' frames may still use the old).
+    /// The tile side `style` asks for on this device, pixels.
+    pub fn tile_for(&self, style: &FurStyle) -> u32 {
+        match style.tile {
+            0 => default_tile(self.device.info.device_type == vk::PhysicalDeviceType::CPU),
+            side => side,
+        }
+    }
+
+    /// The tile side the pools were last sized for, pixels.
+    pub fn tile(&self) -> u32 {
+        self.budget.tile
+    }
+
+    /// Sizes the pools for `target` and `style`'s tiles and builds the pipelines for its
+    /// sample count and `style`'s fragments a pixel, unless they are; points frame slot
+    /// `slot`'s set at them. The slot's last frame has finished; a new size or new
+    /// pipelines need the device idle (other slots' frames may still use the old).
     pub fn prepare(
         &mut self,
         target: &RenderTarget,
         layout: &PipelineLayout,
         slot: usize,
-        nearest: u32,
+        style: &FurStyle,
     ) -> Result<()> {
         let extent = target.extent;
+        let tile = self.tile_for(style);
+        let retiled = tile != self.budget.tile;
+        self.budget.tile = tile;
         // What this slot's last frame asked for (nothing before its first): pools too
         // small for it grow, a quarter beyond, for the frames that follow.
         let last = self.counts(slot);
@@ -242,14 +259,14 @@ impl ComputeRaster {
         }
         // The steps hold the pools' and pipelines' handles: remade when those are.
         let mut remade = self.steps.is_empty();
-        if outgrown || self.pools.as_ref().map(|p| p.extent) != Some(extent) {
+        if outgrown || retiled || self.pools.as_ref().map(|p| p.extent) != Some(extent) {
             // Other slots' frames may still read the old pools.
             self.device.wait_idle()?;
             self.pools = Some(self.make_pools(extent)?);
             self.written.fill(vk::Image::null());
             remade = true;
         }
-        let key = (target.samples, nearest, self.form);
+        let key = (target.samples, style.nearest, self.form, tile);
         if self.pipelines.as_ref().map(|p| p.0) != Some(key) {
             if self.pipelines.is_some() {
                 self.device.wait_idle()?;
@@ -399,11 +416,11 @@ impl ComputeRaster {
     fn build(
         &self,
         layout: &PipelineLayout,
-        (samples, nearest, form): PipelineKey,
+        (samples, nearest, form, tile): PipelineKey,
     ) -> Result<Vec<(Step, Pipeline)>> {
         let mut defines = render_defines();
         defines.extend([
-            ("TILE", self.budget.tile.to_string()),
+            ("TILE", tile.to_string()),
             ("NEAREST", nearest.to_string()),
             ("DEPTH_SAMPLES", samples.to_string()),
             ("BATCHED", u32::from(form == FineForm::Batched).to_string()),

@@ -20,6 +20,8 @@ use fur_core::render::strand_raster::{Bins, Segment, StrandVertex};
 pub struct RasterCapture {
     pub width: u32,
     pub height: u32,
+    /// The tile side it was binned with, pixels.
+    pub tile: u32,
     /// The segments the geometry stage wrote, as the twin takes them.
     pub segments: Vec<Segment>,
     /// The mesh pass's depth per pixel, row by row (NDC z; 1 where no body is).
@@ -32,6 +34,11 @@ pub struct RasterCapture {
 }
 
 impl Renderer {
+    /// The compute rasteriser's tile side for `style` on this device, pixels.
+    pub fn raster_tile(&self, style: &fur_core::render::FurStyle) -> u32 {
+        self.compute_raster.tile_for(style)
+    }
+
     /// Draws later frames' compute fine pass in `form` rather than the device's, so
     /// that both forms can be checked on one device; for tests.
     #[doc(hidden)]
@@ -127,6 +134,7 @@ fn capture(
         bins,
         width: target.extent.width,
         height: target.extent.height,
+        tile: raster.tile(),
         segments,
         depth: read_depth(raster, target)?,
         layer,

@@ -51,7 +51,9 @@ const SYSTEM_LIBS: &[Lib] = &[
 
 /// Writes `$OUT_DIR/shaders.rs`: `SOURCES`, every file of `shaders/` by name, sorted.
 fn embed_shaders() {
-    let dir = PathBuf::from(env::var("CARGO_MANIFEST_DIR").expect("cargo sets it")).join("shaders");
+    // The repository's top-level `shaders/`, beside the crates that use them.
+    let dir =
+        PathBuf::from(env::var("CARGO_MANIFEST_DIR").expect("cargo sets it")).join("../../shaders");
     println!("cargo:rerun-if-changed={}", dir.display());
     let mut files: Vec<PathBuf> = std::fs::read_dir(&dir)
         .unwrap_or_else(|e| panic!("cannot list {}: {e}", dir.display()))

@@ -49,10 +49,16 @@ fn counts_are_written_with_commas() {
 /// The documents whose prose [`every_figure_in_the_documents_prose_is_bound_or_marked`]
 /// reads. The README's "What to expect" and the measured documents (docs/benchmark.md,
 /// ground-truth.md, gpu.md) quote the runs and are bound by `docs.rs`.
-const PROSE: [&str; 8] = [
+const PROSE: [&str; 14] = [
     "README.md",
     "docs/compute-raster.md",
     "docs/testing.md",
+    "docs/testing-simulation.md",
+    "docs/testing-rendering.md",
+    "docs/testing-truth.md",
+    "docs/testing-inputs.md",
+    "docs/testing-drivers.md",
+    "docs/mutation-runs.md",
     "docs/design.md",
     "docs/pipeline.md",
     "docs/grooms.md",
@@ -116,7 +122,7 @@ const NOT_MEASURED: [(&str, &str, &str); 39] = [
     ("docs/robustness.md", "(130 after Ctrl-C)", "the shell's status for an interrupt"),
     ("docs/robustness.md", "exit status 130", "the shell's status for an interrupt"),
     ("docs/scene-files.md", "the 2018 demo's sphere", "the original demo's year"),
-    ("docs/testing.md", "KhronosGroup/Vulkan-Loader#2018", "an issue's number"),
+    ("docs/testing-drivers.md", "KhronosGroup/Vulkan-Loader#2018", "an issue's number"),
     ("README.md", "frames 28, 32, 36)", "the pictures' frames"),
     ("README.md", "**Checked on 2026-11-25**", "a date"),
     ("README.md", "| 1.3.239 | 2023.2, 12.0 |", "versions"),
@@ -127,15 +133,15 @@ const NOT_MEASURED: [(&str, &str, &str); 39] = [
         "glslang has: 12 on Debian 12, 15 on Debian 13",
         "versions",
     ),
-    ("docs/testing.md", "Chiang et al. 2016,", "a year"),
-    ("docs/testing.md", "at 0°, 30°, 90° and 120°", "the test's angles"),
+    ("docs/testing-truth.md", "Chiang et al. 2016,", "a year"),
+    ("docs/mutation-runs.md", "at 0°, 30°, 90° and 120°", "the test's angles"),
     (
-        "docs/testing.md",
+        "docs/testing-drivers.md",
         "\"deprecated in SPIR-V 1.6\": glslang 12 and 15 emit it",
         "versions",
     ),
     (
-        "docs/testing.md",
+        "docs/testing-drivers.md",
         "SPIR-V 1.5 (Vulkan 1.2), where it is not deprecated, so that drivers without 1.3",
         "versions",
     ),
@@ -251,7 +257,7 @@ fn test_names() -> std::collections::HashSet<String> {
 }
 
 /// The tests a passage names (code spans of three or more words joined by `_` that are
-/// functions of the test sources): in docs/testing.md, a passage that names its test
+/// functions of the test sources): in the testing pages, a passage that names its test
 /// quotes that test's bound and what it measured.
 fn named_tests(passage: &str, names: &std::collections::HashSet<String>) -> usize {
     passage
@@ -294,7 +300,7 @@ fn marks(passage: &str) -> Result<usize, String> {
 /// Every figure in the prose of the documents is bound or marked: it stands in a phrase
 /// built from the constant it states ([`stated`]), or its passage names what measures
 /// it (`measured by \`fur bench --only SECTION\``, `measured by \`cargo mutants\``, or
-/// a test file that prints it; in docs/testing.md, the test the passage names), as
+/// a test file that prints it; in the testing pages, the test the passage names), as
 /// does the paragraph a list or table follows, or it is one of [`NOT_MEASURED`]
 /// (years, versions, an example's settings). Seen failing with a figure added to a
 /// passage without a mark, with a default written wrong (`--friction` 0.2), and with a
@@ -325,7 +331,7 @@ fn every_figure_in_the_documents_prose_is_bound_or_marked() {
             text.replace_range(start..end, "");
         }
         for (passage, place) in passages(&common::prose(&text)) {
-            let tests = if doc == "docs/testing.md" {
+            let tests = if doc.starts_with("docs/testing") || doc == "docs/mutation-runs.md" {
                 named_tests(&passage, &names)
             } else {
                 0

@@ -16,7 +16,7 @@ use crate::session::{DrawOptions, FurSession, SceneOptions, SessionSetup};
 pub const ORIGINAL_FRAME_MS: f64 = 1400.0;
 
 pub(super) fn tasks(scenes: usize) -> u64 {
-    2 * scenes as u64
+    3 * scenes as u64
 }
 
 /// Medians of one configuration's frames: (wall ms, GPU ms).
@@ -103,7 +103,8 @@ impl Bench<'_> {
              of {measured} frames after {warm} warm-up frames; wall clock from submission to fence \
              (simulation, both passes, resolve, copy to the host), and GPU time from timestamps. \
              *Default*: this release's drawing settings; *reference quality*: 4× MSAA ribbons lit \
-             per fragment, every strand vertex (the settings before this release). The original \
+             per fragment, every strand vertex (the settings before this release); *strands drawn in \
+             compute*: the default's strands drawn by the compute passes (`--raster compute`). The original \
              OpenGL demo took ~{ORIGINAL_FRAME_MS:.0} ms (1,345–1,641) a frame on its sphere scene \
              on this machine kind at 1280×720{}.\n\n\
              | scene | drawing | hairs drawn | segments | wall ms | GPU ms | × the original's frame rate |\n\
@@ -123,6 +124,13 @@ impl Bench<'_> {
                 (
                     "reference quality",
                     scene.scene.options.draw.reference_quality(),
+                ),
+                (
+                    "strands drawn in compute",
+                    DrawOptions {
+                        raster: crate::render::Raster::Compute,
+                        ..scene.scene.options.draw.clone()
+                    },
                 ),
             ] {
                 let mut session = self.session(&scene, &draw)?;

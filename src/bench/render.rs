@@ -9,7 +9,7 @@ use super::plot::{Plot, Series, PALETTE};
 use super::quality::Shot;
 use super::Bench;
 use crate::error::Result;
-use crate::render::{FurStyle, Primitive, Shading};
+use crate::render::{FurStyle, Primitive, Raster, Shading};
 use crate::session::DrawOptions;
 
 /// A setting to measure: its name, its drawing and the density multiplier.
@@ -33,11 +33,17 @@ fn cases(quick: bool) -> Vec<Case> {
         ..default.clone()
     };
     let lod = default.vertex_lod_px;
+    // The same strands drawn by the compute passes (docs/compute-raster.md).
+    let compute = DrawOptions {
+        raster: Raster::Compute,
+        ..default.clone()
+    };
     if quick {
         return vec![
             case("reference quality", default.reference_quality()),
             case("default", default.clone()),
             case("1x lines", with(1, Primitive::Lines, lod)),
+            case("compute strands", compute),
         ];
     }
     vec![
@@ -75,6 +81,13 @@ fn cases(quick: bool) -> Vec<Case> {
         case(
             "4x lines (coverage as samples)",
             with(4, Primitive::Lines, lod),
+        ),
+        case(
+            &format!(
+                "compute strands: {} fragments in order, tiles of the device's side",
+                compute.nearest
+            ),
+            compute.clone(),
         ),
         case("1x ribbons", with(1, Primitive::Ribbons, lod)),
         case(

@@ -164,8 +164,9 @@ impl PanelState {
 /// blended out of order, and what found a pool full (then true: the line is a warning).
 fn raster_line(c: &crate::render::ComputeCounts) -> (String, bool) {
     let mut line = format!(
-        "drawn in compute: {} tile entries, {} fragments blended out of depth order",
-        c.entries, c.tail_fragments
+        "drawn in compute: {} tile entries, {} fragments blended out of depth order, {} \
+         pixels opaque before their tile's list ended",
+        c.entries, c.tail_fragments, c.pixels_stopped
     );
     let overflowed = c.hairs_lost > 0 || c.entries_lost > 0;
     if overflowed {
@@ -188,8 +189,10 @@ mod tests {
         let mut counts = ComputeCounts::default();
         counts.entries = 1200;
         counts.tail_fragments = 34;
+        counts.pixels_stopped = 56;
         let (line, warned) = raster_line(&counts);
         assert!(!warned && line.contains("1200 tile entries") && line.contains("34 fragments"));
+        assert!(line.contains("56 pixels opaque"), "{line}");
         assert!(!line.contains("pools full"), "{line}");
         for (hairs, entries) in [(2, 0), (0, 5)] {
             counts.hairs_lost = hairs;

@@ -4,7 +4,7 @@
 // sRGB-encoded into an image the size of the target, which is then copied onto it.
 // (Compositing with a draw after the compute passes crashes Mesa 22.3's lavapipe once
 // the simulation has run in the same command buffer.) One invocation per pixel.
-// TILE is defined by the renderer.
+// TILE and TILES_VIEW are defined by the renderer.
 #include "common.glsl"
 #include "strand_raster.glsl"
 
@@ -19,12 +19,34 @@ vec3 encode_srgb(vec3 c) {
     return mix(c * 12.92, 1.055 * pow(c, vec3(1.0 / 2.4)) - 0.055, step(0.0031308, c));
 }
 
+// The tiles view's colour for a tile listing `entries` segments
+// (render::stage::tile_colour).
+vec3 tile_colour(uint entries) {
+    if (entries == 0u) {
+        return vec3(EMPTY_TILE);
+    }
+    float t = clamp(log2(float(entries)) / log2(TILE_ENTRIES_FULL_SCALE), 0.0, 1.0);
+    return hue((1.0 - t) * (2.0 / 3.0));
+}
+
 void main() {
     ivec2 p = ivec2(gl_GlobalInvocationID.xy);
     ivec2 size = ivec2(frame.viewport.xy);
     if (any(greaterThanEqual(p, size))) {
         return;
     }
+#if TILES_VIEW
+    // `--show tiles`: each tile in the colour of the segments it lists; tiles of 8
+    // pixels or more outlined, darker.
+    uint columns = (uint(size.x) + TILE - 1u) / TILE;
+    uint tile = (uint(p.y) / TILE) * columns + uint(p.x) / TILE;
+    vec3 c = tile_colour(tile_bins[tile].kept);
+    if (TILE >= 8u && (uint(p.x) % TILE == 0u || uint(p.y) % TILE == 0u)) {
+        c *= 0.5;
+    }
+    imageStore(composited, p, vec4(encode_srgb(c), 1.0));
+    return;
+#endif
     vec4 hair = hair_layer[p.y * size.x + p.x];
     vec3 under = texelFetch(target_color, p, 0).rgb;
     imageStore(composited, p, vec4(encode_srgb(hair.rgb + hair.a * under), 1.0));

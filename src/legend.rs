@@ -1,5 +1,6 @@
 //! The colour keys of the stage views that colour by a number (`density`: the inner
-//! tessellation level; `simulation`: the displacement from rest), drawn into a
+//! tessellation level; `simulation`: the displacement from rest; `tiles`: the segments
+//! a tile lists), drawn into a
 //! rendered image's lower-left corner so a PNG explains itself. The viewer shows the
 //! same keys in its panel ([`Legend`] describes both).
 
@@ -8,7 +9,8 @@ use glam::Vec3;
 
 use crate::colour::linear_to_srgb8;
 use crate::render::stage::{
-    displacement_colour, legend_levels, level_colour, DISPLACEMENT_FULL_SCALE,
+    displacement_colour, legend_entries, legend_levels, level_colour, tile_colour,
+    DISPLACEMENT_FULL_SCALE, EMPTY_TILE, TILE_ENTRIES_FULL_SCALE,
 };
 use crate::render::{FrameSettings, RgbaImage, Stage};
 
@@ -70,6 +72,18 @@ impl Legend {
                 }))
                 .collect(),
             }),
+            Stage::Tiles => {
+                let top = TILE_ENTRIES_FULL_SCALE.log2();
+                Some(Legend {
+                    title: "segments a tile lists",
+                    colour: Box::new(move |t| tile_colour((t * top).exp2().round() as u32)),
+                    ticks: legend_entries()
+                        .into_iter()
+                        .map(|n| ((n as f32).log2() / top, n.to_string()))
+                        .collect(),
+                    swatches: vec![(Swatch::Colour(Vec3::splat(EMPTY_TILE)), "none".into())],
+                })
+            }
             _ => None,
         }
     }

@@ -48,20 +48,26 @@ impl Viewer {
     /// On a CPU driver the strands are drawn by the fixed-function rasteriser whatever
     /// the scene or the panel asks: Mesa 22.3's lavapipe crashes drawing the window (the
     /// image onto the swapchain, the panel) after a simulated frame drew its strands in
-    /// compute. Said once; `fur render` and `fur bench` draw in compute there.
+    /// compute; the tiles view, which needs the compute passes, shows the lit frame.
+    /// Said once; `fur render` and `fur bench` draw in compute there.
     pub(super) fn hold_raster(&mut self) {
-        let style = &mut self.session.settings.style;
-        if style.raster != Raster::Compute
+        let settings = &mut self.session.settings;
+        let tiles = settings.show.needs_compute();
+        if (settings.style.raster != Raster::Compute && !tiles)
             || self.device.info().device_type != ash::vk::PhysicalDeviceType::CPU
         {
             return;
         }
-        style.raster = Raster::Hardware;
+        settings.style.raster = Raster::Hardware;
+        if tiles {
+            settings.show = crate::render::Stage::Lit;
+        }
         if !std::mem::replace(&mut self.raster_held, true) {
             eprintln!(
                 "warning: the viewer draws the strands with the fixed-function rasteriser on \
                  {} (a CPU driver: Mesa's lavapipe crashes drawing the window after the \
-                 compute strand passes); fur render and fur bench draw them in compute",
+                 compute strand passes), and shows the lit frame for the tiles view; fur \
+                 render and fur bench draw them in compute",
                 self.device.info().name
             );
         }

@@ -255,6 +255,53 @@ fn draws_what_its_twin_draws(form: FineForm, nearest: u32, tile: u32) {
     assert_clean(&device);
 }
 
+/// `--show tiles` on a scene drawn with the fixed-function rasteriser: the strands are
+/// binned anyway, and each tile is in the colour of the segments it lists
+/// (`render::stage::tile_colour`), read at its centre against the twin's colour of the
+/// count the GPU's own lists hold; tiles with more than one count appear.
+/// Seen failing against the composite indexing tiles by the image's height (every row
+/// of tiles but the first coloured by another's count).
+#[test]
+fn the_tiles_view_colours_each_tile_by_the_segments_it_lists() {
+    use fur_core::colour::linear_to_srgb8;
+    use fur_core::render::stage::tile_colour;
+    use fur_core::render::Stage;
+    let device = device();
+    let (width, height) = (96u32, 72u32);
+    let mut settings = blob_settings(Raster::Hardware, 1);
+    settings.show = Stage::Tiles;
+    let mesh = Mesh::blob();
+    let strands = Strands::grow(&mesh, &groom()).unwrap();
+    let textures = StrandTextures::new(&device, &strands, settings.head).unwrap();
+    let extent = vk::Extent2D { width, height };
+    let mut renderer = Renderer::new(&device, &mesh, &textures, extent, 1, 1).unwrap();
+    let (image, _) = renderer.render(&textures, &settings).unwrap();
+    keep(&image, "tiles_view");
+    let capture = renderer.capture_raster(0).unwrap();
+    let tile = capture.tile;
+    let mut counts = std::collections::BTreeSet::new();
+    for row in 0..capture.bins.rows {
+        for column in 0..capture.bins.columns {
+            let (x, y) = (column * tile + tile / 2, row * tile + tile / 2);
+            if x >= width || y >= height {
+                continue;
+            }
+            let listed = capture.bins.lists[(row * capture.bins.columns + column) as usize].len();
+            counts.insert(listed);
+            let want = tile_colour(listed as u32).to_array().map(linear_to_srgb8);
+            let got = image.pixel(x, y);
+            for c in 0..3 {
+                assert!(
+                    got[c].abs_diff(want[c]) <= 1,
+                    "tile ({column}, {row}), {listed} segments: {got:?} against {want:?}"
+                );
+            }
+        }
+    }
+    assert!(counts.len() > 10, "only {} different counts", counts.len());
+    assert_clean(&device);
+}
+
 /// A simulated sequence drawn in compute: frames after the first (the simulation's
 /// kernels then run in the frame's command buffer) are drawn, validation-clean, with
 /// the same hairs and segments as the hardware backend's, on the default blob, the

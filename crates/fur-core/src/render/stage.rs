@@ -39,11 +39,15 @@ pub enum Stage {
     /// points are drawn by its owner only), white at a corner (drawn by one owner
     /// among the triangles around it).
     Ownership,
+    /// The compute rasteriser's binning: each screen tile in the colour of how many
+    /// segments it lists ([`tile_colour`]); the strands are drawn in compute whatever
+    /// the scene's rasteriser.
+    Tiles,
 }
 
 impl Stage {
     /// Every stage view, in the order the viewer's number keys and the docs list them.
-    pub const ALL: [Stage; 8] = [
+    pub const ALL: [Stage; 9] = [
         Stage::Lit,
         Stage::Masters,
         Stage::Interpolated,
@@ -52,6 +56,7 @@ impl Stage {
         Stage::Simulation,
         Stage::Shadow,
         Stage::Ownership,
+        Stage::Tiles,
     ];
 
     pub fn name(self) -> &'static str {
@@ -64,6 +69,7 @@ impl Stage {
             Self::Simulation => "simulation",
             Self::Shadow => "shadow",
             Self::Ownership => "ownership",
+            Self::Tiles => "tiles",
         }
     }
 
@@ -79,7 +85,23 @@ impl Stage {
             Self::Masters => 5,
             Self::Density => 6,
             Self::Simulation => 7,
+            Self::Tiles => 8,
         }
+    }
+
+    /// The `STAGE_VIEW` the fur pass is built with in this view: the tiles view's
+    /// strands are lit (its colours are the composite's).
+    pub fn fur_code(self) -> u32 {
+        match self {
+            Self::Tiles => Self::Lit.code(),
+            stage => stage.code(),
+        }
+    }
+
+    /// Whether the view draws the strands with the compute passes whatever the scene's
+    /// rasteriser.
+    pub fn needs_compute(self) -> bool {
+        self == Self::Tiles
     }
 
     /// Whether the fur pass draws the interpolated hairs in this view.
@@ -166,6 +188,7 @@ pub fn stage_defines() -> Vec<(&'static str, String)> {
                 Stage::Simulation => "STAGE_SIMULATION",
                 Stage::Shadow => "STAGE_SHADOW",
                 Stage::Ownership => "STAGE_OWNERSHIP",
+                Stage::Tiles => "STAGE_TILES",
             };
             (name, stage.code().to_string())
         })
@@ -174,7 +197,37 @@ pub fn stage_defines() -> Vec<(&'static str, String)> {
         "DISPLACEMENT_FULL_SCALE",
         format!("{:?}", DISPLACEMENT_FULL_SCALE),
     ));
+    defines.push((
+        "TILE_ENTRIES_FULL_SCALE",
+        format!("{:?}", TILE_ENTRIES_FULL_SCALE),
+    ));
+    defines.push(("EMPTY_TILE", format!("{:?}", EMPTY_TILE)));
     defines
+}
+
+/// The tiles view's colour for a tile that lists `entries` segments: dark grey for
+/// none, then blue at one through green to red at [`TILE_ENTRIES_FULL_SCALE`] or more,
+/// evenly in log₂ (`tile_colour` of `shaders/strand_composite.comp`).
+pub fn tile_colour(entries: u32) -> Vec3 {
+    if entries == 0 {
+        return Vec3::splat(EMPTY_TILE);
+    }
+    let t = ((entries as f32).log2() / TILE_ENTRIES_FULL_SCALE.log2()).clamp(0.0, 1.0);
+    hue((1.0 - t) * (2.0 / 3.0))
+}
+
+/// The entries a tile lists that the tiles view's scale reaches red at.
+pub const TILE_ENTRIES_FULL_SCALE: f32 = 4096.0;
+
+/// The tiles view's grey (linear) for a tile that lists nothing.
+pub const EMPTY_TILE: f32 = 0.02;
+
+/// The entries the tiles view's legend labels: the powers of four up to the full scale.
+pub fn legend_entries() -> Vec<u32> {
+    (0..)
+        .map(|k| 1u32 << (2 * k))
+        .take_while(|&n| n as f32 <= TILE_ENTRIES_FULL_SCALE)
+        .collect()
 }
 
 /// A saturated colour for hue `h` in [0, 1): `hue()` of `shaders/common.glsl`.
@@ -264,6 +317,24 @@ mod tests {
                 .abs()
                 .max_element();
             assert!(step > 0.3, "{a} vs {b}: {step}");
+        }
+    }
+
+    /// Seen failing against a scale in entries rather than their log (every tile of a
+    /// few hundred entries blue).
+    #[test]
+    fn the_tile_scale_runs_blue_to_red_in_powers_of_four() {
+        assert_eq!(tile_colour(0), Vec3::splat(EMPTY_TILE));
+        assert_eq!(tile_colour(1), Vec3::new(0.0, 0.0, 1.0));
+        assert_eq!(tile_colour(4096), Vec3::new(1.0, 0.0, 0.0));
+        assert_eq!(tile_colour(100_000), Vec3::new(1.0, 0.0, 0.0));
+        let ticks = legend_entries();
+        assert_eq!(ticks, vec![1, 4, 16, 64, 256, 1024, 4096]);
+        for pair in ticks.windows(2) {
+            let step = (tile_colour(pair[0]) - tile_colour(pair[1]))
+                .abs()
+                .max_element();
+            assert!(step > 0.3, "{pair:?}: {step}");
         }
     }
 

@@ -394,6 +394,7 @@ impl Renderer {
                 &self.pipeline_layout,
                 slot,
                 &settings.style,
+                settings.show == Stage::Tiles,
             )?;
         }
         self.mesh_pass.prepare(

@@ -41,9 +41,12 @@ pub const IMAGE: Group = Group {
                    where the density LOD thins the hairs), `simulation` (the master hairs \
                    coloured by how far the simulation moved them from rest, blue none to \
                    red a quarter of their length; white where collision pushed them), \
-                   `shadow` (every hair in grey by the self-shadowing term alone) or \
+                   `shadow` (every hair in grey by the self-shadowing term alone), \
                    `ownership` (each hair in its drawing triangle's colour: dim inside, \
-                   bright on an edge, white at a corner)",
+                   bright on an edge, white at a corner) or `tiles` (the compute \
+                   rasteriser's screen tiles, each coloured by the segments it lists, blue \
+                   one to red 4,096, evenly in powers of two, with a legend; the strands \
+                   are drawn in compute whatever `raster` says)",
             kind: Kind::Choice(&[
                 "lit",
                 "masters",
@@ -53,6 +56,7 @@ pub const IMAGE: Group = Group {
                 "simulation",
                 "shadow",
                 "ownership",
+                "tiles",
             ]),
             panel: Panel::Plain,
             ..field!(options.show)

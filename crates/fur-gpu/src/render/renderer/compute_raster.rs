@@ -99,8 +99,9 @@ impl FineForm {
 }
 
 /// What the pipelines are built for: the target's sample count, the fragments a pixel
-/// keeps in order, the fine pass's form, the tile side.
-type PipelineKey = (u32, u32, FineForm, u32);
+/// keeps in order, the fine pass's form, the tile side, and whether the composite
+/// shows the tiles (`--show tiles`).
+type PipelineKey = (u32, u32, FineForm, u32, bool);
 
 /// The compute rasteriser: its pools, its sets (one per frame in flight, each with its
 /// own counts), its pipelines and the steps of the frame.
@@ -224,14 +225,16 @@ impl ComputeRaster {
 
     /// Sizes the pools for `target` and `style`'s tiles and builds the pipelines for its
     /// sample count and `style`'s fragments a pixel, unless they are; points frame slot
-    /// `slot`'s set at them. The slot's last frame has finished; a new size or new
-    /// pipelines need the device idle (other slots' frames may still use the old).
+    /// `slot`'s set at them; the composite shows the tiles instead of the hair when
+    /// `tiles_view`. The slot's last frame has finished; a new size or new pipelines
+    /// need the device idle (other slots' frames may still use the old).
     pub fn prepare(
         &mut self,
         target: &RenderTarget,
         layout: &PipelineLayout,
         slot: usize,
         style: &FurStyle,
+        tiles_view: bool,
     ) -> Result<()> {
         let extent = target.extent;
         let tile = self.tile_for(style);
@@ -266,7 +269,7 @@ impl ComputeRaster {
             self.written.fill(vk::Image::null());
             remade = true;
         }
-        let key = (target.samples, style.nearest, self.form, tile);
+        let key = (target.samples, style.nearest, self.form, tile, tiles_view);
         if self.pipelines.as_ref().map(|p| p.0) != Some(key) {
             if self.pipelines.is_some() {
                 self.device.wait_idle()?;
@@ -416,7 +419,7 @@ impl ComputeRaster {
     fn build(
         &self,
         layout: &PipelineLayout,
-        (samples, nearest, form, tile): PipelineKey,
+        (samples, nearest, form, tile, tiles_view): PipelineKey,
     ) -> Result<Vec<(Step, Pipeline)>> {
         let mut defines = render_defines();
         defines.extend([
@@ -424,6 +427,7 @@ impl ComputeRaster {
             ("NEAREST", nearest.to_string()),
             ("DEPTH_SAMPLES", samples.to_string()),
             ("BATCHED", u32::from(form == FineForm::Batched).to_string()),
+            ("TILES_VIEW", u32::from(tiles_view).to_string()),
         ]);
         let kernel = |shader: &str, scatter: bool| {
             let mut d = defines.clone();

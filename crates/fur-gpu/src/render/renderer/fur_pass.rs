@@ -101,8 +101,8 @@ impl FurPass {
         (shadows, model, stage): (bool, LightingModel, Stage),
         root_px: (f32, f32),
     ) -> Vec<Variant> {
-        let view = stage.code();
-        let compute = style.raster == Raster::Compute;
+        let view = stage.fur_code();
+        let compute = style.raster == Raster::Compute || stage.needs_compute();
         let (lines, ribbons) = match style.primitive {
             // One form: the compute passes draw every width.
             _ if compute => (true, false),

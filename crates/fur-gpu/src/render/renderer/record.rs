@@ -146,7 +146,8 @@ impl Renderer {
 
     /// Whether a frame of `settings` draws its strands with the compute passes.
     pub(super) fn draws_in_compute(settings: &FrameSettings) -> bool {
-        settings.style.raster == Raster::Compute && settings.show.draws_fur()
+        (settings.style.raster == Raster::Compute || settings.show.needs_compute())
+            && settings.show.draws_fur()
     }
 
     /// Renders one frame of the strands' current state and returns the image.

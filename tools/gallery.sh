@@ -39,6 +39,7 @@ done
 # Ownership at four times the density: triangles with points inside as well as on
 # their edges.
 shot ownership --show ownership --density-scale 4
+shot tiles --show tiles
 # Try this: one parameter changed, one stage shown.
 shot masters-comb --show masters --comb 0
 shot interpolated-dense --show interpolated --density-scale 3

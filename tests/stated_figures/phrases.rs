@@ -58,6 +58,13 @@ pub fn stated() -> Vec<(&'static str, Vec<String>)> {
     let gpu = fur::render::default_tile(false);
     raster.push(format!("whose {}-pixel workgroup", gpu * gpu));
     all.push(("docs/compute-raster.md", raster));
+    // The tiles view's scale.
+    let full = count_text(fur::render::stage::TILE_ENTRIES_FULL_SCALE as u64);
+    all.push(("docs/pipeline.md", vec![format!("red for {full} or more")]));
+    all.push((
+        "docs/scene-files.md",
+        vec![format!("blue one to red {full},")],
+    ));
     all
 }
 

@@ -4,7 +4,8 @@
 //! at the scene's own settings with every hair captured, exported (`fur export-frame`'s
 //! USD) and path-traced by `tools/reference` with Mitsuba 3's hair model, twice with
 //! different seeds: the two references' distance is the reference's own noise. Then
-//! every rung of the quality ladder and every look on and off is drawn and measured
+//! every rung of the quality ladder and every look on and off (the other strand
+//! rasteriser among them) is drawn and measured
 //! against the first reference (ꟻLIP on sRGB, RMSE in linear light), with its frame
 //! time. References are cached under the output folder by a hash of the export, the
 //! sample count and the renderer script, so reruns path-trace nothing.
@@ -32,7 +33,7 @@ use crate::export::reference::{read_pfm, LinearImage, Reference, TraceOptions, S
 use crate::export::{write_usda, FrameExport};
 use crate::render::budget::LADDER;
 use crate::render::marschner::Lobes;
-use crate::render::{flip, LightingModel, RgbaImage};
+use crate::render::{flip, LightingModel, Raster, RgbaImage};
 use crate::scene::ModelSpec;
 use crate::scene_file::Scene;
 
@@ -43,7 +44,7 @@ mod terms;
 use noise::{delta_cell, differences, noise_sentence, resolved, seed_spread, unresolved_pairs};
 
 /// The looks switched one at a time, each against the scene's own drawing.
-const LOOKS: usize = 5;
+const LOOKS: usize = 6;
 
 /// The variants the section draws the first scene in: three fur presets and the texture.
 const COLOURS: u64 = 4;
@@ -321,7 +322,7 @@ impl Bench<'_> {
 }
 
 /// The scene's look with one thing switched: the lighting model (alone, and with
-/// shadows), shadows, the secondary highlight, thin-hair AA. Sample counts and lines
+/// shadows), shadows, the secondary highlight, thin-hair AA, the strand rasteriser. Sample counts and lines
 /// against ribbons are the ladder's rungs (rung 1: 4× lines, rung 2: 1× ribbons,
 /// rung 3: 1× lines), not drawn again here.
 fn looks(own: &Look) -> Vec<(String, Look)> {
@@ -360,6 +361,16 @@ fn looks(own: &Look) -> Vec<(String, Look)> {
             switched(own.style.thin_hair_aa, "thin-hair AA"),
             with(&|k| k.style.thin_hair_aa = !own.style.thin_hair_aa),
         ),
+        match own.style.raster {
+            Raster::Hardware => (
+                "strands drawn in compute".to_string(),
+                with(&|k| k.style.raster = Raster::Compute),
+            ),
+            Raster::Compute => (
+                "strands drawn by the fixed-function rasteriser".to_string(),
+                with(&|k| k.style.raster = Raster::Hardware),
+            ),
+        },
     ];
     debug_assert_eq!(looks.len(), LOOKS);
     looks

@@ -204,6 +204,7 @@ fn links_between_the_documents_lead_to_files() {
     for doc in [
         "README.md",
         "docs/design.md",
+        "docs/lighting.md",
         "docs/pipeline.md",
         "docs/benchmark.md",
         "docs/robustness.md",
@@ -277,6 +278,7 @@ fn the_files_the_documents_name_exist() {
     for doc in [
         "README.md",
         "docs/design.md",
+        "docs/lighting.md",
         "docs/pipeline.md",
         "docs/benchmark.md",
         "docs/ground-truth.md",

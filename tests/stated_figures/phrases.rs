@@ -185,6 +185,30 @@ fn design() -> Vec<(&'static str, Vec<String>)> {
                     count_text(critter.vertex_count() as u64),
                     rig.joints.len()
                 ),
+                format!("the tolerance (default {} px)", style.vertex_lod_px),
+                format!("never drawn under {} px", style.min_pixel_width),
+                format!(
+                    "(`--target-fps`, default {};",
+                    fur::viewer::DEFAULT_TARGET_FPS
+                ),
+                format!(
+                    "never more than {} × the model's local half-thickness",
+                    scene.thickness_limit
+                ),
+                format!(
+                    "a UV sphere of radius {radius} with {rings} × {bands} bands ({} vertices with the seam duplicated, {} triangles",
+                    count_text(v),
+                    count_text(t)
+                ),
+                format!(
+                    "one master hair of {} vertices and segments of {segment} per vertex",
+                    original.segments + 1
+                ),
+            ],
+        ),
+        (
+            "docs/lighting.md",
+            vec![
                 format!(
                     "defaults {}, {}, {}°, {})",
                     fibre.longitudinal_roughness,
@@ -208,25 +232,6 @@ fn design() -> Vec<(&'static str, Vec<String>)> {
                 format!(
                     "(blond is {} in sRGB)",
                     triple(colour(FurPreset::Blond), &srgb)
-                ),
-                format!("the tolerance (default {} px)", style.vertex_lod_px),
-                format!("never drawn under {} px", style.min_pixel_width),
-                format!(
-                    "(`--target-fps`, default {};",
-                    fur::viewer::DEFAULT_TARGET_FPS
-                ),
-                format!(
-                    "never more than {} × the model's local half-thickness",
-                    scene.thickness_limit
-                ),
-                format!(
-                    "a UV sphere of radius {radius} with {rings} × {bands} bands ({} vertices with the seam duplicated, {} triangles",
-                    count_text(v),
-                    count_text(t)
-                ),
-                format!(
-                    "one master hair of {} vertices and segments of {segment} per vertex",
-                    original.segments + 1
                 ),
             ],
         ),
@@ -423,6 +428,11 @@ fn limits() -> Vec<(&'static str, Vec<String>)> {
                     "with the {} bone capsules nearest its root",
                     ["no", "one", "two", "three", "four", "five", "six"][near.min(6)]
                 ),
+            ],
+        ),
+        (
+            "docs/lighting.md",
+            vec![
                 format!(
                     "The table holds them at {} angles (|sin θ| 0 to 1) and {} colours (evenly in ln c from 1 to {}",
                     ds::ANGLE_NODES,

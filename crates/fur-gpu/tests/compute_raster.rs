@@ -255,6 +255,67 @@ fn draws_what_its_twin_draws(form: FineForm, nearest: u32, tile: u32) {
     assert_clean(&device);
 }
 
+/// Pools far too small for the frame: the hairs and entries that did not fit are
+/// counted, the frame still draws what did, validation-clean; each next frame's pools
+/// grow to what the last asked for (the entries are known once every hair fits), so
+/// the loss falls to nothing within three frames, and `render` (which draws a frame
+/// again while its pools overflow) returns a whole frame from the same small pools.
+/// Seen failing against `render` drawing a frame twice at most (its second try still
+/// lost 280,995 entries, since the first had lost the hairs that make them).
+#[test]
+fn overflowing_every_pool_is_counted_and_the_pools_grow_to_the_frame() {
+    use fur_core::render::strand_raster::pools::{Demand, PoolBudget};
+    let device = device();
+    let settings = blob_settings(Raster::Compute, 1);
+    let mesh = Mesh::blob();
+    let strands = Strands::grow(&mesh, &groom()).unwrap();
+    let textures = StrandTextures::new(&device, &strands, settings.head).unwrap();
+    let extent = vk::Extent2D {
+        width: 96,
+        height: 72,
+    };
+    let mut renderer = Renderer::new(&device, &mesh, &textures, extent, 1, 1).unwrap();
+    // A few thousand of each, where the frame writes tens of thousands.
+    let small = PoolBudget {
+        vertices_per_pixel: 0,
+        segments_per_pixel: 0,
+        entries_per_pixel: 0,
+        floor: Demand {
+            vertices: 4096,
+            segments: 4096,
+            entries: 4096,
+        },
+        ..PoolBudget::default()
+    };
+    renderer.force_pool_budget(small);
+    let mut losses = Vec::new();
+    for _ in 0..3 {
+        renderer.update(0, &settings).unwrap();
+        device
+            .submit_once(|cmd| {
+                renderer.begin_frame(cmd, 0);
+                renderer.record(cmd, 0, textures.current, &settings);
+                Ok(())
+            })
+            .unwrap();
+        let counts = renderer.report(0, &settings).unwrap().raster.unwrap();
+        eprintln!("{counts:?}");
+        losses.push((counts.hairs_lost, counts.entries_lost));
+    }
+    let (first, last) = (losses[0], losses[2]);
+    assert!(first.0 > 0 && first.1 > 0, "{losses:?}");
+    assert_eq!(last, (0, 0), "{losses:?}");
+    // A fresh renderer (the first remembers what its frames asked for).
+    drop(renderer);
+    let mut renderer = Renderer::new(&device, &mesh, &textures, extent, 1, 1).unwrap();
+    renderer.force_pool_budget(small);
+    let (_, report) = renderer.render(&textures, &settings).unwrap();
+    let whole = report.raster.unwrap();
+    assert_eq!((whole.hairs_lost, whole.entries_lost), (0, 0), "{whole:?}");
+    assert!(whole.segments > 50_000, "{whole:?}");
+    assert_clean(&device);
+}
+
 /// `--show tiles` on a scene drawn with the fixed-function rasteriser: the strands are
 /// binned anyway, and each tile is in the colour of the segments it lists
 /// (`render::stage::tile_colour`), read at its centre against the twin's colour of the

@@ -12,6 +12,9 @@ pub struct PoolBudget {
     pub vertices_per_pixel: u32,
     pub segments_per_pixel: u32,
     pub entries_per_pixel: u32,
+    /// The fewest each pool holds whatever the image size ([`MIN_VERTICES`],
+    /// [`MIN_SEGMENTS`], [`MIN_ENTRIES`]; tests lower them to overflow the pools).
+    pub floor: Demand,
 }
 
 impl Default for PoolBudget {
@@ -21,6 +24,11 @@ impl Default for PoolBudget {
             vertices_per_pixel: 4,
             segments_per_pixel: 3,
             entries_per_pixel: 6,
+            floor: Demand {
+                vertices: MIN_VERTICES,
+                segments: MIN_SEGMENTS,
+                entries: MIN_ENTRIES,
+            },
         }
     }
 }
@@ -95,10 +103,11 @@ impl PoolSizes {
     /// The elements each pool holds: the budget per pixel, the floors, and `demand`.
     pub fn capacity(budget: &PoolBudget, pixels: u64, demand: &Demand) -> Demand {
         Demand {
-            vertices: (pixels * u64::from(budget.vertices_per_pixel)).max(MIN_VERTICES),
-            segments: (pixels * u64::from(budget.segments_per_pixel)).max(MIN_SEGMENTS),
-            entries: (pixels * u64::from(budget.entries_per_pixel)).max(MIN_ENTRIES),
+            vertices: pixels * u64::from(budget.vertices_per_pixel),
+            segments: pixels * u64::from(budget.segments_per_pixel),
+            entries: pixels * u64::from(budget.entries_per_pixel),
         }
+        .max(budget.floor)
         .max(*demand)
     }
 
@@ -160,9 +169,9 @@ pub fn table(budget: &PoolBudget) -> String {
         b.entries_per_pixel,
         b.tile,
         b.tile,
-        MIN_VERTICES,
-        MIN_SEGMENTS,
-        MIN_ENTRIES,
+        b.floor.vertices,
+        b.floor.segments,
+        b.floor.entries,
     );
     out
 }

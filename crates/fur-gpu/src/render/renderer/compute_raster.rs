@@ -107,7 +107,7 @@ type PipelineKey = (u32, u32, FineForm, u32, bool);
 /// own counts), its pipelines and the steps of the frame.
 pub struct ComputeRaster {
     device: Arc<Device>,
-    budget: PoolBudget,
+    pub(super) budget: PoolBudget,
     _layout: DescriptorSetLayout,
     _pool: DescriptorPool,
     sets: Vec<vk::DescriptorSet>,

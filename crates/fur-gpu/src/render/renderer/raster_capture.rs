@@ -11,7 +11,7 @@ use crate::error::{Error, Result};
 use crate::gpu::Buffer;
 use fur_core::render::strand_raster::order::DEPTH_BINS;
 use fur_core::render::strand_raster::pools::{
-    LAYER_BYTES, SEGMENT_BYTES, TILE_BYTES, VERTEX_BYTES,
+    PoolBudget, LAYER_BYTES, SEGMENT_BYTES, TILE_BYTES, VERTEX_BYTES,
 };
 use fur_core::render::strand_raster::{Bins, Segment, StrandVertex};
 
@@ -34,6 +34,17 @@ pub struct RasterCapture {
 }
 
 impl Renderer {
+    /// Sizes later frames' compute pools by `budget` (its tile side aside: the style's
+    /// holds), remade at the next frame; for tests that overflow them.
+    #[doc(hidden)]
+    pub fn force_pool_budget(&mut self, budget: PoolBudget) {
+        self.compute_raster.budget = PoolBudget {
+            tile: self.compute_raster.budget.tile,
+            ..budget
+        };
+        self.compute_raster.pools = None;
+    }
+
     /// The compute rasteriser's tile side for `style` on this device, pixels.
     pub fn raster_tile(&self, style: &fur_core::render::FurStyle) -> u32 {
         self.compute_raster.tile_for(style)

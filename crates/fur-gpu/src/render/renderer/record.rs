@@ -157,8 +157,9 @@ impl Renderer {
         settings: &FrameSettings,
     ) -> Result<(RgbaImage, FrameReport)> {
         let device = self.device.clone();
-        // Twice when the compute rasteriser's pools were too small for the frame: they
-        // grow to what it asked for, and it is drawn again whole.
+        // Again when the compute rasteriser's pools were too small for the frame: they
+        // grow to what it asked for, and it is drawn again whole. Up to three times:
+        // the tile entries a frame asks for are known only once all its hairs fit.
         let mut tries = 0;
         loop {
             tries += 1;
@@ -173,7 +174,7 @@ impl Renderer {
             let lost = report
                 .raster
                 .is_some_and(|r| r.hairs_lost > 0 || r.entries_lost > 0);
-            if !lost || tries == 2 {
+            if !lost || tries == 3 {
                 return Ok((self.target.pixels(), report));
             }
         }

@@ -258,6 +258,11 @@ pub trait Pass {
     fn uses(&self, frame: &FrameContext<'_>) -> Vec<Use>;
     /// Records its commands (inside its rendering scope when it has attachments).
     fn record(&self, frame: &FrameContext<'_>, cmd: vk::CommandBuffer);
+    /// The timestamp query written once it is recorded (its end, `slot::TS_*`), if it
+    /// is timed this frame.
+    fn timestamp(&self, _frame: &FrameContext<'_>) -> Option<u32> {
+        None
+    }
 }
 
 /// What [`record_frame`] tells its caller, for the queries around the passes.
@@ -267,8 +272,8 @@ pub enum Event {
     ScopeOpening(Attachments),
     /// A rendering scope has begun.
     ScopeOpened(Attachments),
-    /// The named pass has been recorded.
-    PassRecorded(&'static str),
+    /// The named pass has been recorded, and the timestamp it asks for then.
+    PassRecorded(&'static str, Option<u32>),
     /// A rendering scope has ended.
     ScopeClosed(Attachments),
 }
@@ -317,7 +322,7 @@ pub fn record_frame(
             frame.device.begin_label(cmd, pass.name());
             pass.record(frame, cmd);
             frame.device.end_label(cmd);
-            event(Event::PassRecorded(pass.name()));
+            event(Event::PassRecorded(pass.name(), pass.timestamp(frame)));
         }
         if attachments != Attachments::None {
             // SAFETY: the scope was begun above in this command buffer, which is recording.

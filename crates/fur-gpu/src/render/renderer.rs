@@ -16,7 +16,7 @@ use super::bindings::{
     SET_BODY, SET_FRAME, SET_RASTER,
 };
 use super::graph::Pass;
-use super::slot::{RenderSlot, TS_FRAME, TS_FUR, TS_MESH, TS_START, TS_STRANDS};
+use super::slot::{RenderSlot, TS_FRAME, TS_START};
 use super::target::{check_samples, RenderTarget};
 use super::texture::{GpuTexture, ShadowMap};
 use super::uniforms::{FrameSettings, FrameUniforms, Raster, Stage, StrandShape};

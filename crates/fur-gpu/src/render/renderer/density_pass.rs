@@ -94,6 +94,11 @@ impl Pass for DensityPass {
         DensityPass::NAME
     }
 
+    /// The stage's end, timed as the fur's.
+    fn timestamp(&self, _frame: &FrameContext<'_>) -> Option<u32> {
+        Some(super::super::slot::TS_FUR)
+    }
+
     fn uses(&self, frame: &FrameContext<'_>) -> Vec<Use> {
         hair_uses(self.skinned, frame.settings.count_hairs)
     }

@@ -341,6 +341,14 @@ impl Pass for FurPass {
         FurPass::NAME
     }
 
+    /// The fur's end, or, when its strands are drawn in compute, the geometry stage's
+    /// writing of them (the compute steps then time the rest).
+    fn timestamp(&self, frame: &FrameContext<'_>) -> Option<u32> {
+        use super::super::slot::{TS_FUR, TS_STRANDS};
+        let compute = frame.slot.variants.iter().any(|v| v.compute);
+        Some(if compute { TS_STRANDS } else { TS_FUR })
+    }
+
     fn uses(&self, frame: &FrameContext<'_>) -> Vec<Use> {
         // The shading samples the shadow map.
         let mut list = hair_uses(self.skinned, frame.settings.count_hairs);

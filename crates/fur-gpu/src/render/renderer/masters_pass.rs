@@ -142,6 +142,11 @@ impl Pass for MastersPass {
         MastersPass::NAME
     }
 
+    /// The stage's end, timed as the fur's.
+    fn timestamp(&self, _frame: &FrameContext<'_>) -> Option<u32> {
+        Some(super::super::slot::TS_FUR)
+    }
+
     fn uses(&self, frame: &FrameContext<'_>) -> Vec<Use> {
         let mut list = vec![uses(Resource::Positions, Access::HairStagesRead)];
         if Self::draws_arrows(frame) {

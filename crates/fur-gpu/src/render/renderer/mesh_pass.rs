@@ -265,6 +265,10 @@ impl Pass for MeshPass {
         MeshPass::NAME
     }
 
+    fn timestamp(&self, _frame: &FrameContext<'_>) -> Option<u32> {
+        Some(super::super::slot::TS_MESH)
+    }
+
     fn uses(&self, frame: &FrameContext<'_>) -> Vec<Use> {
         let mut list = Vec::new();
         if self.skinned {

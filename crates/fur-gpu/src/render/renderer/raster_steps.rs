@@ -49,24 +49,45 @@ pub(in super::super) struct StepPass {
     pub(super) extent: vk::Extent2D,
 }
 
+impl Step {
+    /// Its place in [`STEP_NAMES`]: the steps that do work after the geometry stage.
+    fn timed(self) -> Option<usize> {
+        match self {
+            Step::Reset | Step::HandBack => None,
+            Step::Tiles => Some(0),
+            Step::Count => Some(1),
+            Step::Scan => Some(2),
+            Step::Scatter => Some(3),
+            Step::Sort => Some(4),
+            Step::Fine => Some(5),
+            Step::Composite => Some(6),
+            Step::Copy => Some(7),
+        }
+    }
+}
+
 impl Pass for StepPass {
     fn name(&self) -> &'static str {
-        match self.step {
-            Step::Reset => "strand counts reset",
-            Step::Tiles => STEP_NAMES[0],
-            Step::Count => STEP_NAMES[1],
-            Step::Scan => STEP_NAMES[2],
-            Step::Scatter => STEP_NAMES[3],
-            Step::Sort => STEP_NAMES[4],
-            Step::Fine => STEP_NAMES[5],
-            Step::Composite => STEP_NAMES[6],
-            Step::Copy => STEP_NAMES[7],
-            Step::HandBack => LAST_NAME,
+        match (self.step, self.step.timed()) {
+            (_, Some(i)) => STEP_NAMES[i],
+            (Step::Reset, None) => "strand counts reset",
+            (_, None) => LAST_NAME,
         }
     }
 
     fn attachments(&self) -> Attachments {
         Attachments::None
+    }
+
+    /// After each step that does work, its own query (`TS_STRANDS` + 1 + its place in
+    /// [`STEP_NAMES`]); after the hand-back, the fur's end.
+    fn timestamp(&self, _frame: &FrameContext<'_>) -> Option<u32> {
+        use super::super::slot::{TS_FUR, TS_STRANDS};
+        match (self.step, self.step.timed()) {
+            (_, Some(i)) => Some(TS_STRANDS + 1 + i as u32),
+            (Step::HandBack, None) => Some(TS_FUR),
+            (_, None) => None,
+        }
     }
 
     fn uses(&self, _frame: &FrameContext<'_>) -> Vec<Use> {
@@ -168,5 +189,30 @@ impl Pass for StepPass {
                 ),
             }
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The steps that do work are timed in order, one query each, and named by
+    /// [`STEP_NAMES`] in that order. Seen failing with a step left out of `timed`.
+    #[test]
+    fn every_timed_step_has_its_own_name_and_query() {
+        let steps = [
+            Step::Reset,
+            Step::Tiles,
+            Step::Count,
+            Step::Scan,
+            Step::Scatter,
+            Step::Sort,
+            Step::Fine,
+            Step::Composite,
+            Step::Copy,
+            Step::HandBack,
+        ];
+        let timed: Vec<usize> = steps.iter().filter_map(|s| s.timed()).collect();
+        assert_eq!(timed, (0..STEP_NAMES.len()).collect::<Vec<_>>());
     }
 }

@@ -5,9 +5,6 @@ use super::super::graph::{
     record_frame, uses, Attachments, Event, FrameContext, Pass, Resource, Use,
 };
 use super::super::slot::COUNTERS_BYTES;
-use super::density_pass::DensityPass;
-use super::masters_pass::MastersPass;
-use super::raster_steps::{LAST_NAME, STEP_NAMES};
 use super::*;
 use crate::gpu::Access;
 
@@ -89,7 +86,6 @@ impl Renderer {
             composited: self.compute_raster.composited(),
         };
         let passes = self.passes(settings, frame.shadows);
-        let compute = Self::draws_in_compute(settings);
         d.begin_label(cmd, "frame");
         record_frame(&context, cmd, &passes, &mut |event| match event {
             Event::ScopeOpening(Attachments::Target) => {
@@ -105,19 +101,8 @@ impl Renderer {
                     };
                 }
             }
-            Event::PassRecorded(MeshPass::NAME) => self.timestamp(cmd, slot, TS_MESH),
-            // The fur's end: the last of its passes (the compute passes' when the strands
-            // are drawn in compute, each of which is timed too).
-            Event::PassRecorded(FurPass::NAME) if compute => self.timestamp(cmd, slot, TS_STRANDS),
-            Event::PassRecorded(FurPass::NAME | MastersPass::NAME | DensityPass::NAME) => {
-                self.timestamp(cmd, slot, TS_FUR)
-            }
-            Event::PassRecorded(LAST_NAME) => self.timestamp(cmd, slot, TS_FUR),
-            Event::PassRecorded(name) if compute => {
-                if let Some(i) = STEP_NAMES.iter().position(|n| *n == name) {
-                    self.timestamp(cmd, slot, TS_STRANDS + 1 + i as u32)
-                }
-            }
+            // Each timed pass says which query marks its end (`Pass::timestamp`).
+            Event::PassRecorded(_, Some(query)) => self.timestamp(cmd, slot, query),
             Event::ScopeClosed(Attachments::Target) => {
                 if let Some(q) = &frame.statistics {
                     // SAFETY: the query was begun before this scope, in this command buffer.

@@ -13,7 +13,7 @@ use super::metrics::{flip, median, rmse};
 use super::quality::Shot;
 use super::{Bench, BenchScene};
 use crate::error::Result;
-use crate::render::{default_tile, Raster, MAX_NEAREST, STEP_NAMES};
+use crate::render::{Raster, MAX_NEAREST, STEP_NAMES};
 use crate::session::DrawOptions;
 
 /// The fragments a pixel keeps in order that the compute rows also measure, beside the
@@ -46,7 +46,7 @@ struct Measured {
 impl Bench<'_> {
     pub(super) fn raster(&mut self) -> Result<()> {
         let extent = self.frame_extent();
-        let tile = self.device_tile();
+        let tile = crate::render::default_tile(self.cpu_driver());
         let factor = if self.quick { 2 } else { 4 };
         // The quick suite's frames only have to exist (CI runs it on lavapipe).
         let (warm, measured) = if self.quick { (1, 2) } else { (5, 20) };
@@ -93,10 +93,9 @@ impl Bench<'_> {
                     own_tile,
                 ));
             }
-            let scene_tile = match own_tile {
-                0 => tile,
-                side => side,
-            };
+            let scene_tile = shot
+                .style(&scene.scene.options.draw)
+                .tile_on(self.cpu_driver());
             for t in TILE_SWEEP.into_iter().filter(|t| *t != scene_tile) {
                 cases.push((format!("compute, {t}×{t} tiles"), Raster::Compute, own, t));
             }
@@ -146,21 +145,22 @@ impl Bench<'_> {
                 "0..1",
             );
             let _ = writeln!(self.md, "| {name} | between | | | | | | {between:.4} | |");
-            all.push((name.clone(), rows.swap_remove(1)));
+            all.push((name.clone(), scene_tile, rows.swap_remove(1)));
         }
         self.raster_steps(&all);
         Ok(())
     }
 
-    /// The compute rasteriser's tile side on this device, pixels.
-    fn device_tile(&self) -> u32 {
-        default_tile(self.device.info.device_type == ash::vk::PhysicalDeviceType::CPU)
+    /// Whether the bench's device is a CPU driver (the compute rasteriser's tile side
+    /// depends on it).
+    fn cpu_driver(&self) -> bool {
+        self.device.info.device_type == ash::vk::PhysicalDeviceType::CPU
     }
 
-    /// The compute passes' tables: each step's GPU time, then what the pools counted.
-    fn raster_steps(&mut self, all: &[(String, Measured)]) {
+    /// The compute passes' tables: each step's GPU time, then what the pools counted;
+    /// `all` holds each scene's name, tile side and compute measurements.
+    fn raster_steps(&mut self, all: &[(String, u32, Measured)]) {
         let short = |step: &str| step.trim_start_matches("strand ").to_string();
-        let tile = self.device_tile();
         let pixels = {
             let e = self.frame_extent();
             e.width * e.height
@@ -177,7 +177,7 @@ impl Bench<'_> {
             header.join(" | "),
             " --- |".repeat(header.len())
         );
-        for (name, m) in all {
+        for (name, _, m) in all {
             let cells: Vec<String> = m.steps.iter().map(|(_, ms)| format!("{ms:.2}")).collect();
             for (step, ms) in &m.steps {
                 self.row(
@@ -194,13 +194,15 @@ impl Bench<'_> {
             self.md,
             "\nWhat the compute passes counted on the last frame: strand vertices and \
              segments written, (segment, tile) entries binned and their mean over the \
-             {tile}×{tile}-pixel tiles, fragments blended out of depth order (a pixel's tail), pixels \
+             scene's tiles (side in pixels), fragments blended out of depth order (a pixel's tail), pixels \
              that stopped walking their tile's list once opaque (of the image's {pixels}), and what \
              found a pool full (hairs not drawn, entries missing).\n\n\
-             | scene | vertices | segments | entries | per tile | tail fragments | pixels stopped | \
-             hairs lost | entries lost |\n| --- | --- | --- | --- | --- | --- | --- | --- | --- |"
+             | scene | vertices | segments | entries | tile | per tile | tail fragments | \
+             pixels stopped | hairs lost | entries lost |\n\
+             | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |"
         );
-        for (name, m) in all {
+        for (name, tile, m) in all {
+            let tile = *tile;
             let Some(c) = m.counts else { continue };
             let extent = self.frame_extent();
             let tiles = extent.width.div_ceil(tile) * extent.height.div_ceil(tile);
@@ -224,7 +226,7 @@ impl Bench<'_> {
             }
             let _ = writeln!(
                 self.md,
-                "| {name} | {} | {} | {} | {per_tile:.0} | {} | {} | {} | {} |",
+                "| {name} | {} | {} | {} | {tile}×{tile} | {per_tile:.0} | {} | {} | {} | {} |",
                 c.vertices,
                 c.segments,
                 c.entries,

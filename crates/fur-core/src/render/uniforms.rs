@@ -109,6 +109,15 @@ impl Default for FurStyle {
 }
 
 impl FurStyle {
+    /// The compute rasteriser's tile side this style draws with on a CPU driver
+    /// (`cpu_driver`) or a GPU, pixels: its own, or the device's ([`default_tile`]).
+    pub fn tile_on(&self, cpu_driver: bool) -> u32 {
+        match self.tile {
+            0 => default_tile(cpu_driver),
+            side => side,
+        }
+    }
+
     pub fn validate(&self) -> Result<()> {
         let positive = [
             ("density", self.density),

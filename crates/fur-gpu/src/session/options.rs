@@ -71,12 +71,8 @@ pub fn check_work(
         )));
     }
     if settings.style.raster == Raster::Compute {
-        // The device's tile side is not known yet: the smaller default, the larger
-        // tile pool.
-        let tile = match settings.style.tile {
-            0 => fur_core::render::default_tile(true),
-            side => side,
-        };
+        // The device's kind is not known yet: the smaller default, the larger tile pool.
+        let tile = settings.style.tile_on(true);
         let pools = PoolSizes::of(
             &PoolBudget {
                 tile,

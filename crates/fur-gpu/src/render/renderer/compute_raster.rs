@@ -24,7 +24,7 @@ use crate::gpu::{
     PipelineLayout, Sampler, Specialization,
 };
 use fur_core::render::strand_raster::pools::{Demand, PoolBudget, PoolSizes};
-use fur_core::render::{default_tile, FurStyle};
+use fur_core::render::FurStyle;
 
 /// What the compute passes counted in a frame (`ComputeCounts` in
 /// `shaders/strand_raster.glsl`).
@@ -212,10 +212,7 @@ impl ComputeRaster {
 
     /// The tile side `style` asks for on this device, pixels.
     pub fn tile_for(&self, style: &FurStyle) -> u32 {
-        match style.tile {
-            0 => default_tile(self.device.info.device_type == vk::PhysicalDeviceType::CPU),
-            side => side,
-        }
+        style.tile_on(self.device.info.device_type == vk::PhysicalDeviceType::CPU)
     }
 
     /// The tile side the pools were last sized for, pixels.
@@ -287,30 +284,19 @@ impl ComputeRaster {
         let pools = self.pools.as_ref().expect("sized above");
         let grid = (pools.columns, pools.rows);
         let pipelines = &self.pipelines.as_ref().expect("built above").1;
-        self.steps = [
-            Step::Reset,
-            Step::Tiles,
-            Step::Count,
-            Step::Scan,
-            Step::Scatter,
-            Step::Sort,
-            Step::Fine,
-            Step::Composite,
-            Step::Copy,
-            Step::HandBack,
-        ]
-        .into_iter()
-        .map(|step| StepPass {
-            step,
-            pipeline: pipelines
-                .iter()
-                .find(|(s, _)| *s == step)
-                .map_or(vk::Pipeline::null(), |(_, p)| p.raw()),
-            grid,
-            composited: pools.composited.raw(),
-            extent,
-        })
-        .collect();
+        self.steps = Step::ALL
+            .into_iter()
+            .map(|step| StepPass {
+                step,
+                pipeline: pipelines
+                    .iter()
+                    .find(|(s, _)| *s == step)
+                    .map_or(vk::Pipeline::null(), |(_, p)| p.raw()),
+                grid,
+                composited: pools.composited.raw(),
+                extent,
+            })
+            .collect();
         Ok(())
     }
 

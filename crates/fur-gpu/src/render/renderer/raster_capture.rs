@@ -45,11 +45,6 @@ impl Renderer {
         self.compute_raster.pools = None;
     }
 
-    /// The compute rasteriser's tile side for `style` on this device, pixels.
-    pub fn raster_tile(&self, style: &fur_core::render::FurStyle) -> u32 {
-        self.compute_raster.tile_for(style)
-    }
-
     /// Draws later frames' compute fine pass in `form` rather than the device's, so
     /// that both forms can be checked on one device; for tests.
     #[doc(hidden)]

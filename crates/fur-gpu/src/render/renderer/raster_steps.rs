@@ -50,6 +50,20 @@ pub(in super::super) struct StepPass {
 }
 
 impl Step {
+    /// Every step, in the order a frame runs them.
+    pub(super) const ALL: [Step; 10] = [
+        Step::Reset,
+        Step::Tiles,
+        Step::Count,
+        Step::Scan,
+        Step::Scatter,
+        Step::Sort,
+        Step::Fine,
+        Step::Composite,
+        Step::Copy,
+        Step::HandBack,
+    ];
+
     /// Its place in [`STEP_NAMES`]: the steps that do work after the geometry stage.
     fn timed(self) -> Option<usize> {
         match self {
@@ -200,19 +214,7 @@ mod tests {
     /// [`STEP_NAMES`] in that order. Seen failing with a step left out of `timed`.
     #[test]
     fn every_timed_step_has_its_own_name_and_query() {
-        let steps = [
-            Step::Reset,
-            Step::Tiles,
-            Step::Count,
-            Step::Scan,
-            Step::Scatter,
-            Step::Sort,
-            Step::Fine,
-            Step::Composite,
-            Step::Copy,
-            Step::HandBack,
-        ];
-        let timed: Vec<usize> = steps.iter().filter_map(|s| s.timed()).collect();
+        let timed: Vec<usize> = Step::ALL.iter().filter_map(|s| s.timed()).collect();
         assert_eq!(timed, (0..STEP_NAMES.len()).collect::<Vec<_>>());
     }
 }

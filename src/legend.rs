@@ -168,7 +168,7 @@ impl Legend {
     }
 }
 
-fn text_width<F: Font>(font: &ab_glyph::PxScaleFont<F>, text: &str) -> i32 {
+pub(crate) fn text_width<F: Font>(font: &ab_glyph::PxScaleFont<F>, text: &str) -> i32 {
     text.chars()
         .map(|c| font.h_advance(font.glyph_id(c)))
         .sum::<f32>()
@@ -176,14 +176,14 @@ fn text_width<F: Font>(font: &ab_glyph::PxScaleFont<F>, text: &str) -> i32 {
 }
 
 /// Drawing into an sRGB image with linear colours.
-struct Canvas<'a> {
-    image: &'a mut RgbaImage,
+pub(crate) struct Canvas<'a> {
+    pub image: &'a mut RgbaImage,
 }
 
 impl Canvas<'_> {
     /// Blends `colour(x, y)` (linear, relative to the rectangle) over the rectangle
     /// with `opacity`, in linear light.
-    fn fill(
+    pub fn fill(
         &mut self,
         x0: i32,
         y0: i32,
@@ -199,7 +199,7 @@ impl Canvas<'_> {
         }
     }
 
-    fn blend(&mut self, x: i32, y: i32, colour: Vec3, opacity: f32) {
+    pub fn blend(&mut self, x: i32, y: i32, colour: Vec3, opacity: f32) {
         let (width, height) = (self.image.width as i32, self.image.height as i32);
         if x < 0 || y < 0 || x >= width || y >= height {
             return;
@@ -215,7 +215,7 @@ impl Canvas<'_> {
     }
 
     /// White text with its top-left corner at (x, y).
-    fn text<F: Font>(&mut self, font: &ab_glyph::PxScaleFont<F>, text: &str, x: i32, y: i32) {
+    pub fn text<F: Font>(&mut self, font: &ab_glyph::PxScaleFont<F>, text: &str, x: i32, y: i32) {
         let mut pen = x as f32;
         let baseline = y as f32 + font.ascent();
         for c in text.chars() {

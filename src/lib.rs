@@ -16,6 +16,7 @@
 
 pub mod bench;
 pub mod export;
+pub mod flow_marks;
 pub mod legend;
 pub mod viewer;
 

@@ -56,7 +56,7 @@ pub(super) fn render(args: &RenderArgs) -> anyhow::Result<()> {
             .render()
             .with_context(|| format!("drawing the frame ({width}×{height})"))?;
         let elapsed = start.elapsed();
-        let image = with_legend(image, &session);
+        let image = with_legend(image, &session)?;
         image.write_png(&args.out)?;
         warn_without_fur(&session, report.counts);
         let points = report
@@ -104,13 +104,36 @@ fn warn_without_fur(session: &FurSession, counts: Option<fur::render::HairCounts
 }
 
 /// `image` with the colour key of the stage it shows in its corner, when that stage
-/// has one (`fur::legend`).
-fn with_legend(mut image: fur::render::RgbaImage, session: &FurSession) -> fur::render::RgbaImage {
+/// has one (`fur::legend`); the `masters` view with the flow's singular points marked
+/// (`fur::flow_marks`).
+fn with_legend(
+    mut image: fur::render::RgbaImage,
+    session: &FurSession,
+) -> anyhow::Result<fur::render::RgbaImage> {
     let max_level = session.renderer.max_level();
     if let Some(legend) = fur::legend::Legend::of(&session.settings, max_level) {
         legend.draw(&mut image);
     }
-    image
+    if session.settings.show == fur::render::Stage::Masters {
+        let points = fur::flow_marks::of_masters(&session.mesh, &session.strands);
+        let mesh = &session.mesh;
+        let posed = session.posed_body()?;
+        let (positions, normals) = posed
+            .as_ref()
+            .map_or((&mesh.positions, &mesh.normals), |(p, n)| (p, n));
+        let marks = fur::flow_marks::placed(&points, positions, normals);
+        let camera = &session.settings.camera;
+        let aspect = image.width as f32 / image.height.max(1) as f32;
+        let view_projection = camera.view_projection(aspect);
+        fur::flow_marks::draw(
+            &mut image,
+            &marks,
+            session.settings.head,
+            view_projection,
+            camera.eye(),
+        );
+    }
+    Ok(image)
 }
 
 /// A scene built and ready to draw.
@@ -243,7 +266,7 @@ fn render_sequence(args: &RenderArgs, dir: &Path, session: &mut FurSession) -> a
             .with_context(|| format!("simulating and drawing frame {frame}"))?;
         warn_without_fur(session, timings.render.counts);
         frame_ms.push(start.elapsed().as_secs_f64() * 1e3);
-        let image = with_legend(image, session);
+        let image = with_legend(image, session)?;
         image.write_png(&dir.join(format!("frame_{frame:04}.png")))?;
         bar.set_message(format!("{:.1} ms", frame_ms[frame_ms.len() - 1]));
         bar.inc(1);

@@ -151,6 +151,33 @@ fn design() -> Vec<(&'static str, Vec<String>)> {
             "docs/design.md",
             vec![
                 format!("`segments` (default {})", scene.segments),
+                // How grown fur lies (fur::scene::flow, fur::scene::groom::comb).
+                format!(
+                    "time is ({} % of the body's size)²",
+                    fur::scene::HEAT_TIME * 100.0
+                ),
+                format!(
+                    "an axis that leans less than {} towards z",
+                    fur::scene::AXIS_LEAN
+                ),
+                format!(
+                    "a peak over the last {} % of the body's extent",
+                    fur::scene::CAP * 100.0
+                ),
+                format!(
+                    "is at most {} of the body's (its {}th percentile",
+                    fur::scene::THIN,
+                    fur::scene::BODY_PERCENTILE
+                ),
+                format!(
+                    "each segment rising about {}° from the tangent plane",
+                    (1.0 / fur::scene::FLAT_LEAN).atan().to_degrees().round()
+                ),
+                format!("from {} of the body's up", fur::scene::THICK),
+                format!(
+                    "({} × the half-thickness in the default scene)",
+                    scene.thickness_limit
+                ),
                 format!(
                     "each at most {} × the model's local half-thickness long",
                     scene.thickness_limit

@@ -25,6 +25,9 @@ const BLEND: f32 = 0.035;
 /// How far the root travels forward over one walk cycle.
 const STRIDE: f32 = 1.0;
 
+/// Where the left ear ends (the right ear mirrors it).
+const EAR_TIP: Vec3 = Vec3::new(0.12, 1.28, 0.56);
+
 /// A bone of the skeleton: name, parent and rest position in world space (every rest
 /// rotation is the identity, so local axes are world axes: x across, y up, z forwards).
 type Bone = (String, Option<usize>, Vec3);
@@ -116,7 +119,7 @@ fn parts(bones: &[Bone]) -> Vec<(usize, Part)> {
         cone("snout", at("snout"), 0.08, v(0.0, 0.95, 0.93), 0.04, 0.05),
     ];
     for (name, x) in [("ear.L", 1.0), ("ear.R", -1.0)] {
-        let mut ear = cone(name, at(name), 0.065, v(0.12 * x, 1.28, 0.56), 0.032, 0.03);
+        let mut ear = cone(name, at(name), 0.065, EAR_TIP * v(x, 1.0, 1.0), 0.032, 0.03);
         // Thin front to back.
         ear.1.squash = Some((at(name), Vec3::Z, 1.6));
         parts.push(ear);
@@ -209,7 +212,7 @@ pub fn critter() -> (Mesh, Rig) {
         texture: None,
     };
 
-    let nodes: Vec<Node> = bones
+    let mut nodes: Vec<Node> = bones
         .iter()
         .map(|(name, parent, at)| {
             let translation = *at - parent.map_or(Vec3::ZERO, |p| bones[p].2);
@@ -223,6 +226,19 @@ pub fn critter() -> (Mesh, Rig) {
             }
         })
         .collect();
+    // The ears' tips: nodes but not joints, so each ear's bone points along the ear
+    // (its fur lies along it) rather than on from the head.
+    for (side, x) in [("L", 1.0), ("R", -1.0)] {
+        let ear = bone(&bones, &format!("ear.{side}"));
+        nodes.push(Node {
+            name: format!("ear.{side}.tip"),
+            parent: Some(ear),
+            rest: Transform {
+                translation: EAR_TIP * Vec3::new(x, 1.0, 1.0) - bones[ear].2,
+                ..Transform::default()
+            },
+        });
+    }
     let mut rig = Rig {
         nodes,
         joints: Vec::new(),
@@ -236,6 +252,7 @@ pub fn critter() -> (Mesh, Rig) {
     let world = rig.world(&rig.pose(None, 0.0, false));
     rig.joints = world
         .iter()
+        .take(bones.len())
         .enumerate()
         .map(|(node, m)| Joint {
             node,

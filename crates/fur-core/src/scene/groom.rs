@@ -15,8 +15,14 @@ pub struct GroomParams {
     pub segment_length: f32,
     /// Direction the fur is combed towards (projected onto each vertex's tangent plane).
     pub comb_direction: Vec3,
-    /// Per vertex, a direction that replaces `comb_direction` there (a skinned body's
-    /// fur flow along its bones); its length is ignored.
+    /// How the fur is combed: along the body (the default) or towards `comb_direction`.
+    pub flow: super::Flow,
+    /// Where a body's flow starts (its head end).
+    pub flow_from: super::FlowFrom,
+    /// Per vertex, a direction that replaces the body's flow there (a skinned body's
+    /// fur flow along its bones); its length is ignored. Unused by [`Flow::Direction`].
+    ///
+    /// [`Flow::Direction`]: super::Flow::Direction
     pub comb_field: Option<Vec<Vec3>>,
     /// How far the tip leans towards the comb direction; 0 = straight along the normal.
     pub comb_strength: f32,
@@ -39,6 +45,8 @@ impl Default for GroomParams {
             segments: 16,
             segment_length: 0.016,
             comb_direction: Vec3::new(0.0, -1.0, -0.3),
+            flow: super::Flow::Body,
+            flow_from: super::FlowFrom::Auto,
             comb_field: None,
             comb_strength: 0.9,
             curl: 0.0,
@@ -77,6 +85,16 @@ impl GroomParams {
         }
         if !self.comb_direction.is_finite() {
             return Err(Error::Parameter("comb direction must be finite".into()));
+        }
+        if let super::FlowFrom::Point(p) | super::FlowFrom::Axis(p) = self.flow_from {
+            if !p.is_finite()
+                || (matches!(self.flow_from, super::FlowFrom::Axis(_)) && p.length() < 1e-6)
+            {
+                return Err(Error::Parameter(format!(
+                    "the flow's head end must be a finite point or a non-zero axis, got {}",
+                    self.flow_from
+                )));
+            }
         }
         Ok(())
     }
@@ -154,58 +172,24 @@ impl Strands {
         }
     }
 
-    /// Grows one master hair per mesh vertex along its normal.
+    /// Grows one master hair per mesh vertex along its normal, leaning along the comb
+    /// ([`comb::Comb`]).
     pub(super) fn grow_from_mesh(mesh: &Mesh, groom: &GroomParams) -> Result<Self> {
         let segments = groom.segments as usize;
         let mut positions = Vec::with_capacity(mesh.vertex_count() * (segments + 1));
-        let primary = groom.comb_direction.try_normalize().unwrap_or(Vec3::NEG_Y);
-        // A second comb direction across the first takes over where the surface faces
-        // along the first (whose projection vanishes there and would swirl into a whorl).
-        // It is the direction across the first closest to the model's back (-z).
-        let secondary = (Vec3::NEG_Z - Vec3::NEG_Z.dot(primary) * primary)
-            .try_normalize()
-            .unwrap_or_else(|| primary.any_orthonormal_vector());
-        let comb_length = groom.comb_direction.length();
-        let thickness = if groom.thickness_limit > 0.0 {
-            Some(mesh.half_thickness()?)
-        } else {
-            None
-        };
-        if let Some(field) = &groom.comb_field {
-            if field.len() != mesh.vertex_count() {
-                return Err(Error::Parameter(format!(
-                    "the comb field has {} directions for {} vertices",
-                    field.len(),
-                    mesh.vertex_count()
-                )));
-            }
-        }
+        let comb = comb::Comb::new(mesh, groom)?;
         for (i, (&root, &normal)) in mesh.positions.iter().zip(&mesh.normals).enumerate() {
             let n = normal.try_normalize().unwrap_or(Vec3::Y);
-            let (primary, secondary) = match &groom.comb_field {
-                Some(field) => {
-                    let primary = field[i].try_normalize().unwrap_or(primary);
-                    (primary, primary.any_orthonormal_vector())
-                }
-                None => (primary, secondary),
-            };
-            let along_first = primary - primary.dot(n) * n;
-            let blend = 1.0 - along_first.length();
-            let comb = (along_first + blend * (secondary - secondary.dot(n) * n)) * comb_length;
             let (b1, b2) = n.any_orthonormal_pair();
             let phase = hash_unit(i as u32) * std::f32::consts::TAU;
-            let full = groom.segment_length * segments as f32;
-            let segment_length = match &thickness {
-                Some(h) => (groom.thickness_limit * h[i]).min(full) / segments as f32,
-                None => groom.segment_length,
-            };
+            let segment_length = comb.length(i) / segments as f32;
             let mut p = root;
             positions.push(p);
             for k in 0..segments {
                 let along = (k as f32 + 0.5) / segments as f32;
                 let angle = phase + along * groom.curl_turns * std::f32::consts::TAU;
                 let curl = groom.curl * (angle.cos() * b1 + angle.sin() * b2);
-                let dir = (n + groom.comb_strength * along * comb + curl)
+                let dir = (n + comb.lean(i, along) * comb.direction[i] + curl)
                     .try_normalize()
                     .unwrap_or(n);
                 p += dir * segment_length;
@@ -230,5 +214,8 @@ pub fn hash_unit(x: u32) -> f32 {
     (h >> 8) as f32 / (1u32 << 24) as f32
 }
 
+pub(crate) mod comb;
 #[cfg(test)]
 mod tests;
+
+pub use comb::{Comb, BODY_PERCENTILE, FLAT_LEAN, THICK, THIN};

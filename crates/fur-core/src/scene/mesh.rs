@@ -41,31 +41,75 @@ impl Mesh {
     }
 
     /// Per vertex, the model's half-thickness there: the deepest point inside the body
-    /// along the inward normal (from a distance field of the mesh), so a thin ear or leg
-    /// reads small and a round body large. A vertex whose inward ray finds no inside (an
-    /// open or inside-out patch) gets the bounding radius.
+    /// along the inward normal before the ray leaves the body (from a distance field of
+    /// the mesh), so a thin ear or leg reads small and a round body large. A vertex
+    /// whose inward ray finds no inside within two cells of the field gets half a cell
+    /// on a watertight model (a part thinner than the field can see) and the bounding
+    /// radius on an open one (a patch with no inside).
     pub fn half_thickness(&self) -> Result<Vec<f32>> {
+        const RESOLUTION: u32 = 40;
         let (_, radius) = self.bounds();
-        let (sdf, _) = Sdf::build(self, 40, 0.05 * radius)?;
+        let padding = 0.05 * radius;
+        let (sdf, _) = Sdf::build(self, RESOLUTION, padding)?;
+        let (lo, hi) = self.aabb();
+        let cell = ((hi - lo).max_element() + 2.0 * padding) / RESOLUTION as f32;
+        let unseen = if self.is_watertight() {
+            0.5 * cell
+        } else {
+            radius
+        };
         const STEPS: usize = 24;
+        // Eight times finer than every 1/24 of the radius over the first of those.
+        let depths: Vec<f32> = (1..8)
+            .map(|k| radius * k as f32 / (8 * STEPS) as f32)
+            .chain((1..=STEPS).map(|k| radius * k as f32 / STEPS as f32))
+            .collect();
         Ok(self
             .positions
             .iter()
             .zip(&self.normals)
             .map(|(p, n)| {
-                let deepest = (1..=STEPS)
-                    .filter_map(|k| {
-                        let q = *p - *n * (radius * k as f32 / STEPS as f32);
-                        sdf.sample(V3::<f32>::from_vec3(q)).map(|(d, _)| -d)
-                    })
-                    .fold(0.0f32, f32::max);
+                let mut deepest = 0.0f32;
+                for &depth in &depths {
+                    let inside = sdf
+                        .sample(V3::<f32>::from_vec3(*p - *n * depth))
+                        .map_or(0.0, |(d, _)| -d);
+                    if inside > 0.0 {
+                        deepest = deepest.max(inside);
+                    } else if deepest > 0.0 || depth > 2.0 * cell {
+                        break;
+                    }
+                }
                 if deepest > 0.0 {
                     deepest
                 } else {
-                    radius
+                    unseen
                 }
             })
             .collect())
+    }
+
+    /// Whether every edge, vertices at one position taken as one, joins exactly two
+    /// triangles (the surface encloses a volume).
+    pub fn is_watertight(&self) -> bool {
+        let mut id: HashMap<[u32; 3], u32> = HashMap::new();
+        let joined: Vec<u32> = self
+            .positions
+            .iter()
+            .map(|p| {
+                let next = id.len() as u32;
+                *id.entry(p.to_array().map(|c| (c + 0.0).to_bits()))
+                    .or_insert(next)
+            })
+            .collect();
+        let mut edges: HashMap<(u32, u32), u32> = HashMap::new();
+        for t in self.indices.chunks_exact(3) {
+            for k in 0..3 {
+                let (a, b) = (joined[t[k] as usize], joined[t[(k + 1) % 3] as usize]);
+                *edges.entry((a.min(b), a.max(b))).or_default() += 1;
+            }
+        }
+        !edges.is_empty() && edges.values().all(|&c| c == 2)
     }
 
     /// Bounding radii a model is drawn at as it is; outside, [`Mesh::normalize_scale`]

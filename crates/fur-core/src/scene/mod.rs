@@ -2,8 +2,9 @@
 
 mod camera;
 mod critter;
+mod flow;
 mod gltf;
-mod groom;
+pub(crate) mod groom;
 mod groom_bind;
 mod groom_draw;
 mod implicit;
@@ -19,8 +20,12 @@ mod texture_spec;
 
 pub use camera::Camera;
 pub use critter::critter;
+pub use flow::{
+    principal_axis, singular_points, Flow, FlowField, FlowFrom, Singularity, AXIS_LEAN, CAP,
+    HEAT_TIME,
+};
 pub use gltf::{load_gltf, write_glb, GltfBody};
-pub use groom::{hash_unit, GroomParams, Strands};
+pub use groom::{hash_unit, Comb, GroomParams, Strands, BODY_PERCENTILE, FLAT_LEAN, THICK, THIN};
 pub use groom_bind::{
     closest_on_triangle, nearest_surface_point, resample, GroomMode, GroomReport, GroomSource,
     Outside, SurfacePoint, BALD_FRACTION, BIND_LIMIT, BIND_TOLERANCE, BLEND_GUIDES, EXACT_ROOT,

@@ -95,7 +95,7 @@ fn parse(kind: Kind, text: &str) -> std::result::Result<Value, String> {
             .map(Value::Integer)
             .map_err(|_| format!("expected a whole number, got `{text}`")),
         Kind::Bool => Err("expected on or off".into()),
-        Kind::Choice(_) | Kind::Text => Ok(Value::Text(text.to_string())),
+        Kind::Choice(_) | Kind::Text | Kind::Place => Ok(Value::Text(text.to_string())),
         Kind::Vector { .. } | Kind::Colour { .. } => {
             let down = matches!(kind, Kind::Vector { down: true, .. });
             let parts: Vec<&str> = text.split(',').collect();
@@ -182,6 +182,9 @@ impl clap::Args for SettingArgs {
                     .value_name(name.to_uppercase().replace('-', "_")),
                 (Flag::Long(_), Kind::Vector { .. } | Kind::Colour { .. }) => {
                     arg.allow_hyphen_values(true).value_name("X,Y,Z")
+                }
+                (Flag::Long(_), Kind::Place) => {
+                    arg.allow_hyphen_values(true).value_name("auto|±AXIS|X,Y,Z")
                 }
                 (Flag::Long(_), Kind::Text) => arg
                     .allow_hyphen_values(true)

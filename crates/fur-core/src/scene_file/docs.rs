@@ -36,6 +36,7 @@ pub fn markdown() -> String {
                 Kind::Vector { down: true, .. } => "[x, y, z] or g".to_string(),
                 Kind::Vector { .. } => "[x, y, z]".to_string(),
                 Kind::Text => "text".to_string(),
+                Kind::Place => "`auto`, `+x` … `-z`, or x,y,z".to_string(),
                 kind => kind.range_text().unwrap_or_default(),
             };
             if !s.units.is_empty() {

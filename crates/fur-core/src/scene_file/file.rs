@@ -208,7 +208,9 @@ fn from_toml(kind: Kind, value: &toml::Value) -> std::result::Result<Value, Stri
             .map(Value::Integer)
             .map_err(|_| format!("expected a whole number ≥ 0, got {i}")),
         (Kind::Bool, toml::Value::Boolean(b)) => Ok(Value::Bool(*b)),
-        (Kind::Choice(_) | Kind::Text, toml::Value::String(s)) => Ok(Value::Text(s.clone())),
+        (Kind::Choice(_) | Kind::Text | Kind::Place, toml::Value::String(s)) => {
+            Ok(Value::Text(s.clone()))
+        }
         (Kind::Vector { down: true, .. }, v) if number(v).is_some() => Ok(Value::Vector(
             Vec3::new(0.0, -(number(v).unwrap_or(0.0) as f32), 0.0),
         )),

@@ -18,6 +18,9 @@ pub struct SceneOptions {
     pub curl: f32,
     /// Hairs at most this many times the local half-thickness long (0 = off).
     pub thickness_limit: f32,
+    /// How grown fur is combed, and where a body's flow starts.
+    pub flow: crate::scene::Flow,
+    pub flow_from: crate::scene::FlowFrom,
     /// Multiplies the default interpolated-hair density.
     pub density_scale: f32,
     pub yaw_deg: f32,
@@ -124,6 +127,8 @@ impl Default for SceneOptions {
             comb: 2.0,
             curl: 0.0,
             thickness_limit: 0.6,
+            flow: crate::scene::Flow::Body,
+            flow_from: crate::scene::FlowFrom::Auto,
             density_scale: 1.0,
             yaw_deg: 25.0,
             pitch_deg: 15.0,
@@ -262,6 +267,8 @@ impl SceneOptions {
             segment_length: self.hair_length * radius / self.segments.max(1) as f32,
             comb_strength: self.comb,
             thickness_limit: self.thickness_limit,
+            flow: self.flow,
+            flow_from: self.flow_from,
             curl: self.curl,
             source: self.groom_file.as_ref().map(|f| crate::scene::GroomSource {
                 path: f.into(),

@@ -99,6 +99,9 @@ pub enum Kind {
     },
     /// Any text.
     Text,
+    /// Where on the model: `auto`, an axis end (`+x`…`-z`) or a point `x,y,z`
+    /// ([`crate::scene::FlowFrom`]).
+    Place,
 }
 
 impl Kind {
@@ -233,6 +236,7 @@ impl Setting {
                 }
             }
             (Kind::Text, Value::Text(_)) => Ok(()),
+            (Kind::Place, Value::Text(t)) => t.parse::<crate::scene::FlowFrom>().map(|_| ()),
             (_, v) => Err(format!("expected {}, got {v:?}", self.kind.wanted())),
         }
     }
@@ -274,6 +278,7 @@ impl Kind {
             Kind::Vector { down: true, .. } => "three numbers [x, y, z] or one (pointing down)",
             Kind::Vector { .. } | Kind::Colour { .. } => "three numbers [x, y, z]",
             Kind::Text => "text",
+            Kind::Place => "auto, an axis end (+x, -z…) or a point x,y,z",
         }
     }
 

@@ -148,6 +148,18 @@ impl<T: FieldValue> FieldValue for Option<T> {
     }
 }
 
+impl FieldValue for crate::scene::FlowFrom {
+    fn to_value(&self) -> Value {
+        Value::Text(self.to_string())
+    }
+    fn from_value(value: Value) -> Option<Self> {
+        match value {
+            Value::Text(v) => v.parse().ok(),
+            _ => None,
+        }
+    }
+}
+
 /// A named choice (an enum with `name()` and `FromStr`) as a [`FieldValue`].
 macro_rules! named_choice {
     ($($t:ty),+) => {$(
@@ -175,6 +187,7 @@ named_choice!(
     crate::sim::MotionKind,
     crate::scene::Outside,
     crate::scene::GroomMode,
+    crate::scene::Flow,
     crate::render::FurPreset
 );
 

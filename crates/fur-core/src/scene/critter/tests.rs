@@ -117,6 +117,8 @@ fn the_skeleton_has_every_named_node() {
         ("snout", Some("head")),
         ("ear.L", Some("head")),
         ("ear.R", Some("head")),
+        ("ear.L.tip", Some("ear.L")),
+        ("ear.R.tip", Some("ear.R")),
         ("tail.1", Some("root")),
         ("tail.2", Some("tail.1")),
         ("tail.3", Some("tail.2")),

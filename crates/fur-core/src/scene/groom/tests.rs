@@ -92,6 +92,7 @@ fn hair_leans_towards_the_comb_more_towards_the_tip() {
             segment_length: 0.1,
             comb_direction,
             comb_strength,
+            flow: crate::scene::Flow::Direction,
             ..Default::default()
         };
         let strands = Strands::grow(&mesh, &groom).unwrap();
@@ -119,6 +120,7 @@ fn hair_on_a_surface_facing_along_the_comb_leans_towards_the_back() {
         segment_length: 0.2,
         comb_direction: comb,
         comb_strength: 0.5,
+        flow: crate::scene::Flow::Direction,
         ..Default::default()
     };
     let strands = Strands::grow(&mesh, &groom).unwrap();
@@ -144,6 +146,7 @@ fn a_comb_at_an_angle_to_the_surface_blends_in_the_across_direction() {
         segment_length: 0.1,
         comb_direction: Vec3::new(3.0, 0.0, 4.0),
         comb_strength: 0.1,
+        flow: crate::scene::Flow::Direction,
         ..Default::default()
     };
     let strands = Strands::grow(&mesh, &groom).unwrap();
@@ -204,6 +207,7 @@ fn curl_turns_each_segment_about_the_normal() {
         comb_strength: 0.0,
         curl: 0.5,
         curl_turns: 1.5,
+        flow: crate::scene::Flow::Direction,
         ..Default::default()
     };
     let strands = Strands::grow(&mesh, &groom).unwrap();

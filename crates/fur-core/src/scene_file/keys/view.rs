@@ -220,6 +220,30 @@ pub const GROOM: Group = Group {
             ..field!(options.thickness_limit)
         },
         Setting {
+            key: "flow",
+            flag: Flag::Long("flow"),
+            label: "flow",
+            help: "How grown fur lies: `body` (along the body from its head end, down every \
+                   limb; a skinned body's along its bones; thin parts lie flat) or \
+                   `direction` (towards one constant direction, the comb of earlier \
+                   versions)",
+            kind: Kind::Choice(&["body", "direction"]),
+            effect: Effect::Regrow,
+            panel: Panel::Plain,
+            ..field!(options.flow)
+        },
+        Setting {
+            key: "flow_from",
+            flag: Flag::Long("flow-from"),
+            label: "flow's head end",
+            help: "Where the body's flow starts: `auto` (the end of the body's longest axis \
+                   facing +z, glTF's front; an axis across z takes its +y end, then +x), \
+                   an axis end (`+x`, `-z`…) or the surface nearest a point x,y,z",
+            kind: Kind::Place,
+            effect: Effect::Regrow,
+            ..field!(options.flow_from)
+        },
+        Setting {
             key: "curl",
             flag: Flag::Long("curl"),
             label: "curl",

@@ -1,0 +1,166 @@
+//! Which way each master hair leans as it grows, how far, and how long it may be: the
+//! comb's tangent direction per vertex (the body's flow, a skinned body's bones, or one
+//! constant direction), and on thin parts (limbs, ears, tails) a lean that lays the
+//! hair flat along the part.
+
+use glam::Vec3;
+
+use super::GroomParams;
+use crate::error::{Error, Result};
+use crate::scene::{Flow, FlowField, Mesh};
+
+/// A part whose half-thickness is at most this fraction of the body's (its
+/// [`BODY_PERCENTILE`]th percentile over the vertices) is thin: its hair lies flat
+/// along it.
+pub const THIN: f32 = 0.3;
+/// From this fraction of the body's half-thickness up, hair leans as combed; between
+/// [`THIN`] and here the two blend smoothly.
+pub const THICK: f32 = 0.6;
+/// The percentile of the vertices' half-thicknesses that stands for the body's.
+pub const BODY_PERCENTILE: usize = 90;
+/// The lean of a hair lying flat: 1 / tan 10°, so each segment rises about 10° (with
+/// the default comb's length, 9.6°) from the tangent plane.
+pub const FLAT_LEAN: f32 = 5.671_282;
+
+/// The comb of one groom on one mesh.
+pub struct Comb {
+    /// Per vertex, the tangent the hair leans towards, scaled by the comb's length
+    /// (zero at a whorl's centre, where the hair stands along the normal).
+    pub direction: Vec<Vec3>,
+    /// Per vertex, how flat the hair lies: 0 as combed, 1 flat along the part.
+    pub flat: Vec<f32>,
+    /// Per vertex, the hair's length.
+    lengths: Vec<f32>,
+    strength: f32,
+}
+
+impl Comb {
+    pub fn new(mesh: &Mesh, groom: &GroomParams) -> Result<Self> {
+        let full = groom.segment_length * groom.segments as f32;
+        // A comb of strength 0 leans nothing: no field, no thin parts to find.
+        let combed = groom.comb_strength > 0.0;
+        let body = groom.flow == Flow::Body && combed;
+        let thickness = if groom.thickness_limit > 0.0 || body {
+            Some(mesh.half_thickness()?)
+        } else {
+            None
+        };
+        let lengths = match (&thickness, groom.thickness_limit > 0.0) {
+            (Some(h), true) => h
+                .iter()
+                .map(|h| (groom.thickness_limit * h).min(full))
+                .collect(),
+            _ => vec![full; mesh.vertex_count()],
+        };
+        let flat = match (&thickness, body) {
+            (Some(h), true) => flatness(h),
+            _ => vec![0.0; mesh.vertex_count()],
+        };
+        Ok(Self {
+            direction: if combed {
+                directions(mesh, groom)?
+            } else {
+                vec![Vec3::ZERO; mesh.vertex_count()]
+            },
+            flat,
+            lengths,
+            strength: groom.comb_strength,
+        })
+    }
+
+    /// The length of vertex `i`'s hair.
+    pub fn length(&self, i: usize) -> f32 {
+        self.lengths[i]
+    }
+
+    /// How far vertex `i`'s hair leans towards its comb direction at `along` (0 at
+    /// the root, 1 at the tip) for each unit it rises along the normal: the comb
+    /// strength growing along the hair, or on a thin part [`FLAT_LEAN`] from the root
+    /// (a comb of strength 0 lays nothing flat).
+    pub fn lean(&self, i: usize, along: f32) -> f32 {
+        let combed = self.strength * along;
+        let flat = self.flat[i] * self.strength.min(1.0);
+        combed + flat * (FLAT_LEAN.max(combed) - combed)
+    }
+}
+
+/// Per vertex, 0 (thick) to 1 (thin) from the half-thicknesses `h`.
+fn flatness(h: &[f32]) -> Vec<f32> {
+    let mut sorted: Vec<f32> = h.iter().copied().filter(|v| v.is_finite()).collect();
+    sorted.sort_by(f32::total_cmp);
+    let body = sorted
+        .get(sorted.len() * BODY_PERCENTILE / 100)
+        .copied()
+        .unwrap_or(0.0)
+        .max(f32::MIN_POSITIVE);
+    h.iter()
+        .map(|&v| {
+            let x = ((v / body - THIN) / (THICK - THIN)).clamp(0.0, 1.0);
+            1.0 - x * x * (3.0 - 2.0 * x)
+        })
+        .collect()
+}
+
+/// Per vertex, the comb's tangent direction times the comb's length.
+fn directions(mesh: &Mesh, groom: &GroomParams) -> Result<Vec<Vec3>> {
+    let length = groom.comb_direction.length();
+    let tangent = |n: Vec3, d: Vec3| (d - d.dot(n) * n).normalize_or_zero() * length;
+    let normals = || {
+        mesh.normals
+            .iter()
+            .map(|n| n.try_normalize().unwrap_or(Vec3::Y))
+    };
+    match (groom.flow, &groom.comb_field) {
+        (Flow::Body, Some(field)) => {
+            if field.len() != mesh.vertex_count() {
+                return Err(Error::Parameter(format!(
+                    "the comb field has {} directions for {} vertices",
+                    field.len(),
+                    mesh.vertex_count()
+                )));
+            }
+            let fallback = groom.comb_direction.try_normalize().unwrap_or(Vec3::NEG_Y);
+            // As the constant comb, each vertex's own direction with a second across
+            // it where the surface faces along it.
+            Ok(normals()
+                .zip(field)
+                .map(|(n, d)| {
+                    let primary = d.try_normalize().unwrap_or(fallback);
+                    let secondary = primary.any_orthonormal_vector();
+                    let along_first = primary - primary.dot(n) * n;
+                    let blend = 1.0 - along_first.length();
+                    (along_first + blend * (secondary - secondary.dot(n) * n)) * length
+                })
+                .collect())
+        }
+        (Flow::Body, None) => {
+            let field = FlowField::build(mesh, groom.flow_from)?;
+            Ok(normals()
+                .zip(&field.directions)
+                .map(|(n, d)| tangent(n, *d))
+                .collect())
+        }
+        (Flow::Direction, _) => Ok(constant(mesh, groom)),
+    }
+}
+
+/// The constant comb: its direction projected onto each tangent plane. A second
+/// direction across the first takes over where the surface faces along the first
+/// (whose projection vanishes there and would swirl into a whorl): the direction
+/// across the first closest to the model's back (−z).
+fn constant(mesh: &Mesh, groom: &GroomParams) -> Vec<Vec3> {
+    let primary = groom.comb_direction.try_normalize().unwrap_or(Vec3::NEG_Y);
+    let secondary = (Vec3::NEG_Z - Vec3::NEG_Z.dot(primary) * primary)
+        .try_normalize()
+        .unwrap_or_else(|| primary.any_orthonormal_vector());
+    let length = groom.comb_direction.length();
+    mesh.normals
+        .iter()
+        .map(|normal| {
+            let n = normal.try_normalize().unwrap_or(Vec3::Y);
+            let along_first = primary - primary.dot(n) * n;
+            let blend = 1.0 - along_first.length();
+            (along_first + blend * (secondary - secondary.dot(n) * n)) * length
+        })
+        .collect()
+}

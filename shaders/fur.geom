@@ -359,6 +359,10 @@ void main() {
     hair_seed = seed;
     vec3 jitter = (vec3(hash_unit(seed), hash_unit(seed + 1u), hash_unit(seed + 2u)) * 2.0 - 1.0)
                 * frame.hair.z;
+    // The tip's random offset is at most JITTER_SHARE of the hair's own reach, so the
+    // short hair of a thin part (an ear, a leg) is not scattered into a tuft.
+    float reach = distance(blended(h, b, V - 1u), root);
+    jitter *= min(1.0, JITTER_SHARE * reach / max(length(jitter), 1e-20));
     float length_scale = 1.0 - frame.hair.w * hash_unit(seed + 3u);
     if (h.x == h.y && h.y == h.z) {
         // A drawn groom's guide is drawn as it is (fur.tesc).

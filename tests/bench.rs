@@ -288,6 +288,14 @@ fn quick_bench_writes_every_expected_measurement() {
             "{format}: {peak} MiB against {limit}"
         );
     }
+    // The flow laid on the quick suite's models: timed, and turning as a closed body's
+    // field must (index sum 2).
+    for model in ["blob", "critter (as a rigid body)"] {
+        for metric in ["field_s", "grow_s"] {
+            expect("flow", model, metric);
+        }
+        assert_eq!(value("flow", model, "index_sum"), 2.0, "{model}");
+    }
     let md = std::fs::read_to_string(dir.join("results.md")).unwrap();
     assert!(md.contains("| iterations | substeps |"));
     assert!(md.contains("| view | frame ms | × lit |"));

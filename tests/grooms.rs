@@ -87,6 +87,43 @@ fn an_exported_groom_comes_back_as_the_same_master_hairs() {
     }
 }
 
+/// `fur export-groom` writes the master hairs combed as the scene combs them: along the
+/// body's flow by default, by the constant comb under `--flow direction`, each the
+/// library's own grow (to 1e-6 of the hair length), and the two differ.
+#[test]
+fn export_groom_writes_the_masters_combed_along_the_flow() {
+    let dir = scratch("flow");
+    let mesh = fur::scene::Mesh::blob();
+    let mut written = Vec::new();
+    for flow in ["body", "direction"] {
+        let path = dir.join(format!("{flow}.usda"));
+        ok(&fur(&[
+            "export-groom",
+            s(&path),
+            "--model",
+            "blob",
+            "--flow",
+            flow,
+        ]));
+        let options = fur::scene_file::SceneOptions {
+            flow: flow.parse().unwrap(),
+            ..Default::default()
+        };
+        let (groom, _) = options.resolve(&mesh).unwrap();
+        let grown = fur::scene::Strands::grow(&mesh, &groom).unwrap();
+        let grown = grown.to_guides(None);
+        let read = read_groom(&path).unwrap();
+        let (worst, length) = apart(&grown, &read);
+        assert!(worst <= 1e-6 * length, "{flow}: off by {worst} of {length}");
+        written.push(read);
+    }
+    let (apart_by, length) = apart(&written[0], &written[1]);
+    assert!(
+        apart_by > 0.1 * length,
+        "the flows differ by {apart_by} of {length}"
+    );
+}
+
 /// A scene file's groom path is relative to the scene file; a missing groom, one made
 /// for another body and outputs fur does not write are refused by name.
 #[test]

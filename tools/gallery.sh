@@ -42,6 +42,7 @@ shot ownership --show ownership --density-scale 4
 shot tiles --show tiles
 # Try this: one parameter changed, one stage shown.
 shot masters-comb --show masters --comb 0
+shot masters-direction --show masters --flow direction
 shot interpolated-dense --show interpolated --density-scale 3
 shot density-near --show density --lod-distance 0.5
 shot lod-near --show lod --lod-distance 0.5

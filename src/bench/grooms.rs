@@ -39,7 +39,7 @@ fn guides(curves: usize) -> Guides {
 }
 
 /// `n` with its thousands grouped by commas, as the documents write counts.
-fn grouped(n: usize) -> String {
+pub(super) fn grouped(n: usize) -> String {
     let digits = n.to_string();
     let mut out = String::new();
     for (i, c) in digits.chars().enumerate() {

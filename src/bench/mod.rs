@@ -18,6 +18,7 @@ pub const DEPTH_TARGET: f64 = 0.01;
 pub const COLLISION_COST_TARGET: f64 = 0.35;
 mod collision;
 mod docs;
+mod flow;
 mod frame;
 mod grooms;
 mod ladder;
@@ -106,11 +107,12 @@ pub enum Section {
     Truth,
     Stages,
     Grooms,
+    Flow,
     Raster,
 }
 
 impl Section {
-    pub const ALL: [Section; 14] = [
+    pub const ALL: [Section; 15] = [
         Self::Frame,
         Self::RenderQuality,
         Self::SimAccuracy,
@@ -124,6 +126,7 @@ impl Section {
         Self::Truth,
         Self::Stages,
         Self::Grooms,
+        Self::Flow,
         Self::Raster,
     ];
 
@@ -142,6 +145,7 @@ impl Section {
             Self::Truth => "truth",
             Self::Stages => "stages",
             Self::Grooms => "grooms",
+            Self::Flow => "flow",
             Self::Raster => "raster",
         }
     }
@@ -161,6 +165,7 @@ impl Section {
             Self::Truth => "every quality rung and look against a path-traced reference (Mitsuba 3's hair model; needs tools/reference/setup.sh)",
             Self::Stages => "cost of each stage view (--show) against the lit frame",
             Self::Raster => "the two strand rasterisers (hardware, compute) on each scene: frame, fur and each compute pass, image error, pool counts",
+            Self::Flow => "laying the fur's flow along the body: building the field and growing the master hairs on models up to 100K vertices",
             Self::Grooms => "reading a million guide curves as .usda, .usdc and .hair: time, and the decoding's memory against its limit",
         }
     }
@@ -273,6 +278,7 @@ pub fn task_count(options: &BenchOptions) -> u64 {
             }
             Section::Stages => stages::tasks(),
             Section::Grooms => grooms::TASKS,
+            Section::Flow => flow::tasks(options.quick),
             Section::Raster => raster::tasks(options.scenes().len()),
         })
         .sum()
@@ -319,6 +325,7 @@ pub fn run(
             Section::Truth => bench.truth()?,
             Section::Stages => bench.stages()?,
             Section::Grooms => bench.grooms()?,
+            Section::Flow => bench.flow()?,
             Section::Raster => bench.raster()?,
         }
     }

@@ -175,6 +175,10 @@ fn design() -> Vec<(&'static str, Vec<String>)> {
                 ),
                 format!("from {} of the body's up", fur::scene::THICK),
                 format!(
+                    "offset is at most {} of the hair's own reach",
+                    fur::render::uniforms::JITTER_SHARE
+                ),
+                format!(
                     "({} × the half-thickness in the default scene)",
                     scene.thickness_limit
                 ),

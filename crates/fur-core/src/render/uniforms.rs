@@ -20,7 +20,8 @@ pub struct FurStyle {
     pub hair_width: f32,
     /// Hairs are never drawn thinner than this many pixels.
     pub min_pixel_width: f32,
-    /// Random tip offset of each interpolated hair, scene units.
+    /// Random tip offset of each interpolated hair, scene units (at most
+    /// [`JITTER_SHARE`] of the hair's own reach).
     pub jitter: f32,
     /// Interpolated hairs are shortened by up to this fraction, at random.
     pub length_jitter: f32,
@@ -236,6 +237,11 @@ pub const FLAG_NO_COAT: u32 = 1024;
 /// so no constant is typed twice: the flags of `strands.w` and the most hair layers
 /// counted in front of a point (`MAX_LAYERS`), and the compute rasteriser's depth bins
 /// and opacity to stop at.
+/// An interpolated hair's random tip offset ([`FurStyle::jitter`]) is at most this
+/// fraction of the hair's own reach from root to tip (`fur.geom`), so the short hair of
+/// a thin part is not scattered into a tuft.
+pub const JITTER_SHARE: f32 = 0.25;
+
 pub fn shader_defines() -> Vec<(&'static str, String)> {
     [
         ("FLAG_CULL", FLAG_CULL),
@@ -273,6 +279,7 @@ pub fn shader_defines() -> Vec<(&'static str, String)> {
             "OPAQUE_TRANSMIT",
             format!("{:?}", super::strand_raster::order::OPAQUE_TRANSMIT),
         ),
+        ("JITTER_SHARE", format!("{:?}", JITTER_SHARE)),
         (
             "DS_DENSITY_FORWARD",
             format!("{:?}", super::dual_scattering::DENSITY_FORWARD),

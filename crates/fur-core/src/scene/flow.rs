@@ -17,7 +17,7 @@ mod singular;
 #[cfg(test)]
 mod tests;
 
-pub use singular::{singular_points, Singularity};
+pub use singular::{critical_points, singular_points, Singularity};
 
 /// How grown fur is combed.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
@@ -201,6 +201,15 @@ impl FlowField {
                 .filter(|&v| sources[surface.joined[v as usize] as usize] > 0.0)
                 .collect(),
         })
+    }
+}
+
+impl FlowField {
+    /// Where the flow turns: the critical points of its distance
+    /// ([`critical_points`]), exact where [`singular_points`] of the directions can
+    /// miss a point at which neighbouring directions differ by half a turn.
+    pub fn singular_points(&self, mesh: &Mesh) -> Vec<Singularity> {
+        critical_points(mesh, &self.distance)
     }
 }
 

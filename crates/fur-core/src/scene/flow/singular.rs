@@ -109,3 +109,73 @@ fn angle(d: Vec3, n: Vec3, reference: Vec3) -> Option<f32> {
 fn wrap(step: f32) -> f32 {
     step - TAU * ((step + PI) / TAU).floor()
 }
+
+/// The critical points of `value` (one per mesh vertex) as a function linear over each
+/// triangle, with their indices: walking round a vertex's neighbours, the value crosses
+/// the vertex's own 2k times, and the vertex has index 1 − k (+1 at a minimum or a
+/// maximum, −1 at a simple saddle; Banchoff 1967). Equal values are ordered by vertex,
+/// so every vertex is either regular or critical, and on a closed surface the indices
+/// sum to its Euler characteristic exactly. The singular points of the function's
+/// gradient: where a flow made from it turns. Vertices at one position are one; a
+/// vertex on a boundary or where the surface is not a manifold counts nothing.
+pub fn critical_points(mesh: &Mesh, value: &[f32]) -> Vec<Singularity> {
+    let Ok(surface) = heat::Surface::new(&mesh.positions, &mesh.indices) else {
+        return Vec::new();
+    };
+    let mut joined_value = vec![0.0f32; surface.len()];
+    let mut vertex = vec![0u32; surface.len()];
+    for (v, &j) in surface.joined.iter().enumerate().rev() {
+        joined_value[j as usize] = value.get(v).copied().unwrap_or(0.0);
+        vertex[j as usize] = v as u32;
+    }
+    // Per vertex, its link: for each triangle (v, a, b), the edge a → b.
+    let mut link: Vec<Vec<(u32, u32)>> = vec![Vec::new(); surface.len()];
+    for t in &surface.triangles {
+        for k in 0..3 {
+            link[t[k] as usize].push((t[(k + 1) % 3], t[(k + 2) % 3]));
+        }
+    }
+    let above = |u: u32, v: u32| {
+        let (a, b) = (joined_value[u as usize], joined_value[v as usize]);
+        a > b || (a == b && u > v)
+    };
+    let mut points = Vec::new();
+    for (v, edges) in link.iter().enumerate() {
+        let Some(cycle) = walk(edges) else {
+            continue;
+        };
+        let v = v as u32;
+        let changes = (0..cycle.len())
+            .filter(|&k| above(cycle[k], v) != above(cycle[(k + 1) % cycle.len()], v))
+            .count();
+        let index = 1 - (changes / 2) as i32;
+        if index != 0 {
+            points.push(Singularity {
+                index,
+                position: surface.positions[v as usize].as_vec3(),
+                corners: [vertex[v as usize]; 3],
+            });
+        }
+    }
+    points
+}
+
+/// The vertices of a link's edges in order round one cycle; `None` unless the edges
+/// close one cycle through all of them.
+fn walk(edges: &[(u32, u32)]) -> Option<Vec<u32>> {
+    let next: std::collections::HashMap<u32, u32> = edges.iter().copied().collect();
+    let &(start, _) = edges.first()?;
+    if next.len() != edges.len() {
+        return None;
+    }
+    let mut cycle = vec![start];
+    let mut at = *next.get(&start)?;
+    while at != start {
+        if cycle.len() > edges.len() {
+            return None;
+        }
+        cycle.push(at);
+        at = *next.get(&at)?;
+    }
+    (cycle.len() == edges.len()).then_some(cycle)
+}

@@ -242,7 +242,10 @@ mod tests {
     #[test]
     fn the_masters_marks_are_the_flows_singular_points() {
         let mesh = Mesh::blob();
-        let strands = Strands::grow(&mesh, &Default::default()).unwrap();
+        let (groom, _) = crate::scene_file::SceneOptions::default()
+            .resolve(&mesh)
+            .unwrap();
+        let strands = Strands::grow(&mesh, &groom).unwrap();
         let points = of_masters(&mesh, &strands);
         let sum: i32 = points.iter().map(|p| p.index).sum();
         assert_eq!(sum, 2, "{points:?}");

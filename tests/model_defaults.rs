@@ -108,8 +108,11 @@ fn thin_protrusions_keep_their_shape_under_the_fur() {
         &mesh,
         0.0,
         0.0,
+        // Hair as long as asked everywhere, standing as the constant comb leaves it (the
+        // body's flow lays thin parts flat, which hides the spikes' burial).
         SceneOptions {
             thickness_limit: 0.0,
+            flow: fur::scene::Flow::Direction,
             ..SceneOptions::default()
         },
     );

@@ -66,6 +66,8 @@ fn other_value(setting: &Setting, scene: &Scene) -> Value {
         // Absolute: a relative groom path in a scene file is read relative to the file
         // (tests/grooms.rs checks that).
         (Kind::Text, _) => Value::Text("/walk".into()),
+        // A point, written as a scene file would write it back.
+        (Kind::Place, _) => Value::Text("0.5,1,-2".into()),
         (kind, v) => panic!("{setting:?}: no other value for {kind:?} from {v:?}"),
     };
     setting

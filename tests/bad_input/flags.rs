@@ -113,6 +113,8 @@ fn impossible_flags_fail_cleanly() {
                 "on",
                 "--sdf-resolution",
                 "128",
+                "--thickness-limit",
+                "0",
             ],
             "32 MiB",
         ),

@@ -156,9 +156,13 @@ fn awkward_but_valid_models_render() {
         "the skin's blend on a rigid body",
     );
     // The skin's blend by default, where its grid would not fit (33 MiB over the
-    // critter's field at 128 cells, the limit 32): it renders without it, and says so.
+    // critter's field at 128 cells padded by its hair at full length everywhere, the
+    // limit 32): it renders without it, and says so.
     succeeds(
-        &render_model("critter", &["--sdf-resolution", "128"]),
+        &render_model(
+            "critter",
+            &["--sdf-resolution", "128", "--thickness-limit", "0"],
+        ),
         Some("collision goes without it"),
         "the default skin's blend over too fine a field",
     );

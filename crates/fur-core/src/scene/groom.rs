@@ -15,7 +15,9 @@ pub struct GroomParams {
     pub segment_length: f32,
     /// Direction the fur is combed towards (projected onto each vertex's tangent plane).
     pub comb_direction: Vec3,
-    /// How the fur is combed: along the body (the default) or towards `comb_direction`.
+    /// How the fur is combed: along the body (every scene's default,
+    /// [`crate::scene_file::SceneOptions`]) or towards `comb_direction` (this struct's
+    /// default: the low-level comb the unit tests' scenarios are built on).
     pub flow: super::Flow,
     /// Where a body's flow starts (its head end).
     pub flow_from: super::FlowFrom,
@@ -45,7 +47,7 @@ impl Default for GroomParams {
             segments: 16,
             segment_length: 0.016,
             comb_direction: Vec3::new(0.0, -1.0, -0.3),
-            flow: super::Flow::Body,
+            flow: super::Flow::Direction,
             flow_from: super::FlowFrom::Auto,
             comb_field: None,
             comb_strength: 0.9,

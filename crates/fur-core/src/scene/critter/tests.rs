@@ -154,8 +154,19 @@ fn the_skeleton_has_every_named_node() {
         );
         assert!(parent_index.is_none_or(|p| p < node), "parents first");
     }
-    assert_eq!(rig.joints.len(), rig.nodes.len());
+    // Every bone is a joint; the ears' tips are nodes only (their bones' directions).
+    let tips = rig
+        .nodes
+        .iter()
+        .filter(|n| n.name.ends_with(".tip"))
+        .count();
+    assert_eq!(tips, 2);
+    assert_eq!(rig.joints.len(), rig.nodes.len() - tips);
     assert!(rig.joints.iter().enumerate().all(|(i, j)| j.node == i));
+    assert!(rig
+        .joints
+        .iter()
+        .all(|j| !rig.nodes[j.node].name.ends_with(".tip")));
     assert_eq!(rig.scale, 1.0);
 }
 

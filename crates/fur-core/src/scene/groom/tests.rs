@@ -171,6 +171,7 @@ fn a_comb_field_replaces_the_comb_direction_per_vertex() {
         comb_direction: Vec3::Y * 2.0,
         comb_field: Some(vec![Vec3::X * 5.0, Vec3::ZERO]),
         comb_strength: 0.5,
+        flow: crate::scene::Flow::Body,
         ..Default::default()
     };
     let strands = Strands::grow(&mesh, &groom).unwrap();

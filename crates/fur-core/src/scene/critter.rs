@@ -212,7 +212,7 @@ pub fn critter() -> (Mesh, Rig) {
         texture: None,
     };
 
-    let mut nodes: Vec<Node> = bones
+    let nodes: Vec<Node> = bones
         .iter()
         .map(|(name, parent, at)| {
             let translation = *at - parent.map_or(Vec3::ZERO, |p| bones[p].2);
@@ -226,19 +226,6 @@ pub fn critter() -> (Mesh, Rig) {
             }
         })
         .collect();
-    // The ears' tips: nodes but not joints, so each ear's bone points along the ear
-    // (its fur lies along it) rather than on from the head.
-    for (side, x) in [("L", 1.0), ("R", -1.0)] {
-        let ear = bone(&bones, &format!("ear.{side}"));
-        nodes.push(Node {
-            name: format!("ear.{side}.tip"),
-            parent: Some(ear),
-            rest: Transform {
-                translation: EAR_TIP * Vec3::new(x, 1.0, 1.0) - bones[ear].2,
-                ..Transform::default()
-            },
-        });
-    }
     let mut rig = Rig {
         nodes,
         joints: Vec::new(),
@@ -252,7 +239,6 @@ pub fn critter() -> (Mesh, Rig) {
     let world = rig.world(&rig.pose(None, 0.0, false));
     rig.joints = world
         .iter()
-        .take(bones.len())
         .enumerate()
         .map(|(node, m)| Joint {
             node,

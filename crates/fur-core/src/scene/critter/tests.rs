@@ -117,8 +117,6 @@ fn the_skeleton_has_every_named_node() {
         ("snout", Some("head")),
         ("ear.L", Some("head")),
         ("ear.R", Some("head")),
-        ("ear.L.tip", Some("ear.L")),
-        ("ear.R.tip", Some("ear.R")),
         ("tail.1", Some("root")),
         ("tail.2", Some("tail.1")),
         ("tail.3", Some("tail.2")),
@@ -154,19 +152,8 @@ fn the_skeleton_has_every_named_node() {
         );
         assert!(parent_index.is_none_or(|p| p < node), "parents first");
     }
-    // Every bone is a joint; the ears' tips are nodes only (their bones' directions).
-    let tips = rig
-        .nodes
-        .iter()
-        .filter(|n| n.name.ends_with(".tip"))
-        .count();
-    assert_eq!(tips, 2);
-    assert_eq!(rig.joints.len(), rig.nodes.len() - tips);
+    assert_eq!(rig.joints.len(), rig.nodes.len());
     assert!(rig.joints.iter().enumerate().all(|(i, j)| j.node == i));
-    assert!(rig
-        .joints
-        .iter()
-        .all(|j| !rig.nodes[j.node].name.ends_with(".tip")));
     assert_eq!(rig.scale, 1.0);
 }
 

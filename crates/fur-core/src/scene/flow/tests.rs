@@ -354,8 +354,7 @@ fn hair_lies_flat_and_along_the_legs() {
 }
 
 // A skinned body keeps its flow along the bones; on its thin ears the hair lies flat
-// along the ear. Broken variants seen failing: the ears' bones pointing on from the
-// head (the hair turned up to 38° from the ear), and the constant comb.
+// along the ear. Broken variant seen failing: the constant comb.
 #[test]
 fn the_critters_ears_lie_flat_along_the_ear() {
     let (rise, turn) = ears_lie(Flow::Body);

@@ -38,10 +38,16 @@ impl Comb {
     pub fn new(mesh: &Mesh, groom: &GroomParams) -> Result<Self> {
         let full = groom.segment_length * groom.segments as f32;
         // A comb of strength 0 leans nothing: no field, no thin parts to find. Thin parts
-        // lie flat only under the thickness limit: hair as long as asked on a thin part
-        // would, laid flat, reach past its end (and into the parts beside it).
+        // lie flat only under the thickness limit (hair as long as asked on a thin part
+        // would, laid flat, reach past its end and into the parts beside it), and only on
+        // a rigid body: a skinned body's thin parts (the critter's ears) are thinner than
+        // its collision field can see, and hair laid flat on them sinks into the walking
+        // skin (docs/design.md, "How grown fur lies").
         let combed = groom.comb_strength > 0.0;
-        let body = groom.flow == Flow::Body && combed && groom.thickness_limit > 0.0;
+        let body = groom.flow == Flow::Body
+            && combed
+            && groom.thickness_limit > 0.0
+            && groom.comb_field.is_none();
         let thickness = if groom.thickness_limit > 0.0 || body {
             Some(mesh.half_thickness()?)
         } else {

@@ -89,6 +89,35 @@ impl Mesh {
             .collect())
     }
 
+    /// [`Mesh::half_thickness`] as earlier versions measured it: the deepest point along
+    /// the whole inward ray (through the body and into any part behind it), and a
+    /// vertex whose ray finds no inside gets the bounding radius. Skinned bodies keep
+    /// it: the walking critter's collision is tuned on the hair it grows (its ears'
+    /// full-length hair; measured by `tests/skinning/depth.rs`).
+    pub fn half_thickness_through(&self) -> Result<Vec<f32>> {
+        let (_, radius) = self.bounds();
+        let (sdf, _) = Sdf::build(self, 40, 0.05 * radius)?;
+        const STEPS: usize = 24;
+        Ok(self
+            .positions
+            .iter()
+            .zip(&self.normals)
+            .map(|(p, n)| {
+                let deepest = (1..=STEPS)
+                    .filter_map(|k| {
+                        let q = *p - *n * (radius * k as f32 / STEPS as f32);
+                        sdf.sample(V3::<f32>::from_vec3(q)).map(|(d, _)| -d)
+                    })
+                    .fold(0.0f32, f32::max);
+                if deepest > 0.0 {
+                    deepest
+                } else {
+                    radius
+                }
+            })
+            .collect())
+    }
+
     /// Whether every edge, vertices at one position taken as one, joins exactly two
     /// triangles (the surface encloses a volume).
     pub fn is_watertight(&self) -> bool {

@@ -48,10 +48,10 @@ impl Comb {
             && combed
             && groom.thickness_limit > 0.0
             && groom.comb_field.is_none();
-        let thickness = if groom.thickness_limit > 0.0 || body {
-            Some(mesh.half_thickness()?)
-        } else {
-            None
+        let thickness = match (groom.thickness_limit > 0.0 || body, &groom.comb_field) {
+            (false, _) => None,
+            (true, None) => Some(mesh.half_thickness()?),
+            (true, Some(_)) => Some(mesh.half_thickness_through()?),
         };
         let lengths = match (&thickness, groom.thickness_limit > 0.0) {
             (Some(h), true) => h

@@ -354,9 +354,10 @@ fn hair_lies_flat_and_along_the_legs() {
 }
 
 // A model's thin ears lie flat: the critter's mesh as a rigid body (a model brought as
-// a file), grown as the default scene grows it. (Along the ear they do not yet: the
-// heat's diffusion time is long against a part this small, and the worst hair turns
-// 82° from the ear; printed.) Broken variant seen failing: the constant comb.
+// a file), grown as the default scene grows it. (Along the ear they do not all lie: the
+// distance from the snout reaches an ear's back over its inner rim, so there the flow
+// runs across the ear, the worst hair 82° from it; printed.) Broken variant seen
+// failing: the constant comb.
 #[test]
 fn a_models_ears_lie_flat() {
     let (rise, turn) = ears_lie(Flow::Body);

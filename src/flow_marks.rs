@@ -3,10 +3,10 @@
 //! part along two lines (saddles, cyan crosses), found from the hairs as grown, with a
 //! key in the image's lower-left corner.
 
-use ab_glyph::{Font, FontRef, PxScale, ScaleFont};
+use ab_glyph::ScaleFont;
 use glam::{Mat4, Vec3};
 
-use crate::legend::{text_width, Canvas};
+use crate::legend::{key_font, text_width, Canvas};
 use crate::render::RgbaImage;
 use crate::scene::{singular_points, Mesh, Singularity, Strands};
 
@@ -131,11 +131,7 @@ fn mark(canvas: &mut Canvas<'_>, centre: (f32, f32), size: f32, whorl: bool, opa
 
 /// The marks' key in the lower-left corner: a ring, "whorl", a cross, "saddle".
 fn key(canvas: &mut Canvas<'_>, size: f32) {
-    let font = FontRef::try_from_slice(epaint_default_fonts::UBUNTU_LIGHT)
-        .expect("the embedded font parses");
-    let text_px = (canvas.image.height as f32 / 28.0).clamp(10.0, 18.0);
-    let font = font.as_scaled(PxScale::from(text_px));
-    let margin = (text_px * 0.6).round() as i32;
+    let (font, _, margin) = key_font(canvas.image.height);
     let line = font.height().ceil() as i32;
     let labels = ["whorl", "saddle"];
     let mark_w = (2.0 * size).ceil() as i32 + 4;
@@ -170,14 +166,7 @@ fn key(canvas: &mut Canvas<'_>, size: f32) {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    fn blank(width: u32, height: u32) -> RgbaImage {
-        RgbaImage {
-            width,
-            height,
-            data: [10, 20, 30, 255].repeat((width * height) as usize),
-        }
-    }
+    use crate::legend::tests::blank;
 
     /// A whorl is drawn red and a saddle cyan where the camera sees them, and a point
     /// behind the camera not at all. Seen failing with the image's y flipped.

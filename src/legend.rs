@@ -92,11 +92,7 @@ impl Legend {
     /// returns where its colour bar went (x, y, width, height); nothing when the image
     /// is too small to hold it legibly.
     pub fn draw(&self, image: &mut RgbaImage) -> Option<(i32, i32, i32, i32)> {
-        let font = FontRef::try_from_slice(epaint_default_fonts::UBUNTU_LIGHT)
-            .expect("the embedded font parses");
-        let text_px = (image.height as f32 / 28.0).clamp(10.0, 18.0);
-        let font = font.as_scaled(PxScale::from(text_px));
-        let margin = (text_px * 0.6).round() as i32;
+        let (font, text_px, margin) = key_font(image.height);
         let bar_w = (image.width as f32 * 0.3).clamp(120.0, 320.0) as i32;
         let bar_h = (text_px * 0.8).round() as i32;
         let line = font.height().ceil() as i32;
@@ -168,6 +164,17 @@ impl Legend {
     }
 }
 
+/// The font a key is written in on an image `height` pixels tall, scaled to it, its
+/// size in pixels, and the key's margin.
+pub(crate) fn key_font(height: u32) -> (ab_glyph::PxScaleFont<FontRef<'static>>, f32, i32) {
+    let font = FontRef::try_from_slice(epaint_default_fonts::UBUNTU_LIGHT)
+        .expect("the embedded font parses");
+    let text_px = (height as f32 / 28.0).clamp(10.0, 18.0);
+    let margin = (text_px * 0.6).round() as i32;
+    let scale = PxScale::from(text_px);
+    (ab_glyph::PxScaleFont { font, scale }, text_px, margin)
+}
+
 pub(crate) fn text_width<F: Font>(font: &ab_glyph::PxScaleFont<F>, text: &str) -> i32 {
     text.chars()
         .map(|c| font.h_advance(font.glyph_id(c)))
@@ -235,10 +242,11 @@ impl Canvas<'_> {
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
 
-    fn blank(width: u32, height: u32) -> RgbaImage {
+    /// An image of one dull colour.
+    pub(crate) fn blank(width: u32, height: u32) -> RgbaImage {
         RgbaImage {
             width,
             height,

@@ -56,7 +56,7 @@ pub(super) fn render(args: &RenderArgs) -> anyhow::Result<()> {
             .render()
             .with_context(|| format!("drawing the frame ({width}×{height})"))?;
         let elapsed = start.elapsed();
-        let image = with_legend(image, &session)?;
+        let image = with_legend(image, &session, &flow_points(&session))?;
         image.write_png(&args.out)?;
         warn_without_fur(&session, report.counts);
         let points = report
@@ -103,25 +103,36 @@ fn warn_without_fur(session: &FurSession, counts: Option<fur::render::HairCounts
     }
 }
 
+/// Where the `masters` view marks the fur's flow turning: the singular points of the
+/// master hairs as grown (found once a run; they move only with the posed body); none
+/// for the other views.
+fn flow_points(session: &FurSession) -> Vec<fur::scene::Singularity> {
+    if session.settings.show == fur::render::Stage::Masters {
+        fur::flow_marks::of_masters(&session.mesh, &session.strands)
+    } else {
+        Vec::new()
+    }
+}
+
 /// `image` with the colour key of the stage it shows in its corner, when that stage
-/// has one (`fur::legend`); the `masters` view with the flow's singular points marked
-/// (`fur::flow_marks`).
+/// has one (`fur::legend`), and the flow's singular `points` ([`flow_points`]) marked
+/// where the body is posed (`fur::flow_marks`).
 fn with_legend(
     mut image: fur::render::RgbaImage,
     session: &FurSession,
+    points: &[fur::scene::Singularity],
 ) -> anyhow::Result<fur::render::RgbaImage> {
     let max_level = session.renderer.max_level();
     if let Some(legend) = fur::legend::Legend::of(&session.settings, max_level) {
         legend.draw(&mut image);
     }
-    if session.settings.show == fur::render::Stage::Masters {
-        let points = fur::flow_marks::of_masters(&session.mesh, &session.strands);
+    if !points.is_empty() {
         let mesh = &session.mesh;
         let posed = session.posed_body()?;
         let (positions, normals) = posed
             .as_ref()
             .map_or((&mesh.positions, &mesh.normals), |(p, n)| (p, n));
-        let marks = fur::flow_marks::placed(&points, positions, normals);
+        let marks = fur::flow_marks::placed(points, positions, normals);
         let camera = &session.settings.camera;
         let aspect = image.width as f32 / image.height.max(1) as f32;
         let view_projection = camera.view_projection(aspect);
@@ -240,6 +251,7 @@ fn render_sequence(args: &RenderArgs, dir: &Path, session: &mut FurSession) -> a
     let mut frame_ms = Vec::new();
     let mut budget = args.budget_ms.map(fur::render::budget::Budget::new);
     let base = session.settings.style.clone();
+    let points = flow_points(session);
     for frame in 0..args.frames {
         fur::interrupt::check()?;
         let warm = frame as usize > WARM_UP_FRAMES;
@@ -266,7 +278,7 @@ fn render_sequence(args: &RenderArgs, dir: &Path, session: &mut FurSession) -> a
             .with_context(|| format!("simulating and drawing frame {frame}"))?;
         warn_without_fur(session, timings.render.counts);
         frame_ms.push(start.elapsed().as_secs_f64() * 1e3);
-        let image = with_legend(image, session)?;
+        let image = with_legend(image, session, &points)?;
         image.write_png(&dir.join(format!("frame_{frame:04}.png")))?;
         bar.set_message(format!("{:.1} ms", frame_ms[frame_ms.len() - 1]));
         bar.inc(1);

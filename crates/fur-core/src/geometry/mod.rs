@@ -1,9 +1,11 @@
 //! Geometry that the scene and the simulation both build on: indexed triangles' bounds,
-//! the scalar and 3-vector maths the CPU reference runs on, and signed distance fields.
+//! the scalar and 3-vector maths the CPU reference runs on, signed distance fields, and
+//! which vertices and pieces a mesh joins.
 
 pub mod grid;
 pub mod math;
 pub mod sdf;
+pub mod topology;
 mod triangles;
 
 pub use math::{Real, V3};

@@ -81,17 +81,7 @@ impl SdfReport {
 /// vertices (within a millionth of its size) welded: a UV sphere's seam is closed.
 fn topology(mesh: Triangles) -> (usize, usize) {
     let (_, radius) = mesh.bounds();
-    let snap = (radius * 1e-6).max(f32::MIN_POSITIVE);
-    let mut ids: HashMap<[i64; 3], u32> = HashMap::new();
-    let weld: Vec<u32> = mesh
-        .positions
-        .iter()
-        .map(|p| {
-            let key = (*p / snap).round().as_i64vec3().to_array();
-            let next = ids.len() as u32;
-            *ids.entry(key).or_insert(next)
-        })
-        .collect();
+    let (weld, _) = super::topology::weld(mesh.positions, radius * 1e-6);
     // Per undirected edge: (uses a→b with a < b, uses b→a).
     let mut edges: HashMap<(u32, u32), (u32, u32)> = HashMap::new();
     for t in mesh.indices.chunks_exact(3) {

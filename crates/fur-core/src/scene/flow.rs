@@ -202,9 +202,7 @@ impl FlowField {
                 .collect(),
         })
     }
-}
 
-impl FlowField {
     /// Where the flow turns: the critical points of its distance
     /// ([`critical_points`]), exact where [`singular_points`] of the directions can
     /// miss a point at which neighbouring directions differ by half a turn.
@@ -213,15 +211,8 @@ impl FlowField {
     }
 }
 
-/// The body's longest axis, pointing to its head end by [`FlowFrom::Auto`]'s rule.
-pub fn principal_axis(mesh: &Mesh) -> Vec3 {
-    let surface = match heat::Surface::new(&mesh.positions, &mesh.indices) {
-        Ok(s) => s,
-        Err(_) => return Vec3::Z,
-    };
-    auto_axis(&surface).as_vec3()
-}
-
+/// The body's longest axis (by area), pointing to its head end by [`FlowFrom::Auto`]'s
+/// rule.
 fn auto_axis(surface: &heat::Surface) -> DVec3 {
     let total: f64 = surface.mass.iter().sum();
     let centre = surface

@@ -314,38 +314,23 @@ fn relax(parts: &[Part], positions: &mut [Vec3], indices: &[u32], h: f32) {
 
 /// The largest edge-connected piece of a triangle mesh, its vertices renumbered.
 fn largest_piece(positions: &[Vec3], indices: &[u32]) -> (Vec<Vec3>, Vec<u32>) {
-    let mut parent: Vec<usize> = (0..positions.len()).collect();
-    fn find(parent: &mut [usize], mut i: usize) -> usize {
-        while parent[i] != i {
-            parent[i] = parent[parent[i]];
-            i = parent[i];
-        }
-        i
-    }
+    let edges = indices
+        .chunks_exact(3)
+        .flat_map(|t| [(t[0], t[1]), (t[0], t[2])]);
+    let (piece, count) = crate::geometry::topology::pieces(positions.len(), edges);
+    // Triangles per piece; the most, the first piece on a tie.
+    let mut size = vec![0usize; count];
     for t in indices.chunks_exact(3) {
-        for k in 1..3 {
-            let (a, b) = (
-                find(&mut parent, t[0] as usize),
-                find(&mut parent, t[k] as usize),
-            );
-            parent[a.max(b)] = a.min(b);
-        }
+        size[piece[t[0] as usize] as usize] += 1;
     }
-    let mut size: HashMap<usize, usize> = HashMap::new();
-    for t in indices.chunks_exact(3) {
-        *size.entry(find(&mut parent, t[0] as usize)).or_default() += 1;
-    }
-    let Some((&keep, _)) = size
-        .iter()
-        .max_by_key(|(&root, &count)| (count, usize::MAX - root))
-    else {
+    let Some(keep) = (0..count).max_by_key(|&p| (size[p], usize::MAX - p)) else {
         return (Vec::new(), Vec::new());
     };
     let mut renumber = vec![u32::MAX; positions.len()];
     let mut kept = Vec::new();
     let mut out = Vec::new();
     for t in indices.chunks_exact(3) {
-        if find(&mut parent, t[0] as usize) != keep {
+        if piece[t[0] as usize] as usize != keep {
             continue;
         }
         for &i in t {

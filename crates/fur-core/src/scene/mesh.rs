@@ -44,24 +44,40 @@ impl Mesh {
     /// along the inward normal before the ray leaves the body (from a distance field of
     /// the mesh), so a thin ear or leg reads small and a round body large. A vertex
     /// whose inward ray finds no inside within two cells of the field gets half a cell
-    /// on a watertight model (a part thinner than the field can see) and the bounding
+    /// on a closed model (a part thinner than the field can see) and the bounding
     /// radius on an open one (a patch with no inside).
     pub fn half_thickness(&self) -> Result<Vec<f32>> {
+        self.half_thickness_by(false)
+    }
+
+    /// [`Mesh::half_thickness`] as earlier versions measured it: the deepest point along
+    /// the whole inward ray (through the body and into any part behind it), and a
+    /// vertex whose ray finds no inside gets the bounding radius. Skinned bodies keep
+    /// it: the walking critter's collision is tuned on the hair it grows (its ears'
+    /// full-length hair; measured by `tests/skinning/depth.rs`).
+    pub fn half_thickness_through(&self) -> Result<Vec<f32>> {
+        self.half_thickness_by(true)
+    }
+
+    fn half_thickness_by(&self, through: bool) -> Result<Vec<f32>> {
         const RESOLUTION: u32 = 40;
+        const STEPS: usize = 24;
         let (_, radius) = self.bounds();
         let padding = 0.05 * radius;
-        let (sdf, _) = Sdf::build(self, RESOLUTION, padding)?;
+        let (sdf, report) = Sdf::build(self, RESOLUTION, padding)?;
         let (lo, hi) = self.aabb();
         let cell = ((hi - lo).max_element() + 2.0 * padding) / RESOLUTION as f32;
-        let unseen = if self.is_watertight() {
+        let unseen = if report.closed() && !through {
             0.5 * cell
         } else {
             radius
         };
-        const STEPS: usize = 24;
-        // Eight times finer than every 1/24 of the radius over the first of those.
-        let depths: Vec<f32> = (1..8)
-            .map(|k| radius * k as f32 / (8 * STEPS) as f32)
+        // Every 1/24 of the radius (and, but through, eight times finer over the first
+        // of those).
+        let fine = (1..8)
+            .filter(|_| !through)
+            .map(|k| radius * k as f32 / (8 * STEPS) as f32);
+        let depths: Vec<f32> = fine
             .chain((1..=STEPS).map(|k| radius * k as f32 / STEPS as f32))
             .collect();
         Ok(self
@@ -76,7 +92,7 @@ impl Mesh {
                         .map_or(0.0, |(d, _)| -d);
                     if inside > 0.0 {
                         deepest = deepest.max(inside);
-                    } else if deepest > 0.0 || depth > 2.0 * cell {
+                    } else if !through && (deepest > 0.0 || depth > 2.0 * cell) {
                         break;
                     }
                 }
@@ -87,58 +103,6 @@ impl Mesh {
                 }
             })
             .collect())
-    }
-
-    /// [`Mesh::half_thickness`] as earlier versions measured it: the deepest point along
-    /// the whole inward ray (through the body and into any part behind it), and a
-    /// vertex whose ray finds no inside gets the bounding radius. Skinned bodies keep
-    /// it: the walking critter's collision is tuned on the hair it grows (its ears'
-    /// full-length hair; measured by `tests/skinning/depth.rs`).
-    pub fn half_thickness_through(&self) -> Result<Vec<f32>> {
-        let (_, radius) = self.bounds();
-        let (sdf, _) = Sdf::build(self, 40, 0.05 * radius)?;
-        const STEPS: usize = 24;
-        Ok(self
-            .positions
-            .iter()
-            .zip(&self.normals)
-            .map(|(p, n)| {
-                let deepest = (1..=STEPS)
-                    .filter_map(|k| {
-                        let q = *p - *n * (radius * k as f32 / STEPS as f32);
-                        sdf.sample(V3::<f32>::from_vec3(q)).map(|(d, _)| -d)
-                    })
-                    .fold(0.0f32, f32::max);
-                if deepest > 0.0 {
-                    deepest
-                } else {
-                    radius
-                }
-            })
-            .collect())
-    }
-
-    /// Whether every edge, vertices at one position taken as one, joins exactly two
-    /// triangles (the surface encloses a volume).
-    pub fn is_watertight(&self) -> bool {
-        let mut id: HashMap<[u32; 3], u32> = HashMap::new();
-        let joined: Vec<u32> = self
-            .positions
-            .iter()
-            .map(|p| {
-                let next = id.len() as u32;
-                *id.entry(p.to_array().map(|c| (c + 0.0).to_bits()))
-                    .or_insert(next)
-            })
-            .collect();
-        let mut edges: HashMap<(u32, u32), u32> = HashMap::new();
-        for t in self.indices.chunks_exact(3) {
-            for k in 0..3 {
-                let (a, b) = (joined[t[k] as usize], joined[t[(k + 1) % 3] as usize]);
-                *edges.entry((a.min(b), a.max(b))).or_default() += 1;
-            }
-        }
-        !edges.is_empty() && edges.values().all(|&c| c == 2)
     }
 
     /// Bounding radii a model is drawn at as it is; outside, [`Mesh::normalize_scale`]

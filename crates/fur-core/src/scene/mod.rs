@@ -21,8 +21,8 @@ mod texture_spec;
 pub use camera::Camera;
 pub use critter::critter;
 pub use flow::{
-    critical_points, principal_axis, singular_points, Flow, FlowField, FlowFrom, Singularity,
-    AXIS_LEAN, CAP, HEAT_TIME,
+    critical_points, singular_points, Flow, FlowField, FlowFrom, Singularity, AXIS_LEAN, CAP,
+    HEAT_TIME,
 };
 pub use gltf::{load_gltf, write_glb, GltfBody};
 pub use groom::{hash_unit, Comb, GroomParams, Strands, BODY_PERCENTILE, FLAT_LEAN, THICK, THIN};

@@ -13,10 +13,12 @@ use faer::{Mat, Side};
 use glam::DVec3;
 
 use crate::error::{Error, Result};
+use crate::geometry::topology::{pieces, weld};
 
-/// A closed or open triangle mesh as the operators see it: vertices that share a
-/// position are one (a model split at its texture seams is still one surface), and
-/// triangles that collapse once they are joined are dropped.
+/// A closed or open triangle mesh as the operators see it: vertices at one position
+/// (within a millionth of its size, as the distance field joins them) are one, so a
+/// model split at its texture seams is still one surface; triangles that collapse once
+/// they are joined are dropped.
 pub(super) struct Surface {
     /// Per vertex of the mesh, its joined vertex.
     pub joined: Vec<u32>,
@@ -36,17 +38,11 @@ pub(super) struct Surface {
 
 impl Surface {
     pub fn new(positions: &[glam::Vec3], indices: &[u32]) -> Result<Self> {
-        let mut joined = Vec::with_capacity(positions.len());
-        let mut by_position: HashMap<[u32; 3], u32> = HashMap::new();
-        let mut unique = Vec::new();
-        for p in positions {
-            let key = p.to_array().map(|c| (c + 0.0).to_bits());
-            let next = unique.len() as u32;
-            let id = *by_position.entry(key).or_insert(next);
-            if id == next {
-                unique.push(p.as_dvec3());
-            }
-            joined.push(id);
+        let (_, radius) = crate::geometry::Triangles { positions, indices }.bounds();
+        let (joined, count) = weld(positions, radius * 1e-6);
+        let mut unique = vec![DVec3::ZERO; count];
+        for (p, &j) in positions.iter().zip(&joined).rev() {
+            unique[j as usize] = p.as_dvec3();
         }
         let mut triangles = Vec::with_capacity(indices.len() / 3);
         for t in indices.chunks_exact(3) {
@@ -236,30 +232,4 @@ fn cotangent(a: DVec3, b: DVec3) -> f64 {
     } else {
         0.0
     }
-}
-
-/// Connected pieces of `n` vertices joined by `edges`: each vertex's piece, and the count.
-fn pieces(n: usize, edges: impl Iterator<Item = (u32, u32)>) -> (Vec<u32>, usize) {
-    fn find(parent: &mut [u32], mut i: u32) -> u32 {
-        while parent[i as usize] != i {
-            let up = parent[parent[i as usize] as usize];
-            parent[i as usize] = up;
-            i = up;
-        }
-        i
-    }
-    let mut parent: Vec<u32> = (0..n as u32).collect();
-    for (a, b) in edges {
-        let (ra, rb) = (find(&mut parent, a), find(&mut parent, b));
-        parent[ra.max(rb) as usize] = ra.min(rb);
-    }
-    let mut label = HashMap::new();
-    let piece = (0..n as u32)
-        .map(|i| {
-            let root = find(&mut parent, i);
-            let next = label.len() as u32;
-            *label.entry(root).or_insert(next)
-        })
-        .collect();
-    (piece, label.len())
 }

@@ -133,6 +133,16 @@ fn turns_only_at_the_ends(axis: Vec3, points: &[Singularity]) -> Result<(), Stri
     }
 }
 
+/// Where `flow` starts on `mesh`: the centre of its sources.
+fn start_of(flow: &FlowField, mesh: &Mesh) -> Vec3 {
+    let sum: Vec3 = flow
+        .sources
+        .iter()
+        .map(|&v| mesh.positions[v as usize])
+        .sum();
+    sum / flow.sources.len() as f32
+}
+
 // Whichever way the body lies. Broken variant seen failing: the constant comb (on a
 // body lying along x, its whorls fall on the flanks, where the normal is parallel to
 // it).
@@ -145,12 +155,7 @@ fn an_ellipsoids_flow_turns_only_at_its_two_ends() {
         // The directions turn where the distance has its critical points.
         turns_only_at_the_ends(axis, &singular_points(&mesh, &flow.directions)).unwrap();
         // It starts at the end the rule names: +z, else +y, else +x.
-        let start = flow
-            .sources
-            .iter()
-            .map(|&v| mesh.positions[v as usize])
-            .sum::<Vec3>()
-            / flow.sources.len() as f32;
+        let start = start_of(&flow, &mesh);
         assert!(start.dot(axis) > 2.9, "{axis}: starts at {start}");
     }
     let along_x = ellipsoid_along(Vec3::X);
@@ -439,12 +444,7 @@ fn the_flow_starts_where_it_is_told() {
     let mesh = ellipsoid();
     let start = |from| {
         let flow = FlowField::build(&mesh, from).unwrap();
-        let at = flow
-            .sources
-            .iter()
-            .map(|&v| mesh.positions[v as usize])
-            .sum::<Vec3>()
-            / flow.sources.len() as f32;
+        let at = start_of(&flow, &mesh);
         // The distance is least where the flow starts and greatest at the other end.
         let (least, _) = flow
             .distance

@@ -151,19 +151,37 @@ pub const HEAT_TIME: f64 = 0.05;
 impl FlowField {
     /// The field along `mesh` from `from`.
     pub fn build(mesh: &Mesh, from: FlowFrom) -> Result<Self> {
-        if mesh.positions.iter().any(|p| !p.is_finite()) {
-            return Err(Error::Parameter(
-                "the model has a vertex that is not finite; no flow can be laid on it".into(),
-            ));
-        }
-        let surface = heat::Surface::new(&mesh.positions, &mesh.indices)?;
+        let surface = surface(mesh)?;
         let sources = head_end(&surface, from);
+        Self::solve(mesh, &surface, &sources)
+    }
+
+    /// The field along `mesh` away from where the heat starts: `heat` per mesh
+    /// vertex (0 where none starts; vertices at one position take the most of theirs).
+    pub fn from_heat(mesh: &Mesh, heat: &[f32]) -> Result<Self> {
+        if heat.len() != mesh.vertex_count() {
+            return Err(Error::Parameter(format!(
+                "{} heat values for {} vertices",
+                heat.len(),
+                mesh.vertex_count()
+            )));
+        }
+        let surface = surface(mesh)?;
+        let mut sources = vec![0.0f64; surface.len()];
+        for (h, &j) in heat.iter().zip(&surface.joined) {
+            let s = &mut sources[j as usize];
+            *s = s.max(f64::from(h.max(0.0)));
+        }
+        Self::solve(mesh, &surface, &sources)
+    }
+
+    fn solve(mesh: &Mesh, surface: &heat::Surface, sources: &[f64]) -> Result<Self> {
         let (lo, hi) = mesh.aabb();
         let size = f64::from(hi.distance(lo));
         let time = (HEAT_TIME * size)
             .powi(2)
             .max(surface.spacing * surface.spacing);
-        let distance = surface.distance(&sources, time)?;
+        let distance = surface.distance(sources, time)?;
         // Per joined vertex, the area-weighted gradient of the distance; where the
         // gradients around a vertex cancel, the flow turns about it (it is a whorl's or
         // a saddle's centre) and has no direction there.
@@ -209,6 +227,16 @@ impl FlowField {
     pub fn singular_points(&self, mesh: &Mesh) -> Vec<Singularity> {
         critical_points(mesh, &self.distance)
     }
+}
+
+/// `mesh` as the heat method sees it, refusing a vertex that is not finite.
+fn surface(mesh: &Mesh) -> Result<heat::Surface> {
+    if mesh.positions.iter().any(|p| !p.is_finite()) {
+        return Err(Error::Parameter(
+            "the model has a vertex that is not finite; no flow can be laid on it".into(),
+        ));
+    }
+    heat::Surface::new(&mesh.positions, &mesh.indices)
 }
 
 /// The body's longest axis (by area), pointing to its head end by [`FlowFrom::Auto`]'s

@@ -358,16 +358,17 @@ fn hair_lies_flat_and_along_the_legs() {
     );
 }
 
-// A model's thin ears lie flat: the critter's mesh as a rigid body (a model brought as
-// a file), grown as the default scene grows it. (Along the ear they do not all lie: the
-// distance from the snout reaches an ear's back over its inner rim, so there the flow
-// runs across the ear, the worst hair 82° from it; printed.) Broken variant seen
-// failing: the constant comb.
+// A model's thin ears lie flat and along the ear, towards its tip: the critter's mesh
+// as a rigid body (a model brought as a file), grown as the default scene grows it.
+// Broken variants seen failing: the constant comb (hair standing out of the ear), and
+// the flow from the head end alone on thin parts (it reaches an ear's back over its
+// inner rim, and there runs across and down the ear: the worst hair 167° from the way
+// to its tip).
 #[test]
 fn a_models_ears_lie_flat() {
     let (rise, turn) = ears_lie(Flow::Body);
     eprintln!("on the ears, the tips rise at most {rise:.1}° and turn {turn:.1}° from the ear");
-    assert!(rise <= 20.0, "rise {rise}°");
+    assert!(rise <= 20.0 && turn <= 30.0, "rise {rise}°, turn {turn}°");
     let (rise, _) = ears_lie(Flow::Direction);
     assert!(rise > 20.0, "the constant comb: rise {rise}°");
 }
@@ -400,9 +401,8 @@ fn ears_lie(flow: Flow) -> (f32, f32) {
         if !on_ear || !(0.4..0.85).contains(&t) {
             continue;
         }
-        // Along the ear either way: up to its tip, or down from the whorl near it.
         let (rise, turn) = lie(&mesh, &strands, v, along);
-        worst = (worst.0.max(rise), worst.1.max(turn.min(180.0 - turn)));
+        worst = (worst.0.max(rise), worst.1.max(turn));
         count += 1;
     }
     assert!(count > 50, "{count} hairs on the ears");

@@ -66,7 +66,7 @@ impl Comb {
         };
         Ok(Self {
             direction: if combed {
-                directions(mesh, groom)?
+                directions(mesh, groom, &flat)?
             } else {
                 vec![Vec3::ZERO; mesh.vertex_count()]
             },
@@ -109,8 +109,10 @@ fn flatness(h: &[f32]) -> Vec<f32> {
         .collect()
 }
 
-/// Per vertex, the comb's tangent direction times the comb's length.
-fn directions(mesh: &Mesh, groom: &GroomParams) -> Result<Vec<Vec3>> {
+/// Per vertex, the comb's tangent direction times the comb's length; where the body is
+/// thin (`flat` above 0), blended towards the direction along the part, away from
+/// where it joins the body.
+fn directions(mesh: &Mesh, groom: &GroomParams, flat: &[f32]) -> Result<Vec<Vec3>> {
     let length = groom.comb_direction.length();
     let tangent = |n: Vec3, d: Vec3| (d - d.dot(n) * n).normalize_or_zero() * length;
     let normals = || {
@@ -143,13 +145,33 @@ fn directions(mesh: &Mesh, groom: &GroomParams) -> Result<Vec<Vec3>> {
         }
         (Flow::Body, None) => {
             let field = FlowField::build(mesh, groom.flow_from)?;
+            let along = along_parts(mesh, flat)?;
             Ok(normals()
                 .zip(&field.directions)
-                .map(|(n, d)| tangent(n, *d))
+                .enumerate()
+                .map(|(i, (n, d))| match &along {
+                    Some(a) if a[i] != Vec3::ZERO => {
+                        tangent(n, d.lerp(a[i], flat[i]).normalize_or(*d))
+                    }
+                    _ => tangent(n, *d),
+                })
                 .collect())
         }
         (Flow::Direction, _) => Ok(constant(mesh, groom)),
     }
+}
+
+/// Per vertex, the direction along a thin part away from the body it grows from: the
+/// flow of the heat method's distance from the thick body (`flat` 0), which on a part
+/// runs from where it joins the body to its tip whichever way the body's flow crosses
+/// it (the flow from a head end reaches an ear's back over its rim, and there runs
+/// across the ear). `None` where no part is thin.
+fn along_parts(mesh: &Mesh, flat: &[f32]) -> Result<Option<Vec<Vec3>>> {
+    if flat.iter().all(|&f| f <= 0.0) {
+        return Ok(None);
+    }
+    let body: Vec<f32> = flat.iter().map(|&f| f32::from(f <= 0.0)).collect();
+    Ok(Some(FlowField::from_heat(mesh, &body)?.directions))
 }
 
 /// The constant comb: its direction projected onto each tangent plane. A second

@@ -81,7 +81,7 @@ fn walk_depths_with(
 /// Collision keeps the walking critter's hair out of its skin, the deepest vertex within
 /// 1 % of the hair length: measured against the same walk without collision. Measured
 /// here (3 frames, the default collision with the skin's blend and the root's bone):
-/// max 0.96 %, collision dividing the mean depth by 154 and the max by 27; the bounds
+/// max 0.95 %, collision dividing the mean depth by 237 and the max by 28; the bounds
 /// ask for 5 and 3.2, so a collision doing half its work fails, and so does the previous
 /// release's (0.97 % here, but 1.37 % in the benchmark's frames, where the armpit's
 /// first vertices show).
@@ -114,7 +114,7 @@ fn collision_keeps_the_walking_hair_out_of_the_skin() {
 /// Three rules keep the walking critter's hair out of its skin where the skin folds
 /// over (the armpit, as the leg swings back), each bound here on the device: over the
 /// benchmark's frames of the walk (six samples five frames apart), the deepest vertex
-/// stays within the product's 1 % target with all three (measured 0.95 %), and goes
+/// stays within the product's 1 % target with all three (measured 0.98 %), and goes
 /// past it with any one taken out:
 /// - the root's bone carries the hair's first eighth back (`FUR_TEST_NO_ROOT_BONE` in
 ///   `collide.glsl` carries it by the root pose, the release before the rule: 1.37 %);
@@ -124,7 +124,7 @@ fn collision_keeps_the_walking_hair_out_of_the_skin() {
 ///   vertices pushed into the skin beside it: 1.22 %);
 /// - the distance field of a skinned body has twice a rigid body's cells per hair
 ///   length (`CELLS_PER_HAIR_SKINNED`; at the rigid body's resolution, 32 cells
-///   instead of 63 here: 2.52 %).
+///   instead of 63 here: 1.73 %).
 ///
 /// The unit test of `Collider::root_bone` and the worked cases of `SimParams::sdf_cells`
 /// check those helpers alone, and the reach has no unit test of its own (the CPU twin
@@ -183,8 +183,8 @@ fn each_skinned_collision_rule_keeps_the_walking_hair_out() {
 /// critter than by its root poses alone (`--skin-blend off`): the tips of hair rooted
 /// where a paw meets its leg, which the root pose carries with the blend of the two
 /// bones while the paw's skin turns with the paw, are no longer the deepest (measured
-/// over these frames: max 1.14 % by the root poses, 0.96 % with the skin's blend; mean
-/// 3.48e-6 and 2.82e-6).
+/// over these frames: max 1.24 % by the root poses, 0.95 % with the skin's blend; mean
+/// 5.79e-6 and 4.72e-6).
 #[test]
 fn the_skins_blend_keeps_hair_out_where_the_skin_bends() {
     // The product's target for the walking critter's deepest vertex (1 % of the hair

@@ -175,6 +175,10 @@ fn design() -> Vec<(&'static str, Vec<String>)> {
                 ),
                 format!("from {} of the body's up", fur::scene::THICK),
                 format!(
+                    "not at all at {} or less",
+                    fur::scene::ONE_BONE
+                ),
+                format!(
                     "offset is at most {} of the hair's own reach",
                     fur::render::uniforms::JITTER_SHARE
                 ),

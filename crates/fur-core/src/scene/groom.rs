@@ -21,11 +21,11 @@ pub struct GroomParams {
     pub flow: super::Flow,
     /// Where a body's flow starts (its head end).
     pub flow_from: super::FlowFrom,
-    /// Per vertex, a direction that replaces the body's flow there (a skinned body's
-    /// fur flow along its bones); its length is ignored. Unused by [`Flow::Direction`].
+    /// A skinned body's fur flow along its bones, which replaces the body's flow.
+    /// Unused by [`Flow::Direction`].
     ///
     /// [`Flow::Direction`]: super::Flow::Direction
-    pub comb_field: Option<Vec<Vec3>>,
+    pub comb_field: Option<BoneFlow>,
     /// How far the tip leans towards the comb direction; 0 = straight along the normal.
     pub comb_strength: f32,
     /// Curl radius as a fraction of the segment length; 0 = no curl.
@@ -39,6 +39,16 @@ pub struct GroomParams {
     /// A groom file whose guide curves make the master hairs instead (the comb, curl
     /// and length settings then do not apply; the segment count does).
     pub source: Option<super::GroomSource>,
+}
+
+/// A skinned body's fur flow (`skinning::fur_flow`): per vertex, the direction fur
+/// runs along its bones (its length ignored) and how closely the skin there follows
+/// one bone (its heaviest bone's weight, 1 where it follows that bone alone: hair lies
+/// flat only as far as the skin under it moves as one, [`comb::ONE_BONE`]).
+#[derive(Clone, Debug, PartialEq)]
+pub struct BoneFlow {
+    pub directions: Vec<Vec3>,
+    pub one_bone: Vec<f32>,
 }
 
 impl Default for GroomParams {
@@ -220,4 +230,4 @@ pub(crate) mod comb;
 #[cfg(test)]
 mod tests;
 
-pub use comb::{Comb, BODY_PERCENTILE, FLAT_LEAN, THICK, THIN};
+pub use comb::{Comb, BODY_PERCENTILE, FLAT_LEAN, ONE_BONE, THICK, THIN};

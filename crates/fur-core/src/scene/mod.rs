@@ -25,7 +25,10 @@ pub use flow::{
     HEAT_TIME,
 };
 pub use gltf::{load_gltf, write_glb, GltfBody};
-pub use groom::{hash_unit, Comb, GroomParams, Strands, BODY_PERCENTILE, FLAT_LEAN, THICK, THIN};
+pub use groom::{
+    hash_unit, BoneFlow, Comb, GroomParams, Strands, BODY_PERCENTILE, FLAT_LEAN, ONE_BONE, THICK,
+    THIN,
+};
 pub use groom_bind::{
     closest_on_triangle, nearest_surface_point, resample, GroomMode, GroomReport, GroomSource,
     Outside, SurfacePoint, BALD_FRACTION, BIND_LIMIT, BIND_TOLERANCE, BLEND_GUIDES, EXACT_ROOT,

@@ -16,7 +16,7 @@ pub mod dual_quaternion;
 
 use glam::Vec3;
 
-use crate::scene::{Mesh, Rig};
+use crate::scene::{BoneFlow, Mesh, Rig};
 
 pub use cpu::RootPose;
 
@@ -140,8 +140,8 @@ pub fn tangent_across(n: Vec3, hint: Vec3) -> Vec3 {
 /// belongs to, away from the hierarchy's root (down the legs, out along the tail and
 /// the ears), except along the chain from the root to the front-most joint (spine,
 /// neck, head), where it runs back from the nose towards the tail. Whorls fall where
-/// bones end: nose, paws, tail tip.
-pub fn fur_flow(rig: &Rig) -> Vec<Vec3> {
+/// bones end: nose, paws, tail tip. With it, per vertex, its heaviest joint's weight.
+pub fn fur_flow(rig: &Rig) -> BoneFlow {
     let world = rig.world(&rig.pose(None, 0.0, false));
     let front = rig
         .joints
@@ -155,7 +155,8 @@ pub fn fur_flow(rig: &Rig) -> Vec<Vec3> {
         forward_chain[n] = true;
         node = rig.nodes[n].parent;
     }
-    rig.bone_directions()
+    let (directions, one_bone) = rig
+        .bone_directions()
         .into_iter()
         .zip(rig.influences.iter().zip(&rig.weights))
         .map(|(d, (joints, weights))| {
@@ -167,13 +168,14 @@ pub fn fur_flow(rig: &Rig) -> Vec<Vec3> {
                 .joints
                 .get(joint)
                 .is_some_and(|j| forward_chain.get(j.node).copied().unwrap_or(false));
-            if on_chain {
-                -d
-            } else {
-                d
-            }
+            let way = if on_chain { -d } else { d };
+            (way, weights[heaviest])
         })
-        .collect()
+        .unzip();
+    BoneFlow {
+        directions,
+        one_bone,
+    }
 }
 
 /// Which clip a scene plays, by name (scene files' `[animation]`, `--animation`).

@@ -159,8 +159,10 @@ fn the_tangent_is_the_hint_made_orthogonal_to_the_normal() {
 fn fur_flows_back_along_the_spine_and_down_the_legs() {
     let rig = stick();
     let flow = fur_flow(&rig);
-    assert_eq!(flow.len(), rig.bind_positions.len());
-    for (v, f) in flow.iter().enumerate() {
+    assert_eq!(flow.directions.len(), rig.bind_positions.len());
+    for (v, (f, w)) in flow.directions.iter().zip(&flow.one_bone).enumerate() {
+        let heaviest = rig.weights[v].iter().copied().fold(0.0, f32::max);
+        assert_eq!(*w, heaviest, "vertex {v}: the heaviest weight");
         let expected = if rig.influences[v][0] < 3 {
             -Vec3::Z
         } else {

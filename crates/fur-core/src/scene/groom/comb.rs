@@ -18,6 +18,11 @@ pub const THIN: f32 = 0.3;
 pub const THICK: f32 = 0.6;
 /// The percentile of the vertices' half-thicknesses that stands for the body's.
 pub const BODY_PERCENTILE: usize = 90;
+/// On a skinned body, hair lies flat only as far as the skin under it follows one bone:
+/// fully where its heaviest bone's weight is 1, not at all at or below this weight,
+/// smoothly between. Where the skin blends bones it bends as they turn (a hip, the
+/// root of an ear), and hair laid flat there sinks into it.
+pub const ONE_BONE: f32 = 0.7;
 /// The lean of a hair lying flat: 1 / tan 10°, so each segment rises about 10° (with
 /// the default comb's length, 9.6°) from the tangent plane.
 pub const FLAT_LEAN: f32 = 5.671_282;
@@ -37,33 +42,44 @@ pub struct Comb {
 impl Comb {
     pub fn new(mesh: &Mesh, groom: &GroomParams) -> Result<Self> {
         let full = groom.segment_length * groom.segments as f32;
+        if let Some(bones) = &groom.comb_field {
+            let n = mesh.vertex_count();
+            if bones.directions.len() != n || bones.one_bone.len() != n {
+                return Err(Error::Parameter(format!(
+                    "the bones' fur flow has {} directions and {} weights for {n} vertices",
+                    bones.directions.len(),
+                    bones.one_bone.len()
+                )));
+            }
+        }
         // A comb of strength 0 leans nothing: no field, no thin parts to find. Thin parts
-        // lie flat only under the thickness limit (hair as long as asked on a thin part
-        // would, laid flat, reach past its end and into the parts beside it), and only on
-        // a rigid body: a skinned body's thin parts (the critter's ears) are thinner than
-        // its collision field can see, and hair laid flat on them sinks into the walking
-        // skin (docs/design.md, "How grown fur lies").
+        // lie flat only under the thickness limit: hair as long as asked on a thin part
+        // would, laid flat, reach past its end and into the parts beside it.
         let combed = groom.comb_strength > 0.0;
-        let body = groom.flow == Flow::Body
-            && combed
-            && groom.thickness_limit > 0.0
-            && groom.comb_field.is_none();
-        let thickness = match (groom.thickness_limit > 0.0 || body, &groom.comb_field) {
-            (false, _) => None,
-            (true, None) => Some(mesh.half_thickness()?),
-            (true, Some(_)) => Some(mesh.half_thickness_through()?),
+        let limited = groom.thickness_limit > 0.0;
+        let body = groom.flow == Flow::Body && combed && limited;
+        // The half-thickness that finds thin parts, and the one that bounds the hair's
+        // length: the same on a rigid body; a skinned body keeps its lengths measured
+        // through the body, on which its collision is tuned (docs/design.md, "How grown
+        // fur lies").
+        let thin = match body || (limited && groom.comb_field.is_none()) {
+            true => Some(mesh.half_thickness()?),
+            false => None,
         };
-        let lengths = match (&thickness, groom.thickness_limit > 0.0) {
-            (Some(h), true) => h
-                .iter()
-                .map(|h| (groom.thickness_limit * h).min(full))
-                .collect(),
-            _ => vec![full; mesh.vertex_count()],
+        let lengths = match (limited, &groom.comb_field) {
+            (false, _) => vec![full; mesh.vertex_count()],
+            (true, None) => bounded(thin.as_deref().unwrap_or_default(), groom, full),
+            (true, Some(_)) => bounded(&mesh.half_thickness_through()?, groom, full),
         };
-        let flat = match (&thickness, body) {
+        let mut flat = match (&thin, body) {
             (Some(h), true) => flatness(h),
             _ => vec![0.0; mesh.vertex_count()],
         };
+        if let Some(bones) = &groom.comb_field {
+            for (f, &w) in flat.iter_mut().zip(&bones.one_bone) {
+                *f *= smoothstep((w - ONE_BONE) / (1.0 - ONE_BONE));
+            }
+        }
         Ok(Self {
             direction: if combed {
                 directions(mesh, groom, &flat)?
@@ -92,6 +108,19 @@ impl Comb {
     }
 }
 
+/// Per vertex, the hair's length under the thickness limit from the half-thicknesses `h`.
+fn bounded(h: &[f32], groom: &GroomParams, full: f32) -> Vec<f32> {
+    h.iter()
+        .map(|h| (groom.thickness_limit * h).min(full))
+        .collect()
+}
+
+/// 0 at and below 0, 1 at and above 1, smooth between.
+fn smoothstep(x: f32) -> f32 {
+    let x = x.clamp(0.0, 1.0);
+    x * x * (3.0 - 2.0 * x)
+}
+
 /// Per vertex, 0 (thick) to 1 (thin) from the half-thicknesses `h`.
 fn flatness(h: &[f32]) -> Vec<f32> {
     let mut sorted: Vec<f32> = h.iter().copied().filter(|v| v.is_finite()).collect();
@@ -102,10 +131,7 @@ fn flatness(h: &[f32]) -> Vec<f32> {
         .unwrap_or(0.0)
         .max(f32::MIN_POSITIVE);
     h.iter()
-        .map(|&v| {
-            let x = ((v / body - THIN) / (THICK - THIN)).clamp(0.0, 1.0);
-            1.0 - x * x * (3.0 - 2.0 * x)
-        })
+        .map(|&v| 1.0 - smoothstep((v / body - THIN) / (THICK - THIN)))
         .collect()
 }
 
@@ -121,20 +147,19 @@ fn directions(mesh: &Mesh, groom: &GroomParams, flat: &[f32]) -> Result<Vec<Vec3
             .map(|n| n.try_normalize().unwrap_or(Vec3::Y))
     };
     match (groom.flow, &groom.comb_field) {
-        (Flow::Body, Some(field)) => {
-            if field.len() != mesh.vertex_count() {
-                return Err(Error::Parameter(format!(
-                    "the comb field has {} directions for {} vertices",
-                    field.len(),
-                    mesh.vertex_count()
-                )));
-            }
+        (Flow::Body, Some(bones)) => {
             let fallback = groom.comb_direction.try_normalize().unwrap_or(Vec3::NEG_Y);
+            let along = along_parts(mesh, flat)?;
             // As the constant comb, each vertex's own direction with a second across
             // it where the surface faces along it.
             Ok(normals()
-                .zip(field)
-                .map(|(n, d)| {
+                .zip(&bones.directions)
+                .enumerate()
+                .map(|(i, (n, d))| {
+                    let d = match &along {
+                        Some(a) if a[i] != Vec3::ZERO => d.normalize_or_zero().lerp(a[i], flat[i]),
+                        _ => *d,
+                    };
                     let primary = d.try_normalize().unwrap_or(fallback);
                     let secondary = primary.any_orthonormal_vector();
                     let along_first = primary - primary.dot(n) * n;

@@ -169,7 +169,10 @@ fn a_comb_field_replaces_the_comb_direction_per_vertex() {
         segments: 2,
         segment_length: 0.1,
         comb_direction: Vec3::Y * 2.0,
-        comb_field: Some(vec![Vec3::X * 5.0, Vec3::ZERO]),
+        comb_field: Some(crate::scene::BoneFlow {
+            directions: vec![Vec3::X * 5.0, Vec3::ZERO],
+            one_bone: vec![1.0; 2],
+        }),
         comb_strength: 0.5,
         flow: crate::scene::Flow::Body,
         ..Default::default()
@@ -184,14 +187,19 @@ fn a_comb_field_replaces_the_comb_direction_per_vertex() {
         |k| Vec3::new(0.0, lean(k), 1.0),
         "fallback",
     );
-    let short = GroomParams {
-        comb_field: Some(vec![Vec3::X]),
-        ..groom
-    };
-    assert!(matches!(
-        Strands::grow(&mesh, &short),
-        Err(Error::Parameter(_))
-    ));
+    for (directions, weights) in [(1, 2), (2, 1)] {
+        let short = GroomParams {
+            comb_field: Some(crate::scene::BoneFlow {
+                directions: vec![Vec3::X; directions],
+                one_bone: vec![1.0; weights],
+            }),
+            ..groom.clone()
+        };
+        assert!(matches!(
+            Strands::grow(&mesh, &short),
+            Err(Error::Parameter(_))
+        ));
+    }
 }
 
 /// With a curl c and no comb, every segment leans by tan⁻¹(c) from the normal, and

@@ -7,6 +7,7 @@ use glam::Vec3;
 
 use super::GroomParams;
 use crate::error::{Error, Result};
+use crate::geometry::topology::{pieces, weld};
 use crate::scene::{Flow, FlowField, Mesh};
 
 /// A part whose half-thickness is at most this fraction of the body's (its
@@ -186,17 +187,43 @@ fn directions(mesh: &Mesh, groom: &GroomParams, flat: &[f32]) -> Result<Vec<Vec3
     }
 }
 
-/// Per vertex, the direction along a thin part away from the body it grows from: the
-/// flow of the heat method's distance from the thick body (`flat` 0), which on a part
-/// runs from where it joins the body to its tip whichever way the body's flow crosses
-/// it (the flow from a head end reaches an ear's back over its rim, and there runs
-/// across the ear). `None` where no part is thin.
+/// Per vertex, the direction along a thin part: the flow of the heat method's distance
+/// from the thick body (`flat` 0), which on a part runs from where it joins the body to
+/// its tip whichever way the body's flow crosses it (the flow from a head end reaches
+/// an ear's back over its rim, and there runs across the ear). Only a part thin
+/// throughout beyond its join has one: somewhere on it the hair lies wholly flat (a
+/// part thin only at its rim, as the blob's ears are, would get a field across it, from
+/// the thick middle to the rim, and keeps the body's flow). `None` where no part is
+/// thin.
 fn along_parts(mesh: &Mesh, flat: &[f32]) -> Result<Option<Vec<Vec3>>> {
     if flat.iter().all(|&f| f <= 0.0) {
         return Ok(None);
     }
-    let body: Vec<f32> = flat.iter().map(|&f| f32::from(f <= 0.0)).collect();
-    Ok(Some(FlowField::from_heat(mesh, &body)?.directions))
+    let thick: Vec<f32> = flat.iter().map(|&f| f32::from(f <= 0.0)).collect();
+    let mut along = FlowField::from_heat(mesh, &thick)?.directions;
+    // The thin parts: vertices with some flatness, joined by the mesh's edges and at
+    // its seams.
+    let (_, radius) = mesh.bounds();
+    let (joined, count) = weld(&mesh.positions, radius * 1e-6);
+    let thin = |v: u32| flat[v as usize] > 0.0;
+    let edges = mesh.indices.chunks_exact(3).flat_map(|t| {
+        [(t[0], t[1]), (t[1], t[2]), (t[2], t[0])]
+            .into_iter()
+            .filter(|&(a, b)| thin(a) && thin(b))
+            .map(|(a, b)| (joined[a as usize], joined[b as usize]))
+    });
+    let (part, parts) = pieces(count, edges);
+    let mut thinnest = vec![0.0f32; parts];
+    for v in 0..mesh.vertex_count() {
+        let p = part[joined[v] as usize] as usize;
+        thinnest[p] = thinnest[p].max(flat[v]);
+    }
+    for (v, a) in along.iter_mut().enumerate() {
+        if thinnest[part[joined[v] as usize] as usize] < 1.0 {
+            *a = Vec3::ZERO;
+        }
+    }
+    Ok(Some(along))
 }
 
 /// The constant comb: its direction projected onto each tangent plane. A second

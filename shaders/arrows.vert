@@ -3,7 +3,7 @@
 // each master-hair vertex in the frame's last substep (the kernel's probe,
 // shaders/simulate.comp), as a line list, one instance per master hair and two
 // vertices per strand vertex: from the vertex less the correction magnified
-// frame.draw.w times (dark) to the vertex (bright magenta, a colour the displacement
+// frame.drawing.arrow_scale times (dark) to the vertex (bright magenta, a colour the displacement
 // scale does not use).
 #include "common.glsl"
 
@@ -18,7 +18,7 @@ void main() {
     uint vertex = uint(gl_VertexIndex) / 2u;
     bool head = (gl_VertexIndex & 1) == 1;
     vec3 p = strand_vertex(strand, vertex);
-    vec3 d = arrows[strand * frame.strands.x + vertex].xyz * frame.draw.w;
-    gl_Position = frame.view_proj * vec4(head ? p : p - d, 1.0);
+    vec3 d = arrows[strand * frame.strands.vertices_per_strand + vertex].xyz * frame.drawing.arrow_scale;
+    gl_Position = frame.camera.view_proj * vec4(head ? p : p - d, 1.0);
     v_colour = head ? vec3(1.0, 0.2, 1.0) : vec3(0.12, 0.0, 0.12);
 }

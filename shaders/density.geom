@@ -19,7 +19,7 @@ layout(location = 1) noperspective out vec3 g_bary;
 layout(location = 2) flat out vec3 g_outer;   // per edge (opposite corner k): on the body triangle's edge
 layout(location = 3) flat out float g_pixels;
 
-// Blue at level 1 through green to red at the device's largest level (frame.lod.z),
+// Blue at level 1 through green to red at the device's largest level (frame.drawing.max_level),
 // evenly in log₂ of the level (crates/fur-core/src/render/stage.rs: level_colour).
 vec3 level_colour(float level, float max_level) {
     float t = clamp(log2(max(level, 1.0)) / log2(max(max_level, 2.0)), 0.0, 1.0);
@@ -27,7 +27,7 @@ vec3 level_colour(float level, float max_level) {
 }
 
 void main() {
-    vec3 colour = level_colour(e_level[0], frame.lod.z);
+    vec3 colour = level_colour(e_level[0], frame.drawing.max_level);
     // The edge opposite corner k joins corners k+1 and k+2: it lies on the patch's edge
     // opposite patch corner c when both have barycentric coordinate c at zero, and is
     // outlined when the patch owns that edge (bit 3 + c of its mask).

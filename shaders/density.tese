@@ -17,8 +17,8 @@ layout(location = 2) out float e_pixels;   // the patch's shortest edge on scree
 layout(location = 3) out uint e_mask;
 
 vec2 screen(vec3 p) {
-    vec4 c = frame.view_proj * vec4(p, 1.0);
-    return c.xy / max(abs(c.w), 1e-6) * 0.5 * frame.viewport.xy;
+    vec4 c = frame.camera.view_proj * vec4(p, 1.0);
+    return c.xy / max(abs(c.w), 1e-6) * 0.5 * frame.camera.viewport;
 }
 
 void main() {
@@ -34,6 +34,6 @@ void main() {
     e_mask = p_mask;
     // A thousandth of the way to the eye: drawn over the body it lies on (the mesh
     // pass, which shows the culled triangles), never behind it.
-    root += (frame.eye.xyz - root) * 1e-3;
-    gl_Position = frame.view_proj * vec4(root, 1.0);
+    root += (frame.camera.eye - root) * 1e-3;
+    gl_Position = frame.camera.view_proj * vec4(root, 1.0);
 }

@@ -7,17 +7,17 @@
 //   travels as alpha: blended at one sample per pixel, a sample mask under MSAA.
 //   For hairs under a pixel wide.
 // - LINES = 0: a camera-facing ribbon of the hair's width.
-// A hair is drawn by one form only: ribbons take the hairs at least `frame.draw.x`
+// A hair is drawn by one form only: ribbons take the hairs at least `frame.drawing.ribbon_above_px`
 // pixels wide at the root, lines the rest.
 //
-// Widths taper from root to tip and are never drawn under `frame.hair.y` pixels. With
+// Widths taper from root to tip and are never drawn under `frame.drawing.min_pixel_width` pixels. With
 // thin-hair anti-aliasing (FLAG_THIN_HAIR_AA) a hair drawn wider than it is covers its
 // pixels only by its true width: alpha = true width / drawn width, so a sub-pixel hair
 // neither vanishes between samples nor darkens more than its width; without it such a
 // hair is drawn opaque at the minimum width. With thickness compensation, hairs thinned
 // out by the density LOD are widened by the same factor, so coverage is kept.
 //
-// Vertex LOD (frame.draw.y > 0, a tolerance in pixels): a strand vertex is left out
+// Vertex LOD (frame.drawing.vertex_lod_px > 0, a tolerance in pixels): a strand vertex is left out
 // when the segment that skips it passes within the tolerance of where the vertex would
 // have been drawn, its width included. Straight hairs become a single segment, curled
 // ones keep their curls; the root and the tip are always drawn where they are.
@@ -119,21 +119,21 @@ float coat_curvature;          // the skin's curvature there, 1 / radius (0: fla
 // The coat's estimate of the hair layers around vertex k, for the Marschner model: x,
 // between it and the light (without a shadow map): the light's path out of the coat,
 // a shell of the coat's height on a skin of the coat's curvature, at the layer spacing
-// the shadow map also assumes (frame.shadow.y layers per unit); the skin stops light
+// the shadow map also assumes (frame.shadow.layers_per_unit layers per unit); the skin stops light
 // whose path passes through it. y, above it along the skin's normal: what stands between
 // it and the sky (the environment's light). Both capped at MAX_LAYERS, as the map's
 // count is. The twin, render::marschner::coat_layers, derives x.
 vec2 coat_layers(uint k) {
-    float c = dot(coat_normal, frame.light.xyz);
+    float c = dot(coat_normal, frame.lighting.direction);
     float h = dot(P[k] - P[0], coat_normal);
-    float above = min(max(coat_height - h, 0.0) * frame.shadow.y, MAX_LAYERS);
+    float above = min(max(coat_height - h, 0.0) * frame.shadow.layers_per_unit, MAX_LAYERS);
     float a = 1.0 + coat_curvature * h;
     if (c < 0.0 && a * a * (1.0 - c * c) < 1.0) {
         return vec2(MAX_LAYERS, above);
     }
     float q = max(coat_height - h, 0.0) * (2.0 + coat_curvature * (coat_height + h));
     float path = q / max(a * c + sqrt(a * a * c * c + coat_curvature * q), 1e-12);
-    return vec2(min(path * frame.shadow.y, MAX_LAYERS), above);
+    return vec2(min(path * frame.shadow.layers_per_unit, MAX_LAYERS), above);
 }
 
 // Sets coat_normal, coat_height and coat_curvature for the hair between masters h.
@@ -220,11 +220,11 @@ bool behind_eye = false;
 // width in pixels (its true width with thin-hair anti-aliasing, the drawn width
 // otherwise; coverage does the rest), its final colour.
 void keep_vertex(uint k) {
-    vec4 clip = frame.view_proj * vec4(P[k], 1.0);
+    vec4 clip = frame.camera.view_proj * vec4(P[k], 1.0);
     behind_eye = behind_eye || clip.w <= 1e-6;
     vec3 ndc = clip.xyz / max(clip.w, 1e-6);
-    vec2 pixel = (ndc.xy * 0.5 + 0.5) * frame.viewport.xy;
-    bool thin_hair_aa = (frame.strands.w & FLAG_THIN_HAIR_AA) != 0u;
+    vec2 pixel = (ndc.xy * 0.5 + 0.5) * frame.camera.viewport;
+    bool thin_hair_aa = (frame.drawing.flags & FLAG_THIN_HAIR_AA) != 0u;
     float width = (thin_hair_aa ? TW[k] : W[k]) / S[k];
 #if STAGE_VIEW != 0 || MARSCHNER
     vec3 color = lit_along.xyz;
@@ -291,17 +291,17 @@ void emit_vertex(uint k, vec3 t) {
     keep_vertex(k);
 #elif LINES
     write_outputs(k, t);
-    gl_Position = frame.view_proj * vec4(P[k], 1.0);
+    gl_Position = frame.camera.view_proj * vec4(P[k], 1.0);
     EmitVertex();
 #else
-    vec3 side = cross(t, frame.eye.xyz - P[k]);
+    vec3 side = cross(t, frame.camera.eye - P[k]);
     float side_len = length(side);
     side = side_len > 1e-12 ? side * (0.5 * W[k] / side_len) : vec3(0.5 * W[k], 0.0, 0.0);
     write_outputs(k, t);
-    gl_Position = frame.view_proj * vec4(P[k] - side, 1.0);
+    gl_Position = frame.camera.view_proj * vec4(P[k] - side, 1.0);
     EmitVertex();
     write_outputs(k, t);
-    gl_Position = frame.view_proj * vec4(P[k] + side, 1.0);
+    gl_Position = frame.camera.view_proj * vec4(P[k] + side, 1.0);
     EmitVertex();
 #endif
 }
@@ -332,21 +332,21 @@ void main() {
     uvec3 h = e_hair[0];
     vec3 b = e_bary[0];
     vec3 root = blended(h, b, 0u);
-    float pixel = frame.eye.w;                    // world size of a pixel at distance 1
-    float thickness = frame.hair.x;
-    if ((frame.strands.w & FLAG_THICKNESS_COMPENSATION) != 0u) {
+    float pixel = frame.camera.pixel_at_unit_distance;                    // world size of a pixel at distance 1
+    float thickness = frame.drawing.hair_width;
+    if ((frame.drawing.flags & FLAG_THICKNESS_COMPENSATION) != 0u) {
         thickness /= lod_factor(root);
     }
-    float root_pixel = pixel * distance(root, frame.eye.xyz);
-    float root_pixels = max(thickness / root_pixel, frame.hair.y);
+    float root_pixel = pixel * distance(root, frame.camera.eye);
+    float root_pixels = max(thickness / root_pixel, frame.drawing.min_pixel_width);
 #if COMPUTE_RASTER
     // Every hair: the compute passes draw any width.
 #elif LINES
-    if (root_pixels >= frame.draw.x) {
+    if (root_pixels >= frame.drawing.ribbon_above_px) {
         return;
     }
 #else
-    if (root_pixels < frame.draw.x) {
+    if (root_pixels < frame.drawing.ribbon_above_px) {
         return;
     }
 #endif
@@ -358,12 +358,12 @@ void main() {
                          ^ hash_u32(floatBitsToUint(b.x) ^ hash_u32(floatBitsToUint(b.y))));
     hair_seed = seed;
     vec3 jitter = (vec3(hash_unit(seed), hash_unit(seed + 1u), hash_unit(seed + 2u)) * 2.0 - 1.0)
-                * frame.hair.z;
+                * frame.drawing.jitter;
     // The tip's random offset is at most JITTER_SHARE of the hair's own reach, so the
     // short hair of a thin part (an ear, a leg) is not scattered into a tuft.
     float reach = distance(blended(h, b, V - 1u), root);
     jitter *= min(1.0, JITTER_SHARE * reach / max(length(jitter), 1e-20));
-    float length_scale = 1.0 - frame.hair.w * hash_unit(seed + 3u);
+    float length_scale = 1.0 - frame.drawing.length_jitter * hash_unit(seed + 3u);
     if (h.x == h.y && h.y == h.z) {
         // A drawn groom's guide is drawn as it is (fur.tesc).
         jitter = vec3(0.0);
@@ -373,16 +373,16 @@ void main() {
 #if TEXTURED && !SHADOW_CASTER
     texel = textureLod(albedo, e_uv_lod[0].xy, e_uv_lod[0].z).rgb;
 #endif
-    bool thin_hair_aa = (frame.strands.w & FLAG_THIN_HAIR_AA) != 0u;
+    bool thin_hair_aa = (frame.drawing.flags & FLAG_THIN_HAIR_AA) != 0u;
     for (uint k = 0u; k < V; ++k) {
         vec3 p = k == 0u ? root : root + (blended(h, b, k) - root) * length_scale;
         P[k] = p + jitter * along(k);
-        S[k] = pixel * distance(P[k], frame.eye.xyz);
+        S[k] = pixel * distance(P[k], frame.camera.eye);
         float width = true_width(thickness, k);
 #if COMPUTE_RASTER
         TW[k] = width;
 #endif
-        W[k] = max(width, frame.hair.y * S[k]);
+        W[k] = max(width, frame.drawing.min_pixel_width * S[k]);
 #if LINES
         // A line is a pixel wide: it covers the pixel by the hair's width.
         C[k] = min((thin_hair_aa ? width : W[k]) / S[k], 1.0);
@@ -394,7 +394,7 @@ void main() {
 #if MARSCHNER && !SHADOW_CASTER
     find_coat(h);
 #endif
-    float tolerance = frame.draw.y;
+    float tolerance = frame.drawing.vertex_lod_px;
 #if defined(FUR_TEST_DROP_TIP) || defined(FUR_TEST_DROP_ROOT)
     // Test only: a vertex LOD that loses the tip (or the root), drawing it where its
     // neighbour is; tests/render_levers.rs must reject it.
@@ -465,7 +465,7 @@ void main() {
     EndPrimitive();
 #endif
 #if COUNT_HAIRS
-    if ((frame.strands.w & FLAG_COUNT) != 0u) {
+    if ((frame.drawing.flags & FLAG_COUNT) != 0u) {
         uint index = atomicAdd(counters.hairs_drawn, 1u);
         atomicAdd(counters.segments_drawn, segments);
         capture(index, thickness);

@@ -1,8 +1,8 @@
 #version 450
 // Fur pass, tessellation control: how many interpolated hairs this triangle gets.
 //
-// Hairs per unit area at full density is `frame.lod.x`; beyond the full-density
-// distance D = frame.lod.y the density falls with the square of the distance, so
+// Hairs per unit area at full density is `frame.drawing.density`; beyond the full-density
+// distance D = frame.drawing.lod_distance the density falls with the square of the distance, so
 // hairs per pixel stay roughly constant:  lod(d) = min(1, (D / d)²).
 // An edge of length L gets outer level ceil(L · sqrt(density · lod)): the hair spacing
 // along it. The inner level n is chosen so the ~3n²/4 points of a triangle with area A
@@ -13,7 +13,7 @@
 // sharing it generate the same points there (the owner draws them, see fur.tese).
 // A skinned body's lengths and areas are its rest pose's (BODY_SKINNED), so a bending
 // joint never adds or drops hairs. A triangle whose three master hairs are bald stubs
-// (a groom's bald region: tip within frame.secondary.z of the root) draws nothing either.
+// (a groom's bald region: tip within frame.strands.stub_length of the root) draws nothing either.
 // A degenerate patch (h, h, h) is a drawn groom's guide: level 1, one hair, the master.
 #include "common.glsl"
 
@@ -36,18 +36,18 @@ layout(location = 2) patch out uint p_triangle;   // this patch's triangle (see 
 #endif
 
 float edge_level(vec3 a, vec3 b, float len) {
-    float spacing_inv = sqrt(frame.lod.x * lod_factor((a + b) * 0.5));
-    return clamp(ceil(len * spacing_inv), 1.0, frame.lod.z);
+    float spacing_inv = sqrt(frame.drawing.density * lod_factor((a + b) * 0.5));
+    return clamp(ceil(len * spacing_inv), 1.0, frame.drawing.max_level);
 }
 
 // True when every master-hair vertex of the patch lies outside one clip plane.
 bool outside_view(uint h0, uint h1, uint h2) {
-    uint V = frame.strands.x;
+    uint V = frame.strands.vertices_per_strand;
     uint all_out = 0x3fu;
     for (uint k = 0u; k < V; ++k) {
         uint hairs[3] = uint[3](h0, h1, h2);
         for (int j = 0; j < 3; ++j) {
-            vec4 c = frame.view_proj * vec4(strand_vertex(hairs[j], k), 1.0);
+            vec4 c = frame.camera.view_proj * vec4(strand_vertex(hairs[j], k), 1.0);
             float w = abs(c.w) * 1.05 + 1e-6;
             uint code = 0u;
             code |= c.x < -w ? 1u : 0u;
@@ -82,7 +82,7 @@ void main() {
         // one hair is its master, the point at its first corner (the only part it owns).
         // Level 1 makes just the corners, whatever the fixed level; culled only when
         // the master is out of view.
-        bool unseen = (frame.strands.w & FLAG_CULL) != 0u && outside_view(h0, h0, h0);
+        bool unseen = (frame.drawing.flags & FLAG_CULL) != 0u && outside_view(h0, h0, h0);
         float l = unseen ? 0.0 : 1.0;
         gl_TessLevelOuter[0] = l;
         gl_TessLevelOuter[1] = l;
@@ -91,7 +91,7 @@ void main() {
         return;
     }
 
-    uint fixed_level = frame.strands.z;
+    uint fixed_level = frame.drawing.fixed_level;
     if (fixed_level > 0u) {
         float l = float(fixed_level);
         gl_TessLevelOuter[0] = l;
@@ -101,10 +101,10 @@ void main() {
         return;
     }
 
-    uint V = frame.strands.x;
+    uint V = frame.strands.vertices_per_strand;
     vec3 r0 = strand_vertex(h0, 0u), r1 = strand_vertex(h1, 0u), r2 = strand_vertex(h2, 0u);
     vec3 t0 = strand_vertex(h0, V - 1u), t1 = strand_vertex(h1, V - 1u), t2 = strand_vertex(h2, V - 1u);
-    float stub = frame.secondary.z;
+    float stub = frame.strands.stub_length;
     if (distance(t0, r0) < stub && distance(t1, r1) < stub && distance(t2, r2) < stub) {
         gl_TessLevelOuter[0] = 0.0;
         gl_TessLevelOuter[1] = 0.0;
@@ -113,17 +113,17 @@ void main() {
         return;
     }
     bool culled = false;
-    if ((frame.strands.w & FLAG_CULL) != 0u) {
+    if ((frame.drawing.flags & FLAG_CULL) != 0u) {
         vec3 growth = t0 + t1 + t2 - (r0 + r1 + r2);
         vec3 n = cross(r1 - r0, r2 - r0);
         n *= dot(n, growth) < 0.0 ? -1.0 : 1.0;   // orient along the fur, whatever the winding
-        vec3 to_eye = frame.eye.xyz - (r0 + r1 + r2) / 3.0;
+        vec3 to_eye = frame.camera.eye - (r0 + r1 + r2) / 3.0;
         float facing = dot(normalize(n), normalize(to_eye));
-        culled = facing < -frame.lod.w || outside_view(h0, h1, h2);
+        culled = facing < -frame.drawing.cull_margin || outside_view(h0, h1, h2);
     }
     if (culled) {
 #if COUNT_HAIRS
-        if ((frame.strands.w & FLAG_COUNT) != 0u) {
+        if ((frame.drawing.flags & FLAG_COUNT) != 0u) {
             atomicAdd(counters.triangles_culled, 1u);
         }
 #endif
@@ -144,6 +144,6 @@ void main() {
     gl_TessLevelOuter[0] = edge_level(r1, r2, lengths.x);
     gl_TessLevelOuter[1] = edge_level(r2, r0, lengths.y);
     gl_TessLevelOuter[2] = edge_level(r0, r1, lengths.z);
-    float hairs = area * frame.lod.x * lod_factor((r0 + r1 + r2) / 3.0);
-    gl_TessLevelInner[0] = clamp(ceil(sqrt(hairs * 4.0 / 3.0)), 1.0, frame.lod.z);
+    float hairs = area * frame.drawing.density * lod_factor((r0 + r1 + r2) / 3.0);
+    gl_TessLevelInner[0] = clamp(ceil(sqrt(hairs * 4.0 / 3.0)), 1.0, frame.drawing.max_level);
 }

@@ -52,7 +52,7 @@ void main() {
     // Texels per hair: the triangle's texture area over the ~3n²/4 hairs of inner level n.
     float n = max(gl_TessLevelInner[0], 1.0);
     float uv_area = 0.5 * abs(cross(vec3(u1 - u0, 0.0), vec3(u2 - u0, 0.0)).z);
-    float texels = uv_area * frame.draw.z / max(0.75 * n * n, 1.0);
+    float texels = uv_area * frame.drawing.texels / max(0.75 * n * n, 1.0);
     e_uv_lod = vec3(b.x * u0 + b.y * u1 + b.z * u2, 0.5 * log2(max(texels, 1.0)));
 #ifdef FUR_TEST_MIRROR_U
     e_uv_lod.x = 1.0 - e_uv_lod.x; // test only: a mirrored u that tests/looks.rs must reject
@@ -60,5 +60,5 @@ void main() {
 #endif
     vec3 root = b.x * strand_vertex(c_hair[0], 0u) + b.y * strand_vertex(c_hair[1], 0u)
               + b.z * strand_vertex(c_hair[2], 0u);
-    gl_Position = frame.view_proj * vec4(root, 1.0);
+    gl_Position = frame.camera.view_proj * vec4(root, 1.0);
 }

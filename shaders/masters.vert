@@ -11,8 +11,8 @@ layout(location = 0) out vec3 v_colour;
 
 void main() {
     uint strand = uint(gl_InstanceIndex);
-    vec4 p = imageLoad(strand_positions, strand_texel(strand, uint(gl_VertexIndex), frame.strands.x, frame.strands.y));
-    gl_Position = frame.view_proj * vec4(p.xyz, 1.0);
+    vec4 p = imageLoad(strand_positions, strand_texel(strand, uint(gl_VertexIndex), frame.strands.vertices_per_strand, frame.strands.strands_per_row));
+    gl_Position = frame.camera.view_proj * vec4(p.xyz, 1.0);
 #if STAGE_VIEW == STAGE_SIMULATION
     // Blue at rest through green to red at DISPLACEMENT_FULL_SCALE of the length
     // (crates/fur-core/src/render/stage.rs: displacement_colour).

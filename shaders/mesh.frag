@@ -22,25 +22,25 @@ void main() {
     // read the shape. The density pass covers every triangle that gets hairs, so the
     // stripes that show are the triangles the tessellation control stage culled.
     float stripe = mod(floor((gl_FragCoord.x + gl_FragCoord.y) * 0.25), 2.0);
-    float shape = 0.6 + 0.4 * abs(dot(n, frame.light.xyz));
+    float shape = 0.6 + 0.4 * abs(dot(n, frame.lighting.direction));
     out_color = vec4(vec3(0.1 + 0.2 * stripe) * shape, 1.0);
     return;
 #endif
-    float lambert = max(dot(n, frame.light.xyz), 0.0) * frame.light.w * light_through_fur(v_world);
+    float lambert = max(dot(n, frame.lighting.direction), 0.0) * frame.lighting.intensity * light_through_fur(v_world);
     float sky = 1.0;
 #if !SHADOWS
     // Under the Marschner model without a shadow map, the coat's estimate: the skin
-    // lies under frame.shadow.w hair layers (its mean height), which the light crosses
+    // lies under frame.shadow.skin_layers hair layers (its mean height), which the light crosses
     // slanted by its angle to the skin and the sky straight down; each passes 1 − α
     // unscattered. 0 layers otherwise (skin_layers of crates/fur-core/src/render/uniforms.rs).
-    float depth = frame.shadow.w;
-    float slant = max(dot(n, frame.light.xyz), 1e-3);
-    lambert *= through(1.0 - frame.shadow.x, min(depth / slant, MAX_LAYERS));
-    sky = through(1.0 - frame.shadow.x, min(depth, MAX_LAYERS));
+    float depth = frame.shadow.skin_layers;
+    float slant = max(dot(n, frame.lighting.direction), 1e-3);
+    lambert *= through(1.0 - frame.shadow.opacity, min(depth / slant, MAX_LAYERS));
+    sky = through(1.0 - frame.shadow.opacity, min(depth, MAX_LAYERS));
 #endif
-    vec3 skin = frame.skin_color.rgb;
+    vec3 skin = frame.lighting.skin_color;
 #if TEXTURED
-    skin = texture(albedo, v_uv).rgb * min(skin / max(frame.tip_color.rgb, vec3(1e-4)), vec3(1.0));
+    skin = texture(albedo, v_uv).rgb * min(skin / max(frame.lighting.tip_color, vec3(1e-4)), vec3(1.0));
 #endif
-    out_color = vec4(skin * (frame.shading.w * sky + frame.shading.x * lambert), 1.0);
+    out_color = vec4(skin * (frame.lighting.ambient * sky + frame.lighting.kd * lambert), 1.0);
 }

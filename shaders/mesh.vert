@@ -43,8 +43,8 @@ void main() {
     vec3 position = in_position;
     vec3 normal = in_normal;
 #endif
-    vec4 world = frame.model * vec4(position, 1.0);
-    v_normal = mat3(frame.model) * normal;
+    vec4 world = frame.camera.model * vec4(position, 1.0);
+    v_normal = mat3(frame.camera.model) * normal;
 #if SHADOWS
     v_world = world.xyz;
 #endif
@@ -54,5 +54,5 @@ void main() {
     v_uv.x = 1.0 - v_uv.x; // test only: a mirrored u that tests/looks.rs must reject
 #endif
 #endif
-    gl_Position = frame.view_proj * world;
+    gl_Position = frame.camera.view_proj * world;
 }

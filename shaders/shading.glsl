@@ -41,11 +41,11 @@ layout(set = SET_FRAME, binding = B_SHADOW_MAP) uniform sampler2D shadow_map;
 // The hair layers in front of world point p along the light, at the map's four
 // nearest texels, and the bilinear weights `f` between them.
 vec4 layers_in_front(vec3 p, out vec2 f) {
-    vec4 c = frame.light_view_proj * vec4(p, 1.0);
+    vec4 c = frame.shadow.light_view_proj * vec4(p, 1.0);
     vec2 uv = c.xy * 0.5 + 0.5;
     vec4 front = textureGather(shadow_map, uv, 0);
     f = fract(uv * vec2(textureSize(shadow_map, 0)) - 0.5);
-    return min(max(vec4(c.z) - front - frame.shadow.z, 0.0) * frame.shadow.y, vec4(MAX_LAYERS));
+    return min(max(vec4(c.z) - front - frame.shadow.depth_bias, 0.0) * frame.shadow.layers_per_depth, vec4(MAX_LAYERS));
 }
 
 // The fraction of the light that reaches world point p through the hair in front of
@@ -53,7 +53,7 @@ vec4 layers_in_front(vec3 p, out vec2 f) {
 float light_through_fur(vec3 p) {
     vec2 f;
     vec4 layers = layers_in_front(p, f);
-    vec4 light = through(vec4(1.0 - frame.shadow.x), layers);
+    vec4 light = through(vec4(1.0 - frame.shadow.opacity), layers);
     return mix(mix(light.w, light.z, f.x), mix(light.x, light.y, f.x), f.y);
 }
 
@@ -72,25 +72,25 @@ float lobe(float tl, float sin_tl, float te, float sin_te, vec2 cos_sin, float p
 // x: ambient + diffuse, y: white specular, z: tinted specular; the direct terms scaled
 // by the light's intensity and `light`, the fraction of it that reaches the point.
 vec3 kajiya_kay(vec3 t, vec3 world, float light) {
-    vec3 e = normalize(world - frame.eye.xyz);
-    vec3 l = frame.light.xyz;
+    vec3 e = normalize(world - frame.camera.eye);
+    vec3 l = frame.lighting.direction;
     float tl = dot(t, l);
     float te = dot(t, e);
     float sin_tl = sqrt(max(1.0 - tl * tl, 0.0));
     float sin_te = sqrt(max(1.0 - te * te, 0.0));
-    float diffuse = frame.shading.x * sin_tl;
+    float diffuse = frame.lighting.kd * sin_tl;
 #ifdef FUR_TEST_DIFFUSE
     // Test only: wrong diffuse terms that tests/render.rs must reject (1: Lambert with
     // the tangent as the normal, 2: sin² instead of sin).
-    diffuse = frame.shading.x * (FUR_TEST_DIFFUSE == 1 ? max(tl, 0.0) : sin_tl * sin_tl);
+    diffuse = frame.lighting.kd * (FUR_TEST_DIFFUSE == 1 ? max(tl, 0.0) : sin_tl * sin_tl);
 #endif
-    float specular = frame.shading.y * lobe(tl, sin_tl, te, sin_te, frame.highlight.xy, frame.shading.z);
+    float specular = frame.lighting.ks * lobe(tl, sin_tl, te, sin_te, frame.lighting.primary_shift, frame.lighting.shininess);
     float tinted = 0.0;
-    if ((frame.strands.w & FLAG_SECONDARY_HIGHLIGHT) != 0u) {
-        tinted = frame.secondary.y * lobe(tl, sin_tl, te, sin_te, frame.highlight.zw, frame.secondary.x);
+    if ((frame.lighting.flags & FLAG_SECONDARY_HIGHLIGHT) != 0u) {
+        tinted = frame.lighting.secondary_strength * lobe(tl, sin_tl, te, sin_te, frame.lighting.secondary_shift, frame.lighting.secondary_shininess);
     }
-    float direct = frame.light.w * light;
-    return vec3(frame.shading.w + diffuse * direct, specular * direct, tinted * direct);
+    float direct = frame.lighting.intensity * light;
+    return vec3(frame.lighting.ambient + diffuse * direct, specular * direct, tinted * direct);
 }
 
 #ifndef MARSCHNER
@@ -115,15 +115,16 @@ vec3 kajiya_kay(vec3 t, vec3 world, float light) {
 // multiple scattering between fibres by dual scattering (Zinke et al. 2008) on the
 // table of the fibre's averages (render::dual_scattering), through the hair layers in
 // front: the shadow map's with SHADOWS, the coat's estimate otherwise (fur.geom's
-// coat_layers); and the environment's light through the coat above. frame.fibre: β_m,
-// β_n, α (radians), η.
+// coat_layers); and the environment's light through the coat above. frame.fibre: the
+// fibre's constants worked out per frame, its cuticle tilt α (radians) and its
+// dual-scattering table.
 const float PI = 3.14159265;
 
 const float LN_MIN_COLOR = -9.2103404;   // ln 1e-4
 
-// Reflectance at incidence cos θ: Schlick's approximation on F0 = frame.fibre_terms.z.
+// Reflectance at incidence cos θ: Schlick's approximation on F0 = frame.fibre.f0.
 float fibre_fresnel(float cos_theta) {
-    float f0 = frame.fibre_terms.z;
+    float f0 = frame.fibre.f0;
     float m = 1.0 - clamp(cos_theta, 0.0, 1.0);
     float m2 = m * m;
     return f0 + (1.0 - f0) * (m2 * m2 * m);
@@ -137,7 +138,7 @@ vec3 log_color(vec3 c) {
 // Chiang et al.'s absorption for a colour of logarithm `ln_c` (log_color), the colour
 // clamped to [1e-4, 1] (in the logarithm: the same clamp) as the mapping clamps it.
 vec3 sigma_a_from_log(vec3 ln_c) {
-    vec3 l = clamp(ln_c, vec3(LN_MIN_COLOR), vec3(0.0)) * frame.fibre_terms.w;
+    vec3 l = clamp(ln_c, vec3(LN_MIN_COLOR), vec3(0.0)) * frame.fibre.colour_scale;
     return l * l;
 }
 
@@ -158,10 +159,10 @@ void fibre_node(float u, float w, out vec4 first, out vec4 second) {
     const int N = DS_NODE_VEC4S;
     int a = N * (i * DS_COLOUR_NODES + j);
     int b = a + N * DS_COLOUR_NODES;
-    first = mix(mix(frame.fibre_table[a], frame.fibre_table[a + N], fy),
-                mix(frame.fibre_table[b], frame.fibre_table[b + N], fy), fx);
-    second = mix(mix(frame.fibre_table[a + 1], frame.fibre_table[a + N + 1], fy),
-                 mix(frame.fibre_table[b + 1], frame.fibre_table[b + N + 1], fy), fx);
+    first = mix(mix(frame.fibre.table[a], frame.fibre.table[a + N], fy),
+                mix(frame.fibre.table[b], frame.fibre.table[b + N], fy), fx);
+    second = mix(mix(frame.fibre.table[a + 1], frame.fibre.table[a + N + 1], fy),
+                 mix(frame.fibre.table[b + 1], frame.fibre.table[b + N + 1], fy), fx);
 }
 
 // The fibre's averages for light at |sin θ| = u, colour by colour of the colour whose
@@ -201,11 +202,11 @@ vec3 gaussian(vec3 x, vec3 v) {
 }
 
 // What `layers` hair layers in front pass on of the light (dual scattering, Zinke et
-// al. 2008, on layers of opacity frame.shadow.x): `direct`, the fraction no fibre
+// al. 2008, on layers of opacity frame.shadow.opacity): `direct`, the fraction no fibre
 // scattered (grey); the return, all that comes through, the forward-scattered part in
 // the fibres' colour: each layer passes 1 − α unscattered and α a_f forward.
 vec3 light_through_layers(float layers, vec3 a_f, out float direct) {
-    float opacity = frame.shadow.x;
+    float opacity = frame.shadow.opacity;
     direct = through(1.0 - opacity, layers);
     return through(vec3(1.0 - opacity) + opacity * a_f, layers);
 }
@@ -216,11 +217,11 @@ vec3 light_through_layers(float layers, vec3 a_f, out float direct) {
 // scattering's multiple scattering — the forward-scattered light through the fibres in
 // front (global) and what the fibres around scatter back (local). CPU twin:
 // render::marschner::marschner. The per-frame constants come worked out
-// (frame.fibre_terms), and each lobe's Gaussian, azimuthal exponential and absorption
+// (frame.fibre), and each lobe's Gaussian, azimuthal exponential and absorption
 // share one exponential per channel.
 vec3 marschner_terms(vec3 t, vec3 world, vec3 base, vec3 ln_c, float layers) {
-    vec3 v = normalize(frame.eye.xyz - world);
-    vec3 l = frame.light.xyz;
+    vec3 v = normalize(frame.camera.eye - world);
+    vec3 l = frame.lighting.direction;
     float sin_i = clamp(dot(t, l), -1.0, 1.0);
     float sin_o = clamp(dot(t, v), -1.0, 1.0);
     float theta_i = asin(sin_i);
@@ -232,9 +233,9 @@ vec3 marschner_terms(vec3 t, vec3 world, vec3 base, vec3 ln_c, float layers) {
     float cos_phi = dot(lp, vp) * inversesqrt(dot(lp, lp) * dot(vp, vp) + 1e-4);
     float cos_half_phi = sqrt(clamp(0.5 + 0.5 * cos_phi, 0.0, 1.0));
     vec3 sigma_a = sigma_a_from_log(ln_c);
-    float k = frame.fibre_terms.x;          // −1 / (2 sd²) of the R lobe
-    float norm = frame.fibre_terms.y;       // 1 / (√(2π) sd)
-    float alpha = frame.fibre.z;
+    float k = frame.fibre.r_exponent;          // −1 / (2 sd²) of the R lobe
+    float norm = frame.fibre.r_norm;       // 1 / (√(2π) sd)
+    float alpha = frame.fibre.cuticle_tilt;
     float sum = theta_i + theta_o;
     // R: a Gaussian of width sd.
     float x_r = sum - 2.0 * alpha;
@@ -254,7 +255,7 @@ vec3 marschner_terms(vec3 t, vec3 world, vec3 base, vec3 ln_c, float layers) {
     vec3 trt = exp(-sigma_a * (3.2 * inv_cos_d) + (0.25 * k * x_trt * x_trt + 17.0 * cos_phi - 16.78))
              * (0.5 * norm * (1.0 - f_trt) * (1.0 - f_trt) * f_trt);
     // The truth benchmark drops one term at a time (render::marschner::Lobes).
-    uint flags = frame.strands.w;
+    uint flags = frame.lighting.flags;
     float keep_r = (flags & FLAG_NO_R) != 0u ? 0.0 : 1.0;
     float keep_tt = (flags & FLAG_NO_TT) != 0u ? 0.0 : 1.0;
     float keep_trt = (flags & FLAG_NO_TRT) != 0u ? 0.0 : 1.0;
@@ -267,7 +268,7 @@ vec3 marschner_terms(vec3 t, vec3 world, vec3 base, vec3 ln_c, float layers) {
     if ((flags & FLAG_NO_MULTIPLE) == 0u) {
         vec3 back = f.a_back * gaussian(vec3(sum) - f.shift_b, f.sigma_b2) * (1.0 / PI);
         vec3 scattered = max(arriving - vec3(direct), 0.0);
-        vec3 spread = frame.shadow.x * layers * f.beta_f2;
+        vec3 spread = frame.shadow.opacity * layers * f.beta_f2;
         vec3 global = (f.a_f + f.a_b) * gaussian(vec3(sum) - f.alpha, f.beta2 + spread) * (0.5 / PI);
         vec3 back_spread = f.a_back * gaussian(vec3(sum) - f.shift_b, f.sigma_b2 + spread) * (1.0 / PI);
         radiance += direct * DS_DENSITY_BACKWARD * back
@@ -286,9 +287,9 @@ vec3 marschner_terms(vec3 t, vec3 world, vec3 base, vec3 ln_c, float layers) {
 // absorption take under uniform light). CPU twin: render::marschner::environment.
 vec3 environment(float u_o, vec3 base, vec3 ln_c, float above) {
     FibreAverages f = fibre_averages(u_o, ln_c);
-    float sky = through(1.0 - frame.shadow.x, above);
+    float sky = through(1.0 - frame.shadow.opacity, above);
     vec3 c = clamp(base, 0.0, 1.0);
-    return (frame.shading.w / max(frame.shading.x, 1e-6))
+    return (frame.lighting.ambient / max(frame.lighting.kd, 1e-6))
          * (sky * 0.5 * (f.a_f + f.a_b) * (1.0 + c) + (1.0 - sky) * c);
 }
 
@@ -300,7 +301,7 @@ float layers_towards_light(vec3 p, vec2 coat) {
     vec4 layers = layers_in_front(p, f);
     return mix(mix(layers.w, layers.z, f.x), mix(layers.x, layers.y, f.x), f.y);
 #else
-    return (frame.strands.w & FLAG_NO_COAT) != 0u ? 0.0 : max(coat.x, 0.0);
+    return (frame.lighting.flags & FLAG_NO_COAT) != 0u ? 0.0 : max(coat.x, 0.0);
 #endif
 }
 
@@ -311,16 +312,16 @@ float layers_towards_light(vec3 p, vec2 coat) {
 vec3 marschner(vec3 t, vec3 world, vec3 base, vec2 coat) {
     vec3 ln_c = log_color(base);
     float layers = layers_towards_light(world, coat);
-    float above = (frame.strands.w & FLAG_NO_COAT) != 0u ? 0.0 : max(coat.y, 0.0);
-    float u_o = abs(dot(t, normalize(frame.eye.xyz - world)));
+    float above = (frame.lighting.flags & FLAG_NO_COAT) != 0u ? 0.0 : max(coat.y, 0.0);
+    float u_o = abs(dot(t, normalize(frame.camera.eye - world)));
     return environment(u_o, base, ln_c, above)
-         + (PI * frame.light.w) * marschner_terms(t, world, base, ln_c, layers);
+         + (PI * frame.lighting.intensity) * marschner_terms(t, world, base, ln_c, layers);
 }
 
 // The light that comes through the fibres in front of world point p, colour by
 // colour (the shadow stage view under the Marschner model).
 vec3 light_through_fibres(vec3 t, vec3 p, vec3 base, vec2 coat) {
-    FibreAverages f = fibre_averages(abs(dot(t, frame.light.xyz)), log_color(base));
+    FibreAverages f = fibre_averages(abs(dot(t, frame.lighting.direction)), log_color(base));
     float direct;
     return light_through_layers(layers_towards_light(p, coat), f.a_f, direct);
 }
@@ -331,9 +332,9 @@ vec3 light_through_fibres(vec3 t, vec3 p, vec3 base, vec2 coat) {
 // and tints it toward the root as it takes the tip colour to the root colour (by at
 // most the ratio of the two, never brighter).
 vec3 hair_base(float along, vec3 texel) {
-    vec3 base = mix(frame.root_color.rgb, frame.tip_color.rgb, along);
+    vec3 base = mix(frame.lighting.root_color, frame.lighting.tip_color, along);
 #if TEXTURED
-    base = texel * min(base / max(frame.tip_color.rgb, vec3(1e-4)), vec3(1.0));
+    base = texel * min(base / max(frame.lighting.tip_color, vec3(1e-4)), vec3(1.0));
 #endif
     return base;
 }
@@ -342,7 +343,7 @@ vec3 hair_base(float along, vec3 texel) {
 // from root to tip; the secondary highlight takes the base colour.
 vec3 hair_color(vec3 lit, float along, vec3 texel) {
     vec3 base = hair_base(along, texel);
-    float occlusion = mix(1.0 - frame.root_color.w, 1.0, along);
+    float occlusion = mix(1.0 - frame.lighting.root_occlusion, 1.0, along);
     return occlusion * (base * (lit.x + lit.z) + vec3(lit.y));
 }
 

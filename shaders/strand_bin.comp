@@ -26,8 +26,8 @@ void bin_segment(uint s) {
     uint key = floatBitsToUint(depth_key(a.z, b.z));
 #endif
     float size = float(TILE);
-    uint columns = (uint(frame.viewport.x) + TILE - 1u) / TILE;
-    uint rows = (uint(frame.viewport.y) + TILE - 1u) / TILE;
+    uint columns = (uint(frame.camera.viewport.x) + TILE - 1u) / TILE;
+    uint rows = (uint(frame.camera.viewport.y) + TILE - 1u) / TILE;
     float y_lo = min(a.y, b.y) - radius;
     float y_hi = max(a.y, b.y) + radius;
     if (isnan(y_lo) || isinf(y_lo) || isnan(y_hi) || isinf(y_hi) || isnan(a.x) || isinf(a.x)

@@ -31,7 +31,7 @@ vec3 tile_colour(uint entries) {
 
 void main() {
     ivec2 p = ivec2(gl_GlobalInvocationID.xy);
-    ivec2 size = ivec2(frame.viewport.xy);
+    ivec2 size = ivec2(frame.camera.viewport);
     if (any(greaterThanEqual(p, size))) {
         return;
     }

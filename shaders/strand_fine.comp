@@ -138,7 +138,7 @@ void take(uint slot, vec2 centre, float body) {
 
 void main() {
     ivec2 p = ivec2(gl_GlobalInvocationID.xy);
-    ivec2 size = ivec2(frame.viewport.xy);
+    ivec2 size = ivec2(frame.camera.viewport);
     // A pixel past the image's edge helps fetch the batches (every invocation reaches
     // every barrier) and draws nothing.
     bool inside = all(lessThan(p, size));
@@ -207,7 +207,7 @@ void take(uint entry, vec2 centre, float body) {
 
 void main() {
     ivec2 p = ivec2(gl_GlobalInvocationID.xy);
-    ivec2 size = ivec2(frame.viewport.xy);
+    ivec2 size = ivec2(frame.camera.viewport);
     if (any(greaterThanEqual(p, size))) {
         return;
     }

@@ -30,7 +30,7 @@ float pixel_depth(ivec2 p) {
 
 void main() {
     ivec2 p = ivec2(gl_GlobalInvocationID.xy);
-    ivec2 size = ivec2(frame.viewport.xy);
+    ivec2 size = ivec2(frame.camera.viewport);
     uint me = gl_LocalInvocationIndex;
     farthest[me] = all(lessThan(p, size)) ? pixel_depth(p) : 0.0;
     barrier();

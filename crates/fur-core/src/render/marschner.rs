@@ -65,7 +65,7 @@ pub fn longitudinal_variance(beta_m: f32) -> f32 {
     (0.726 * b + 0.812 * b * b + 3.7 * b.powi(20)).powi(2)
 }
 
-/// The Marschner model's per-frame constants, as the shaders take them (`frame.fibre_terms`
+/// The Marschner model's per-frame constants, as the shaders take them (`frame.fibre`
 /// of `shaders/common.glsl`), so that no fragment or strand vertex works them out again:
 /// the R lobe's Gaussian exponent scale −1 / (2 sd²) and normalisation
 /// 1 / (√(2π) sd) (the TT and TRT lobes, of widths sd / 2 and 2 sd, scale these by 4

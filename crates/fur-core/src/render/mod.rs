@@ -6,6 +6,7 @@
 pub mod budget;
 mod drawing;
 pub mod dual_scattering;
+pub mod frame_block;
 pub mod hair_oracle;
 mod image;
 mod lighting;
@@ -15,10 +16,11 @@ pub mod stage;
 pub mod strand_raster;
 pub mod uniforms;
 
+pub use frame_block::{FrameInputs, FrameUniforms, LightView, CASTER_DENSITY};
 pub use image::{flip, RgbaImage};
 pub use lighting::{kajiya_kay, Fibre, Highlights, Lighting, LightingModel, Shade, Shadows};
 pub use presets::FurPreset;
 pub use uniforms::{
-    default_tile, FrameSettings, FrameUniforms, FurStyle, Primitive, Raster, Shading, Stage,
-    StrandShape, MAX_NEAREST, STUB_LIMIT, TILE_SIZES,
+    default_tile, FrameSettings, FurStyle, Primitive, Raster, Shading, Stage, StrandShape,
+    MAX_NEAREST, STUB_LIMIT, TILE_SIZES,
 };

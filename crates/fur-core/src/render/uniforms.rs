@@ -1,7 +1,8 @@
 //! What the mesh and fur passes are drawn with: the fur's look and level of detail,
-//! the lighting, and their std140 uniform block.
+//! the lighting, and the defines every render shader shares with Rust (the uniform
+//! block they become is `frame_block.rs`).
 
-use glam::{Mat4, UVec4, Vec3, Vec4};
+use glam::Mat4;
 
 pub use super::drawing::{Primitive, Raster, Shading};
 use super::lighting::Lighting;
@@ -189,59 +190,20 @@ pub struct StrandShape {
 /// are drawn.
 pub const STUB_LIMIT: f32 = 2.0 * crate::scene::BALD_FRACTION;
 
-/// The `Frame` uniform block of `shaders/common.glsl` (std140).
-#[repr(C)]
-#[derive(Clone, Copy, Debug, bytemuck::Pod, bytemuck::Zeroable)]
-pub struct FrameUniforms {
-    pub view_proj: Mat4,
-    pub model: Mat4,
-    pub light_view_proj: Mat4,
-    pub eye: Vec4,
-    pub light: Vec4,
-    pub root_color: Vec4,
-    pub tip_color: Vec4,
-    pub skin_color: Vec4,
-    pub shading: Vec4,
-    pub lod: Vec4,
-    pub hair: Vec4,
-    pub viewport: Vec4,
-    pub draw: Vec4,
-    pub highlight: Vec4,
-    pub secondary: Vec4,
-    pub shadow: Vec4,
-    pub strands: UVec4,
-    /// The fibre: longitudinal and azimuthal roughness, cuticle tilt (radians), index
-    /// of refraction (the Marschner model's parameters).
-    pub fibre: Vec4,
-    /// The fibre model's per-frame constants ([`super::marschner::shader_terms`]).
-    pub fibre_terms: Vec4,
-    /// The fibre's dual-scattering table ([`super::dual_scattering::table`]) under the
-    /// Marschner model; zeros otherwise.
-    pub fibre_table: [Vec4; super::dual_scattering::TABLE_VEC4S],
-}
+pub use super::frame_block::{
+    FLAG_COUNT, FLAG_CULL, FLAG_NO_COAT, FLAG_NO_MULTIPLE, FLAG_NO_R, FLAG_NO_TRT, FLAG_NO_TT,
+    FLAG_SECONDARY_HIGHLIGHT, FLAG_THICKNESS_COMPENSATION, FLAG_THIN_HAIR_AA,
+};
 
-pub const FLAG_CULL: u32 = 1;
-pub const FLAG_THICKNESS_COMPENSATION: u32 = 2;
-pub const FLAG_COUNT: u32 = 4;
-pub const FLAG_SECONDARY_HIGHLIGHT: u32 = 8;
-pub const FLAG_THIN_HAIR_AA: u32 = 16;
-/// The Marschner model without its R, TT, TRT or multiple-scattering term, or without
-/// the coat's light ([`super::marschner::Lobes`]).
-pub const FLAG_NO_R: u32 = 64;
-pub const FLAG_NO_TT: u32 = 128;
-pub const FLAG_NO_TRT: u32 = 256;
-pub const FLAG_NO_MULTIPLE: u32 = 512;
-pub const FLAG_NO_COAT: u32 = 1024;
-
-/// What the render shaders share with Rust, given to every one of them as `#define`s
-/// so no constant is typed twice: the flags of `strands.w` and the most hair layers
-/// counted in front of a point (`MAX_LAYERS`), and the compute rasteriser's depth bins
-/// and opacity to stop at.
 /// An interpolated hair's random tip offset ([`FurStyle::jitter`]) is at most this
 /// fraction of the hair's own reach from root to tip (`fur.geom`), so the short hair of
 /// a thin part is not scattered into a tuft.
 pub const JITTER_SHARE: f32 = 0.25;
 
+/// What the render shaders share with Rust, given to every one of them as `#define`s
+/// so no constant is typed twice: the drawing's and the lighting's flags, the most hair
+/// layers counted in front of a point (`MAX_LAYERS`), and the compute rasteriser's
+/// depth bins and opacity to stop at.
 pub fn shader_defines() -> Vec<(&'static str, String)> {
     [
         ("FLAG_CULL", FLAG_CULL),
@@ -341,123 +303,5 @@ impl Default for FrameSettings {
             count_hairs: false,
             supersample: 1,
         }
-    }
-}
-
-impl FrameUniforms {
-    pub fn new(
-        settings: &FrameSettings,
-        (width, height): (u32, u32),
-        strands: &StrandShape,
-        max_level: f32,
-    ) -> Self {
-        let (w, h) = (width as f32, height as f32);
-        let view_proj = settings.camera.view_projection(w / h);
-        let pixel_at_unit_distance = settings.pixel_at_unit_distance(height);
-        let s = &settings.style;
-        let l = &settings.lighting;
-        let mut flags = 0;
-        if s.cull {
-            flags |= FLAG_CULL;
-        }
-        if s.thickness_compensation {
-            flags |= FLAG_THICKNESS_COMPENSATION;
-        }
-        if settings.count_hairs {
-            flags |= FLAG_COUNT;
-        }
-        let highlights = &l.highlights;
-        if highlights.secondary {
-            flags |= FLAG_SECONDARY_HIGHLIGHT;
-        }
-        if s.thin_hair_aa {
-            flags |= FLAG_THIN_HAIR_AA;
-        }
-        for (on, flag) in [
-            (l.lobes.r, FLAG_NO_R),
-            (l.lobes.tt, FLAG_NO_TT),
-            (l.lobes.trt, FLAG_NO_TRT),
-            (l.lobes.multiple, FLAG_NO_MULTIPLE),
-            (l.lobes.coat, FLAG_NO_COAT),
-        ] {
-            if !on {
-                flags |= flag;
-            }
-        }
-        let (primary_sin, primary_cos) = if highlights.secondary {
-            highlights.primary_shift_deg.to_radians().sin_cos()
-        } else {
-            (0.0, 1.0)
-        };
-        let (secondary_sin, secondary_cos) = highlights.secondary_shift_deg.to_radians().sin_cos();
-        let ribbon_above = match s.primitive {
-            Primitive::Auto => s.ribbon_above_px,
-            Primitive::Lines => f32::MAX,
-            Primitive::Ribbons => 0.0,
-        };
-        Self {
-            view_proj,
-            model: settings.head,
-            // Set by the renderer when the frame draws shadows.
-            light_view_proj: Mat4::IDENTITY,
-            eye: settings.camera.eye().extend(pixel_at_unit_distance),
-            light: l.light_direction.normalize_or(Vec3::Y).extend(l.intensity),
-            root_color: l.root_color.extend(l.root_occlusion),
-            tip_color: l.tip_color.extend(1.0),
-            skin_color: l.skin_color.extend(1.0),
-            shading: Vec4::new(l.kd, l.ks, l.shininess, l.ambient),
-            lod: Vec4::new(s.density, s.lod_distance, max_level, s.cull_margin),
-            hair: Vec4::new(s.hair_width, s.min_pixel_width, s.jitter, s.length_jitter),
-            viewport: Vec4::new(w, h, 1.0 / w, 1.0 / h),
-            // draw.z: the texture's texels, set by the renderer.
-            draw: Vec4::new(ribbon_above, s.vertex_lod_px, 0.0, settings.arrow_scale),
-            highlight: Vec4::new(primary_cos, primary_sin, secondary_cos, secondary_sin),
-            secondary: Vec4::new(
-                highlights.secondary_shininess,
-                highlights.secondary_strength,
-                strands.stub_length,
-                0.0,
-            ),
-            shadow: Vec4::new(
-                l.shadows.opacity,
-                l.shadows.layers_per_unit(s.density),
-                0.0,
-                skin_layers(l, s.density, strands.coat_height),
-            ),
-            strands: UVec4::new(
-                strands.vertices_per_strand,
-                strands.strands_per_row,
-                s.fixed_level.min(max_level as u32),
-                flags,
-            ),
-            fibre: Vec4::new(
-                l.fibre.longitudinal_roughness,
-                l.fibre.azimuthal_roughness,
-                l.fibre.cuticle_tilt_deg.to_radians(),
-                l.fibre.ior,
-            ),
-            fibre_terms: Vec4::from_array(super::marschner::shader_terms(&l.fibre)),
-            fibre_table: if l.model == super::LightingModel::Marschner {
-                *super::dual_scattering::cached_table(&l.fibre)
-            } else {
-                [Vec4::ZERO; super::dual_scattering::TABLE_VEC4S]
-            },
-        }
-    }
-}
-
-/// The hair layers over the skin that the mesh pass lights it through (`shadow.w`):
-/// under the Marschner model without a shadow map, the coat's mean height at the
-/// layer spacing (the coat's estimate, as the hairs' own, `coat_layers` of `fur.geom`);
-/// 0 otherwise (Kajiya–Kay lights the skin as the seed does; a shadow map measures the
-/// light's way through the fur itself).
-fn skin_layers(lighting: &super::Lighting, density: f32, coat_height: f32) -> f32 {
-    if lighting.model == super::LightingModel::Marschner
-        && !lighting.shadows.enabled
-        && lighting.lobes.coat
-    {
-        coat_height * lighting.shadows.layers_per_unit(density)
-    } else {
-        0.0
     }
 }

@@ -280,40 +280,58 @@ mod tests {
     };
     use crate::gpu::reflect::{check_bindings, check_struct, reflect};
     use crate::gpu::shader::compile;
-    use crate::render::uniforms::{shader_defines, FrameUniforms};
+    use crate::render::uniforms::shader_defines;
+    use fur_core::render::FrameUniforms;
 
-    /// The `Frame` uniform block as Rust lays it out: (member, byte offset).
-    fn frame_fields() -> Vec<(&'static str, usize)> {
+    /// Each struct of the `Frame` uniform block as Rust lays it out: the GLSL struct's
+    /// name and its members (name, byte offset); the `_pad` fields, std140's rounding,
+    /// are not the shaders'.
+    fn frame_structs() -> Vec<(&'static str, Vec<(&'static str, usize)>)> {
+        use fur_core::render::frame_block::*;
         macro_rules! fields {
-            ($($f:ident),+) => { vec![$((stringify!($f), offset_of!(FrameUniforms, $f))),+] };
+            ($t:ty: $($f:ident),+) => { vec![$((stringify!($f), offset_of!($t, $f))),+] };
         }
-        fields!(
-            view_proj,
-            model,
-            light_view_proj,
-            eye,
-            light,
-            root_color,
-            tip_color,
-            skin_color,
-            shading,
-            lod,
-            hair,
-            viewport,
-            draw,
-            highlight,
-            secondary,
-            shadow,
-            strands,
-            fibre,
-            fibre_terms,
-            fibre_table
-        )
+        vec![
+            (
+                "Frame",
+                fields!(FrameUniforms: camera, lighting, drawing, strands, shadow, fibre),
+            ),
+            (
+                "Camera",
+                fields!(CameraBlock: view_proj, model, eye, pixel_at_unit_distance, viewport),
+            ),
+            (
+                "Lighting",
+                fields!(LightingBlock: direction, intensity, root_color, root_occlusion,
+                    tip_color, kd, skin_color, ks, shininess, ambient, primary_shift,
+                    secondary_shift, secondary_shininess, secondary_strength, flags),
+            ),
+            (
+                "Drawing",
+                fields!(DrawingBlock: density, lod_distance, max_level, cull_margin,
+                    hair_width, min_pixel_width, jitter, length_jitter, ribbon_above_px,
+                    vertex_lod_px, texels, arrow_scale, fixed_level, flags),
+            ),
+            (
+                "Strands",
+                fields!(StrandsBlock: vertices_per_strand, strands_per_row, stub_length),
+            ),
+            (
+                "Shadow",
+                fields!(ShadowBlock: light_view_proj, opacity, layers_per_unit,
+                    layers_per_depth, depth_bias, skin_layers),
+            ),
+            (
+                "Fibre",
+                fields!(FibreBlock: r_exponent, r_norm, f0, colour_scale, cuticle_tilt, table),
+            ),
+        ]
     }
 
     /// Every render shader, compiled with every option that adds a binding, uses the
-    /// bindings of the Rust layout with their types, and lays out the `Frame` block as
-    /// `FrameUniforms` is (names, order, offsets); every binding of the layout is used.
+    /// bindings of the Rust layout with their types, and lays out the `Frame` block and
+    /// each of its structs as `FrameUniforms` is (names, order, offsets); every binding
+    /// of the layout is used.
     /// Swapping two members in GLSL, or adding a field in Rust only, fails here.
     #[test]
     fn the_render_shaders_agree_with_the_rust_layouts() {
@@ -369,17 +387,24 @@ mod tests {
                 let found = reflect(&words);
                 check_bindings(shader, &found, &layout).unwrap();
                 if found.structs.contains_key("Frame") {
-                    check_struct(shader, &found, "Frame", &frame_fields()).unwrap();
+                    for (name, fields) in frame_structs() {
+                        check_struct(shader, &found, name, &fields).unwrap();
+                    }
                 }
                 used.extend(found.bindings.keys().copied());
             }
         }
         let declared: usize = layout.iter().map(|s| s.len()).sum();
         assert_eq!(used.len(), declared, "bindings used: {used:?}");
+        // The last struct ends with its table, and the block with the last struct.
+        let (fibre, table) = (
+            std::mem::offset_of!(FrameUniforms, fibre),
+            std::mem::offset_of!(fur_core::render::frame_block::FibreBlock, table),
+        );
         assert_eq!(
             std::mem::size_of::<FrameUniforms>(),
-            frame_fields().last().unwrap().1 + 16 * fur_core::render::dual_scattering::TABLE_VEC4S,
-            "FrameUniforms ends with its last vec4"
+            fibre + table + 16 * fur_core::render::dual_scattering::TABLE_VEC4S,
+            "FrameUniforms ends with the fibre's table"
         );
     }
 

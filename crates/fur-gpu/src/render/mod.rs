@@ -14,7 +14,6 @@ mod texture;
 #[cfg(test)]
 pub(crate) use bindings::render_defines;
 pub use renderer::compute_raster::{ComputeCounts, FineForm};
-pub use renderer::CASTER_DENSITY;
 pub use renderer::{
     CapturedHairs, FrameReport, HairCounts, RasterCapture, Renderer, BACKGROUND, MAX_CAPTURE_BYTES,
     STEP_NAMES,

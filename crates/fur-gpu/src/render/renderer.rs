@@ -19,7 +19,7 @@ use super::graph::Pass;
 use super::slot::{RenderSlot, TS_FRAME, TS_START};
 use super::target::{check_samples, RenderTarget};
 use super::texture::{GpuTexture, ShadowMap};
-use super::uniforms::{FrameSettings, FrameUniforms, Raster, Stage, StrandShape};
+use super::uniforms::{FrameSettings, Raster, Stage, StrandShape};
 use super::RgbaImage;
 use crate::error::Error;
 use crate::error::Result;
@@ -28,10 +28,11 @@ use crate::scene::{HairPatches, Mesh, Texture};
 use crate::strand_textures::StrandTextures;
 use compute_raster::ComputeRaster;
 use density_pass::DensityPass;
+use fur_core::render::{FrameInputs, FrameUniforms, LightView};
 use fur_pass::FurPass;
 use masters_pass::MastersPass;
 use mesh_pass::{MeshLook, MeshPass};
-use shadow_pass::{LightView, ShadowPass};
+use shadow_pass::ShadowPass;
 
 mod capture;
 mod raster_capture;
@@ -49,7 +50,6 @@ mod mesh_pass;
 mod shadow_pass;
 
 pub use fur_pass::Variant;
-pub use shadow_pass::CASTER_DENSITY;
 
 pub use capture::{CapturedHairs, MAX_CAPTURE_BYTES};
 pub use raster_capture::RasterCapture;
@@ -402,18 +402,12 @@ impl Renderer {
             &self.pipeline_layout,
             MeshLook::of(settings.show, shadows),
         )?;
-        let max_level = self.max_level();
-        let extent = self.target.extent;
-        let mut uniforms = FrameUniforms::new(
-            settings,
-            (extent.width, extent.height),
-            &self.shape,
-            max_level,
-        );
-        uniforms.draw.z = self.texture.0.texels;
+        let (extent, max_level) = (self.target.extent, self.max_level());
+        let resolution = settings.lighting.shadows.resolution;
+        let light = shadows
+            .then(|| LightView::of_model(settings, self.bounds, self.hair_length, resolution));
         let frame = &mut self.slots[slot];
         if shadows {
-            let resolution = settings.lighting.shadows.resolution;
             if frame.shadow.resolution != resolution {
                 let map = ShadowMap::new(&self.device, &format!("shadow_map[{slot}]"), resolution)?;
                 for set in frame.sets.iter().chain(&frame.light_sets) {
@@ -422,12 +416,18 @@ impl Renderer {
                 frame.shadow = map;
             }
             frame.shadow_drawn = true;
-            let head = settings.head;
-            let centre = head.transform_point3(self.bounds.0);
-            let scale = head.transform_vector3(glam::Vec3::X).length().max(1e-12);
-            let radius = (self.bounds.1 + 1.25 * self.hair_length) * scale;
-            let light = LightView::new(settings, centre, radius, resolution);
-            light.apply(&mut uniforms);
+        }
+        let uniforms = FrameUniforms::new(
+            settings,
+            FrameInputs {
+                size: (extent.width, extent.height),
+                strands: &self.shape,
+                max_level,
+                texels: self.texture.0.texels,
+                light: light.as_ref(),
+            },
+        );
+        if let Some(light) = &light {
             let caster = light.caster_uniforms(&uniforms);
             frame.light_uniforms.write(0, bytemuck::bytes_of(&caster));
         }

@@ -8,7 +8,7 @@ use ash::vk;
 use super::bindings::write_frame_set;
 use super::renderer::Variant;
 use super::texture::ShadowMap;
-use super::uniforms::FrameUniforms;
+use super::FrameUniforms;
 use crate::error::Result;
 use crate::gpu::{Buffer, DescriptorPool, DescriptorSetLayout, Device, QueryPool};
 use crate::strand_textures::StrandTextures;

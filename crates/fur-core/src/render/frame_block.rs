@@ -1,0 +1,400 @@
+//! The `Frame` uniform block every render shader reads (`shaders/common.glsl`): one
+//! std140 struct per purpose (the camera, the lighting, the drawing, the strands, the
+//! shadow, the fibre), every value in a field of its own name, each written once, by
+//! [`FrameUniforms::new`]. The light's view of the fur is a second block of the same
+//! layout ([`LightView::caster_uniforms`]).
+
+use glam::{Mat4, Vec2, Vec3, Vec4};
+
+use super::dual_scattering::{cached_table, TABLE_VEC4S};
+use super::uniforms::{FrameSettings, Primitive, StrandShape};
+use super::{Lighting, LightingModel};
+
+/// The flags of [`DrawingBlock::flags`].
+pub const FLAG_CULL: u32 = 1;
+pub const FLAG_THICKNESS_COMPENSATION: u32 = 2;
+pub const FLAG_COUNT: u32 = 4;
+pub const FLAG_THIN_HAIR_AA: u32 = 16;
+/// The flags of [`LightingBlock::flags`]: the secondary highlight on, and the Marschner
+/// model without its R, TT, TRT or multiple-scattering term, or without the coat's
+/// light ([`super::marschner::Lobes`]).
+pub const FLAG_SECONDARY_HIGHLIGHT: u32 = 8;
+pub const FLAG_NO_R: u32 = 64;
+pub const FLAG_NO_TT: u32 = 128;
+pub const FLAG_NO_TRT: u32 = 256;
+pub const FLAG_NO_MULTIPLE: u32 = 512;
+pub const FLAG_NO_COAT: u32 = 1024;
+
+/// The fraction of the frame's hair density drawn into the shadow map.
+pub const CASTER_DENSITY: f32 = 0.5;
+
+/// The `Frame` uniform block of `shaders/common.glsl` (std140). The `_pad` fields are
+/// where std140 rounds a struct up to 16 bytes; the shaders do not name them.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct FrameUniforms {
+    pub camera: CameraBlock,
+    pub lighting: LightingBlock,
+    pub drawing: DrawingBlock,
+    pub strands: StrandsBlock,
+    pub shadow: ShadowBlock,
+    pub fibre: FibreBlock,
+}
+
+/// What every pass projects with (`Camera` in GLSL).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct CameraBlock {
+    /// World to clip space.
+    pub view_proj: Mat4,
+    /// The head transform H, model to world (the mesh pass's).
+    pub model: Mat4,
+    /// The camera's position, world space.
+    pub eye: Vec3,
+    /// World size of a pixel at distance 1 from the eye.
+    pub pixel_at_unit_distance: f32,
+    /// The target's width and height, pixels.
+    pub viewport: Vec2,
+    pub _pad: [f32; 2],
+}
+
+/// The light and the hair's and skin's colours (`Lighting` in GLSL).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct LightingBlock {
+    /// Unit vector towards the light.
+    pub direction: Vec3,
+    pub intensity: f32,
+    pub root_color: Vec3,
+    /// Darkening at the root, 0..1.
+    pub root_occlusion: f32,
+    pub tip_color: Vec3,
+    /// Kajiya–Kay's diffuse weight.
+    pub kd: f32,
+    pub skin_color: Vec3,
+    /// Kajiya–Kay's specular weight.
+    pub ks: f32,
+    /// Kajiya–Kay's specular exponent.
+    pub shininess: f32,
+    pub ambient: f32,
+    /// cos and sin of the primary highlight's shift.
+    pub primary_shift: Vec2,
+    /// cos and sin of the secondary highlight's shift.
+    pub secondary_shift: Vec2,
+    pub secondary_shininess: f32,
+    pub secondary_strength: f32,
+    /// [`FLAG_SECONDARY_HIGHLIGHT`] and the `FLAG_NO_*` lobes.
+    pub flags: u32,
+    pub _pad: [u32; 3],
+}
+
+/// How dense, wide and detailed the fur pass draws (`Drawing` in GLSL).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct DrawingBlock {
+    /// Hairs per unit area at full density.
+    pub density: f32,
+    /// Closer than this the fur is drawn at full density.
+    pub lod_distance: f32,
+    /// The device's largest tessellation level.
+    pub max_level: f32,
+    /// A triangle is back-facing when cos(normal, view) < −cull_margin.
+    pub cull_margin: f32,
+    /// Hair width at the root, scene units.
+    pub hair_width: f32,
+    pub min_pixel_width: f32,
+    /// Random tip offset of each interpolated hair, scene units.
+    pub jitter: f32,
+    pub length_jitter: f32,
+    /// Hairs at least this many pixels wide at the root are drawn as ribbons.
+    pub ribbon_above_px: f32,
+    /// Vertex LOD tolerance, pixels (0: every vertex).
+    pub vertex_lod_px: f32,
+    /// The texels of the fur's texture (0: none), for its level of detail.
+    pub texels: f32,
+    /// How many times their length the simulation view's arrows are drawn.
+    pub arrow_scale: f32,
+    /// The tessellation level everywhere (0: adaptive).
+    pub fixed_level: u32,
+    /// [`FLAG_CULL`], [`FLAG_THICKNESS_COMPENSATION`], [`FLAG_COUNT`], [`FLAG_THIN_HAIR_AA`].
+    pub flags: u32,
+    pub _pad: [u32; 2],
+}
+
+/// The master strands' texture (`Strands` in GLSL).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct StrandsBlock {
+    pub vertices_per_strand: u32,
+    pub strands_per_row: u32,
+    /// A master hair whose tip is this close to its root is a bald stub (`fur.tesc`).
+    pub stub_length: f32,
+    pub _pad: u32,
+}
+
+/// The light's way through the fur (`Shadow` in GLSL).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct ShadowBlock {
+    /// World to the shadow map's clip space (orthographic); identity without a map.
+    pub light_view_proj: Mat4,
+    /// The light each hair layer stops.
+    pub opacity: f32,
+    /// Hair layers per scene unit (the coat's estimate, `fur.geom`).
+    pub layers_per_unit: f32,
+    /// Hair layers per unit of the map's depth (0 without a map).
+    pub layers_per_depth: f32,
+    /// The map's depth bias, in its depth units.
+    pub depth_bias: f32,
+    /// Hair layers over the skin (`mesh.frag`): under the Marschner model without a
+    /// shadow map, the coat's mean height at the layer spacing; 0 otherwise.
+    pub skin_layers: f32,
+    pub _pad: [f32; 3],
+}
+
+/// The Marschner model's fibre (`Fibre` in GLSL).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct FibreBlock {
+    /// −1 / (2 sd²) of the R lobe's Gaussian ([`super::marschner::shader_terms`]).
+    pub r_exponent: f32,
+    /// 1 / (√(2π) sd) of the R lobe's Gaussian.
+    pub r_norm: f32,
+    /// Reflectance at normal incidence.
+    pub f0: f32,
+    /// 1 / d(β_n) of the colour mapping.
+    pub colour_scale: f32,
+    /// The cuticle's tilt, radians.
+    pub cuticle_tilt: f32,
+    pub _pad: [f32; 3],
+    /// The dual-scattering table ([`super::dual_scattering::table`]) under the
+    /// Marschner model; zeros otherwise.
+    pub table: [Vec4; TABLE_VEC4S],
+}
+
+/// What a frame's block takes besides its settings.
+#[derive(Clone, Copy, Debug)]
+pub struct FrameInputs<'a> {
+    /// The target's width and height, pixels.
+    pub size: (u32, u32),
+    pub strands: &'a StrandShape,
+    /// The device's largest tessellation level.
+    pub max_level: f32,
+    /// The texels of the fur's texture (0: none).
+    pub texels: f32,
+    /// The light's view when the frame draws shadows.
+    pub light: Option<&'a LightView>,
+}
+
+impl FrameUniforms {
+    pub fn new(settings: &FrameSettings, inputs: FrameInputs) -> Self {
+        let (width, height) = inputs.size;
+        let (w, h) = (width as f32, height as f32);
+        let s = &settings.style;
+        let l = &settings.lighting;
+        let mut drawing_flags = 0;
+        for (on, flag) in [
+            (s.cull, FLAG_CULL),
+            (s.thickness_compensation, FLAG_THICKNESS_COMPENSATION),
+            (settings.count_hairs, FLAG_COUNT),
+            (s.thin_hair_aa, FLAG_THIN_HAIR_AA),
+        ] {
+            if on {
+                drawing_flags |= flag;
+            }
+        }
+        let highlights = &l.highlights;
+        let mut lighting_flags = 0;
+        if highlights.secondary {
+            lighting_flags |= FLAG_SECONDARY_HIGHLIGHT;
+        }
+        for (on, flag) in [
+            (l.lobes.r, FLAG_NO_R),
+            (l.lobes.tt, FLAG_NO_TT),
+            (l.lobes.trt, FLAG_NO_TRT),
+            (l.lobes.multiple, FLAG_NO_MULTIPLE),
+            (l.lobes.coat, FLAG_NO_COAT),
+        ] {
+            if !on {
+                lighting_flags |= flag;
+            }
+        }
+        let (primary_sin, primary_cos) = if highlights.secondary {
+            highlights.primary_shift_deg.to_radians().sin_cos()
+        } else {
+            (0.0, 1.0)
+        };
+        let (secondary_sin, secondary_cos) = highlights.secondary_shift_deg.to_radians().sin_cos();
+        let ribbon_above_px = match s.primitive {
+            Primitive::Auto => s.ribbon_above_px,
+            Primitive::Lines => f32::MAX,
+            Primitive::Ribbons => 0.0,
+        };
+        let layers_per_unit = l.shadows.layers_per_unit(s.density);
+        // The map's depth runs over `depth_range` scene units: its layers per unit of
+        // depth, and a bias of half a layer and a texel's slope.
+        let (light_view_proj, layers_per_depth, depth_bias) = match inputs.light {
+            Some(light) => {
+                let spacing = 1.0 / layers_per_unit;
+                (
+                    light.view_proj,
+                    light.depth_range / spacing,
+                    (0.5 * spacing + light.texel) / light.depth_range,
+                )
+            }
+            None => (Mat4::IDENTITY, 0.0, 0.0),
+        };
+        let terms = super::marschner::shader_terms(&l.fibre);
+        Self {
+            camera: CameraBlock {
+                view_proj: settings.camera.view_projection(w / h),
+                model: settings.head,
+                eye: settings.camera.eye(),
+                pixel_at_unit_distance: settings.pixel_at_unit_distance(height),
+                viewport: Vec2::new(w, h),
+                _pad: [0.0; 2],
+            },
+            lighting: LightingBlock {
+                direction: l.light_direction.normalize_or(Vec3::Y),
+                intensity: l.intensity,
+                root_color: l.root_color,
+                root_occlusion: l.root_occlusion,
+                tip_color: l.tip_color,
+                kd: l.kd,
+                skin_color: l.skin_color,
+                ks: l.ks,
+                shininess: l.shininess,
+                ambient: l.ambient,
+                primary_shift: Vec2::new(primary_cos, primary_sin),
+                secondary_shift: Vec2::new(secondary_cos, secondary_sin),
+                secondary_shininess: highlights.secondary_shininess,
+                secondary_strength: highlights.secondary_strength,
+                flags: lighting_flags,
+                _pad: [0; 3],
+            },
+            drawing: DrawingBlock {
+                density: s.density,
+                lod_distance: s.lod_distance,
+                max_level: inputs.max_level,
+                cull_margin: s.cull_margin,
+                hair_width: s.hair_width,
+                min_pixel_width: s.min_pixel_width,
+                jitter: s.jitter,
+                length_jitter: s.length_jitter,
+                ribbon_above_px,
+                vertex_lod_px: s.vertex_lod_px,
+                texels: inputs.texels,
+                arrow_scale: settings.arrow_scale,
+                fixed_level: s.fixed_level.min(inputs.max_level as u32),
+                flags: drawing_flags,
+                _pad: [0; 2],
+            },
+            strands: StrandsBlock {
+                vertices_per_strand: inputs.strands.vertices_per_strand,
+                strands_per_row: inputs.strands.strands_per_row,
+                stub_length: inputs.strands.stub_length,
+                _pad: 0,
+            },
+            shadow: ShadowBlock {
+                light_view_proj,
+                opacity: l.shadows.opacity,
+                layers_per_unit,
+                layers_per_depth,
+                depth_bias,
+                skin_layers: skin_layers(l, s.density, inputs.strands.coat_height),
+                _pad: [0.0; 3],
+            },
+            fibre: FibreBlock {
+                r_exponent: terms[0],
+                r_norm: terms[1],
+                f0: terms[2],
+                colour_scale: terms[3],
+                cuticle_tilt: l.fibre.cuticle_tilt_deg.to_radians(),
+                _pad: [0.0; 3],
+                table: if l.model == LightingModel::Marschner {
+                    *cached_table(&l.fibre)
+                } else {
+                    [Vec4::ZERO; TABLE_VEC4S]
+                },
+            },
+        }
+    }
+}
+
+/// The hair layers over the skin that the mesh pass lights it through: under the
+/// Marschner model without a shadow map, the coat's mean height at the layer spacing
+/// (the coat's estimate, as the hairs' own, `coat_layers` of `fur.geom`); 0 otherwise
+/// (Kajiya–Kay lights the skin as the seed does; a shadow map measures the light's way
+/// through the fur itself).
+fn skin_layers(lighting: &Lighting, density: f32, coat_height: f32) -> f32 {
+    if lighting.model == LightingModel::Marschner
+        && !lighting.shadows.enabled
+        && lighting.lobes.coat
+    {
+        coat_height * lighting.shadows.layers_per_unit(density)
+    } else {
+        0.0
+    }
+}
+
+/// Where the light looks from and what its map's depth means. The light is
+/// directional: an orthographic view along it that holds a sphere around the model.
+#[derive(Clone, Copy, Debug)]
+pub struct LightView {
+    pub view_proj: Mat4,
+    /// A point far along the light (for the fur pass's culling and level of detail).
+    pub eye: Vec3,
+    /// Scene units from the map's near to its far plane.
+    pub depth_range: f32,
+    /// Scene units one texel spans.
+    pub texel: f32,
+}
+
+impl LightView {
+    /// The view along `settings`' light that holds a sphere of `radius` around
+    /// `centre` (world space) in a map of `resolution` texels.
+    pub fn new(settings: &FrameSettings, centre: Vec3, radius: f32, resolution: u32) -> Self {
+        let l = settings.lighting.light_direction.normalize_or(Vec3::Y);
+        let up = if l.y.abs() > 0.99 { Vec3::Z } else { Vec3::Y };
+        let eye = centre + l * (2.0 * radius);
+        let view = Mat4::look_at_rh(eye, centre, up);
+        // Glam's orthographic projection maps depth to Vulkan's [0, 1].
+        let proj = Mat4::orthographic_rh(-radius, radius, -radius, radius, radius, 3.0 * radius);
+        Self {
+            view_proj: proj * view,
+            eye,
+            depth_range: 2.0 * radius,
+            texel: 2.0 * radius / resolution as f32,
+        }
+    }
+
+    /// The view along `settings`' light that holds a model of bounding sphere `bounds`
+    /// (centre and radius, model space) grown by its hair (`hair_length`), as the
+    /// frame's head transform carries it.
+    pub fn of_model(
+        settings: &FrameSettings,
+        (centre, radius): (Vec3, f32),
+        hair_length: f32,
+        resolution: u32,
+    ) -> Self {
+        let head = settings.head;
+        let scale = head.transform_vector3(Vec3::X).length().max(1e-12);
+        let reach = (radius + 1.25 * hair_length) * scale;
+        Self::new(settings, head.transform_point3(centre), reach, resolution)
+    }
+
+    /// The block of the light's view of the fur, from the frame's: its camera, lines
+    /// only, no counting, [`CASTER_DENSITY`] of the hairs, full density at any distance.
+    pub fn caster_uniforms(&self, frame: &FrameUniforms) -> FrameUniforms {
+        let mut u = *frame;
+        u.camera.view_proj = self.view_proj;
+        // The eye is the map's depth range from the centre: a texel there is `texel` wide.
+        u.camera.eye = self.eye;
+        u.camera.pixel_at_unit_distance = self.texel / self.depth_range;
+        u.drawing.density *= CASTER_DENSITY;
+        u.drawing.lod_distance = f32::MAX;
+        u.drawing.ribbon_above_px = f32::MAX;
+        u.drawing.flags &= !FLAG_COUNT;
+        u
+    }
+}

@@ -4,7 +4,8 @@
 
 use clap::Args;
 use fur::scene::{ModelSpec, TextureSpec};
-use fur::scene_file::{Scene, SettingArgs};
+use fur::scene_file::Scene;
+use fur::setting_args::SettingArgs;
 
 /// The model and every setting of the scene. Options left out come from the scene
 /// file, if one is given, else from the model's defaults (`--model sphere` is the

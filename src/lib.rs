@@ -18,6 +18,7 @@ pub mod bench;
 pub mod export;
 pub mod flow_marks;
 pub mod legend;
+pub mod setting_args;
 pub mod viewer;
 
 pub use fur_gpu::{

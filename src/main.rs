@@ -182,7 +182,14 @@ struct RenderArgs {
 fn main() -> ExitCode {
     env_logger::Builder::from_env(env_logger::Env::default().default_filter_or("warn")).init();
     let cli = Cli::parse();
-    fur::interrupt::install();
+    // Ctrl-C asks long runs to stop between frames (`fur::interrupt`); a second one
+    // while the first is being honoured exits at once, with status 130. Failing to
+    // install (another handler is set) leaves the default behaviour.
+    let _ = ctrlc::set_handler(|| {
+        if fur::interrupt::request() {
+            std::process::exit(130);
+        }
+    });
     let result = match cli.command {
         Some(Command::Render(args)) => render_command::render(&args),
         Some(Command::View(args)) => view(args),

@@ -7,7 +7,8 @@ use std::path::{Path, PathBuf};
 
 use clap::{Args, FromArgMatches};
 use fur::scene::ModelSpec;
-use fur::scene_file::{docs, Flag, Kind, Scene, SceneFile, Setting, SettingArgs, Value, GROUPS};
+use fur::scene_file::{docs, Flag, Kind, Scene, SceneFile, Setting, Value, GROUPS};
+use fur::setting_args::SettingArgs;
 
 fn scratch(name: &str) -> PathBuf {
     let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("settings");

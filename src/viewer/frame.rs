@@ -100,7 +100,7 @@ impl Viewer {
             let Action::Set(name, value) = action else {
                 continue;
             };
-            if let Some(setting) = crate::scene_file::find_setting(name) {
+            if let Some(setting) = crate::setting_args::find_setting(name) {
                 (setting.set)(&mut scene, value.clone());
                 changes.note(setting.effect, &scene);
             }

@@ -85,7 +85,7 @@ impl Script {
                 }
                 "set" => {
                     let (name, text) = args.split_once('=').ok_or_else(error)?;
-                    let (setting, value) = crate::scene_file::setting_value(name.trim(), text)?;
+                    let (setting, value) = crate::setting_args::setting_value(name.trim(), text)?;
                     if setting.effect == crate::scene_file::Effect::Restart {
                         return Err(Error::Parameter(format!(
                             "bad script event `{item}`: `{}` takes effect only when the viewer \

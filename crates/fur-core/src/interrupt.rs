@@ -1,6 +1,7 @@
 //! Ctrl-C (SIGINT): long runs check between frames whether the user asked them to
 //! stop, finish the frame in hand and return [`Error::Interrupted`]; the command line
-//! then exits with status 130 after the device is idle.
+//! then exits with status 130 after the device is idle. The application routes the
+//! signal here ([`request`]).
 
 use std::sync::atomic::{AtomicBool, Ordering};
 
@@ -8,15 +9,10 @@ use crate::error::{Error, Result};
 
 static REQUESTED: AtomicBool = AtomicBool::new(false);
 
-/// Routes Ctrl-C to [`requested`] instead of killing the process. A second Ctrl-C
-/// while the first is being honoured exits at once with status 130.
-pub fn install() {
-    // Failing to install (another handler is set) leaves the default behaviour.
-    let _ = ctrlc::set_handler(|| {
-        if REQUESTED.swap(true, Ordering::SeqCst) {
-            std::process::exit(130);
-        }
-    });
+/// Asks long runs to stop; returns whether they were asked already (a second Ctrl-C
+/// while the first is being honoured exits at once).
+pub fn request() -> bool {
+    REQUESTED.swap(true, Ordering::SeqCst)
 }
 
 /// Whether Ctrl-C was pressed.

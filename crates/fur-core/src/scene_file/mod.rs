@@ -2,7 +2,7 @@
 //! camera, lighting, drawing, simulation, collision, motion, image size). Each of its
 //! settings is defined once, in `keys/` ([`Setting`]: key, flag, type, range, units,
 //! help, panel); from those definitions come the command line's flags
-//! ([`SettingArgs`]), the TOML scene files ([`SceneFile`]: a look saved, shared and
+//! (the application's `SettingArgs`), the TOML scene files ([`SceneFile`]: a look saved, shared and
 //! versioned, every key optional), the viewer's panel and `fur settings`. A run
 //! starts from the model's defaults, applies the file, then the command line's flags.
 //!
@@ -13,7 +13,6 @@ use std::path::Path;
 
 use glam::Vec3;
 
-mod cli;
 pub mod docs;
 mod file;
 mod keys;
@@ -21,7 +20,6 @@ mod options;
 mod setting;
 mod value;
 
-pub use cli::{find_setting, setting_value, SettingArgs};
 pub use file::SceneFile;
 pub use keys::GROUPS;
 pub use options::{DrawOptions, SceneOptions};

@@ -1,7 +1,7 @@
 //! What a setting is: its section and key in a scene file, its command-line flag, its
 //! type and range, its units and help, what changing it costs, and how the viewer's
 //! panel shows it. Every setting is defined once, in one of the group files of
-//! `keys/`; the command line ([`super::SettingArgs`]), the scene file's reader and
+//! `keys/`; the command line (the application's `SettingArgs`), the scene file's reader and
 //! writer, the viewer's panel, `fur settings` and the scene-file docs all come from
 //! those definitions.
 

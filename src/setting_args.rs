@@ -1,15 +1,15 @@
 //! Every setting as a command-line flag: `fur render`, `fur view` and `fur
 //! export-frame` flatten [`SettingArgs`], whose flags, help (with the range and the
-//! defaults) and headings come from the definitions in `keys/`.
+//! defaults) and headings come from the core's definitions
+//! (`crates/fur-core/src/scene_file/keys/`).
 
 use clap::builder::{BoolishValueParser, PossibleValuesParser};
 use clap::{Arg, ArgAction, ArgMatches, Command};
 use glam::Vec3;
 
-use super::keys::GROUPS;
-use super::{Flag, Kind, Scene, Setting, Value};
-use crate::error::{Error, Result};
-use crate::scene::ModelSpec;
+use fur_core::error::{Error, Result};
+use fur_core::scene::ModelSpec;
+use fur_core::scene_file::{Flag, Kind, Scene, Setting, Value, GROUPS};
 
 /// The settings given on the command line, applied over the scene file's.
 #[derive(Clone, Debug, Default)]

@@ -8,10 +8,16 @@
 
 #include "strands.glsl"
 
+// The set's binding numbers are defines from crates/fur-gpu/src/sim/kernel.rs
+// (`SimBinding`), never typed here.
+#ifndef SB_STATIC
+#error "the simulation kernels are compiled with kernel_defines() (crates/fur-gpu/src/sim/kernel.rs)"
+#endif
+
 layout(constant_id = 1) const uint V = 17u;   // vertices per strand
 layout(local_size_x = GROUP_SIZE) in;         // strands per workgroup (crates/fur-gpu/src/gpu/shader.rs)
 
-layout(set = 0, binding = 0, std140) uniform SimStatic {
+layout(set = 0, binding = SB_STATIC, std140) uniform SimStatic {
     vec4 stiffness;     // S_G, S_L
     uvec4 counts;       // strand count, strands per row, global cutoff vertex, local iterations
     uvec4 counts2;      // length iterations, bone capsules, joints, the probe's arrow step (STEPS bit, 0 none)
@@ -27,7 +33,7 @@ struct Step {
     vec4 gravity_h2;    // xyz = g h², w = velocity retention
     vec4 wind_h2[4];    // W1..W4 scaled by magnitude and h²
 };
-layout(set = 0, binding = 1, std430) readonly buffer Steps {
+layout(set = 0, binding = SB_STEPS, std430) readonly buffer Steps {
     Step steps[];
 };
 
@@ -36,27 +42,27 @@ layout(set = 0, binding = 1, std430) readonly buffer Steps {
 #ifndef REST_ACCESS
 #define REST_ACCESS readonly
 #endif
-layout(set = 0, binding = 2, rgba32f) uniform REST_ACCESS image2D rest_positions;  // model space, w = rest length
-layout(set = 0, binding = 3, rgba32f) uniform REST_ACCESS image2D rest_local;      // segment i in frame i
-layout(set = 0, binding = 4, std430) REST_ACCESS buffer RootFrames {
+layout(set = 0, binding = SB_REST_POSITIONS, rgba32f) uniform REST_ACCESS image2D rest_positions;  // model space, w = rest length
+layout(set = 0, binding = SB_REST_LOCAL, rgba32f) uniform REST_ACCESS image2D rest_local;      // segment i in frame i
+layout(set = 0, binding = SB_ROOT_FRAMES, std430) REST_ACCESS buffer RootFrames {
     vec4 root_frames[];   // 3 columns per strand
 };
-layout(set = 0, binding = 5, rgba32f) uniform image2D previous_positions;
-layout(set = 0, binding = 6, rgba32f) uniform image2D current_positions;
+layout(set = 0, binding = SB_PREVIOUS_POSITIONS, rgba32f) uniform image2D previous_positions;
+layout(set = 0, binding = SB_CURRENT_POSITIONS, rgba32f) uniform image2D current_positions;
 // The body's signed distance field (crates/fur-core/src/sim/sdf.rs, on the device crates/fur-gpu/src/sim/field.rs):
 // per grid point, the distance and the field's gradient there. An image, not a buffer:
 // a CPU driver reads an image at lane-varying points in one gather.
-layout(set = 0, binding = 7, rgba32f) uniform readonly image3D sdf;
+layout(set = 0, binding = SB_SDF, rgba32f) uniform readonly image3D sdf;
 
 // A skinned body's root pose of every strand for each substep of this dispatch
 // (shaders/skin.comp): R's columns, with the skinned root in their w.
-layout(set = 0, binding = 8, rgba32f) uniform readonly imageBuffer root_poses;
+layout(set = 0, binding = SB_ROOT_POSES, rgba32f) uniform readonly imageBuffer root_poses;
 
 // A skinned body's bone capsules at the bind pose, then for each substep of the
 // submission: (a, radius), (b, the child bone's capsule or −1) in model space,
 // sim.counts2.y of them per pose (crates/fur-core/src/skinning/capsules.rs). A texel buffer, not a
 // storage buffer: a CPU driver reads it in one gather (crates/fur-gpu/src/gpu/buffer.rs).
-layout(set = 0, binding = 9, rgba32f) uniform readonly imageBuffer capsules;
+layout(set = 0, binding = SB_CAPSULES, rgba32f) uniform readonly imageBuffer capsules;
 
 vec4 capsule(uint i) {
     return imageLoad(capsules, int(i));
@@ -64,21 +70,21 @@ vec4 capsule(uint i) {
 
 // Per strand, its root pose after the last substep simulated (R's columns, the root in
 // w), so the next substep can carry the strand along with the body.
-layout(set = 0, binding = 10, rgba32f) uniform imageBuffer last_poses;
+layout(set = 0, binding = SB_LAST_POSES, rgba32f) uniform imageBuffer last_poses;
 
 // A skinned body's blend of bones at each grid point of the field (crates/fur-core/src/skinning/blend.rs):
 // two grid points along x per texel, each the heaviest and second heaviest joint's
 // indices (16-bit halves of one word) and the heaviest's share of their weights (f32
 // bits); all zero where no skin is near.
-layout(set = 0, binding = 11, rgba32ui) uniform readonly uimage3D blend;
+layout(set = 0, binding = SB_BLEND, rgba32ui) uniform readonly uimage3D blend;
 
 // Per substep of the submission and joint, the joint's motion from the rest pose: the
 // first three rows of K = J · J_rest⁻¹; sim.counts2.z joints per substep.
-layout(set = 0, binding = 12, rgba32f) uniform readonly imageBuffer bones;
+layout(set = 0, binding = SB_BONES, rgba32f) uniform readonly imageBuffer bones;
 
 // The simulation view's arrows (PROBE): per strand vertex, strand-major, the
 // correction the step sim.counts2.w made in the frame's last substep.
-layout(set = 0, binding = 13, std430) writeonly buffer Probe {
+layout(set = 0, binding = SB_PROBE, std430) writeonly buffer Probe {
     vec4 arrows[];
 };
 

@@ -13,19 +13,25 @@
 
 layout(local_size_x = GROUP_SIZE) in;   // crates/fur-gpu/src/gpu/shader.rs
 
+// The binding numbers are defines from crates/fur-gpu/src/skinning/gpu.rs
+// (`SkinBinding`), never typed here.
+#ifndef KB_POSED
+#error "the skinning kernel is compiled with its bindings' defines (crates/fur-gpu/src/skinning/gpu.rs)"
+#endif
+
 // Every table but the posed body is a texel buffer: a CPU driver reads and writes one
 // at lane-varying indices in one gather or scatter, a storage buffer lane by lane.
-layout(set = 0, binding = 0, rgba32f) uniform readonly imageBuffer bind_vertices;  // per vertex: position, normal, tangent
-layout(set = 0, binding = 1, rgba32ui) uniform readonly uimageBuffer influences;
-layout(set = 0, binding = 2, rgba32f) uniform readonly imageBuffer weights;
-layout(set = 0, binding = 3, rgba32f) uniform readonly imageBuffer rest_frames;    // per vertex: rest tangent, rest normal
+layout(set = 0, binding = KB_BIND_VERTICES, rgba32f) uniform readonly imageBuffer bind_vertices;  // per vertex: position, normal, tangent
+layout(set = 0, binding = KB_INFLUENCES, rgba32ui) uniform readonly uimageBuffer influences;
+layout(set = 0, binding = KB_WEIGHTS, rgba32f) uniform readonly imageBuffer weights;
+layout(set = 0, binding = KB_REST_FRAMES, rgba32f) uniform readonly imageBuffer rest_frames;    // per vertex: rest tangent, rest normal
 // Per substep of the submission, every joint's matrix, column after column.
-layout(set = 0, binding = 4, rgba32f) uniform readonly imageBuffer joints;
-layout(set = 0, binding = 5, std430) writeonly buffer Posed {
+layout(set = 0, binding = KB_JOINTS, rgba32f) uniform readonly imageBuffer joints;
+layout(set = 0, binding = KB_POSED, std430) writeonly buffer Posed {
     vec4 posed[];           // per vertex: position, normal (the last substep)
 };
 // Per substep of the dispatch and strand: R's columns, p in w.
-layout(set = 0, binding = 6, rgba32f) uniform writeonly imageBuffer root_poses;
+layout(set = 0, binding = KB_ROOT_POSES, rgba32f) uniform writeonly imageBuffer root_poses;
 
 layout(push_constant) uniform Push {
     uint first_step;    // the submission's substep of this dispatch's first substep

@@ -3,8 +3,8 @@
 use crate::gpu::shader::{compile, SOURCES};
 
 /// Every embedded shader compiles with the defines its layer gives it (the kernels'
-/// shared constants, the render passes' flags and binding numbers, the skinning's
-/// none) and the widest variant options: a new shader needs no list to be checked.
+/// shared constants and binding numbers, the render passes' flags and binding
+/// numbers, the skinning's binding numbers) and the widest variant options: a new shader needs no list to be checked.
 #[test]
 fn every_embedded_shader_compiles() {
     let options = [
@@ -23,7 +23,7 @@ fn every_embedded_shader_compiles() {
     let layers = [
         crate::sim::kernel_defines(),
         crate::render::render_defines(),
-        Vec::new(),
+        crate::skinning::gpu::skin_defines(),
     ];
     let mut compiled = 0;
     for (name, _) in SOURCES.iter().filter(|(n, _)| !n.ends_with(".glsl")) {

@@ -3,6 +3,7 @@
 mod access;
 mod buffer;
 mod choice;
+mod descriptors;
 mod device;
 mod image;
 mod instance;
@@ -21,6 +22,7 @@ use std::sync::Arc;
 pub use access::{barrier, Access, Barrier, State, Tracker};
 pub use buffer::{Buffer, TexelBuffer};
 pub use choice::{choose, Candidate, DeviceEntry, DeviceKind, DeviceList};
+pub(crate) use descriptors::bindings;
 pub use device::{Device, DeviceInfo, PresentTarget};
 pub use image::{
     image_barrier, image_barriers, memory_barrier, subresource_range, whole_image_copy, Image,

@@ -8,7 +8,7 @@
 use ash::vk;
 
 use super::texture::{GpuTexture, ShadowMap};
-use crate::gpu::{Buffer, Device, Image};
+use crate::gpu::{bindings, Buffer, Device, Image};
 
 /// The set numbers.
 pub(super) const SET_FRAME: u32 = 0;
@@ -27,43 +27,6 @@ const HAIR_STAGES: vk::ShaderStageFlags = vk::ShaderStageFlags::from_raw(
 const SHADING_STAGES: vk::ShaderStageFlags = vk::ShaderStageFlags::from_raw(
     vk::ShaderStageFlags::GEOMETRY.as_raw() | vk::ShaderStageFlags::FRAGMENT.as_raw(),
 );
-
-/// Declares a set's bindings: an enum numbered in order, with each binding's define,
-/// descriptor type and stages.
-macro_rules! bindings {
-    ($(#[$doc:meta])* $set:ident { $($(#[$bdoc:meta])* $name:ident = ($define:literal, $ty:ident, $stages:expr)),+ $(,)? }) => {
-        $(#[$doc])*
-        #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-        pub(super) enum $set { $($(#[$bdoc])* $name),+ }
-
-        impl $set {
-            pub(super) const ALL: &'static [$set] = &[$($set::$name),+];
-
-            /// The GLSL define that names its binding number.
-            pub(super) fn define(self) -> &'static str {
-                match self { $($set::$name => $define),+ }
-            }
-
-            /// Its descriptor type and the stages that read it.
-            pub(super) fn layout(self) -> (vk::DescriptorType, vk::ShaderStageFlags) {
-                match self { $($set::$name => (vk::DescriptorType::$ty, $stages)),+ }
-            }
-
-            /// A write of this binding of `set` (its info still to add).
-            pub(super) fn write(self, set: vk::DescriptorSet) -> vk::WriteDescriptorSet<'static> {
-                vk::WriteDescriptorSet::default()
-                    .dst_set(set)
-                    .dst_binding(self as u32)
-                    .descriptor_type(self.layout().0)
-            }
-
-            /// The whole set's layout, in binding order.
-            pub(super) fn set_layout() -> Vec<(vk::DescriptorType, vk::ShaderStageFlags)> {
-                Self::ALL.iter().map(|b| b.layout()).collect()
-            }
-        }
-    };
-}
 
 bindings!(
     /// Set 0: one per frame in flight, per position image and per view (the camera's

@@ -17,7 +17,7 @@ use gpu_allocator::MemoryLocation;
 
 pub use super::kernel::kernel_defines;
 use super::kernel::{
-    after_dispatch, bindings, write_sim_set, BodyViews, GpuStep, SimStatic, BODY_BLEND,
+    after_dispatch, write_sim_set, BodyViews, GpuStep, SimBinding, SimStatic, BODY_BLEND,
     BODY_SKINNED, PROBE, SLEEP,
 };
 use super::params::{SimParams, StepConstants};
@@ -143,7 +143,7 @@ impl GpuSim {
                 "the simulation handles at most {MAX_VERTICES} vertices per strand, got {vertices}"
             )));
         }
-        let bindings = bindings();
+        let bindings = SimBinding::set_layout();
         let set_layout = DescriptorSetLayout::new(device, "sim.set_layout", &bindings)?;
         let push = [vk::PushConstantRange::default()
             .stage_flags(vk::ShaderStageFlags::COMPUTE)

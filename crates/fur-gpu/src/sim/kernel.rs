@@ -8,7 +8,7 @@ use glam::{Mat4, UVec4, Vec4};
 
 use super::params::StepConstants;
 use super::steps::SimStep;
-use crate::gpu::{memory_barrier, Buffer, Device, TexelBuffer};
+use crate::gpu::{bindings, memory_barrier, Buffer, Device, TexelBuffer};
 use crate::strand_textures::StrandTextures;
 
 /// The kernel's `STEPS` bit for a skinned body (`BODY_SKINNED` in `simulate.comp`).
@@ -25,8 +25,8 @@ pub(super) const BODY_BLEND: u32 = 256;
 pub(super) const PROBE: u32 = 512;
 
 /// What the simulation kernels share with Rust, given to them as `#define`s so no
-/// constant is typed twice: the `STEPS` bits, the projections per substep and the rest
-/// thresholds.
+/// constant is typed twice: the `STEPS` bits, the projections per substep, the rest
+/// thresholds and the bindings' numbers.
 pub fn kernel_defines() -> Vec<(&'static str, String)> {
     let uint = |v: u32| format!("{v}u");
     // `{:?}` writes an f32 as its shortest round-trip decimal, always with a point.
@@ -56,6 +56,13 @@ pub fn kernel_defines() -> Vec<(&'static str, String)> {
         ("BLEND_REFINE", uint(crate::skinning::blend::REFINE)),
         ("MIN_LENGTH", float(super::math::MIN_LENGTH)),
     ]
+    .into_iter()
+    .chain(
+        SimBinding::ALL
+            .iter()
+            .map(|b| (b.define(), (*b as u32).to_string())),
+    )
+    .collect()
 }
 
 /// `SimStatic` in `shaders/sim_common.glsl` (std140).
@@ -91,25 +98,41 @@ impl From<&StepConstants> for GpuStep {
     }
 }
 
-pub(super) fn bindings() -> [(vk::DescriptorType, vk::ShaderStageFlags); 14] {
-    let c = vk::ShaderStageFlags::COMPUTE;
-    [
-        (vk::DescriptorType::UNIFORM_BUFFER, c),
-        (vk::DescriptorType::STORAGE_BUFFER, c),
-        (vk::DescriptorType::STORAGE_IMAGE, c),
-        (vk::DescriptorType::STORAGE_IMAGE, c),
-        (vk::DescriptorType::STORAGE_BUFFER, c),
-        (vk::DescriptorType::STORAGE_IMAGE, c),
-        (vk::DescriptorType::STORAGE_IMAGE, c),
-        (vk::DescriptorType::STORAGE_IMAGE, c), // the body's distance field
-        (vk::DescriptorType::STORAGE_TEXEL_BUFFER, c), // root poses
-        (vk::DescriptorType::STORAGE_TEXEL_BUFFER, c), // the bones' capsules
-        (vk::DescriptorType::STORAGE_TEXEL_BUFFER, c), // last root poses
-        (vk::DescriptorType::STORAGE_IMAGE, c), // the skin's blend of bones
-        (vk::DescriptorType::STORAGE_TEXEL_BUFFER, c), // the bones' motions
-        (vk::DescriptorType::STORAGE_BUFFER, c), // the probe's arrows
-    ]
-}
+const COMPUTE: vk::ShaderStageFlags = vk::ShaderStageFlags::COMPUTE;
+
+bindings!(
+    /// The simulation kernels' one set, one per position image (`shaders/sim_common.glsl`).
+    SimBinding {
+        /// The `SimStatic` uniform block.
+        Static = ("SB_STATIC", UNIFORM_BUFFER, COMPUTE),
+        /// Each substep's constants (`Step`).
+        Steps = ("SB_STEPS", STORAGE_BUFFER, COMPUTE),
+        /// The rest positions, model space.
+        RestPositions = ("SB_REST_POSITIONS", STORAGE_IMAGE, COMPUTE),
+        /// The rest segments, each in its parent's frame.
+        RestLocal = ("SB_REST_LOCAL", STORAGE_IMAGE, COMPUTE),
+        /// Each strand's root frame.
+        RootFrames = ("SB_ROOT_FRAMES", STORAGE_BUFFER, COMPUTE),
+        /// The positions a frame ago.
+        PreviousPositions = ("SB_PREVIOUS_POSITIONS", STORAGE_IMAGE, COMPUTE),
+        /// The positions now, written in place.
+        CurrentPositions = ("SB_CURRENT_POSITIONS", STORAGE_IMAGE, COMPUTE),
+        /// The body's distance field.
+        Sdf = ("SB_SDF", STORAGE_IMAGE, COMPUTE),
+        /// A skinned body's root poses.
+        RootPoses = ("SB_ROOT_POSES", STORAGE_TEXEL_BUFFER, COMPUTE),
+        /// The bones' capsules.
+        Capsules = ("SB_CAPSULES", STORAGE_TEXEL_BUFFER, COMPUTE),
+        /// The root poses of the frame before.
+        LastPoses = ("SB_LAST_POSES", STORAGE_TEXEL_BUFFER, COMPUTE),
+        /// The skin's blend of bones at the field's grid points.
+        Blend = ("SB_BLEND", STORAGE_IMAGE, COMPUTE),
+        /// The bones' motions.
+        Bones = ("SB_BONES", STORAGE_TEXEL_BUFFER, COMPUTE),
+        /// The probe's arrows (the simulation view).
+        Probe = ("SB_PROBE", STORAGE_BUFFER, COMPUTE),
+    }
+);
 
 /// Makes a dispatch's storage writes visible to the next dispatch (a pipeline barrier
 /// between dependent compute steps).
@@ -149,7 +172,6 @@ pub(super) fn write_sim_set(
     textures: &StrandTextures,
     body: &BodyViews,
 ) {
-    let bindings = bindings();
     let buffer = |b: &Buffer| {
         [vk::DescriptorBufferInfo::default()
             .buffer(b.raw())
@@ -160,69 +182,60 @@ pub(super) fn write_sim_set(
             .image_view(i.view())
             .image_layout(vk::ImageLayout::GENERAL)]
     };
-    let (b0, b1, b4, b13) = (
+    let (statics, steps, root_frames, probe) = (
         buffer(statics),
         buffer(steps),
         buffer(&textures.root_frames),
         buffer(&textures.probe),
     );
-    let (t8, t9, t10, t12) = (
+    let (root_poses, capsules, last, bones) = (
         [body.root_poses.view()],
         [body.capsules.view()],
         [body.last.view()],
         [body.bones.view()],
     );
-    let (i2, i3, i7, i11) = (
+    let (rest, rest_local, field, blend) = (
         image(&textures.rest),
         image(&textures.rest_local),
         image(body.field),
         image(body.blend),
     );
-    let (i5, i6) = (
+    let (previous, current) = (
         image(&textures.positions[1 - k]),
         image(&textures.positions[k]),
     );
-    let write = |binding: u32| {
-        vk::WriteDescriptorSet::default()
-            .dst_set(set)
-            .dst_binding(binding)
-            .descriptor_type(bindings[binding as usize].0)
-    };
+    use SimBinding as B;
     let writes = [
-        write(0).buffer_info(&b0),
-        write(1).buffer_info(&b1),
-        write(2).image_info(&i2),
-        write(3).image_info(&i3),
-        write(4).buffer_info(&b4),
-        write(5).image_info(&i5),
-        write(6).image_info(&i6),
-        write(7).image_info(&i7),
-        write(8).texel_buffer_view(&t8),
-        write(9).texel_buffer_view(&t9),
-        write(10).texel_buffer_view(&t10),
-        write(11).image_info(&i11),
-        write(12).texel_buffer_view(&t12),
-        write(13).buffer_info(&b13),
+        B::Static.write(set).buffer_info(&statics),
+        B::Steps.write(set).buffer_info(&steps),
+        B::RestPositions.write(set).image_info(&rest),
+        B::RestLocal.write(set).image_info(&rest_local),
+        B::RootFrames.write(set).buffer_info(&root_frames),
+        B::PreviousPositions.write(set).image_info(&previous),
+        B::CurrentPositions.write(set).image_info(&current),
+        B::Sdf.write(set).image_info(&field),
+        B::RootPoses.write(set).texel_buffer_view(&root_poses),
+        B::Capsules.write(set).texel_buffer_view(&capsules),
+        B::LastPoses.write(set).texel_buffer_view(&last),
+        B::Blend.write(set).image_info(&blend),
+        B::Bones.write(set).texel_buffer_view(&bones),
+        B::Probe.write(set).buffer_info(&probe),
     ];
-    // SAFETY: `set` was allocated from this device with the simulation's layout, whose
-    // bindings 0..=13 have the types written here; every view and buffer is alive (the
+    // SAFETY: `set` was allocated from this device with the simulation's layout
+    // (`SimBinding::set_layout`), whose bindings have the types written here; every view and buffer is alive (the
     // simulation owns them) and the info arrays outlive the call; the sets are written
     // once, at creation, before any submission uses them.
     unsafe { device.raw.update_descriptor_sets(&writes, &[]) };
 }
 
-/// Points binding 13 of simulation set `set` at `probe` (resized by the simulation
-/// view; the device is idle).
+/// Points simulation set `set`'s probe at `probe` (resized by the simulation view; the
+/// device is idle).
 pub(super) fn write_probe(device: &Device, set: vk::DescriptorSet, probe: &Buffer) {
     let info = [vk::DescriptorBufferInfo::default()
         .buffer(probe.raw())
         .range(vk::WHOLE_SIZE)];
-    let write = vk::WriteDescriptorSet::default()
-        .dst_set(set)
-        .dst_binding(13)
-        .descriptor_type(bindings()[13].0)
-        .buffer_info(&info);
-    // SAFETY: the set has the simulation's layout (binding 13 a storage buffer); no
+    let write = SimBinding::Probe.write(set).buffer_info(&info);
+    // SAFETY: the set has the simulation's layout (the probe a storage buffer); no
     // submission using it is pending (the caller waited for the device); the buffer
     // outlives the set's use (the strand textures own it and are rebound on change).
     unsafe { device.raw.update_descriptor_sets(&[write], &[]) };
@@ -232,7 +245,7 @@ pub(super) fn write_probe(device: &Device, set: vk::DescriptorSet, probe: &Buffe
 mod tests {
     use std::mem::offset_of;
 
-    use super::{bindings, GpuStep, SimStatic};
+    use super::{GpuStep, SimBinding, SimStatic};
     use crate::gpu::reflect::{check_bindings, check_struct, reflect};
     use crate::gpu::shader::compile;
 
@@ -240,7 +253,7 @@ mod tests {
     /// `SimStatic` and `Step` as the Rust structs do; every binding is used.
     #[test]
     fn the_kernels_agree_with_the_rust_layouts() {
-        let layout: Vec<_> = bindings().iter().map(|b| b.0).collect();
+        let layout: Vec<_> = SimBinding::set_layout().iter().map(|b| b.0).collect();
         let sim_static = [
             ("stiffness", offset_of!(SimStatic, stiffness)),
             ("counts", offset_of!(SimStatic, counts)),

@@ -17,6 +17,7 @@ use crate::gpu::{
 };
 
 /// Vertices per workgroup (`local_size_x` in `skin.comp`).
+use crate::gpu::bindings;
 use crate::gpu::shader::GROUP_SIZE;
 /// The most root-pose memory a body may take (substeps × strands × 48 bytes).
 const MAX_ROOT_POSE_BYTES: u64 = 256 << 20;
@@ -53,23 +54,35 @@ pub struct GpuSkin {
     pipeline: Pipeline,
 }
 
-/// The joint matrices' binding.
-const JOINTS_BINDING: u32 = 4;
-/// The posed body's binding: a storage buffer (the mesh pass reads it too). Every other
-/// table is a storage texel buffer: a CPU driver reads and writes those at lane-varying
-/// indices in one gather or scatter, a storage buffer one lane at a time
-/// (src/gpu/buffer.rs).
-const POSED_BINDING: u32 = 5;
+bindings!(
+    /// The skinning kernel's one set, one per frame in flight (`shaders/skin.comp`).
+    /// Every table but the posed body is a storage texel buffer: a CPU driver reads and
+    /// writes those at lane-varying indices in one gather or scatter, a storage buffer
+    /// one lane at a time (`crates/fur-gpu/src/gpu/buffer.rs`).
+    SkinBinding {
+        /// Per vertex: position, normal, tangent at the bind pose.
+        BindVertices = ("KB_BIND_VERTICES", STORAGE_TEXEL_BUFFER, vk::ShaderStageFlags::COMPUTE),
+        /// Per vertex, its four joints.
+        Influences = ("KB_INFLUENCES", STORAGE_TEXEL_BUFFER, vk::ShaderStageFlags::COMPUTE),
+        /// Per vertex, their weights.
+        Weights = ("KB_WEIGHTS", STORAGE_TEXEL_BUFFER, vk::ShaderStageFlags::COMPUTE),
+        /// Per vertex: rest tangent, rest normal.
+        RestFrames = ("KB_REST_FRAMES", STORAGE_TEXEL_BUFFER, vk::ShaderStageFlags::COMPUTE),
+        /// The joint matrices of each substep (one buffer per frame in flight).
+        Joints = ("KB_JOINTS", STORAGE_TEXEL_BUFFER, vk::ShaderStageFlags::COMPUTE),
+        /// The posed body: a storage buffer, since the mesh pass reads it too.
+        Posed = ("KB_POSED", STORAGE_BUFFER, vk::ShaderStageFlags::COMPUTE),
+        /// Each strand's root pose per substep.
+        RootPoses = ("KB_ROOT_POSES", STORAGE_TEXEL_BUFFER, vk::ShaderStageFlags::COMPUTE),
+    }
+);
 
-fn bindings() -> [(vk::DescriptorType, vk::ShaderStageFlags); 7] {
-    std::array::from_fn(|binding| {
-        let kind = if binding as u32 == POSED_BINDING {
-            vk::DescriptorType::STORAGE_BUFFER
-        } else {
-            vk::DescriptorType::STORAGE_TEXEL_BUFFER
-        };
-        (kind, vk::ShaderStageFlags::COMPUTE)
-    })
+/// The skinning kernel's defines: its bindings' numbers.
+pub(crate) fn skin_defines() -> Vec<(&'static str, String)> {
+    SkinBinding::ALL
+        .iter()
+        .map(|b| (b.define(), (*b as u32).to_string()))
+        .collect()
 }
 
 /// How much room a [`GpuSkin`] allocates.
@@ -211,7 +224,7 @@ impl GpuSkin {
                 )
             })
             .collect::<Result<Vec<_>>>()?;
-        let bindings = bindings();
+        let bindings = SkinBinding::set_layout();
         let set_layout = DescriptorSetLayout::new(device, "skin.set_layout", &bindings)?;
         let push = [vk::PushConstantRange::default()
             .stage_flags(vk::ShaderStageFlags::COMPUTE)
@@ -228,42 +241,36 @@ impl GpuSkin {
             let posed_info = [vk::DescriptorBufferInfo::default()
                 .buffer(posed.raw())
                 .range(vk::WHOLE_SIZE)];
-            let views: Vec<(u32, [vk::BufferView; 1])> = [
-                (0, &statics[0]),
-                (1, &statics[1]),
-                (2, &statics[2]),
-                (3, &statics[3]),
-                (JOINTS_BINDING, joint_buffer),
-                (6, &root_poses),
+            use SkinBinding as B;
+            let views: Vec<(SkinBinding, [vk::BufferView; 1])> = [
+                (B::BindVertices, &statics[0]),
+                (B::Influences, &statics[1]),
+                (B::Weights, &statics[2]),
+                (B::RestFrames, &statics[3]),
+                (B::Joints, joint_buffer),
+                (B::RootPoses, &root_poses),
             ]
             .iter()
             .map(|(binding, texels)| (*binding, [texels.view()]))
             .collect();
             let mut writes: Vec<vk::WriteDescriptorSet> = views
                 .iter()
-                .map(|(binding, view)| {
-                    vk::WriteDescriptorSet::default()
-                        .dst_set(*set)
-                        .dst_binding(*binding)
-                        .descriptor_type(vk::DescriptorType::STORAGE_TEXEL_BUFFER)
-                        .texel_buffer_view(view)
-                })
+                .map(|(binding, view)| binding.write(*set).texel_buffer_view(view))
                 .collect();
-            writes.push(
-                vk::WriteDescriptorSet::default()
-                    .dst_set(*set)
-                    .dst_binding(POSED_BINDING)
-                    .descriptor_type(vk::DescriptorType::STORAGE_BUFFER)
-                    .buffer_info(&posed_info),
-            );
+            writes.push(B::Posed.write(*set).buffer_info(&posed_info));
             // SAFETY: `set` was just allocated from `pool` with `set_layout`, whose
             // bindings have the types written here, and no submission uses it yet; the
             // texel views and the posed buffer are alive (moved into `Self` below) and
             // `views` and `posed_info` outlive the call.
             unsafe { device.raw.update_descriptor_sets(&writes, &[]) };
         }
-        let pipeline =
-            Pipeline::compute(device, "skin.comp", &[], &layout, &Specialization::new(&[]))?;
+        let pipeline = Pipeline::compute(
+            device,
+            "skin.comp",
+            &skin_defines(),
+            &layout,
+            &Specialization::new(&[]),
+        )?;
         Ok(Self {
             device: device.clone(),
             vertex_count,
@@ -409,8 +416,11 @@ mod tests {
     /// and every one of them.
     #[test]
     fn the_skinning_kernel_agrees_with_the_rust_layout() {
-        let layout: Vec<_> = super::bindings().iter().map(|b| b.0).collect();
-        let words = crate::gpu::shader::compile("skin.comp", &[]).unwrap();
+        let layout: Vec<_> = super::SkinBinding::set_layout()
+            .iter()
+            .map(|b| b.0)
+            .collect();
+        let words = crate::gpu::shader::compile("skin.comp", &super::skin_defines()).unwrap();
         let found = reflect(&words);
         check_bindings("skin.comp", &found, &[&layout]).unwrap();
         assert_eq!(found.bindings.len(), layout.len(), "{:?}", found.bindings);

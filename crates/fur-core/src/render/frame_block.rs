@@ -301,7 +301,7 @@ impl FrameUniforms {
                 layers_per_unit,
                 layers_per_depth,
                 depth_bias,
-                skin_layers: skin_layers(l, s.density, inputs.strands.coat_height),
+                skin_layers: skin_layers(l, layers_per_unit, inputs.strands.coat_height),
                 _pad: [0.0; 3],
             },
             fibre: FibreBlock {
@@ -326,12 +326,12 @@ impl FrameUniforms {
 /// (the coat's estimate, as the hairs' own, `coat_layers` of `fur.geom`); 0 otherwise
 /// (Kajiya–Kay lights the skin as the seed does; a shadow map measures the light's way
 /// through the fur itself).
-fn skin_layers(lighting: &Lighting, density: f32, coat_height: f32) -> f32 {
+fn skin_layers(lighting: &Lighting, layers_per_unit: f32, coat_height: f32) -> f32 {
     if lighting.model == LightingModel::Marschner
         && !lighting.shadows.enabled
         && lighting.lobes.coat
     {
-        coat_height * lighting.shadows.layers_per_unit(density)
+        coat_height * layers_per_unit
     } else {
         0.0
     }

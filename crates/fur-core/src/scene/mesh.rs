@@ -47,7 +47,7 @@ impl Mesh {
     /// on a closed model (a part thinner than the field can see) and the bounding
     /// radius on an open one (a patch with no inside).
     pub fn half_thickness(&self) -> Result<Vec<f32>> {
-        self.half_thickness_by(false)
+        Ok(self.half_thicknesses(&[false])?.remove(0))
     }
 
     /// [`Mesh::half_thickness`] as earlier versions measured it: the deepest point along
@@ -56,10 +56,20 @@ impl Mesh {
     /// it: the walking critter's collision is tuned on the hair it grows (its ears'
     /// full-length hair; measured by `tests/skinning/depth.rs`).
     pub fn half_thickness_through(&self) -> Result<Vec<f32>> {
-        self.half_thickness_by(true)
+        Ok(self.half_thicknesses(&[true])?.remove(0))
     }
 
-    fn half_thickness_by(&self, through: bool) -> Result<Vec<f32>> {
+    /// Both measures, [`Mesh::half_thickness`] and [`Mesh::half_thickness_through`],
+    /// from one distance field.
+    pub fn half_thickness_both(&self) -> Result<(Vec<f32>, Vec<f32>)> {
+        let mut both = self.half_thicknesses(&[false, true])?;
+        let through = both.pop().unwrap_or_default();
+        Ok((both.pop().unwrap_or_default(), through))
+    }
+
+    /// The half-thicknesses for each of `throughs` (whether the ray goes through the
+    /// body), from one distance field.
+    fn half_thicknesses(&self, throughs: &[bool]) -> Result<Vec<Vec<f32>>> {
         const RESOLUTION: u32 = 40;
         const STEPS: usize = 24;
         let (_, radius) = self.bounds();
@@ -67,40 +77,44 @@ impl Mesh {
         let (sdf, report) = Sdf::build(self, RESOLUTION, padding)?;
         let (lo, hi) = self.aabb();
         let cell = ((hi - lo).max_element() + 2.0 * padding) / RESOLUTION as f32;
-        let unseen = if report.closed() && !through {
-            0.5 * cell
-        } else {
-            radius
-        };
-        // Every 1/24 of the radius (and, but through, eight times finer over the first
-        // of those).
-        let fine = (1..8)
-            .filter(|_| !through)
-            .map(|k| radius * k as f32 / (8 * STEPS) as f32);
-        let depths: Vec<f32> = fine
-            .chain((1..=STEPS).map(|k| radius * k as f32 / STEPS as f32))
-            .collect();
-        Ok(self
-            .positions
+        Ok(throughs
             .iter()
-            .zip(&self.normals)
-            .map(|(p, n)| {
-                let mut deepest = 0.0f32;
-                for &depth in &depths {
-                    let inside = sdf
-                        .sample(V3::<f32>::from_vec3(*p - *n * depth))
-                        .map_or(0.0, |(d, _)| -d);
-                    if inside > 0.0 {
-                        deepest = deepest.max(inside);
-                    } else if !through && (deepest > 0.0 || depth > 2.0 * cell) {
-                        break;
-                    }
-                }
-                if deepest > 0.0 {
-                    deepest
+            .map(|&through| {
+                let unseen = if report.closed() && !through {
+                    0.5 * cell
                 } else {
-                    unseen
-                }
+                    radius
+                };
+                // Every 1/24 of the radius (and, but through, eight times finer over
+                // the first of those).
+                let fine = (1..8)
+                    .filter(|_| !through)
+                    .map(|k| radius * k as f32 / (8 * STEPS) as f32);
+                let depths: Vec<f32> = fine
+                    .chain((1..=STEPS).map(|k| radius * k as f32 / STEPS as f32))
+                    .collect();
+                self.positions
+                    .iter()
+                    .zip(&self.normals)
+                    .map(|(p, n)| {
+                        let mut deepest = 0.0f32;
+                        for &depth in &depths {
+                            let inside = sdf
+                                .sample(V3::<f32>::from_vec3(*p - *n * depth))
+                                .map_or(0.0, |(d, _)| -d);
+                            if inside > 0.0 {
+                                deepest = deepest.max(inside);
+                            } else if !through && (deepest > 0.0 || depth > 2.0 * cell) {
+                                break;
+                            }
+                        }
+                        if deepest > 0.0 {
+                            deepest
+                        } else {
+                            unseen
+                        }
+                    })
+                    .collect()
             })
             .collect())
     }

@@ -62,15 +62,19 @@ impl Comb {
         // The half-thickness that finds thin parts, and the one that bounds the hair's
         // length: the same on a rigid body; a skinned body keeps its lengths measured
         // through the body, on which its collision is tuned (docs/design.md, "How grown
-        // fur lies").
-        let thin = match body || (limited && groom.comb_field.is_none()) {
-            true => Some(mesh.half_thickness()?),
-            false => None,
+        // fur lies"). Both come from one distance field.
+        let (thin, through) = match (body, limited, groom.comb_field.is_none()) {
+            (true, _, false) => {
+                let (thin, through) = mesh.half_thickness_both()?;
+                (Some(thin), Some(through))
+            }
+            (false, true, false) => (None, Some(mesh.half_thickness_through()?)),
+            (true, _, true) | (_, true, true) => (Some(mesh.half_thickness()?), None),
+            (false, false, _) => (None, None),
         };
-        let lengths = match (limited, &groom.comb_field) {
-            (false, _) => vec![full; mesh.vertex_count()],
-            (true, None) => bounded(thin.as_deref().unwrap_or_default(), groom, full),
-            (true, Some(_)) => bounded(&mesh.half_thickness_through()?, groom, full),
+        let lengths = match through.as_ref().or(thin.as_ref()) {
+            Some(h) if limited => bounded(h, groom, full),
+            _ => vec![full; mesh.vertex_count()],
         };
         let mut flat = match (&thin, body) {
             (Some(h), true) => flatness(h),
@@ -196,13 +200,8 @@ fn directions(mesh: &Mesh, groom: &GroomParams, flat: &[f32]) -> Result<Vec<Vec3
 /// the thick middle to the rim, and keeps the body's flow). `None` where no part is
 /// thin.
 fn along_parts(mesh: &Mesh, flat: &[f32]) -> Result<Option<Vec<Vec3>>> {
-    if flat.iter().all(|&f| f <= 0.0) {
-        return Ok(None);
-    }
-    let thick: Vec<f32> = flat.iter().map(|&f| f32::from(f <= 0.0)).collect();
-    let mut along = FlowField::from_heat(mesh, &thick)?.directions;
     // The thin parts: vertices with some flatness, joined by the mesh's edges and at
-    // its seams.
+    // its seams; each a part of its own when somewhere on it the hair lies wholly flat.
     let (_, radius) = mesh.bounds();
     let (joined, count) = weld(&mesh.positions, radius * 1e-6);
     let thin = |v: u32| flat[v as usize] > 0.0;
@@ -214,12 +213,18 @@ fn along_parts(mesh: &Mesh, flat: &[f32]) -> Result<Option<Vec<Vec3>>> {
     });
     let (part, parts) = pieces(count, edges);
     let mut thinnest = vec![0.0f32; parts];
-    for v in 0..mesh.vertex_count() {
+    for (v, &f) in flat.iter().enumerate() {
         let p = part[joined[v] as usize] as usize;
-        thinnest[p] = thinnest[p].max(flat[v]);
+        thinnest[p] = thinnest[p].max(f);
     }
+    let on_part = |v: usize| thinnest[part[joined[v] as usize] as usize] >= 1.0;
+    if !(0..flat.len()).any(on_part) {
+        return Ok(None);
+    }
+    let thick: Vec<f32> = flat.iter().map(|&f| f32::from(f <= 0.0)).collect();
+    let mut along = FlowField::from_heat(mesh, &thick)?.directions;
     for (v, a) in along.iter_mut().enumerate() {
-        if thinnest[part[joined[v] as usize] as usize] < 1.0 {
+        if !on_part(v) {
             *a = Vec3::ZERO;
         }
     }

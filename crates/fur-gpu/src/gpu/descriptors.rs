@@ -33,6 +33,11 @@ macro_rules! bindings {
                     .descriptor_type(self.layout().0)
             }
 
+            /// Each binding's define with its number, for the shaders.
+            pub(super) fn defines() -> impl Iterator<Item = (&'static str, String)> {
+                Self::ALL.iter().map(|b| (b.define(), (*b as u32).to_string()))
+            }
+
             /// The whole set's layout, in binding order.
             pub(super) fn set_layout() -> Vec<(::ash::vk::DescriptorType, ::ash::vk::ShaderStageFlags)> {
                 Self::ALL.iter().map(|b| b.layout()).collect()

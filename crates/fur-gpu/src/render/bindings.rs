@@ -109,21 +109,9 @@ pub(super) fn binding_defines() -> Vec<(&'static str, String)> {
         ("SET_BODY", SET_BODY.to_string()),
         ("SET_RASTER", SET_RASTER.to_string()),
     ];
-    defines.extend(
-        RasterBinding::ALL
-            .iter()
-            .map(|b| (b.define(), (*b as u32).to_string())),
-    );
-    defines.extend(
-        FrameBinding::ALL
-            .iter()
-            .map(|b| (b.define(), (*b as u32).to_string())),
-    );
-    defines.extend(
-        BodyBinding::ALL
-            .iter()
-            .map(|b| (b.define(), (*b as u32).to_string())),
-    );
+    defines.extend(RasterBinding::defines());
+    defines.extend(FrameBinding::defines());
+    defines.extend(BodyBinding::defines());
     defines
 }
 

@@ -57,11 +57,7 @@ pub fn kernel_defines() -> Vec<(&'static str, String)> {
         ("MIN_LENGTH", float(super::math::MIN_LENGTH)),
     ]
     .into_iter()
-    .chain(
-        SimBinding::ALL
-            .iter()
-            .map(|b| (b.define(), (*b as u32).to_string())),
-    )
+    .chain(SimBinding::defines())
     .collect()
 }
 

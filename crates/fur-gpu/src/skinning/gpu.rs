@@ -12,12 +12,11 @@ use gpu_allocator::MemoryLocation;
 use super::SkinnedBody;
 use crate::error::{Error, Result};
 use crate::gpu::{
-    memory_barrier, Buffer, DescriptorPool, DescriptorSetLayout, Device, Pipeline, PipelineLayout,
-    Specialization, TexelBuffer,
+    bindings, memory_barrier, Buffer, DescriptorPool, DescriptorSetLayout, Device, Pipeline,
+    PipelineLayout, Specialization, TexelBuffer,
 };
 
 /// Vertices per workgroup (`local_size_x` in `skin.comp`).
-use crate::gpu::bindings;
 use crate::gpu::shader::GROUP_SIZE;
 /// The most root-pose memory a body may take (substeps × strands × 48 bytes).
 const MAX_ROOT_POSE_BYTES: u64 = 256 << 20;
@@ -79,10 +78,7 @@ bindings!(
 
 /// The skinning kernel's defines: its bindings' numbers.
 pub(crate) fn skin_defines() -> Vec<(&'static str, String)> {
-    SkinBinding::ALL
-        .iter()
-        .map(|b| (b.define(), (*b as u32).to_string()))
-        .collect()
+    SkinBinding::defines().collect()
 }
 
 /// How much room a [`GpuSkin`] allocates.

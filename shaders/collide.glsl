@@ -35,7 +35,7 @@ uint near_count;
 void select_capsules(uint k, float reach) {
     float near_d[NEAR_CAPSULES];
     near_count = 0u;
-    uint count = sim.counts2.y;
+    uint count = sim.capsule_count;
     for (uint c = 0u; c < count; ++c) {
         // The buffer holds the bind pose's capsules, then each substep's.
         vec4 ca = capsule(2u * ((k + 1u) * count + c));
@@ -132,7 +132,7 @@ const uint BONE_TO = (V - 1u) / 8u;
 bool blend_inverse(uvec2 b, uint k, bool heaviest, out mat3 back, out vec3 t) {
     float w = heaviest ? 1.0 : uintBitsToFloat(b.y);
     float v = 1.0 - w;
-    uint base = 3u * k * sim.counts2.z;
+    uint base = 3u * k * sim.joint_count;
     uint ja = base + 3u * (b.x & 0xffffu);
     vec4 r0 = imageLoad(bones, int(ja)) * w;
     vec4 r1 = imageLoad(bones, int(ja + 1u)) * w;
@@ -164,8 +164,8 @@ bool blend_inverse(uvec2 b, uint k, bool heaviest, out mat3 back, out vec3 t) {
 // the grid or holds no bones.
 bool blend_texel(vec3 rest, out uvec2 b) {
     b = uvec2(0u);
-    vec3 g = (rest - sim.sdf_origin.xyz) * (sim.collision.z * float(BLEND_REFINE));
-    vec3 last = vec3((sim.sdf_dims.xyz - 1u) * BLEND_REFINE);
+    vec3 g = (rest - sim.sdf_origin) * (sim.inverse_cell * float(BLEND_REFINE));
+    vec3 last = vec3((sim.sdf_dims - 1u) * BLEND_REFINE);
     if (!(all(greaterThanEqual(g, vec3(0.0))) && all(lessThanEqual(g, last)))) {
         return false;
     }
@@ -345,7 +345,7 @@ void collide_vertex(Step st, uint k, float margin, uint i, uint carry) {
     if (touched) {
         float normal = dot(velocity, contact);
         vec3 tangential = velocity - contact * normal;
-        vec3 kept = tangential * (1.0 - sim.collision.y) + contact * max(normal, 0.0);
+        vec3 kept = tangential * (1.0 - sim.friction) + contact * max(normal, 0.0);
         pi = xi - kept;
     }
     if ((STEPS & BODY_SKINNED) != 0u || touched) {

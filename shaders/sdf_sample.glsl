@@ -7,13 +7,13 @@
 // the gradient there; false outside the grid. The arithmetic, step by step, is
 // `Sdf::sample` in crates/fur-core/src/geometry/sdf.rs.
 bool sdf_sample(vec3 m, out float value, out vec3 gradient) {
-    vec3 g = (m - sim.sdf_origin.xyz) * sim.collision.z;
-    vec3 last = vec3(sim.sdf_dims.xyz - 1u);
+    vec3 g = (m - sim.sdf_origin) * sim.inverse_cell;
+    vec3 last = vec3(sim.sdf_dims - 1u);
     if (!(all(greaterThanEqual(g, vec3(0.0))) && all(lessThanEqual(g, last)))) {
         return false;
     }
     uvec3 c = uvec3(floor(g + 0.5));
-    vec3 offset = (g - vec3(c)) * sim.collision.w;
+    vec3 offset = (g - vec3(c)) * sim.cell;
     vec4 s = imageLoad(sdf, ivec3(c));
     gradient = s.yzw;
     value = s.x + (s.y * offset.x + s.z * offset.y + s.w * offset.z);
@@ -25,12 +25,12 @@ bool sdf_sample(vec3 m, out float value, out vec3 gradient) {
 // cells, never above the distance where the field is convex); false outside the grid.
 // `Sdf::sample_trilinear` in crates/fur-core/src/geometry/sdf.rs, step by step.
 bool sdf_sample_trilinear(vec3 m, out float value, out vec3 gradient) {
-    vec3 g = (m - sim.sdf_origin.xyz) * sim.collision.z;
-    vec3 last = vec3(sim.sdf_dims.xyz - 1u);
+    vec3 g = (m - sim.sdf_origin) * sim.inverse_cell;
+    vec3 last = vec3(sim.sdf_dims - 1u);
     if (!(all(greaterThanEqual(g, vec3(0.0))) && all(lessThanEqual(g, last)))) {
         return false;
     }
-    uvec3 base = min(uvec3(floor(g)), sim.sdf_dims.xyz - 2u);
+    uvec3 base = min(uvec3(floor(g)), sim.sdf_dims - 2u);
     vec3 f = g - vec3(base);
     value = 0.0;
     gradient = vec3(0.0);
@@ -41,7 +41,7 @@ bool sdf_sample_trilinear(vec3 m, out float value, out vec3 gradient) {
         uvec3 c = base + offset;
         vec4 s = imageLoad(sdf, ivec3(c));
         // This grid point's first-order expansion at m.
-        vec3 o = (f - vec3(offset)) * sim.collision.w;
+        vec3 o = (f - vec3(offset)) * sim.cell;
         value = value + w * (s.x + (s.y * o.x + s.z * o.y + s.w * o.z));
         gradient = gradient + s.yzw * w;
     }

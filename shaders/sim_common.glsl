@@ -18,12 +18,22 @@ layout(constant_id = 1) const uint V = 17u;   // vertices per strand
 layout(local_size_x = GROUP_SIZE) in;         // strands per workgroup (crates/fur-gpu/src/gpu/shader.rs)
 
 layout(set = 0, binding = SB_STATIC, std140) uniform SimStatic {
-    vec4 stiffness;     // S_G, S_L
-    uvec4 counts;       // strand count, strands per row, global cutoff vertex, local iterations
-    uvec4 counts2;      // length iterations, bone capsules, joints, the probe's arrow step (STEPS bit, 0 none)
-    vec4 collision;     // margin (a fraction of each strand's length), friction, 1 / cell, cell
-    vec4 sdf_origin;    // model-space position of grid point (0, 0, 0)
-    uvec4 sdf_dims;     // grid points along x, y, z
+    float global_stiffness;  // S_G
+    float local_stiffness;   // S_L
+    float collision_margin;  // a fraction of each strand's length
+    float friction;
+    uint strand_count;
+    uint strands_per_row;
+    uint global_cutoff;      // the last vertex the global shape constraint pulls
+    uint local_iterations;
+    uint length_iterations;
+    uint capsule_count;      // the bones' capsules
+    uint joint_count;
+    uint probe_step;         // the step the probe records (its STEPS bit; 0 none)
+    vec3 sdf_origin;         // model-space position of grid point (0, 0, 0)
+    float cell;              // the grid's spacing
+    uvec3 sdf_dims;          // grid points along x, y, z
+    float inverse_cell;
 } sim;
 
 // Per-substep constants, written by the CPU before submission (StepConstants).
@@ -60,7 +70,7 @@ layout(set = 0, binding = SB_ROOT_POSES, rgba32f) uniform readonly imageBuffer r
 
 // A skinned body's bone capsules at the bind pose, then for each substep of the
 // submission: (a, radius), (b, the child bone's capsule or −1) in model space,
-// sim.counts2.y of them per pose (crates/fur-core/src/skinning/capsules.rs). A texel buffer, not a
+// sim.capsule_count of them per pose (crates/fur-core/src/skinning/capsules.rs). A texel buffer, not a
 // storage buffer: a CPU driver reads it in one gather (crates/fur-gpu/src/gpu/buffer.rs).
 layout(set = 0, binding = SB_CAPSULES, rgba32f) uniform readonly imageBuffer capsules;
 
@@ -79,11 +89,11 @@ layout(set = 0, binding = SB_LAST_POSES, rgba32f) uniform imageBuffer last_poses
 layout(set = 0, binding = SB_BLEND, rgba32ui) uniform readonly uimage3D blend;
 
 // Per substep of the submission and joint, the joint's motion from the rest pose: the
-// first three rows of K = J · J_rest⁻¹; sim.counts2.z joints per substep.
+// first three rows of K = J · J_rest⁻¹; sim.joint_count joints per substep.
 layout(set = 0, binding = SB_BONES, rgba32f) uniform readonly imageBuffer bones;
 
 // The simulation view's arrows (PROBE): per strand vertex, strand-major, the
-// correction the step sim.counts2.w made in the frame's last substep.
+// correction the step sim.probe_step made in the frame's last substep.
 layout(set = 0, binding = SB_PROBE, std430) writeonly buffer Probe {
     vec4 arrows[];
 };

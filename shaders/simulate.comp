@@ -71,7 +71,7 @@ void ride(uint strand, Step st) {
 
 void load_pose(uint strand, uint k) {
     if ((STEPS & BODY_SKINNED) != 0u) {
-        uint o = 3u * (k * sim.counts.x + strand);
+        uint o = 3u * (k * sim.strand_count + strand);
         vec4 c0 = imageLoad(root_poses, int(o));
         vec4 c1 = imageLoad(root_poses, int(o + 1u));
         vec4 c2 = imageLoad(root_poses, int(o + 2u));
@@ -112,10 +112,10 @@ void integrate(uint strand, Step st) {
 
 // Step 2, global shape: x += S_G (H x_rest − x) for vertices 1..=cutoff.
 void global_shape(uint strand, Step st) {
-    uint cutoff = min(sim.counts.z, V - 1u);
+    uint cutoff = min(sim.global_cutoff, V - 1u);
     for (uint i = 1u; i <= cutoff; ++i) {
-        vec3 target = body_point(st, imageLoad(rest_positions, strand_texel(strand, i, V, sim.counts.y)).xyz);
-        x[i] = x[i] + (target - x[i]) * sim.stiffness.x;
+        vec3 target = body_point(st, imageLoad(rest_positions, strand_texel(strand, i, V, sim.strands_per_row)).xyz);
+        x[i] = x[i] + (target - x[i]) * sim.global_stiffness;
     }
 }
 
@@ -125,14 +125,14 @@ void global_shape(uint strand, Step st) {
 // the corrected segment. F (v − Fᵀd) equals xᵢ + F v − xᵢ₊₁ for an orthonormal F and is
 // exactly zero at rest (simulate_rest.comp computed v with the same arithmetic).
 void local_shape(uint strand, Step st) {
-    float s_l = sim.stiffness.y;
+    float s_l = sim.local_stiffness;
     mat3 root = mat3(root_frames[3u * strand].xyz, root_frames[3u * strand + 1u].xyz,
                      root_frames[3u * strand + 2u].xyz);
     mat3 head = body_rotation(st);
-    for (uint it = 0u; it < sim.counts.w; ++it) {
+    for (uint it = 0u; it < sim.local_iterations; ++it) {
         mat3 frame = head * root;
         for (uint i = 0u; i + 1u < V; ++i) {
-            vec3 v = imageLoad(rest_local, strand_texel(strand, i, V, sim.counts.y)).xyz;
+            vec3 v = imageLoad(rest_local, strand_texel(strand, i, V, sim.strands_per_row)).xyz;
             vec3 xi = x[i];
             vec3 xj = x[i + 1u];
             vec3 delta = (frame * (v - transpose(frame) * (xj - xi))) * s_l;
@@ -153,10 +153,10 @@ void local_shape(uint strand, Step st) {
 // rest length d: n = (p1 − p2)/|p1 − p2|, Δ = (|p1 − p2| − d) n, p1 −= Δ/2, p2 += Δ/2
 // (the root has inverse mass 0, so p2 takes all of Δ on the first segment).
 void edge_length(uint strand) {
-    for (uint it = 0u; it < sim.counts2.x; ++it) {
+    for (uint it = 0u; it < sim.length_iterations; ++it) {
         for (uint parity = 0u; parity < 2u; ++parity) {
             for (uint i = parity; i + 1u < V; i += 2u) {
-                float rest = imageLoad(rest_positions, strand_texel(strand, i + 1u, V, sim.counts.y)).w;
+                float rest = imageLoad(rest_positions, strand_texel(strand, i + 1u, V, sim.strands_per_row)).w;
                 vec3 xi = x[i];
                 vec3 xj = x[i + 1u];
                 vec3 d = xi - xj;
@@ -203,7 +203,7 @@ vec3 arrow_from[V];   // PROBE: the vertices before the step drawn as arrows
 // PROBE with arrows: whether named step `bit` of substep `s` is the one whose correction
 // the simulation view draws (the frame's last substep).
 bool arrow_step(uint bit, uint s) {
-    return (STEPS & PROBE) != 0u && sim.counts2.w == bit && s + 1u == push.count;
+    return (STEPS & PROBE) != 0u && sim.probe_step == bit && s + 1u == push.count;
 }
 
 void arrow_begin(uint bit, uint s) {
@@ -224,7 +224,7 @@ void arrow_end(uint bit, uint s, uint strand) {
 
 // PROBE with arrows: no correction (the strand sleeps: the frame is undone).
 void arrows_none(uint strand) {
-    if ((STEPS & PROBE) != 0u && sim.counts2.w != 0u) {
+    if ((STEPS & PROBE) != 0u && sim.probe_step != 0u) {
         for (uint i = 0u; i < V; ++i) {
             arrows[strand * V + i] = vec4(0.0);
         }
@@ -238,17 +238,17 @@ float probe(uint strand, uint i, Step st) {
     if ((STEPS & PROBE) == 0u) {
         return 1.0;
     }
-    vec3 rest = body_point(st, imageLoad(rest_positions, strand_texel(strand, i, V, sim.counts.y)).xyz);
+    vec3 rest = body_point(st, imageLoad(rest_positions, strand_texel(strand, i, V, sim.strands_per_row)).xyz);
     float w = 1.0 + distance(x[i], rest) / max(strand_length, MIN_LENGTH);
     return pushed[i] ? -w : w;
 }
 
 void main() {
     uint strand = gl_GlobalInvocationID.x;
-    if (strand >= sim.counts.x) {
+    if (strand >= sim.strand_count) {
         return;
     }
-    rest_root = imageLoad(rest_positions, strand_texel(strand, 0u, V, sim.counts.y)).xyz;
+    rest_root = imageLoad(rest_positions, strand_texel(strand, 0u, V, sim.strands_per_row)).xyz;
     if (push.place != 0u) {
         // Placement: the strand at its rest shape carried by the body, not moving.
         Step st = steps[push.step];
@@ -259,7 +259,7 @@ void main() {
             imageStore(last_poses, int(3u * strand + 2u), vec4(pose_rotation[2], pose_root.z));
         }
         for (uint i = 0u; i < V; ++i) {
-            ivec2 t = strand_texel(strand, i, V, sim.counts.y);
+            ivec2 t = strand_texel(strand, i, V, sim.strands_per_row);
             vec3 posed = body_point(st, imageLoad(rest_positions, t).xyz);
             imageStore(previous_positions, t, vec4(posed, 1.0));
             imageStore(current_positions, t, vec4(posed, 1.0));
@@ -267,7 +267,7 @@ void main() {
         return;
     }
     for (uint i = 0u; i < V; ++i) {
-        ivec2 t = strand_texel(strand, i, V, sim.counts.y);
+        ivec2 t = strand_texel(strand, i, V, sim.strands_per_row);
         x[i] = imageLoad(current_positions, t).xyz;
         p[i] = imageLoad(previous_positions, t).xyz;
     }
@@ -276,7 +276,7 @@ void main() {
         // strand's own rest length.
         strand_length = 0.0;
         for (uint i = 1u; i < V; ++i) {
-            strand_length += imageLoad(rest_positions, strand_texel(strand, i, V, sim.counts.y)).w;
+            strand_length += imageLoad(rest_positions, strand_texel(strand, i, V, sim.strands_per_row)).w;
         }
     }
     for (uint i = 0u; i < V; ++i) {
@@ -320,12 +320,12 @@ void main() {
                 for (uint i = 0u; i < V; ++i) {
                     before[i] = x[i];
                 }
-                collide(st, push.step + s, sim.collision.x * strand_length);
+                collide(st, push.step + s, sim.collision_margin * strand_length);
                 for (uint i = 0u; i < V; ++i) {
                     pushed[i] = pushed[i] || any(notEqual(x[i], before[i]));
                 }
             } else {
-                collide(st, push.step + s, sim.collision.x * strand_length);
+                collide(st, push.step + s, sim.collision_margin * strand_length);
             }
         }
         arrow_end(STEP_COLLISION, s, strand);
@@ -342,7 +342,7 @@ void main() {
         float moved = 0.0;
         float extent = 0.0;
         for (uint i = 0u; i < V; ++i) {
-            vec3 was = imageLoad(current_positions, strand_texel(strand, i, V, sim.counts.y)).xyz;
+            vec3 was = imageLoad(current_positions, strand_texel(strand, i, V, sim.strands_per_row)).xyz;
             vec3 d = abs(x[i] - was);
             float m = max(d.x, max(d.y, d.z));
             if (i == 0u) {
@@ -362,7 +362,7 @@ void main() {
 #endif
     }
     for (uint i = 0u; i < V; ++i) {
-        ivec2 t = strand_texel(strand, i, V, sim.counts.y);
+        ivec2 t = strand_texel(strand, i, V, sim.strands_per_row);
         if (asleep) {
             if (i == 0u) {
                 arrows_none(strand);

@@ -10,10 +10,10 @@
 
 void main() {
     uint strand = gl_GlobalInvocationID.x;
-    if (strand >= sim.counts.x) {
+    if (strand >= sim.strand_count) {
         return;
     }
-    uint spr = sim.counts.y;
+    uint spr = sim.strands_per_row;
     vec3 x0 = imageLoad(rest_positions, strand_texel(strand, 0u, V, spr)).xyz;
     vec3 x1 = imageLoad(rest_positions, strand_texel(strand, 1u, V, spr)).xyz;
     float first = length(x1 - x0);

@@ -203,7 +203,7 @@ fn main() -> ExitCode {
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
-        Err(e) if matches!(e.downcast_ref(), Some(fur::Error::Interrupted)) => {
+        Err(e) if e.downcast_ref().is_some_and(fur::Error::is_interrupted) => {
             // Everything was dropped on the way out: the device is idle.
             eprintln!("interrupted");
             ExitCode::from(130)

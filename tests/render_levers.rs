@@ -295,7 +295,7 @@ fn tessellated_hairs(mesh: &Mesh, density: f32) -> u64 {
 
 /// The density formula, not one tuned count: over the whole sphere (culling and the
 /// distance falloff off) the hairs drawn are the tessellation's points for density ×
-/// density_scale / radius² hairs per unit area, counted on the CPU
+/// `density_scale` / radius² hairs per unit area, counted on the CPU
 /// ([`tessellated_hairs`]), at scales thirty times apart. The sphere's tuned
 /// `density_scale` 0.33 (the original's 35,129 hairs, with the falloff on) is one point
 /// of this line. Seen failing with the inner level's 4/3 taken out of the shader.
@@ -305,10 +305,8 @@ fn the_hair_count_follows_the_density_formula_at_every_scale() {
     let mesh = ModelSpec::Sphere.load().unwrap();
     let radius = mesh.bounds().1;
     for scale in [0.1f32, 0.33, 1.0, 3.0] {
-        let options = SceneOptions {
-            density_scale: scale,
-            ..SceneOptions::original()
-        };
+        let mut options = SceneOptions::original();
+        options.draw.density = FurStyle::default().density * scale;
         let (groom, mut settings) = options.resolve(&mesh).unwrap();
         settings.style.cull = false;
         settings.style.lod_distance = 1e9;

@@ -47,7 +47,7 @@ fn the_default_scene_file_is_the_built_in_default() {
     );
     assert_eq!((original.width, original.height), (1280, 720));
     assert_eq!(original.options.segments, sphere.options.segments);
-    assert_eq!(original.options.density_scale, sphere.options.density_scale);
+    assert_eq!(original.options.draw.density, sphere.options.draw.density);
 }
 
 #[test]

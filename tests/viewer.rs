@@ -339,7 +339,7 @@ fn the_viewer_saves_a_scene_that_reproduces_its_view() {
     assert!(
         (loaded.options.distance.unwrap() - 0.5 * original.options.distance.unwrap()).abs() < 1e-4
     );
-    assert!((loaded.options.density_scale - original.options.density_scale).abs() < 1e-3);
+    assert!((loaded.options.draw.density / original.options.draw.density - 1.0).abs() < 1e-3);
     assert_eq!(loaded.sim.wind, glam::Vec3::ZERO);
     assert_eq!((loaded.width, loaded.height), (160, 120));
     // And it renders.

@@ -7,7 +7,7 @@
 use std::path::Path;
 
 use super::Section;
-use crate::error::{Error, Result};
+use crate::error::{CoreError, Error, Result};
 
 /// The lines between which [`write_docs`] puts the tables.
 pub const DOCS_BEGIN: &str = "<!-- BEGIN fur bench -->";
@@ -52,15 +52,17 @@ fn sections_held(text: &str) -> Option<Vec<String>> {
 pub fn check_docs(path: &Path, sections: &[Section]) -> Result<()> {
     crate::files::check_region(path, DOCS_BEGIN, DOCS_END)?;
     let text = crate::files::read_text_bounded(path, crate::files::MAX_SCENE_BYTES, "document")
-        .map_err(|message| Error::Io {
-            operation: "read the document",
-            path: path.to_path_buf(),
-            message,
+        .map_err(|message| {
+            Error::Core(CoreError::Io {
+                operation: "read the document",
+                path: path.to_path_buf(),
+                message,
+            })
         })?;
     let held = sections_held(&text).unwrap_or_default();
     let running: Vec<String> = sections.iter().map(|s| s.name().to_string()).collect();
     if !held.is_empty() && held != running {
-        return Err(Error::Parameter(format!(
+        return Err(Error::parameter(format!(
             "{} holds the tables of one run of the sections {}; this run measures {}: run \
              the same sections (`--only {}`) so its figures all come from one run",
             path.display(),
@@ -77,7 +79,9 @@ pub fn check_docs(path: &Path, sections: &[Section]) -> Result<()> {
 /// leaving the rest of the document as it is.
 pub fn write_docs(path: &Path, sections: &[Section], markdown: &str) -> Result<()> {
     let tables = format!("{}\n\n{}", sections_line(sections), markdown.trim());
-    crate::files::write_region(path, DOCS_BEGIN, DOCS_END, &tables)
+    Ok(crate::files::write_region(
+        path, DOCS_BEGIN, DOCS_END, &tables,
+    )?)
 }
 
 #[cfg(test)]

@@ -9,7 +9,8 @@ use std::time::Instant;
 use super::metrics::median;
 use super::{Bench, BenchScene};
 use crate::error::Result;
-use crate::session::{DrawOptions, FurSession, SceneOptions, SessionSetup};
+use crate::render::FurStyle;
+use crate::session::{FurSession, SceneOptions, SessionSetup};
 
 /// The original OpenGL demo's frame on its own scene, measured on this project's
 /// 2-core machine kind with Mesa's llvmpipe (1,345–1,641 ms; ~1,400 ms typical).
@@ -27,7 +28,7 @@ pub(super) struct FrameTimes {
 
 impl Bench<'_> {
     /// A session of `scene` (its simulation and motion included) drawn with `draw`.
-    pub(super) fn session(&self, scene: &BenchScene, draw: &DrawOptions) -> Result<FurSession> {
+    pub(super) fn session(&self, scene: &BenchScene, draw: &FurStyle) -> Result<FurSession> {
         let scene = &scene.scene;
         let mesh = scene.model.prepare(scene.options.texture.as_ref())?.0;
         let options = SceneOptions {
@@ -127,7 +128,7 @@ impl Bench<'_> {
                 ),
                 (
                     "strands drawn in compute",
-                    DrawOptions {
+                    FurStyle {
                         raster: crate::render::Raster::Compute,
                         ..scene.scene.options.draw.clone()
                     },

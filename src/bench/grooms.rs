@@ -67,7 +67,7 @@ impl Bench<'_> {
             grouped(curves)
         );
         let g = guides(curves);
-        let bad = |m: String| Error::Parameter(format!("the groom benchmark: {m}"));
+        let bad = |m: String| Error::parameter(format!("the groom benchmark: {m}"));
         let text = write_usda(&g, "fur bench").map_err(bad)?;
         let binary = usdc_from_text(&text).map_err(bad)?;
         let hair = write_cyhair(&g, "fur bench").map_err(bad)?;

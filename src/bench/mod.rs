@@ -175,7 +175,7 @@ impl Section {
         for name in names {
             if !Self::ALL.iter().any(|s| s.name() == name) {
                 let known: Vec<&str> = Self::ALL.iter().map(|s| s.name()).collect();
-                return Err(Error::Parameter(format!(
+                return Err(Error::parameter(format!(
                     "unknown benchmark section `{name}`; the sections are {}",
                     known.join(", ")
                 )));

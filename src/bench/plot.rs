@@ -79,7 +79,7 @@ fn format_number(v: f64) -> String {
 }
 
 fn plot_error(e: impl std::fmt::Display) -> Error {
-    Error::Parameter(format!("drawing a chart failed: {e}"))
+    Error::parameter(format!("drawing a chart failed: {e}"))
 }
 
 impl Plot {

@@ -20,7 +20,7 @@ use crate::gpu::Device;
 use crate::render::{FrameSettings, FurStyle, HairCounts, Lighting, Renderer, RgbaImage};
 use crate::scene::{Mesh, Strands, Texture};
 use crate::scene_file::Scene;
-use crate::session::{DrawOptions, FurSession, SessionSetup};
+use crate::session::{FurSession, SessionSetup};
 use crate::sim::{GpuSim, Motion};
 use crate::strand_textures::StrandTextures;
 
@@ -94,7 +94,7 @@ impl Shot {
         let name = scene.model.name();
         let (mesh, rig, _) = scene.model.prepare_body(scene.options.texture.as_ref())?;
         let Some((rig, playback)) = scene.animation.resolve(rig, &name)? else {
-            return Err(crate::error::Error::Parameter(format!(
+            return Err(crate::error::Error::parameter(format!(
                 "{name} has no clip to play"
             )));
         };
@@ -123,7 +123,7 @@ impl Shot {
             session.step_and_render()?;
         }
         let (positions, normals) = session.posed_body()?.ok_or_else(|| {
-            crate::error::Error::Parameter(format!("{name}'s body is not skinned"))
+            crate::error::Error::parameter(format!("{name}'s body is not skinned"))
         })?;
         let posed = Mesh {
             positions,
@@ -172,7 +172,7 @@ impl Shot {
     }
 
     /// The frame's style with the drawing choices of `draw` (distances in radii).
-    pub fn style(&self, draw: &DrawOptions) -> FurStyle {
+    pub fn style(&self, draw: &FurStyle) -> FurStyle {
         FurStyle {
             samples: draw.samples,
             raster: draw.raster,
@@ -278,10 +278,10 @@ impl Shot {
     pub fn reference_of(&self, look: &Look, factor: u32) -> Result<RgbaImage> {
         let style = FurStyle {
             thin_hair_aa: true,
-            ..self.style(&DrawOptions {
+            ..self.style(&FurStyle {
                 lod_distance: self.settings.style.lod_distance / self.radius,
                 thickness_compensation: self.settings.style.thickness_compensation,
-                ..DrawOptions::default().reference_quality()
+                ..FurStyle::default().reference_quality()
             })
         };
         let extent = vk::Extent2D {
@@ -293,6 +293,6 @@ impl Shot {
             ..look.clone()
         };
         let big = self.draw_at(&look, extent, factor, (0, 1), false)?;
-        big.image.downsample(factor)
+        Ok(big.image.downsample(factor)?)
     }
 }

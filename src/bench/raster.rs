@@ -13,8 +13,8 @@ use super::metrics::{flip, median, rmse};
 use super::quality::Shot;
 use super::{Bench, BenchScene};
 use crate::error::Result;
+use crate::render::FurStyle;
 use crate::render::{Raster, MAX_NEAREST, STEP_NAMES};
-use crate::session::DrawOptions;
 
 /// The fragments a pixel keeps in order that the compute rows also measure, beside the
 /// scene's own.
@@ -100,7 +100,7 @@ impl Bench<'_> {
                 cases.push((format!("compute, {t}×{t} tiles"), Raster::Compute, own, t));
             }
             for (name, raster, nearest, tile) in cases {
-                let draw = DrawOptions {
+                let draw = FurStyle {
                     raster,
                     nearest,
                     tile,
@@ -243,7 +243,7 @@ impl Bench<'_> {
     fn simulated(
         &self,
         scene: &BenchScene,
-        draw: &DrawOptions,
+        draw: &FurStyle,
         (warm, measured): (usize, usize),
     ) -> Result<Measured> {
         let mut session = self.session(scene, draw)?;

@@ -10,23 +10,22 @@ use super::quality::Shot;
 use super::Bench;
 use crate::error::Result;
 use crate::render::{FurStyle, Primitive, Raster, Shading};
-use crate::session::DrawOptions;
 
 /// A setting to measure: its name, its drawing and the density multiplier.
 struct Case {
     name: String,
-    draw: DrawOptions,
+    draw: FurStyle,
     density: f32,
 }
 
 fn cases(quick: bool) -> Vec<Case> {
-    let default = DrawOptions::default();
-    let case = |name: &str, draw: DrawOptions| Case {
+    let default = FurStyle::default();
+    let case = |name: &str, draw: FurStyle| Case {
         name: name.to_string(),
         draw,
         density: 1.0,
     };
-    let with = |samples: u32, primitive: Primitive, lod: f32| DrawOptions {
+    let with = |samples: u32, primitive: Primitive, lod: f32| FurStyle {
         samples,
         primitive,
         vertex_lod_px: lod,
@@ -34,7 +33,7 @@ fn cases(quick: bool) -> Vec<Case> {
     };
     let lod = default.vertex_lod_px;
     // The same strands drawn by the compute passes (docs/compute-raster.md).
-    let compute = DrawOptions {
+    let compute = FurStyle {
         raster: Raster::Compute,
         ..default.clone()
     };
@@ -61,7 +60,7 @@ fn cases(quick: bool) -> Vec<Case> {
         ),
         case(
             &format!("4x ribbons, fragment lighting, vertex LOD {lod} px"),
-            DrawOptions {
+            FurStyle {
                 shading: Shading::Fragment,
                 ..with(4, Primitive::Ribbons, lod)
             },
@@ -96,21 +95,21 @@ fn cases(quick: bool) -> Vec<Case> {
         ),
         case(
             "1x auto (lines under 1 px)",
-            DrawOptions {
+            FurStyle {
                 ribbon_above_px: 1.0,
                 ..with(1, Primitive::Auto, lod)
             },
         ),
         case(
             "strand LOD from 1 radius, thickness compensated",
-            DrawOptions {
+            FurStyle {
                 lod_distance: 1.0,
                 ..default.clone()
             },
         ),
         case(
             "strand LOD from 1 radius, not compensated",
-            DrawOptions {
+            FurStyle {
                 lod_distance: 1.0,
                 thickness_compensation: false,
                 ..default.clone()

@@ -62,7 +62,7 @@ pub(super) fn scaling_tasks(quick: bool) -> u64 {
 pub(super) fn blob_strands() -> Result<Strands> {
     let blob = Mesh::blob();
     let (groom, _) = SceneOptions::default().resolve(&blob)?;
-    Strands::grow(&blob, &groom)
+    Ok(Strands::grow(&blob, &groom)?)
 }
 
 /// The default scene's body at `params`' resolution (as a session builds it).

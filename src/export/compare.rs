@@ -186,7 +186,7 @@ pub fn rmse_linear(a: &LinearImage, b: &LinearImage) -> Result<f64> {
 
 fn check_size(pixels: &[Vec3], reference: &LinearImage) -> Result<()> {
     if pixels.len() != reference.pixels.len() {
-        return Err(Error::Parameter(format!(
+        return Err(Error::parameter(format!(
             "the images differ in size: {} pixels against the reference's {}×{}",
             pixels.len(),
             reference.width,

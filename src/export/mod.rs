@@ -157,7 +157,7 @@ impl FrameExport {
     pub fn check_size(&self) -> Result<()> {
         let bytes = self.estimated_bytes();
         if bytes > MAX_EXPORT_BYTES {
-            return Err(Error::Parameter(format!(
+            return Err(Error::parameter(format!(
                 "the export of {} hairs ({} vertices) would take about {}, over the limit of \
                  {}; draw fewer hairs (--density-scale, a smaller image)",
                 self.hairs.count(),

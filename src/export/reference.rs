@@ -7,7 +7,7 @@ use std::process::Command;
 
 use glam::Vec3;
 
-use crate::error::{Error, Result};
+use crate::error::{CoreError, Error, Result};
 
 /// The renderer script, as shipped in `tools/reference/render.py`.
 pub const SCRIPT: &str = include_str!("../../tools/reference/render.py");
@@ -66,7 +66,7 @@ impl Reference {
             _ => root.join(DEFAULT_PYTHON),
         };
         let missing = |why: String| {
-            Error::Parameter(format!(
+            Error::parameter(format!(
                 "the path-traced reference is not set up ({why}): run tools/reference/setup.sh, \
                  or name a Python with Mitsuba 3 and usd-core in {PYTHON_ENV}"
             ))
@@ -105,11 +105,8 @@ impl Reference {
     ) -> Result<()> {
         let dir = out.parent().filter(|d| !d.as_os_str().is_empty());
         let script = dir.unwrap_or(Path::new(".")).join(".fur-reference.py");
-        std::fs::write(&script, SCRIPT).map_err(|e| Error::Io {
-            operation: "write the reference renderer to",
-            path: script.clone(),
-            message: e.to_string(),
-        })?;
+        std::fs::write(&script, SCRIPT)
+            .map_err(|e| Error::io("write the reference renderer to", &script, e))?;
         let mut command = Command::new(&self.python);
         command
             .arg(&script)
@@ -127,10 +124,10 @@ impl Reference {
         }
         let output = command
             .output()
-            .map_err(|e| Error::Parameter(format!("running {}: {e}", self.python.display())))?;
+            .map_err(|e| Error::parameter(format!("running {}: {e}", self.python.display())))?;
         let _ = std::fs::remove_file(&script);
         if !output.status.success() {
-            return Err(Error::Parameter(format!(
+            return Err(Error::parameter(format!(
                 "the reference renderer failed on {}: {}",
                 usda.display(),
                 last_line(&output.stderr)
@@ -151,10 +148,12 @@ fn last_line(bytes: &[u8]) -> String {
 
 /// Reads a little-endian float RGB PFM (`PF`, scale < 0) as the reference writes it.
 pub fn read_pfm(path: &Path) -> Result<LinearImage> {
-    let bad = |message: String| Error::Io {
-        operation: "read the reference image",
-        path: path.to_path_buf(),
-        message,
+    let bad = |message: String| {
+        Error::Core(CoreError::Io {
+            operation: "read the reference image",
+            path: path.to_path_buf(),
+            message,
+        })
     };
     let bytes = crate::files::read_bounded(path, MAX_PFM_BYTES, "reference image").map_err(bad)?;
     // Three header lines: "PF", "width height", the scale (negative: little-endian).

@@ -57,10 +57,9 @@ fn check_finite(frame: &FrameExport) -> Result<()> {
     if finite {
         Ok(())
     } else {
-        Err(Error::Parameter(
+        Err(Error::parameter(
             "the frame holds a non-finite position, width or colour: the simulation has \
-             diverged; nothing was written"
-                .into(),
+             diverged; nothing was written",
         ))
     }
 }

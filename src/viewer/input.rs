@@ -8,9 +8,7 @@ use winit::keyboard::{Key, NamedKey};
 
 use super::script::Action;
 use super::{ui, Controls, Viewer};
-use crate::render::FurStyle;
 use crate::scene_file::{MotionSpec, Scene};
-use crate::session::DrawOptions;
 use crate::sim::{MotionKind, SimParams};
 
 impl Viewer {
@@ -32,8 +30,7 @@ impl Viewer {
         options.lighting = settings.lighting.clone();
         options.lighting.shadows.spacing /= radius;
         options.texture = self.session.mesh.texture.clone();
-        options.density_scale = style.density * radius * radius / FurStyle::default().density;
-        options.draw = DrawOptions::from_style(style, radius);
+        options.draw = style.per_radius(radius);
         let motion = self.session.motion;
         let extent = self.session.renderer.target.extent;
         Scene {

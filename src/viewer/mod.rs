@@ -96,7 +96,7 @@ pub fn run(options: ViewerOptions) -> Result<()> {
     if let Some(v) = viewer.as_mut() {
         // Frames still in flight may carry a screenshot: finish them all.
         let finished = v.finish_all().and_then(|()| match &v.save_scene {
-            Some(path) => v.current_scene().save(path).map(|()| {
+            Some(path) => v.current_scene().save(path).map_err(Into::into).map(|()| {
                 println!("scene saved to {}", path.display());
             }),
             None => Ok(()),

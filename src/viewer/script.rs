@@ -55,7 +55,7 @@ impl Script {
         let mut events = Vec::new();
         for item in text.split(';').map(str::trim).filter(|s| !s.is_empty()) {
             let error = || {
-                Error::Parameter(format!(
+                Error::parameter(format!(
                     "bad script event `{item}` (expected FRAME:ACTION[=ARGS], e.g. 10:resize=320x240, \
                      20:orbit=30,-10, 25:zoom=0.8, 30:move=0.1,0,0, 40:wind=on, 45:shake=on, 50:pause=off, 55:key=n, \
                      60:minimize=on, 70:set=render.raster=compute, 90:screenshot=shot.png)"
@@ -87,7 +87,7 @@ impl Script {
                     let (name, text) = args.split_once('=').ok_or_else(error)?;
                     let (setting, value) = crate::setting_args::setting_value(name.trim(), text)?;
                     if setting.effect == crate::scene_file::Effect::Restart {
-                        return Err(Error::Parameter(format!(
+                        return Err(Error::parameter(format!(
                             "bad script event `{item}`: `{}` takes effect only when the viewer \
                              starts; give it as --{} instead",
                             name.trim(),
@@ -110,7 +110,7 @@ impl Script {
     /// (steps run before the frame they name, frames counting from 0).
     pub fn check_within(&self, frames: u64) -> Result<()> {
         match self.events.iter().find(|(f, _)| *f >= frames) {
-            Some((f, action)) => Err(Error::Parameter(format!(
+            Some((f, action)) => Err(Error::parameter(format!(
                 "script step at frame {f} ({action:?}) would never run: the viewer closes after \
                  {frames} frames (--frames); steps run at frames 0..{frames}"
             ))),

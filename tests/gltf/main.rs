@@ -1,158 +1,122 @@
-//! glTF 2.0 input and output: skinned and animated bodies read from `.gltf` and `.glb`
-//! files made here, written back with `write_glb`, and bad files refused with messages
-//! that name the file and the problem. Pure Rust, no GPU.
+//! glTF bodies from the command line: an animated body renders, an open one is warned
+//! about, a broken one is refused by name, the built-in critter exported and read back
+//! (the reading itself is tested in
+//! `crates/fur-core/tests/gltf/`, without a device).
 
-mod read;
-mod refused;
-mod render;
-mod round_trip;
+#[path = "../../crates/fur-core/tests/gltf/doc.rs"]
+mod doc;
 
-use std::path::PathBuf;
+use doc::*;
 
-use glam::Quat;
-
-/// A scratch folder for one test, removed when dropped.
-struct Scratch(PathBuf);
-
-impl Scratch {
-    fn new(name: &str) -> Self {
-        let dir = std::env::temp_dir().join(format!("fur-gltf-{name}-{}", std::process::id()));
-        let _ = std::fs::remove_dir_all(&dir);
-        std::fs::create_dir_all(&dir).unwrap();
-        Self(dir)
-    }
-
-    fn write(&self, name: &str, bytes: impl AsRef<[u8]>) -> PathBuf {
-        let path = self.0.join(name);
-        std::fs::write(&path, bytes).unwrap();
-        path
-    }
+/// `fur render` of `model` playing clip `animation`, a 32×24 image to `out`.
+fn render_animated(
+    model: &std::path::Path,
+    animation: &str,
+    out: &std::path::Path,
+) -> std::process::Output {
+    std::process::Command::new(env!("CARGO_BIN_EXE_fur"))
+        .args([
+            "render",
+            "--width",
+            "32",
+            "--height",
+            "24",
+            "--animation",
+            animation,
+        ])
+        .arg("--model")
+        .arg(model)
+        .arg("--out")
+        .arg(out)
+        .output()
+        .unwrap()
 }
 
-impl Drop for Scratch {
-    fn drop(&mut self) {
-        let _ = std::fs::remove_dir_all(&self.0);
-    }
+/// A skinned body whose mesh is open (one triangle on one bone) renders, with the same
+/// warning as an open OBJ: its distance field's sign is estimated near the holes.
+#[test]
+fn an_open_skinned_body_gets_the_open_mesh_warning() {
+    let dir = Scratch::new("open-skin");
+    let weights: Vec<f32> = [1.0, 0.0, 0.0, 0.0].repeat(3);
+    let path = dir.write("open.glb", one_bone(&[0; 12], &weights, &[0.0, 1.0]));
+    let out = render_animated(&path, "wave", &dir.0.join("open.png"));
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{stderr}");
+    assert!(
+        stderr.contains("open.glb") && stderr.contains("is not a closed"),
+        "{stderr}"
+    );
 }
 
-/// A glTF document under construction: its binary buffer, buffer views and accessors;
-/// the rest of the JSON is given as text.
-#[derive(Default)]
-struct Doc {
-    bin: Vec<u8>,
-    views: Vec<String>,
-    accessors: Vec<String>,
+/// `fur render --model` takes glTF files, and a broken one is a clean error naming the
+/// file and the problem (exit 1, no panic), like a broken OBJ.
+#[test]
+fn the_command_line_refuses_a_broken_glb_by_name() {
+    let dir = std::env::temp_dir().join(format!("fur-broken-glb-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let good = dir.join("critter.glb");
+    let status = std::process::Command::new(env!("CARGO_BIN_EXE_fur"))
+        .args(["export-model", "--model", "critter"])
+        .arg(&good)
+        .status()
+        .unwrap();
+    assert!(status.success());
+    let bytes = std::fs::read(&good).unwrap();
+    let broken = dir.join("truncated.glb");
+    std::fs::write(&broken, &bytes[..bytes.len() / 2]).unwrap();
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_fur"))
+        .args(["render", "--width", "32", "--height", "24", "--model"])
+        .arg(&broken)
+        .arg("--out")
+        .arg(dir.join("out.png"))
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{stderr}");
+    assert!(!stderr.contains("panicked"), "{stderr}");
+    assert!(
+        stderr.contains("truncated.glb") && stderr.contains("truncated"),
+        "{stderr}"
+    );
+    // An unknown clip names the clips there are.
+    let out = render_animated(&good, "gallop", &dir.join("out.png"));
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{stderr}");
+    assert!(
+        stderr.contains("gallop") && stderr.contains("Walk") && stderr.contains("Idle"),
+        "{stderr}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
 }
 
-const FLOAT: u32 = 5126;
-const UBYTE: u32 = 5121;
-const USHORT: u32 = 5123;
-
-impl Doc {
-    fn accessor(
-        &mut self,
-        bytes: &[u8],
-        count: usize,
-        component: u32,
-        ty: &str,
-        normalized: bool,
-    ) -> usize {
-        while self.bin.len() % 4 != 0 {
-            self.bin.push(0);
-        }
-        self.views.push(format!(
-            r#"{{"buffer":0,"byteOffset":{},"byteLength":{}}}"#,
-            self.bin.len(),
-            bytes.len()
-        ));
-        self.bin.extend_from_slice(bytes);
-        self.accessors.push(format!(
-            r#"{{"bufferView":{},"componentType":{component},"count":{count},"type":"{ty}","normalized":{normalized}}}"#,
-            self.views.len() - 1
-        ));
-        self.accessors.len() - 1
-    }
-
-    fn floats(&mut self, data: &[f32], ty: &str) -> usize {
-        let bytes: Vec<u8> = data.iter().flat_map(|x| x.to_le_bytes()).collect();
-        self.accessor(&bytes, data.len() / dims(ty), FLOAT, ty, false)
-    }
-
-    fn u8s(&mut self, data: &[u8], ty: &str, normalized: bool) -> usize {
-        self.accessor(data, data.len() / dims(ty), UBYTE, ty, normalized)
-    }
-
-    fn u16s(&mut self, data: &[u16], ty: &str) -> usize {
-        let bytes: Vec<u8> = data.iter().flat_map(|x| x.to_le_bytes()).collect();
-        self.accessor(&bytes, data.len() / dims(ty), USHORT, ty, false)
-    }
-
-    /// The JSON text with `buffer` as buffer 0's object and `rest` (`,"nodes":...`).
-    fn json(&self, buffer: &str, rest: &str) -> String {
-        format!(
-            r#"{{"asset":{{"version":"2.0"}},"buffers":[{buffer}],"bufferViews":[{}],"accessors":[{}]{rest}}}"#,
-            self.views.join(","),
-            self.accessors.join(",")
-        )
-    }
-
-    fn glb(&self, rest: &str) -> Vec<u8> {
-        glb(
-            &self.json(&format!(r#"{{"byteLength":{}}}"#, self.bin.len()), rest),
-            &self.bin,
-        )
-    }
-}
-
-fn dims(ty: &str) -> usize {
-    match ty {
-        "SCALAR" => 1,
-        "VEC2" => 2,
-        "VEC3" => 3,
-        "VEC4" => 4,
-        _ => 16,
-    }
-}
-
-fn glb(json: &str, bin: &[u8]) -> Vec<u8> {
-    let pad = |n: usize| (4 - n % 4) % 4;
-    let json_len = json.len() + pad(json.len());
-    let bin_len = bin.len() + pad(bin.len());
-    let total = 12 + 8 + json_len + 8 + bin_len;
-    let mut out = Vec::with_capacity(total);
-    out.extend_from_slice(b"glTF");
-    out.extend_from_slice(&2u32.to_le_bytes());
-    out.extend_from_slice(&(total as u32).to_le_bytes());
-    out.extend_from_slice(&(json_len as u32).to_le_bytes());
-    out.extend_from_slice(b"JSON");
-    out.extend_from_slice(json.as_bytes());
-    out.extend(std::iter::repeat_n(b' ', pad(json.len())));
-    out.extend_from_slice(&(bin_len as u32).to_le_bytes());
-    out.extend_from_slice(b"BIN\0");
-    out.extend_from_slice(bin);
-    out.extend(std::iter::repeat_n(0, pad(bin.len())));
-    out
-}
-
-const TRIANGLE: [f32; 9] = [0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0];
-
-/// A triangle skinned to one bone (translated by +x), the mesh node's own transform
-/// (ignored) far away, with a clip turning the bone; `weights` and `joints` per vertex.
-fn one_bone(joints: &[u8], weights: &[f32], times: &[f32]) -> Vec<u8> {
-    let mut doc = Doc::default();
-    let p = doc.floats(&TRIANGLE, "VEC3");
-    let j = doc.u8s(joints, "VEC4", false);
-    let w = doc.floats(weights, "VEC4");
-    let t = doc.floats(times, "SCALAR");
-    let values: Vec<f32> = (0..times.len())
-        .flat_map(|k| Quat::from_rotation_z(0.5 * k as f32).to_array())
-        .collect();
-    let r = doc.floats(&values, "VEC4");
-    doc.glb(&format!(
-        r#","nodes":[{{"name":"bone","translation":[1,0,0]}},{{"name":"skinned","mesh":0,"skin":0,"translation":[100,100,100]}}],
-        "skins":[{{"joints":[0]}}],
-        "meshes":[{{"primitives":[{{"attributes":{{"POSITION":{p},"JOINTS_0":{j},"WEIGHTS_0":{w}}}}}]}}],
-        "animations":[{{"name":"wave","channels":[{{"sampler":0,"target":{{"node":0,"path":"rotation"}}}}],"samplers":[{{"input":{t},"output":{r}}}]}}],
-        "scenes":[{{"nodes":[0,1]}}],"scene":0"#
-    ))
+/// `fur export-model --model critter critter.glb` writes the built-in creature, and
+/// loading the file gives the same body, skin and animation.
+#[test]
+fn the_built_in_critter_round_trips_through_export_model() {
+    let dir = std::env::temp_dir().join(format!("fur-critter-export-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("critter.glb");
+    let status = std::process::Command::new(env!("CARGO_BIN_EXE_fur"))
+        .args(["export-model", "--model", "critter"])
+        .arg(&path)
+        .status()
+        .unwrap();
+    assert!(status.success());
+    let (mesh, rig) = fur::scene::critter();
+    let body = fur::scene::load_gltf(&path).unwrap();
+    assert!(body.warnings.is_empty(), "{:?}", body.warnings);
+    assert_eq!(body.rig.as_ref(), Some(&rig), "the rig changed on the way");
+    assert_eq!(body.mesh.indices, mesh.indices);
+    assert_eq!(body.mesh.uvs, mesh.uvs);
+    let moved = body
+        .mesh
+        .positions
+        .iter()
+        .zip(&mesh.positions)
+        .map(|(a, b)| a.distance(*b))
+        .fold(0.0f32, f32::max);
+    assert!(moved < 1e-5, "rest positions moved by {moved}");
+    let clips: Vec<&str> = rig.clips.iter().map(|c| c.name.as_str()).collect();
+    assert_eq!(clips, ["Walk", "Idle"]);
+    let _ = std::fs::remove_dir_all(&dir);
 }

@@ -142,10 +142,8 @@ fn hairs_per_triangle_stay_the_same_as_the_body_walks() {
     let device = common::device();
     let (mesh, rig) = critter();
     let playback = walk(&rig);
-    let mut options = fur::session::SceneOptions {
-        density_scale: 0.2,
-        ..Default::default()
-    };
+    let mut options = fur::session::SceneOptions::default();
+    options.draw.density *= 0.2;
     options.draw.cull = false;
     options.draw.lod_distance = 1e4;
     let (groom, mut settings) = options.resolve(&mesh).unwrap();

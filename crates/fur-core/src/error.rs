@@ -1,46 +1,14 @@
-//! The library's error type: every failure a user can cause or act on, named.
+//! The core's error type: every failure a user can cause or act on without a device,
+//! named (the GPU layer's own errors wrap it).
 
 use std::path::PathBuf;
 
 /// Result alias used throughout the library.
 pub type Result<T, E = Error> = std::result::Result<T, E>;
 
-/// Everything that can go wrong in the renderer and simulator.
+/// Everything that can go wrong in the scene, its files and the CPU references.
 #[derive(Debug, thiserror::Error)]
 pub enum Error {
-    #[error("the Vulkan loader could not be loaded ({0}); install libvulkan1 and a Vulkan driver (e.g. mesa-vulkan-drivers)")]
-    Loader(String),
-
-    #[error("Vulkan call {call} failed: {result}{}", hint(result.code))]
-    Vulkan {
-        call: &'static str,
-        result: VulkanResult,
-    },
-
-    #[error("the Khronos validation layer (VK_LAYER_KHRONOS_validation) is not installed; install vulkan-validationlayers or run without --validate")]
-    ValidationLayerMissing,
-
-    #[error("no usable Vulkan device:\n{0}")]
-    NoSuitableDevice(String),
-
-    /// `--device` named no device, several, or one fur cannot run on; with the list.
-    #[error("{0}")]
-    DeviceChoice(String),
-
-    #[error("allocating {} of GPU memory for `{name}` failed (out of device memory?): {source}", size_text(*.bytes))]
-    Allocation {
-        name: String,
-        bytes: u64,
-        #[source]
-        source: Box<dyn std::error::Error + Send + Sync>,
-    },
-
-    #[error("shader compilation failed: {0}")]
-    ShaderCompile(String),
-
-    #[error("GPU work did not finish within {0} seconds")]
-    Timeout(u64),
-
     #[error("cannot read model {path}: {message}")]
     Model { path: PathBuf, message: String },
 
@@ -51,12 +19,6 @@ pub enum Error {
     /// A groom file (guide curves) that cannot be read, decoded or bound to the body.
     #[error("cannot read groom {path}: {message}")]
     Groom { path: PathBuf, message: String },
-
-    #[error("{0}")]
-    Window(String),
-
-    #[error("{count} validation message(s); the first: {first}")]
-    Validation { count: usize, first: String },
 
     #[error("invalid parameter: {0}")]
     Parameter(String),
@@ -83,31 +45,6 @@ pub enum Error {
         column: usize,
         message: String,
     },
-
-    #[error("leak: {0}")]
-    Leak(String),
-}
-
-/// A Vulkan result code, named (the core has no Vulkan bindings: the GPU layer makes
-/// these from its `VkResult`s).
-#[derive(Clone, Debug, PartialEq, Eq)]
-pub struct VulkanResult {
-    /// The `VkResult` value.
-    pub code: i32,
-    /// Its name (`ERROR_DEVICE_LOST`).
-    pub name: String,
-}
-
-impl std::fmt::Display for VulkanResult {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(&self.name)
-    }
-}
-
-impl VulkanResult {
-    pub const ERROR_OUT_OF_HOST_MEMORY: i32 = -1;
-    pub const ERROR_OUT_OF_DEVICE_MEMORY: i32 = -2;
-    pub const ERROR_DEVICE_LOST: i32 = -4;
 }
 
 impl Error {
@@ -147,53 +84,4 @@ pub fn size_text(bytes: u64) -> String {
 fn trim_number(x: f64) -> String {
     let text = format!("{x:.1}");
     text.strip_suffix(".0").map_or(text.clone(), str::to_string)
-}
-
-/// What a Vulkan error means for the user.
-fn hint(code: i32) -> &'static str {
-    match code {
-        VulkanResult::ERROR_DEVICE_LOST => {
-            " (the GPU stopped responding or reset; the work was too large or the driver failed)"
-        }
-        VulkanResult::ERROR_OUT_OF_DEVICE_MEMORY | VulkanResult::ERROR_OUT_OF_HOST_MEMORY => {
-            " (out of memory: use a smaller image, fewer samples or hairs)"
-        }
-        _ => "",
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn memory_and_device_errors_say_what_and_how_big() {
-        let oom = Error::Allocation {
-            name: "target.color".into(),
-            bytes: 3 << 20,
-            source: "out of memory".into(),
-        };
-        let text = oom.to_string();
-        assert!(
-            text.contains("3 MiB") && text.contains("target.color"),
-            "{text}"
-        );
-        let result = |code: i32, name: &str| VulkanResult {
-            code,
-            name: name.into(),
-        };
-        let lost = Error::Vulkan {
-            call: "vkQueueSubmit",
-            result: result(VulkanResult::ERROR_DEVICE_LOST, "ERROR_DEVICE_LOST"),
-        };
-        assert!(lost.to_string().contains("stopped responding"), "{lost}");
-        let full = Error::Vulkan {
-            call: "vkAllocateMemory",
-            result: result(
-                VulkanResult::ERROR_OUT_OF_DEVICE_MEMORY,
-                "ERROR_OUT_OF_DEVICE_MEMORY",
-            ),
-        };
-        assert!(full.to_string().contains("out of memory"), "{full}");
-    }
 }

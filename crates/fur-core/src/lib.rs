@@ -15,6 +15,7 @@ pub mod scene;
 pub mod scene_file;
 pub mod sim;
 pub mod skinning;
+pub mod span;
 
 pub use error::{Error, Result};
 

@@ -17,7 +17,7 @@ use crate::strand_textures::StrandTextures;
 
 mod options;
 
-pub use fur_core::scene_file::{DrawOptions, SceneOptions};
+pub use fur_core::scene_file::SceneOptions;
 pub use options::{check_work, MAX_SEGMENTS_PER_FRAME, MAX_STRAND_VERTICES, MAX_TARGET_BYTES};
 
 /// What a frame reports beyond the image.
@@ -119,7 +119,7 @@ impl FurSession {
         let skinned = match rig {
             Some((rig, playback)) => {
                 rig.validate(mesh.vertex_count())
-                    .map_err(|m| Error::Parameter(format!("the model's skin: {m}")))?;
+                    .map_err(|m| Error::parameter(format!("the model's skin: {m}")))?;
                 groom.comb_field = Some(crate::skinning::fur_flow(&rig));
                 Some((Arc::new(SkinnedBody::new(&mesh, rig)), playback))
             }
@@ -177,10 +177,9 @@ impl FurSession {
         )?;
         let texture = match &mesh.texture {
             Some(_) if mesh.uvs.is_empty() => {
-                return Err(Error::Parameter(
+                return Err(Error::parameter(
                     "the model has no texture coordinates (`vt` on every face), so it cannot \
-                     take a texture"
-                        .into(),
+                     take a texture",
                 ))
             }
             Some(spec) => Some(spec.load()?),

@@ -30,19 +30,17 @@ pub struct StrandLayout {
 impl StrandLayout {
     pub fn new(vertices_per_strand: u32, strand_count: u32, max_dimension: u32) -> Result<Self> {
         if vertices_per_strand < 2 || vertices_per_strand > max_dimension {
-            return Err(Error::Parameter(format!(
+            return Err(Error::parameter(format!(
                 "strands need 2..={max_dimension} vertices, got {vertices_per_strand}"
             )));
         }
         if strand_count == 0 {
-            return Err(Error::Parameter(
-                "there are no master hairs to store".into(),
-            ));
+            return Err(Error::parameter("there are no master hairs to store"));
         }
         let strands_per_row = (max_dimension / vertices_per_strand).min(strand_count);
         let height = strand_count.div_ceil(strands_per_row);
         if height > max_dimension {
-            return Err(Error::Parameter(format!(
+            return Err(Error::parameter(format!(
                 "{strand_count} master hairs of {vertices_per_strand} vertices exceed the device's \
                  {max_dimension}×{max_dimension} strand texture"
             )));

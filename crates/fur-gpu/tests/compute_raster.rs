@@ -413,7 +413,7 @@ fn sequence(
     let rig = scene.animation.resolve(rig, &scene.model.name()).unwrap();
     let mut options = scene.options.clone();
     options.draw.raster = raster;
-    options.density_scale *= 0.03;
+    options.draw.density *= 0.03;
     let (groom, mut settings) = options.resolve(&mesh).unwrap();
     settings.count_hairs = true;
     let motion = scene.motion.motion(mesh.bounds().1);

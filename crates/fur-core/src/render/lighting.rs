@@ -111,28 +111,25 @@ impl Default for Fibre {
 impl Fibre {
     /// Checks every parameter against its range, naming the first one out of it.
     pub fn validate(&self) -> Result<()> {
-        for (name, v, lo, hi) in [
+        for (name, v, span) in [
             (
                 "the longitudinal roughness",
                 self.longitudinal_roughness,
-                0.01,
-                1.0,
+                spans::ROUGHNESS,
             ),
             (
                 "the azimuthal roughness",
                 self.azimuthal_roughness,
-                0.01,
-                1.0,
+                spans::ROUGHNESS,
             ),
             (
                 "the cuticle tilt (degrees)",
                 self.cuticle_tilt_deg,
-                -10.0,
-                10.0,
+                spans::CUTICLE_TILT_DEG,
             ),
-            ("the index of refraction", self.ior, 1.0, 3.0),
+            ("the index of refraction", self.ior, spans::IOR),
         ] {
-            check_range(name, v, lo, hi)?;
+            check_range(name, v, span)?;
         }
         Ok(())
     }
@@ -238,14 +235,31 @@ impl Default for Lighting {
     }
 }
 
-fn check_range(name: &str, v: f32, lo: f32, hi: f32) -> Result<()> {
-    if v.is_finite() && (lo..=hi).contains(&v) {
-        Ok(())
-    } else {
-        Err(Error::Parameter(format!(
-            "{name} must be in [{lo}, {hi}], got {v}"
-        )))
-    }
+/// The values each number of the lighting accepts (the scene's settings take their
+/// ranges from these, `scene_file/keys/looks.rs`).
+pub mod spans {
+    use crate::span::Span;
+
+    /// Intensity, K_d, K_s, the ambient term and the secondary highlight's strength.
+    pub const WEIGHT: Span = Span::within(0.0, 1e3);
+    /// Root occlusion and the shadow map's opacity.
+    pub const FRACTION: Span = Span::within(0.0, 1.0);
+    /// The primary and secondary highlights' specular exponents.
+    pub const EXPONENT: Span = Span::within(1.0, 1e4);
+    /// The highlights' shifts, degrees.
+    pub const SHIFT_DEG: Span = Span::within(-45.0, 45.0);
+    /// The fibre's longitudinal and azimuthal roughness.
+    pub const ROUGHNESS: Span = Span::within(0.01, 1.0);
+    pub const CUTICLE_TILT_DEG: Span = Span::within(-10.0, 10.0);
+    pub const IOR: Span = Span::within(1.0, 3.0);
+    /// The shadow map's hair spacing (0: the hair spacing).
+    pub const SPACING: Span = Span::non_negative();
+    /// The largest channel of a colour (root, tip, skin).
+    pub const COLOUR_MAX: f64 = 1e3;
+}
+
+fn check_range(name: &str, v: f32, span: crate::span::Span) -> Result<()> {
+    span.check(name, f64::from(v)).map_err(Error::Parameter)
 }
 
 impl Lighting {
@@ -258,41 +272,37 @@ impl Lighting {
         }
         let h = &self.highlights;
         let s = &self.shadows;
-        for (name, v, lo, hi) in [
-            ("light intensity", self.intensity, 0.0, 1e3),
-            ("Kd", self.kd, 0.0, 1e3),
-            ("Ks", self.ks, 0.0, 1e3),
-            ("ambient", self.ambient, 0.0, 1e3),
-            ("root occlusion", self.root_occlusion, 0.0, 1.0),
-            ("the specular exponent", self.shininess, 1.0, 1e4),
+        for (name, v, span) in [
+            ("light intensity", self.intensity, spans::WEIGHT),
+            ("Kd", self.kd, spans::WEIGHT),
+            ("Ks", self.ks, spans::WEIGHT),
+            ("ambient", self.ambient, spans::WEIGHT),
+            ("root occlusion", self.root_occlusion, spans::FRACTION),
+            ("the specular exponent", self.shininess, spans::EXPONENT),
             (
                 "the primary highlight's shift (degrees)",
                 h.primary_shift_deg,
-                -45.0,
-                45.0,
+                spans::SHIFT_DEG,
             ),
             (
                 "the secondary highlight's shift (degrees)",
                 h.secondary_shift_deg,
-                -45.0,
-                45.0,
+                spans::SHIFT_DEG,
             ),
             (
                 "the secondary highlight's exponent",
                 h.secondary_shininess,
-                1.0,
-                1e4,
+                spans::EXPONENT,
             ),
             (
                 "the secondary highlight's strength",
                 h.secondary_strength,
-                0.0,
-                1e3,
+                spans::WEIGHT,
             ),
-            ("shadow opacity", s.opacity, 0.0, 1.0),
-            ("shadow spacing", s.spacing, 0.0, f32::MAX),
+            ("shadow opacity", s.opacity, spans::FRACTION),
+            ("shadow spacing", s.spacing, spans::SPACING),
         ] {
-            check_range(name, v, lo, hi)?;
+            check_range(name, v, span)?;
         }
         self.fibre.validate()?;
         if !(16..=Shadows::MAX_RESOLUTION).contains(&s.resolution) {
@@ -307,9 +317,13 @@ impl Lighting {
             ("tip colour", self.tip_color),
             ("skin colour", self.skin_color),
         ] {
-            if !c.is_finite() || c.min_element() < 0.0 || c.max_element() > 1e3 {
+            if !c.is_finite()
+                || c.min_element() < 0.0
+                || f64::from(c.max_element()) > spans::COLOUR_MAX
+            {
                 return Err(Error::Parameter(format!(
-                    "{name} must have components in [0, 1000], got {c}"
+                    "{name} must have components in [0, {}], got {c}",
+                    spans::COLOUR_MAX
                 )));
             }
         }

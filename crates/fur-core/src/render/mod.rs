@@ -14,10 +14,12 @@ pub mod marschner;
 pub mod presets;
 pub mod stage;
 pub mod strand_raster;
+pub mod style;
 pub mod uniforms;
 
 pub use frame_block::{FrameInputs, FrameUniforms, LightView, CASTER_DENSITY};
 pub use image::{flip, RgbaImage};
+pub use lighting::spans as lighting_spans;
 pub use lighting::{kajiya_kay, Fibre, Highlights, Lighting, LightingModel, Shade, Shadows};
 pub use presets::FurPreset;
 pub use uniforms::{

@@ -69,11 +69,19 @@ impl Default for GroomParams {
     }
 }
 
+/// The most segments a master hair has (strands of at most 64 vertices).
+pub const MAX_SEGMENTS: u32 = 63;
+
+/// How strongly the fur is combed and curled, and how long it may be against the
+/// body's thickness (the scene's settings take their range from it,
+/// `scene_file/keys/view.rs`).
+pub const SHAPE: crate::span::Span = crate::span::Span::within(0.0, 1e3);
+
 impl GroomParams {
     pub fn validate(&self) -> Result<()> {
-        if !(1..=63).contains(&self.segments) {
+        if !(1..=MAX_SEGMENTS).contains(&self.segments) {
             return Err(Error::Parameter(format!(
-                "segments must be in 1..=63 (strands of at most 64 vertices), got {}",
+                "segments must be in 1..={MAX_SEGMENTS} (strands of at most 64 vertices), got {}",
                 self.segments
             )));
         }
@@ -83,17 +91,17 @@ impl GroomParams {
                 self.segment_length
             )));
         }
-        for (name, v) in [
-            ("comb strength", self.comb_strength),
-            ("curl", self.curl),
-            ("curl turns", self.curl_turns),
-            ("thickness limit", self.thickness_limit),
+        for (name, v, span) in [
+            ("comb strength", self.comb_strength, SHAPE),
+            ("curl", self.curl, SHAPE),
+            (
+                "curl turns",
+                self.curl_turns,
+                crate::span::Span::non_negative(),
+            ),
+            ("thickness limit", self.thickness_limit, SHAPE),
         ] {
-            if !v.is_finite() || v < 0.0 {
-                return Err(Error::Parameter(format!(
-                    "{name} must be finite and ≥ 0, got {v}"
-                )));
-            }
+            span.check(name, f64::from(v)).map_err(Error::Parameter)?;
         }
         if !self.comb_direction.is_finite() {
             return Err(Error::Parameter("comb direction must be finite".into()));

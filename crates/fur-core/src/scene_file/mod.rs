@@ -22,7 +22,7 @@ mod value;
 
 pub use file::SceneFile;
 pub use keys::GROUPS;
-pub use options::{DrawOptions, SceneOptions};
+pub use options::{SceneOptions, FOV_DEG};
 pub use setting::{list, Effect, Flag, Group, Kind, Panel, Setting};
 pub use value::{FieldValue, Value};
 

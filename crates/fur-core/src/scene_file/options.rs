@@ -1,9 +1,8 @@
-//! What a scene asks for, relative to the model's size ([`SceneOptions`]), and how it
-//! is drawn ([`DrawOptions`]).
+//! What a scene asks for, relative to the model's size ([`SceneOptions`]).
 
 use crate::error::Error;
 use crate::error::Result;
-use crate::render::{FrameSettings, FurStyle, Primitive, Raster, Shading};
+use crate::render::{FrameSettings, FurStyle};
 use crate::scene::{Camera, GroomParams, Mesh, Rig, TextureSpec};
 use crate::skinning::Playback;
 
@@ -21,8 +20,6 @@ pub struct SceneOptions {
     /// How grown fur is combed, and where a body's flow starts.
     pub flow: crate::scene::Flow,
     pub flow_from: crate::scene::FlowFrom,
-    /// Multiplies the default interpolated-hair density.
-    pub density_scale: f32,
     pub yaw_deg: f32,
     pub pitch_deg: f32,
     /// Camera distance in bounding radii; `None` frames the whole model, hair included,
@@ -30,7 +27,10 @@ pub struct SceneOptions {
     pub distance: Option<f32>,
     /// Vertical field of view, degrees.
     pub fov_deg: f32,
-    pub draw: DrawOptions,
+    /// How the fur is drawn, measured on the model: lengths in bounding radii, the
+    /// density per square bounding radius (the `density_scale` setting is its ratio to
+    /// [`crate::render::style::DENSITY`]).
+    pub draw: FurStyle,
     /// Lighting; the shadows' spacing is in bounding radii here (0 = the hair spacing).
     pub lighting: crate::render::Lighting,
     /// The colour texture, over the model's own (its OBJ material's map_Kd).
@@ -48,77 +48,6 @@ pub struct SceneOptions {
     pub groom_mode: crate::scene::GroomMode,
 }
 
-/// How the fur is drawn: the levers that trade speed for image quality (measured by
-/// `fur bench`). Distances are in bounding radii.
-#[derive(Clone, Debug, PartialEq)]
-pub struct DrawOptions {
-    pub samples: u32,
-    pub primitive: Primitive,
-    pub ribbon_above_px: f32,
-    pub shading: Shading,
-    pub vertex_lod_px: f32,
-    /// Full-density distance of the density LOD, in bounding radii.
-    pub lod_distance: f32,
-    pub thickness_compensation: bool,
-    /// Hair width at the root, in bounding radii.
-    pub hair_width: f32,
-    pub min_pixel_width: f32,
-    /// Random tip offset of each interpolated hair, in bounding radii.
-    pub jitter: f32,
-    pub length_jitter: f32,
-    pub cull: bool,
-    /// Culled when cos(normal, view) < −cull_margin.
-    pub cull_margin: f32,
-    pub thin_hair_aa: bool,
-    pub raster: Raster,
-    pub nearest: u32,
-    pub tile: u32,
-}
-
-impl Default for DrawOptions {
-    fn default() -> Self {
-        Self::from_style(&FurStyle::default(), 1.0)
-    }
-}
-
-impl DrawOptions {
-    /// The drawing a fur pass's `style` stands for on a model of bounding radius
-    /// `radius`: the inverse of [`SceneOptions::resolve`]'s scaling.
-    pub fn from_style(style: &FurStyle, radius: f32) -> Self {
-        Self {
-            samples: style.samples,
-            primitive: style.primitive,
-            ribbon_above_px: style.ribbon_above_px,
-            shading: style.shading,
-            vertex_lod_px: style.vertex_lod_px,
-            lod_distance: style.lod_distance / radius,
-            thickness_compensation: style.thickness_compensation,
-            hair_width: style.hair_width / radius,
-            min_pixel_width: style.min_pixel_width,
-            jitter: style.jitter / radius,
-            length_jitter: style.length_jitter,
-            cull: style.cull,
-            cull_margin: style.cull_margin,
-            thin_hair_aa: style.thin_hair_aa,
-            raster: style.raster,
-            nearest: style.nearest,
-            tile: style.tile,
-        }
-    }
-
-    /// This drawing at reference quality: 4× MSAA ribbons lit per fragment, every
-    /// strand vertex drawn (widths, jitter and culling kept).
-    pub fn reference_quality(&self) -> Self {
-        Self {
-            samples: 4,
-            primitive: Primitive::Ribbons,
-            shading: Shading::Fragment,
-            vertex_lod_px: 0.0,
-            ..self.clone()
-        }
-    }
-}
-
 impl Default for SceneOptions {
     fn default() -> Self {
         Self {
@@ -129,12 +58,11 @@ impl Default for SceneOptions {
             thickness_limit: 0.6,
             flow: crate::scene::Flow::Body,
             flow_from: crate::scene::FlowFrom::Auto,
-            density_scale: 1.0,
             yaw_deg: 25.0,
             pitch_deg: 15.0,
             distance: None,
             fov_deg: 40.0,
-            draw: DrawOptions::default(),
+            draw: FurStyle::default(),
             lighting: crate::render::Lighting::default(),
             texture: None,
             show: crate::render::Stage::Lit,
@@ -146,6 +74,9 @@ impl Default for SceneOptions {
         }
     }
 }
+
+/// The vertical fields of view a scene accepts, degrees.
+pub const FOV_DEG: crate::span::Span = crate::span::Span::within(1.0, 170.0);
 
 /// Bounding radius of the original demo's sphere ([`crate::scene::ModelSpec::Sphere`]),
 /// the half-diagonal of its 4 × 4 × 4 box.
@@ -166,8 +97,11 @@ impl SceneOptions {
             comb: 0.0,
             curl: 0.0,
             thickness_limit: 0.0,
-            // Tuned: the original's 35,129 hairs (docs/testing.md, "Tuned constants").
-            density_scale: 0.33,
+            draw: FurStyle {
+                // Tuned: the original's 35,129 hairs (docs/testing.md, "Tuned constants").
+                density: 0.33 * crate::render::style::DENSITY,
+                ..FurStyle::default()
+            },
             yaw_deg: 90.0,
             pitch_deg: 15.0,
             distance: Some(10.0 / SPHERE_BOUNDS),
@@ -239,13 +173,10 @@ impl SceneOptions {
         for (name, v) in [
             ("hair length", self.hair_length),
             ("camera distance", self.distance.unwrap_or(1.0)),
-            ("density scale", self.density_scale),
         ] {
-            if !(v.is_finite() && v > 0.0) {
-                return Err(Error::Parameter(format!(
-                    "{name} must be a positive number, got {v}"
-                )));
-            }
+            crate::span::Span::positive()
+                .check(name, f64::from(v))
+                .map_err(Error::Parameter)?;
         }
         if self.groom_mode == crate::scene::GroomMode::Draw && self.groom_file.is_none() {
             return Err(Error::Parameter(
@@ -254,12 +185,9 @@ impl SceneOptions {
                     .into(),
             ));
         }
-        if !(self.fov_deg.is_finite() && (1.0..=170.0).contains(&self.fov_deg)) {
-            return Err(Error::Parameter(format!(
-                "field of view must be in [1, 170] degrees, got {}",
-                self.fov_deg
-            )));
-        }
+        FOV_DEG
+            .check("field of view (degrees)", f64::from(self.fov_deg))
+            .map_err(Error::Parameter)?;
         self.lighting.validate()?;
         let (center, radius) = mesh.bounds();
         let groom = GroomParams {
@@ -299,32 +227,13 @@ impl SceneOptions {
             settings.lighting.root_color = c;
             settings.lighting.tip_color = c;
         }
-        // Density and widths are per scene unit; scale them with the model.
-        let style = &mut settings.style;
-        style.density *= self.density_scale / (radius * radius);
-        let draw = &self.draw;
-        style.hair_width = draw.hair_width * radius;
-        style.jitter = draw.jitter * radius;
-        style.min_pixel_width = draw.min_pixel_width;
-        style.length_jitter = draw.length_jitter;
-        style.cull = draw.cull;
-        style.cull_margin = draw.cull_margin;
-        style.lod_distance = draw.lod_distance * radius;
-        style.samples = draw.samples;
-        style.primitive = draw.primitive;
-        style.ribbon_above_px = draw.ribbon_above_px;
-        style.shading = draw.shading;
-        style.vertex_lod_px = draw.vertex_lod_px;
-        style.thickness_compensation = draw.thickness_compensation;
-        style.thin_hair_aa = draw.thin_hair_aa;
-        style.raster = draw.raster;
-        style.nearest = draw.nearest;
-        style.tile = draw.tile;
+        // Density and lengths are measured on the model; scale them with it.
+        self.draw.validate()?;
+        settings.style = self.draw.on_model(radius);
         settings.lighting.shadows.spacing *= radius;
         settings.show = self.show;
         settings.arrows = self.arrows;
         settings.arrow_scale = self.arrow_scale;
-        style.validate()?;
         groom.validate()?;
         Ok((groom, settings))
     }

@@ -125,6 +125,26 @@ impl Kind {
         }
     }
 
+    /// A finite `f32` in what the value's own type accepts ([`crate::span`]).
+    pub const fn span(span: crate::span::Span) -> Self {
+        Kind::Number {
+            min: span.min,
+            max: span.max,
+            min_open: span.min_open,
+            double: false,
+        }
+    }
+
+    /// A finite `f64` in what the value's own type accepts.
+    pub const fn span_f64(span: crate::span::Span) -> Self {
+        Kind::Number {
+            min: span.min,
+            max: span.max,
+            min_open: span.min_open,
+            double: true,
+        }
+    }
+
     /// A whole number in min..=max.
     pub const fn integer(min: u32, max: u32) -> Self {
         Kind::Integer {

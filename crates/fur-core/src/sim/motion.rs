@@ -65,6 +65,11 @@ impl Default for Motion {
     }
 }
 
+/// The motion's amplitudes (a fraction of the bounding radius, or degrees) and rates
+/// (Hz, or turns a second) a scene accepts.
+pub const AMPLITUDE: crate::span::Span = crate::span::Span::within(-1e9, 1e9);
+pub const RATE: crate::span::Span = crate::span::Span::within(0.0, 1e9);
+
 impl Motion {
     pub fn still() -> Self {
         Self::default()
@@ -84,12 +89,9 @@ impl Motion {
     }
 
     pub fn validate(&self) -> crate::Result<()> {
-        if !(self.amplitude.is_finite() && self.rate.is_finite() && self.rate >= 0.0) {
-            return Err(crate::Error::Parameter(format!(
-                "motion amplitude and rate must be finite (rate ≥ 0), got {} and {}",
-                self.amplitude, self.rate
-            )));
-        }
-        Ok(())
+        AMPLITUDE
+            .check("motion amplitude", self.amplitude)
+            .and_then(|()| RATE.check("motion rate", self.rate))
+            .map_err(crate::Error::Parameter)
     }
 }

@@ -9,6 +9,30 @@ use crate::error::{Error, Result};
 /// Cells along the longest axis a body's distance field may have, at least and at most.
 pub use crate::geometry::sdf::RESOLUTION_RANGE as SDF_RESOLUTION_RANGE;
 
+/// The values each number of the simulation accepts (the scene's settings take their
+/// ranges from these, `scene_file/keys/simulation.rs`).
+pub mod spans {
+    use crate::span::Span;
+
+    /// The frame's time step, seconds.
+    pub const DT: Span = Span {
+        min: 0.0,
+        max: 0.1,
+        min_open: true,
+    };
+    /// Damping, the shape constraints' stiffness and the global one's range, the
+    /// collision margin and friction.
+    pub const FRACTION: Span = Span::within(0.0, 1.0);
+    /// The wind's cone, degrees.
+    pub const WIND_CONE_DEG: Span = Span::within(0.0, 90.0);
+}
+
+/// The most substeps, local-shape and length-constraint iterations a frame runs.
+pub const MAX_PASSES: u32 = 64;
+
+/// The largest gravity or wind, m/s².
+pub const MAX_ACCELERATION: f64 = 1e5;
+
 /// The distance field's cells per hair length on a rigid body: the deepest vertex of the
 /// benchmark's pressing case stays within half a percent of the hair length.
 /// Tuned (docs/testing.md, "Tuned constants").
@@ -103,30 +127,20 @@ impl SimParams {
         }
     }
 
-    /// Checks every parameter against its documented range.
+    /// Checks every parameter against its range ([`spans`], [`MAX_PASSES`]).
     pub fn validate(&self) -> Result<()> {
-        let range = |name: &str, v: f32, lo: f32, hi: f32| {
-            if v.is_finite() && (lo..=hi).contains(&v) {
-                Ok(())
-            } else {
-                Err(Error::Parameter(format!(
-                    "{name} must be in [{lo}, {hi}], got {v}"
-                )))
-            }
-        };
-        if !(self.dt.is_finite() && self.dt > 0.0 && self.dt <= 0.1) {
-            return Err(Error::Parameter(format!(
-                "dt must be in (0, 0.1] seconds, got {}",
-                self.dt
-            )));
+        for (name, v, span) in [
+            ("dt (seconds)", self.dt, spans::DT),
+            ("damping", self.damping, spans::FRACTION),
+            ("global stiffness", self.global_stiffness, spans::FRACTION),
+            ("global range", self.global_range, spans::FRACTION),
+            ("local stiffness", self.local_stiffness, spans::FRACTION),
+            ("wind cone angle", self.wind_cone_deg, spans::WIND_CONE_DEG),
+            ("collision margin", self.collision_margin, spans::FRACTION),
+            ("friction", self.friction, spans::FRACTION),
+        ] {
+            span.check(name, f64::from(v)).map_err(Error::Parameter)?;
         }
-        range("damping", self.damping, 0.0, 1.0)?;
-        range("global stiffness", self.global_stiffness, 0.0, 1.0)?;
-        range("global range", self.global_range, 0.0, 1.0)?;
-        range("local stiffness", self.local_stiffness, 0.0, 1.0)?;
-        range("wind cone angle", self.wind_cone_deg, 0.0, 90.0)?;
-        range("collision margin", self.collision_margin, 0.0, 1.0)?;
-        range("friction", self.friction, 0.0, 1.0)?;
         let (lo, hi) = SDF_RESOLUTION_RANGE;
         if self.sdf_resolution != 0 && !(lo..=hi).contains(&self.sdf_resolution) {
             return Err(Error::Parameter(format!(
@@ -140,16 +154,16 @@ impl SimParams {
             ("length iterations", self.length_iterations),
         ] {
             let lo = u32::from(name == "substeps");
-            if !(lo..=64).contains(&v) {
+            if !(lo..=MAX_PASSES).contains(&v) {
                 return Err(Error::Parameter(format!(
-                    "{name} must be in {lo}..=64, got {v}"
+                    "{name} must be in {lo}..={MAX_PASSES}, got {v}"
                 )));
             }
         }
         for (name, v) in [("gravity", self.gravity), ("wind", self.wind)] {
-            if !v.is_finite() || v.length() > 1e5 {
+            if !v.is_finite() || f64::from(v.length()) > MAX_ACCELERATION {
                 return Err(Error::Parameter(format!(
-                    "{name} must be finite with magnitude ≤ 1e5, got {v}"
+                    "{name} must be finite with magnitude ≤ {MAX_ACCELERATION:e}, got {v}"
                 )));
             }
         }

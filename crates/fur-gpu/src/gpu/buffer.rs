@@ -187,7 +187,7 @@ impl TexelBuffer {
     ) -> Result<Self> {
         let limit = u64::from(device.info.limits.max_texel_buffer_elements);
         if texels > limit {
-            return Err(Error::Parameter(format!(
+            return Err(Error::parameter(format!(
                 "{name} needs {texels} texels, more than this device's largest texel buffer \
                  ({limit})"
             )));

@@ -158,9 +158,8 @@ impl Renderer {
         posed: Option<vk::Buffer>,
     ) -> Result<Self> {
         if texture.is_some() && mesh.uvs.len() != mesh.indices.len() {
-            return Err(Error::Parameter(
-                "the model has no texture coordinates (`vt` on every face): a texture needs them"
-                    .into(),
+            return Err(Error::parameter(
+                "the model has no texture coordinates (`vt` on every face): a texture needs them",
             ));
         }
         let textured = texture.is_some();
@@ -169,8 +168,8 @@ impl Renderer {
         // white texel and no UVs stand in.
         let white = Texture::from_rgba(1, 1, vec![255; 4])?;
         if textured && patches.uvs.len() != patches.indices.len() {
-            return Err(Error::Parameter(
-                "the groom's patches have no texture coordinates: a texture needs them".into(),
+            return Err(Error::parameter(
+                "the groom's patches have no texture coordinates: a texture needs them",
             ));
         }
         // The fur pass's patches: the body's triangles, then the groom's own.

@@ -39,7 +39,7 @@ pub fn check_samples(device: &Device, samples: u32) -> Result<()> {
         return Ok(());
     }
     let counts: Vec<String> = supported.iter().map(u32::to_string).collect();
-    Err(Error::Parameter(format!(
+    Err(Error::parameter(format!(
         "{} cannot render {samples} samples per pixel; it supports {}",
         device.info.name,
         counts.join(", ")
@@ -68,7 +68,7 @@ impl RenderTarget {
             .min(device.info.limits.max_framebuffer_height);
         if extent.width == 0 || extent.height == 0 || extent.width > limit || extent.height > limit
         {
-            return Err(Error::Parameter(format!(
+            return Err(Error::parameter(format!(
                 "image size {}×{} must be between 1×1 and {limit}×{limit}",
                 extent.width, extent.height
             )));

@@ -24,7 +24,7 @@ impl GpuTexture {
     pub fn upload(device: &Arc<Device>, texture: &Texture) -> Result<Self> {
         let max = device.info.limits.max_image_dimension2_d;
         if texture.width > max || texture.height > max {
-            return Err(Error::Parameter(format!(
+            return Err(Error::parameter(format!(
                 "the texture is {}×{}; {} samples at most {max}×{max}",
                 texture.width, texture.height, device.info.name
             )));

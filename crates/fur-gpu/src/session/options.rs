@@ -30,7 +30,7 @@ pub fn check_work(
     let vertices = u64::from(groom.vertices_per_strand());
     let strand_vertices = mesh.vertex_count() as u64 * vertices;
     if strand_vertices > MAX_STRAND_VERTICES {
-        return Err(Error::Parameter(format!(
+        return Err(Error::parameter(format!(
             "the model's {} vertices each grow a master hair of {vertices} vertices: {strand_vertices} \
              strand vertices, over the limit of {MAX_STRAND_VERTICES}; use fewer --segments or a \
              model with fewer vertices",
@@ -52,7 +52,7 @@ pub fn check_work(
         .sum();
     let segments = hairs * f64::from(groom.segments);
     if segments > MAX_SEGMENTS_PER_FRAME as f64 {
-        return Err(Error::Parameter(format!(
+        return Err(Error::parameter(format!(
             "the density asks for up to {:.3e} hairs of {} segments a frame ({:.3e} segments), over \
              the limit of {MAX_SEGMENTS_PER_FRAME:.0e}; lower --density-scale or --segments",
             hairs, groom.segments, segments
@@ -61,7 +61,7 @@ pub fn check_work(
     let samples = u64::from(settings.style.samples);
     let bytes = u64::from(extent.width) * u64::from(extent.height) * (8 * samples + 8);
     if bytes > MAX_TARGET_BYTES {
-        return Err(Error::Parameter(format!(
+        return Err(Error::parameter(format!(
             "a {}×{} image at {samples} samples per pixel needs {:.1} GiB of render target, over \
              the limit of {} GiB",
             extent.width,
@@ -84,7 +84,7 @@ pub fn check_work(
         )
         .total();
         if pools > MAX_TARGET_BYTES {
-            return Err(Error::Parameter(format!(
+            return Err(Error::parameter(format!(
                 "the compute rasteriser's pools for a {}×{} image need {:.1} GiB, over the \
                  limit of {} GiB; draw it smaller or with --raster hardware",
                 extent.width,

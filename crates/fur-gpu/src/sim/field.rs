@@ -26,7 +26,7 @@ pub(super) fn upload(device: &Arc<Device>, sdf: Option<&Sdf>) -> Result<Image> {
     };
     let limit = device.info.limits.max_image_dimension3_d;
     if dims.iter().any(|&n| n > limit) {
-        return Err(Error::Parameter(format!(
+        return Err(Error::parameter(format!(
             "the distance field's grid ({}×{}×{} points) exceeds this device's largest 3D \
              image ({limit} per side); lower --sdf-resolution",
             dims[0], dims[1], dims[2]
@@ -65,7 +65,7 @@ pub(super) fn upload_blend(
             let dims = [nx.div_ceil(2), ny, nz];
             let limit = device.info.limits.max_image_dimension3_d;
             if let Some(why) = crate::skinning::blend::misfit(sdf, limit) {
-                return Err(Error::Parameter(format!(
+                return Err(Error::parameter(format!(
                     "{why}; lower --sdf-resolution or turn --skin-blend off"
                 )));
             }

@@ -12,7 +12,7 @@ mod record;
 use std::sync::Arc;
 
 use ash::vk;
-use glam::{DMat4, UVec4, Vec3, Vec4};
+use glam::{DMat4, UVec3, Vec3, Vec4};
 use gpu_allocator::MemoryLocation;
 
 pub use super::kernel::kernel_defines;
@@ -139,7 +139,7 @@ impl GpuSim {
         params.validate()?;
         let vertices = textures.layout.vertices_per_strand;
         if vertices > MAX_VERTICES {
-            return Err(Error::Parameter(format!(
+            return Err(Error::parameter(format!(
                 "the simulation handles at most {MAX_VERTICES} vertices per strand, got {vertices}"
             )));
         }
@@ -167,7 +167,7 @@ impl GpuSim {
         let skinned = match skinned {
             Some((body, playback)) => {
                 if body.vertex_count() != textures.layout.strand_count as usize {
-                    return Err(Error::Parameter(format!(
+                    return Err(Error::parameter(format!(
                         "the skinned body has {} vertices but there are {} strands",
                         body.vertex_count(),
                         textures.layout.strand_count
@@ -380,32 +380,28 @@ impl GpuSim {
     /// Changes parameters; rebuilds the kernel when the set of needed steps changes.
     pub fn set_params(&mut self, params: SimParams, textures: &StrandTextures) -> Result<()> {
         params.validate()?;
+        let collides = self.grid.is_some();
         let statics = SimStatic {
-            stiffness: Vec4::new(params.global_stiffness, params.local_stiffness, 0.0, 0.0),
-            counts: UVec4::new(
-                self.strand_count,
-                textures.layout.strands_per_row,
-                params.global_cutoff(self.vertices),
-                params.local_iterations,
-            ),
-            counts2: UVec4::new(
-                params.length_iterations,
-                self.skinned.as_ref().map_or(0, |s| s.skin.capsule_count),
-                self.skinned.as_ref().map_or(0, |s| s.skin.joint_count()),
-                self.probe.flatten().map_or(0, SimStep::bit),
-            ),
-            collision: self.grid.map_or(Vec4::ZERO, |g| {
-                Vec4::new(
-                    params.collision_margin,
-                    params.friction,
-                    1.0 / g.cell,
-                    g.cell,
-                )
-            }),
-            sdf_origin: self.grid.map_or(Vec4::ZERO, |g| g.origin.extend(0.0)),
-            sdf_dims: self.grid.map_or(UVec4::ZERO, |g| {
-                UVec4::new(g.dims[0], g.dims[1], g.dims[2], 0)
-            }),
+            global_stiffness: params.global_stiffness,
+            local_stiffness: params.local_stiffness,
+            collision_margin: if collides {
+                params.collision_margin
+            } else {
+                0.0
+            },
+            friction: if collides { params.friction } else { 0.0 },
+            strand_count: self.strand_count,
+            strands_per_row: textures.layout.strands_per_row,
+            global_cutoff: params.global_cutoff(self.vertices),
+            local_iterations: params.local_iterations,
+            length_iterations: params.length_iterations,
+            capsule_count: self.skinned.as_ref().map_or(0, |s| s.skin.capsule_count),
+            joint_count: self.skinned.as_ref().map_or(0, |s| s.skin.joint_count()),
+            probe_step: self.probe.flatten().map_or(0, SimStep::bit),
+            sdf_origin: self.grid.map_or(Vec3::ZERO, |g| g.origin),
+            cell: self.grid.map_or(0.0, |g| g.cell),
+            sdf_dims: self.grid.map_or(UVec3::ZERO, |g| UVec3::from_array(g.dims)),
+            inverse_cell: self.grid.map_or(0.0, |g| 1.0 / g.cell),
         };
         // Only rewrite what the kernel reads when it changes: frames in flight may be
         // reading it (wind strength, for one, lives in the per-step constants instead).
@@ -429,7 +425,7 @@ impl GpuSim {
         }
         if let Some(skinned) = &self.skinned {
             if params.substeps > skinned.skin.max_substeps {
-                return Err(Error::Parameter(format!(
+                return Err(Error::parameter(format!(
                     "this skinned body can take at most {} substeps per frame, got {}",
                     skinned.skin.max_substeps, params.substeps
                 )));
@@ -437,10 +433,9 @@ impl GpuSim {
             mask |= BODY_SKINNED;
             if params.blends() && self.grid.is_some() {
                 if !self.has_blend {
-                    return Err(Error::Parameter(
+                    return Err(Error::parameter(
                         "the skin's blend for collision is chosen when the simulation is built, \
-                         not changed while it runs"
-                            .into(),
+                         not changed while it runs",
                     ));
                 }
                 mask |= BODY_BLEND;

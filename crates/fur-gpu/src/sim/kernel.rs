@@ -4,7 +4,7 @@
 //! and the barrier between dependent dispatches.
 
 use ash::vk;
-use glam::{Mat4, UVec4, Vec4};
+use glam::{Mat4, UVec3, Vec3, Vec4};
 
 use super::params::StepConstants;
 use super::steps::SimStep;
@@ -65,12 +65,29 @@ pub fn kernel_defines() -> Vec<(&'static str, String)> {
 #[repr(C)]
 #[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
 pub(super) struct SimStatic {
-    pub(super) stiffness: Vec4,
-    pub(super) counts: UVec4,
-    pub(super) counts2: UVec4,
-    pub(super) collision: Vec4,
-    pub(super) sdf_origin: Vec4,
-    pub(super) sdf_dims: UVec4,
+    /// The global and local shape constraints' stiffness S_G, S_L.
+    pub(super) global_stiffness: f32,
+    pub(super) local_stiffness: f32,
+    /// How far from the body a vertex is held, a fraction of its strand's length.
+    pub(super) collision_margin: f32,
+    pub(super) friction: f32,
+    pub(super) strand_count: u32,
+    pub(super) strands_per_row: u32,
+    /// The last vertex the global shape constraint pulls.
+    pub(super) global_cutoff: u32,
+    pub(super) local_iterations: u32,
+    pub(super) length_iterations: u32,
+    /// The bones' capsules, per pose.
+    pub(super) capsule_count: u32,
+    pub(super) joint_count: u32,
+    /// The step whose corrections the probe records ([`SimStep::bit`]; 0: none).
+    pub(super) probe_step: u32,
+    /// The body's distance field: grid point (0, 0, 0) in model space, the spacing,
+    /// the points along each axis, and one over the spacing.
+    pub(super) sdf_origin: Vec3,
+    pub(super) cell: f32,
+    pub(super) sdf_dims: UVec3,
+    pub(super) inverse_cell: f32,
 }
 
 /// `Step` in `shaders/sim_common.glsl` (std430).
@@ -250,14 +267,27 @@ mod tests {
     #[test]
     fn the_kernels_agree_with_the_rust_layouts() {
         let layout: Vec<_> = SimBinding::set_layout().iter().map(|b| b.0).collect();
-        let sim_static = [
-            ("stiffness", offset_of!(SimStatic, stiffness)),
-            ("counts", offset_of!(SimStatic, counts)),
-            ("counts2", offset_of!(SimStatic, counts2)),
-            ("collision", offset_of!(SimStatic, collision)),
-            ("sdf_origin", offset_of!(SimStatic, sdf_origin)),
-            ("sdf_dims", offset_of!(SimStatic, sdf_dims)),
-        ];
+        macro_rules! fields {
+            ($($f:ident),+) => { [$((stringify!($f), offset_of!(SimStatic, $f))),+] };
+        }
+        let sim_static = fields!(
+            global_stiffness,
+            local_stiffness,
+            collision_margin,
+            friction,
+            strand_count,
+            strands_per_row,
+            global_cutoff,
+            local_iterations,
+            length_iterations,
+            capsule_count,
+            joint_count,
+            probe_step,
+            sdf_origin,
+            cell,
+            sdf_dims,
+            inverse_cell
+        );
         let step = [
             ("head", offset_of!(GpuStep, head)),
             ("head_inverse", offset_of!(GpuStep, head_inverse)),

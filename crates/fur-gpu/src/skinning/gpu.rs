@@ -107,14 +107,14 @@ impl GpuSkin {
         let rig = &body.rig;
         let n = body.vertex_count();
         let vertex_count = u32::try_from(n).map_err(|_| {
-            Error::Parameter(format!("a skinned body of {n} vertices is too large"))
+            Error::parameter(format!("a skinned body of {n} vertices is too large"))
         })?;
         let joint_count = rig.joints.len().max(1) as u32;
         let per_substep = 48 * u64::from(vertex_count);
         let fits = (MAX_ROOT_POSE_BYTES / per_substep.max(1)).max(1) as u32;
         let max_substeps = fits.min(64);
         if substeps > max_substeps {
-            return Err(Error::Parameter(format!(
+            return Err(Error::parameter(format!(
                 "a skinned body of {vertex_count} vertices can take at most {max_substeps} \
                  substeps per frame, got {substeps}"
             )));
@@ -295,7 +295,7 @@ impl GpuSkin {
     pub fn write_joints(&mut self, slot: usize, matrices: &[Mat4]) -> Result<()> {
         let substeps = matrices.len() / self.joint_count as usize;
         if substeps > self.joint_capacity {
-            return Err(Error::Parameter(format!(
+            return Err(Error::parameter(format!(
                 "at most {} skinned substeps per submission, got {substeps}",
                 self.joint_capacity
             )));

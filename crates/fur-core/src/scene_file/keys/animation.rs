@@ -21,12 +21,7 @@ pub const MOTION: Group = Group {
             flag: Flag::Long("amplitude"),
             label: "motion amplitude",
             help: "Motion amplitude: fraction of the model radius for shake, degrees for nod",
-            kind: Kind::Number {
-                min: -1e9,
-                max: 1e9,
-                min_open: false,
-                double: true,
-            },
+            kind: Kind::span_f64(crate::sim::motion::AMPLITUDE),
             effect: Effect::Restart,
             ..field!(motion.amplitude)
         },
@@ -35,12 +30,7 @@ pub const MOTION: Group = Group {
             flag: Flag::Long("rate"),
             label: "motion rate",
             help: "Motion rate: Hz for shake and nod, turns per second for spin",
-            kind: Kind::Number {
-                min: 0.0,
-                max: 1e9,
-                min_open: false,
-                double: true,
-            },
+            kind: Kind::span_f64(crate::sim::motion::RATE),
             effect: Effect::Restart,
             ..field!(motion.rate)
         },

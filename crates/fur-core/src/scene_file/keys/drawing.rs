@@ -1,6 +1,7 @@
 //! How the fur is drawn: the levers that trade speed for image quality (`fur bench`
 //! measures each).
 
+use crate::render::style::{spans, SAMPLE_COUNTS, TILE_CHOICES};
 use crate::scene_file::value::field;
 use crate::scene_file::{Flag, Group, Kind, Panel, Setting};
 
@@ -14,7 +15,7 @@ pub const RENDER: Group = Group {
             label: "samples per pixel",
             help: "Samples per pixel: 1 (no MSAA; lines then blend their coverage) or an MSAA \
                    count the device supports (lavapipe: 1 and 4)",
-            kind: Kind::OneOf(&[1, 2, 4, 8, 16]),
+            kind: Kind::OneOf(&SAMPLE_COUNTS),
             panel: Panel::Plain,
             ..field!(options.draw.samples)
         },
@@ -54,7 +55,7 @@ pub const RENDER: Group = Group {
                    to, pixels; 0 takes the device's (4 on a CPU driver, 8 on a GPU). A pixel \
                    walks its tile's list: a smaller tile lists fewer segments a pixel, and \
                    lists each segment in more tiles",
-            kind: Kind::OneOf(&[0, 2, 4, 8, 16]),
+            kind: Kind::OneOf(&TILE_CHOICES),
             panel: Panel::Plain,
             ..field!(options.draw.tile)
         },
@@ -75,7 +76,7 @@ pub const RENDER: Group = Group {
             label: "ribbon threshold",
             help: "Root width from which `auto` draws ribbons",
             units: "px",
-            kind: Kind::within(0.0, 1e6),
+            kind: Kind::span(spans::PIXELS),
             panel: Panel::Slider {
                 min: 0.0,
                 max: 8.0,
@@ -101,7 +102,7 @@ pub const RENDER: Group = Group {
                    instead passes within this distance of it, width included; 0 draws every \
                    vertex",
             units: "px",
-            kind: Kind::within(0.0, 1e6),
+            kind: Kind::span(spans::PIXELS),
             panel: Panel::Slider {
                 min: 0.0,
                 max: 2.0,
@@ -116,7 +117,7 @@ pub const RENDER: Group = Group {
             help: "Full-density distance: farther away the density falls with the square of \
                    the distance",
             units: "bounding radii",
-            kind: Kind::positive(f64::MAX),
+            kind: Kind::span(spans::POSITIVE),
             panel: Panel::Slider {
                 min: 0.1,
                 max: 100.0,
@@ -139,7 +140,7 @@ pub const RENDER: Group = Group {
             label: "hair width",
             help: "Hair width at the root",
             units: "bounding radii",
-            kind: Kind::positive(f64::MAX),
+            kind: Kind::span(spans::POSITIVE),
             panel: Panel::Slider {
                 min: 1e-4,
                 max: 0.05,
@@ -154,7 +155,7 @@ pub const RENDER: Group = Group {
             help: "Hairs are drawn at least this wide; thinner ones cover by their true width \
                    (thin-hair AA)",
             units: "px",
-            kind: Kind::within(0.0, 64.0),
+            kind: Kind::span(spans::MIN_PIXEL_WIDTH),
             panel: Panel::Slider {
                 min: 0.0,
                 max: 4.0,
@@ -168,7 +169,7 @@ pub const RENDER: Group = Group {
             label: "jitter",
             help: "Random tip offset of each interpolated hair",
             units: "bounding radii",
-            kind: Kind::within(0.0, 1e3),
+            kind: Kind::span(spans::JITTER),
             panel: Panel::Slider {
                 min: 0.0,
                 max: 0.2,
@@ -181,7 +182,7 @@ pub const RENDER: Group = Group {
             flag: Flag::Long("length-jitter"),
             label: "length jitter",
             help: "Random shortening of each interpolated hair, as a fraction of its length",
-            kind: Kind::within(0.0, 1.0),
+            kind: Kind::span(spans::LENGTH_JITTER),
             panel: Panel::Slider {
                 min: 0.0,
                 max: 1.0,
@@ -205,7 +206,7 @@ pub const RENDER: Group = Group {
             help: "How far a triangle may face away before its hairs are culled: culled when \
                    cos(normal, view) < −margin; hairs on triangles just past the silhouette \
                    still show, so 0 loses them and 1 culls by the screen's bounds only",
-            kind: Kind::within(0.0, 1.0),
+            kind: Kind::span(spans::CULL_MARGIN),
             panel: Panel::Slider {
                 min: 0.0,
                 max: 1.0,

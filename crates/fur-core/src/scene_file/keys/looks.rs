@@ -1,6 +1,7 @@
 //! The light, the hair's colour and highlights, the fibre's physical parameters and
 //! self-shadowing (`fur bench --only looks` costs each).
 
+use crate::render::lighting_spans as spans;
 use crate::scene_file::value::field;
 use crate::scene_file::{Flag, Group, Kind, Panel, Setting};
 
@@ -52,7 +53,7 @@ pub const LIGHT: Group = Group {
             flag: Flag::Long("light-intensity"),
             label: "light intensity",
             help: "The light's intensity",
-            kind: Kind::within(0.0, 1e3),
+            kind: Kind::span(spans::WEIGHT),
             panel: Panel::Slider {
                 min: 0.0,
                 max: 3.0,
@@ -65,7 +66,7 @@ pub const LIGHT: Group = Group {
             flag: Flag::Long("kd"),
             label: "Kd (diffuse)",
             help: "Diffuse reflectance of hair and skin",
-            kind: Kind::within(0.0, 1e3),
+            kind: Kind::span(spans::WEIGHT),
             panel: SLIDER_0_2,
             ..field!(options.lighting.kd)
         },
@@ -74,7 +75,7 @@ pub const LIGHT: Group = Group {
             flag: Flag::Long("ks"),
             label: "Ks (specular)",
             help: "Specular reflectance of the primary highlight (Kajiya–Kay)",
-            kind: Kind::within(0.0, 1e3),
+            kind: Kind::span(spans::WEIGHT),
             panel: SLIDER_0_2,
             ..field!(options.lighting.ks)
         },
@@ -83,7 +84,7 @@ pub const LIGHT: Group = Group {
             flag: Flag::Long("shininess"),
             label: "the specular exponent",
             help: "Specular exponent of the primary highlight",
-            kind: Kind::within(1.0, 1e4),
+            kind: Kind::span(spans::EXPONENT),
             panel: EXPONENT,
             ..field!(options.lighting.shininess)
         },
@@ -92,7 +93,7 @@ pub const LIGHT: Group = Group {
             flag: Flag::Long("ambient"),
             label: "ambient",
             help: "Ambient light",
-            kind: Kind::within(0.0, 1e3),
+            kind: Kind::span(spans::WEIGHT),
             panel: Panel::Slider {
                 min: 0.0,
                 max: 1.0,
@@ -105,7 +106,9 @@ pub const LIGHT: Group = Group {
             flag: Flag::Long("root-color"),
             label: "root colour",
             help: "Hair colour at the root, \"r,g,b\"",
-            kind: Kind::Colour { max: 1e3 },
+            kind: Kind::Colour {
+                max: spans::COLOUR_MAX,
+            },
             panel: Panel::Plain,
             ..field!(options.lighting.root_color)
         },
@@ -114,7 +117,9 @@ pub const LIGHT: Group = Group {
             flag: Flag::Long("tip-color"),
             label: "tip colour",
             help: "Hair colour at the tip, \"r,g,b\"",
-            kind: Kind::Colour { max: 1e3 },
+            kind: Kind::Colour {
+                max: spans::COLOUR_MAX,
+            },
             panel: Panel::Plain,
             ..field!(options.lighting.tip_color)
         },
@@ -134,7 +139,9 @@ pub const LIGHT: Group = Group {
             flag: Flag::Long("skin-color"),
             label: "skin colour",
             help: "Skin colour, \"r,g,b\"",
-            kind: Kind::Colour { max: 1e3 },
+            kind: Kind::Colour {
+                max: spans::COLOUR_MAX,
+            },
             panel: Panel::Plain,
             ..field!(options.lighting.skin_color)
         },
@@ -144,7 +151,7 @@ pub const LIGHT: Group = Group {
             label: "root occlusion",
             help: "How much darker hair is at the root than at the tip (Kajiya–Kay; the \
                    Marschner model darkens deep hair by the coat's layers instead)",
-            kind: Kind::within(0.0, 1.0),
+            kind: Kind::span(spans::FRACTION),
             panel: Panel::Slider {
                 min: 0.0,
                 max: 1.0,
@@ -168,7 +175,7 @@ pub const LIGHT: Group = Group {
             label: "the primary highlight's shift",
             help: "Shift of the primary highlight, positive toward the tip",
             units: "°",
-            kind: Kind::within(-45.0, 45.0),
+            kind: Kind::span(spans::SHIFT_DEG),
             panel: SHIFT,
             ..field!(options.lighting.highlights.primary_shift_deg)
         },
@@ -178,7 +185,7 @@ pub const LIGHT: Group = Group {
             label: "the secondary highlight's shift",
             help: "Shift of the secondary highlight",
             units: "°",
-            kind: Kind::within(-45.0, 45.0),
+            kind: Kind::span(spans::SHIFT_DEG),
             panel: SHIFT,
             ..field!(options.lighting.highlights.secondary_shift_deg)
         },
@@ -187,7 +194,7 @@ pub const LIGHT: Group = Group {
             flag: Flag::Long("secondary-shininess"),
             label: "the secondary highlight's exponent",
             help: "Specular exponent of the secondary highlight",
-            kind: Kind::within(1.0, 1e4),
+            kind: Kind::span(spans::EXPONENT),
             panel: EXPONENT,
             ..field!(options.lighting.highlights.secondary_shininess)
         },
@@ -196,7 +203,7 @@ pub const LIGHT: Group = Group {
             flag: Flag::Long("secondary-strength"),
             label: "the secondary highlight's strength",
             help: "Strength of the secondary highlight",
-            kind: Kind::within(0.0, 1e3),
+            kind: Kind::span(spans::WEIGHT),
             panel: SLIDER_0_2,
             ..field!(options.lighting.highlights.secondary_strength)
         },
@@ -212,7 +219,7 @@ pub const FIBRE: Group = Group {
             flag: Flag::Long("longitudinal-roughness"),
             label: "the longitudinal roughness β_m",
             help: "Longitudinal roughness β_m of the fibre",
-            kind: Kind::within(0.01, 1.0),
+            kind: Kind::span(spans::ROUGHNESS),
             panel: Panel::Slider {
                 min: 0.01,
                 max: 1.0,
@@ -225,7 +232,7 @@ pub const FIBRE: Group = Group {
             flag: Flag::Long("azimuthal-roughness"),
             label: "the azimuthal roughness β_n",
             help: "Azimuthal roughness β_n of the fibre",
-            kind: Kind::within(0.01, 1.0),
+            kind: Kind::span(spans::ROUGHNESS),
             panel: Panel::Slider {
                 min: 0.01,
                 max: 1.0,
@@ -239,7 +246,7 @@ pub const FIBRE: Group = Group {
             label: "the cuticle tilt α",
             help: "Tilt α of the cuticle scales",
             units: "°",
-            kind: Kind::within(-10.0, 10.0),
+            kind: Kind::span(spans::CUTICLE_TILT_DEG),
             panel: Panel::Slider {
                 min: -10.0,
                 max: 10.0,
@@ -252,7 +259,7 @@ pub const FIBRE: Group = Group {
             flag: Flag::Long("ior"),
             label: "the index of refraction η",
             help: "Index of refraction η of the fibre",
-            kind: Kind::within(1.0, 3.0),
+            kind: Kind::span(spans::IOR),
             panel: Panel::Slider {
                 min: 1.0,
                 max: 3.0,
@@ -291,7 +298,7 @@ pub const SHADOWS: Group = Group {
             flag: Flag::Long("shadow-opacity"),
             label: "shadow opacity",
             help: "Light one layer of hair stops",
-            kind: Kind::within(0.0, 1.0),
+            kind: Kind::span(spans::FRACTION),
             panel: Panel::Slider {
                 min: 0.0,
                 max: 1.0,
@@ -305,7 +312,7 @@ pub const SHADOWS: Group = Group {
             label: "shadow spacing",
             help: "Depth of one hair layer; 0 = the hair spacing",
             units: "bounding radii",
-            kind: Kind::within(0.0, f32::MAX as f64),
+            kind: Kind::span(spans::SPACING),
             ..field!(options.lighting.shadows.spacing)
         },
     ],

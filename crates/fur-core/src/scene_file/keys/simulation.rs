@@ -3,6 +3,7 @@
 
 use crate::scene_file::value::field;
 use crate::scene_file::{Effect, Flag, Group, Kind, Panel, Setting};
+use crate::sim::params::{spans, MAX_ACCELERATION, MAX_PASSES};
 
 const UNIT: Panel = Panel::Slider {
     min: 0.0,
@@ -25,12 +26,7 @@ pub const SIMULATION: Group = Group {
             label: "dt",
             help: "Seconds simulated per frame",
             units: "s",
-            kind: Kind::Number {
-                min: 0.0,
-                max: 0.1,
-                min_open: true,
-                double: false,
-            },
+            kind: Kind::span(spans::DT),
             effect: Effect::Simulation,
             ..field!(sim.dt)
         },
@@ -39,7 +35,7 @@ pub const SIMULATION: Group = Group {
             flag: Flag::Long("substeps"),
             label: "substeps",
             help: "Substeps per frame",
-            kind: Kind::integer(1, 64),
+            kind: Kind::integer(1, MAX_PASSES),
             effect: Effect::Simulation,
             panel: Panel::Slider {
                 min: 1.0,
@@ -55,7 +51,7 @@ pub const SIMULATION: Group = Group {
             help: "Gravity: \"x,y,z\", or one number g for (0, −g, 0)",
             units: "m/s²",
             kind: Kind::Vector {
-                max: 1e5,
+                max: MAX_ACCELERATION,
                 nonzero: false,
                 down: true,
             },
@@ -68,7 +64,7 @@ pub const SIMULATION: Group = Group {
             flag: Flag::Long("damping"),
             label: "damping",
             help: "Fraction of velocity lost per 1/60 s",
-            kind: Kind::within(0.0, 1.0),
+            kind: Kind::span(spans::FRACTION),
             effect: Effect::Simulation,
             panel: UNIT,
             ..field!(sim.damping)
@@ -78,7 +74,7 @@ pub const SIMULATION: Group = Group {
             flag: Flag::Long("global-stiffness"),
             label: "global stiffness S_G",
             help: "Global shape stiffness S_G",
-            kind: Kind::within(0.0, 1.0),
+            kind: Kind::span(spans::FRACTION),
             effect: Effect::Simulation,
             panel: UNIT,
             ..field!(sim.global_stiffness)
@@ -88,7 +84,7 @@ pub const SIMULATION: Group = Group {
             flag: Flag::Long("global-range"),
             label: "global range",
             help: "Fraction of each strand the global constraint covers",
-            kind: Kind::within(0.0, 1.0),
+            kind: Kind::span(spans::FRACTION),
             effect: Effect::Simulation,
             panel: UNIT,
             ..field!(sim.global_range)
@@ -98,7 +94,7 @@ pub const SIMULATION: Group = Group {
             flag: Flag::Long("local-stiffness"),
             label: "local stiffness S_L",
             help: "Local shape stiffness S_L",
-            kind: Kind::within(0.0, 1.0),
+            kind: Kind::span(spans::FRACTION),
             effect: Effect::Simulation,
             panel: UNIT,
             ..field!(sim.local_stiffness)
@@ -108,7 +104,7 @@ pub const SIMULATION: Group = Group {
             flag: Flag::Long("local-iterations"),
             label: "local iterations",
             help: "Local shape passes per substep",
-            kind: Kind::integer(0, 64),
+            kind: Kind::integer(0, MAX_PASSES),
             effect: Effect::Simulation,
             panel: PASSES,
             ..field!(sim.local_iterations)
@@ -118,7 +114,7 @@ pub const SIMULATION: Group = Group {
             flag: Flag::Long("length-iterations"),
             label: "length iterations",
             help: "Edge-length passes per substep",
-            kind: Kind::integer(0, 64),
+            kind: Kind::integer(0, MAX_PASSES),
             effect: Effect::Simulation,
             panel: PASSES,
             ..field!(sim.length_iterations)
@@ -130,7 +126,7 @@ pub const SIMULATION: Group = Group {
             help: "Wind vector \"x,y,z\", 0,0,0 = no wind",
             units: "m/s²",
             kind: Kind::Vector {
-                max: 1e5,
+                max: MAX_ACCELERATION,
                 nonzero: false,
                 down: false,
             },
@@ -143,7 +139,7 @@ pub const SIMULATION: Group = Group {
             label: "wind cone angle",
             help: "Half-angle of the cone the wind's direction wanders in",
             units: "°",
-            kind: Kind::within(0.0, 90.0),
+            kind: Kind::span(spans::WIND_CONE_DEG),
             effect: Effect::Simulation,
             ..field!(sim.wind_cone_deg)
         },
@@ -170,7 +166,7 @@ pub const COLLISION: Group = Group {
             label: "collision margin",
             help: "How far outside the surface hair is kept, as a fraction of each hair's \
                    length",
-            kind: Kind::within(0.0, 1.0),
+            kind: Kind::span(spans::FRACTION),
             effect: Effect::Simulation,
             panel: Panel::Slider {
                 min: 0.0,
@@ -184,7 +180,7 @@ pub const COLLISION: Group = Group {
             flag: Flag::Long("friction"),
             label: "friction",
             help: "Fraction of a colliding vertex's sliding velocity removed per substep",
-            kind: Kind::within(0.0, 1.0),
+            kind: Kind::span(spans::FRACTION),
             effect: Effect::Simulation,
             panel: UNIT,
             ..field!(sim.friction)

@@ -1,7 +1,8 @@
 //! The image, the camera and the groom.
 
+use crate::render::style::DENSITY;
 use crate::scene_file::value::field;
-use crate::scene_file::{Effect, Flag, Group, Kind, Panel, Setting};
+use crate::scene_file::{Effect, FieldValue, Flag, Group, Kind, Panel, Setting, Value};
 
 pub const IMAGE: Group = Group {
     section: "image",
@@ -128,7 +129,7 @@ pub const CAMERA: Group = Group {
             label: "camera distance",
             help: "Camera distance in bounding radii of the model",
             units: "bounding radii",
-            kind: Kind::positive(f64::MAX),
+            kind: Kind::span(crate::span::Span::positive()),
             unset: Some("framing the whole model"),
             ..field!(options.distance)
         },
@@ -138,7 +139,7 @@ pub const CAMERA: Group = Group {
             label: "field of view",
             help: "Vertical field of view",
             units: "°",
-            kind: Kind::within(1.0, 170.0),
+            kind: Kind::span(crate::scene_file::FOV_DEG),
             ..field!(options.fov_deg)
         },
     ],
@@ -154,7 +155,7 @@ pub const GROOM: Group = Group {
             label: "hair length",
             help: "Hair length as a fraction of the model's bounding radius",
             units: "bounding radii",
-            kind: Kind::positive(f64::MAX),
+            kind: Kind::span(crate::span::Span::positive()),
             effect: Effect::Regrow,
             panel: Panel::Slider {
                 min: 0.02,
@@ -168,7 +169,7 @@ pub const GROOM: Group = Group {
             flag: Flag::Long("segments"),
             label: "segments",
             help: "Segments per master hair",
-            kind: Kind::integer(1, 63),
+            kind: Kind::integer(1, crate::scene::groom::MAX_SEGMENTS),
             effect: Effect::Regrow,
             panel: Panel::Slider {
                 min: 1.0,
@@ -182,20 +183,28 @@ pub const GROOM: Group = Group {
             flag: Flag::Long("density-scale"),
             label: "density scale",
             help: "Multiplies the interpolated-hair density",
-            kind: Kind::positive(f64::MAX),
+            kind: Kind::span(crate::render::style::spans::POSITIVE),
             panel: Panel::Slider {
                 min: 0.01,
                 max: 10.0,
                 log: true,
             },
-            ..field!(options.density_scale)
+            // The scene's density ([`crate::render::FurStyle::density`], per square
+            // bounding radius) as a multiple of the default's.
+            get: |s| Value::Number(f64::from(s.options.draw.density) / f64::from(DENSITY)),
+            set: |s, v| {
+                if let Some(scale) = f32::from_value(v) {
+                    s.options.draw.density = scale * DENSITY;
+                }
+            },
+            ..field!(options.draw.density)
         },
         Setting {
             key: "comb",
             flag: Flag::Long("comb"),
             label: "comb strength",
             help: "Comb strength, 0 = hairs stand along the normals",
-            kind: Kind::within(0.0, 1e3),
+            kind: Kind::span(crate::scene::groom::SHAPE),
             effect: Effect::Regrow,
             panel: Panel::Slider {
                 min: 0.0,
@@ -210,7 +219,7 @@ pub const GROOM: Group = Group {
             label: "thickness limit",
             help: "Hairs are at most this many times the model's local half-thickness long, \
                    so thin parts are not buried; 0 = off",
-            kind: Kind::within(0.0, 1e3),
+            kind: Kind::span(crate::scene::groom::SHAPE),
             effect: Effect::Regrow,
             panel: Panel::Slider {
                 min: 0.0,
@@ -248,7 +257,7 @@ pub const GROOM: Group = Group {
             flag: Flag::Long("curl"),
             label: "curl",
             help: "Curl radius as a fraction of the segment length",
-            kind: Kind::within(0.0, 1e3),
+            kind: Kind::span(crate::scene::groom::SHAPE),
             effect: Effect::Regrow,
             panel: Panel::Slider {
                 min: 0.0,

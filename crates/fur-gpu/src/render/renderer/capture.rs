@@ -97,10 +97,9 @@ impl Renderer {
         settings: &FrameSettings,
     ) -> Result<(RgbaImage, CapturedHairs)> {
         if !self.device.info.vertex_pipeline_stores {
-            return Err(Error::Parameter(
+            return Err(Error::parameter(
                 "this device cannot store from the geometry stage \
-                 (vertexPipelineStoresAndAtomics), so the hairs it draws cannot be captured"
-                    .into(),
+                 (vertexPipelineStoresAndAtomics), so the hairs it draws cannot be captured",
             ));
         }
         let mut settings = settings.clone();
@@ -110,7 +109,7 @@ impl Renderer {
         let v = self.shape.vertices_per_strand;
         let bytes = COUNTERS_BYTES + counted * CapturedHairs::bytes_per_hair(v);
         if bytes > MAX_CAPTURE_BYTES {
-            return Err(Error::Parameter(format!(
+            return Err(Error::parameter(format!(
                 "the frame draws {counted} hairs of {v} vertices: capturing them takes {}, \
                  over the limit of {}; draw fewer (--density-scale, a smaller image) or \
                  shorter strands",
@@ -133,7 +132,7 @@ impl Renderer {
         let (image, report) = drawn?;
         let again = report.counts.map_or(0, |c| c.hairs);
         if again != counted {
-            return Err(Error::Parameter(format!(
+            return Err(Error::parameter(format!(
                 "the frame drew {counted} hairs, then {again} when drawn again unchanged: \
                  the device does not draw deterministically, so no capture is exact"
             )));

@@ -306,7 +306,7 @@ impl ComputeRaster {
         let capacity = PoolSizes::capacity(&self.budget, pixels, &self.demand);
         let limit = u64::from(self.device.info.limits.max_storage_buffer_range);
         if sizes.largest() > limit {
-            return Err(Error::Parameter(format!(
+            return Err(Error::parameter(format!(
                 "the compute rasteriser cannot draw {}×{}: its pools would take {:.1} GiB, \
                  the largest buffer {:.1} GiB, and {} allows {:.1} GiB a buffer; draw it \
                  smaller or with --raster hardware",

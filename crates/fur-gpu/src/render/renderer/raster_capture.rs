@@ -68,11 +68,9 @@ fn capture(
     let pools = raster
         .pools
         .as_ref()
-        .ok_or_else(|| Error::Parameter("no frame was drawn in compute".into()))?;
+        .ok_or_else(|| Error::parameter("no frame was drawn in compute"))?;
     if target.samples != 1 {
-        return Err(Error::Parameter(
-            "the capture reads one sample per pixel".into(),
-        ));
+        return Err(Error::parameter("the capture reads one sample per pixel"));
     }
     let counts = raster.counts(slot);
     let words =

@@ -58,7 +58,7 @@ impl GpuSim {
         constants: &[StepConstants],
     ) -> Result<()> {
         if constants.len() > STEP_CAPACITY {
-            return Err(Error::Parameter(format!(
+            return Err(Error::parameter(format!(
                 "at most {STEP_CAPACITY} substeps per submission, got {}",
                 constants.len()
             )));

@@ -2,7 +2,7 @@
 //! and every kind of animation channel.
 
 use base64::Engine as _;
-use fur::scene::{
+use fur_core::scene::{
     load_gltf, write_glb, Channel, Interpolation, Joint, Node, Property, TextureSpec, Transform,
 };
 use glam::{Mat4, Quat, Vec2, Vec3, Vec4};

@@ -82,7 +82,7 @@ pub(super) fn export_frame(args: &ExportArgs) -> anyhow::Result<()> {
         texture.as_ref(),
         posed,
         &session.settings,
-        (width, height),
+        ash::vk::Extent2D { width, height },
     );
     frame.check_size()?;
     let generator = format!("fur {}", env!("CARGO_PKG_VERSION"));

@@ -92,8 +92,8 @@ pub fn draw(
             continue;
         }
         let ndc = clip.truncate() / clip.w;
-        let centre = ((ndc.x * 0.5 + 0.5) * w, (ndc.y * 0.5 + 0.5) * h);
-        if (0.0..w).contains(&centre.0) && (0.0..h).contains(&centre.1) {
+        let centre = glam::Vec2::new((ndc.x * 0.5 + 0.5) * w, (ndc.y * 0.5 + 0.5) * h);
+        if (0.0..w).contains(&centre.x) && (0.0..h).contains(&centre.y) {
             let facing = model.transform_vector3(m.normal).dot(eye - world) >= 0.0;
             let opacity = if facing { 1.0 } else { 0.35 };
             mark(&mut canvas, centre, size, m.index > 0, opacity);
@@ -105,9 +105,9 @@ pub fn draw(
 }
 
 /// One mark centred at `centre`: a ring (`whorl`) or a cross of half-size `size`.
-fn mark(canvas: &mut Canvas<'_>, centre: (f32, f32), size: f32, whorl: bool, opacity: f32) {
+fn mark(canvas: &mut Canvas<'_>, centre: glam::Vec2, size: f32, whorl: bool, opacity: f32) {
     let reach = size.ceil() as i32 + 3;
-    let (cx, cy) = (centre.0.round() as i32, centre.1.round() as i32);
+    let (cx, cy) = (centre.x.round() as i32, centre.y.round() as i32);
     for dy in -reach..=reach {
         for dx in -reach..=reach {
             let (x, y) = (dx as f32, dy as f32);
@@ -152,7 +152,7 @@ fn key(canvas: &mut Canvas<'_>, size: f32) {
     for (label, whorl) in labels.into_iter().zip([true, false]) {
         mark(
             canvas,
-            ((x + mark_w / 2) as f32, middle as f32),
+            glam::Vec2::new((x + mark_w / 2) as f32, middle as f32),
             size,
             whorl,
             1.0,

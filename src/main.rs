@@ -203,7 +203,7 @@ fn main() -> ExitCode {
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
-        Err(e) if e.downcast_ref().is_some_and(fur::Error::is_interrupted) => {
+        Err(e) if interrupted(&e) => {
             // Everything was dropped on the way out: the device is idle.
             eprintln!("interrupted");
             ExitCode::from(130)
@@ -396,4 +396,15 @@ fn export_model(out: &Path, model: &ModelSpec) -> anyhow::Result<()> {
         println!("{summary}");
     }
     Ok(())
+}
+
+/// Whether the run stopped because the user asked it to: the core's or the GPU layer's
+/// `Interrupted`, anywhere in the error's chain.
+fn interrupted(error: &anyhow::Error) -> bool {
+    error.chain().any(|cause| {
+        matches!(
+            cause.downcast_ref(),
+            Some(fur::error::CoreError::Interrupted)
+        ) || cause.downcast_ref().is_some_and(fur::Error::is_interrupted)
+    })
 }

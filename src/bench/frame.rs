@@ -6,7 +6,7 @@
 use std::fmt::Write as _;
 use std::time::Instant;
 
-use super::metrics::median;
+use super::metrics::{median, Frames};
 use super::{Bench, BenchScene};
 use crate::error::Result;
 use crate::render::FurStyle;
@@ -53,17 +53,14 @@ impl Bench<'_> {
     }
 
     /// At least 20 measured frames (5 in the quick suite) after warm-up.
-    fn frame_counts(&self) -> (usize, usize) {
-        if self.quick {
-            (1, 5)
-        } else {
-            (5, 20)
-        }
+    fn frame_counts(&self) -> Frames {
+        let (warm, measured) = if self.quick { (1, 5) } else { (5, 20) };
+        Frames { warm, measured }
     }
 
     /// Simulated and drawn frames, each its own submission.
     pub(super) fn time_frames(&self, session: &mut FurSession) -> Result<FrameTimes> {
-        let (warm, measured) = self.frame_counts();
+        let Frames { warm, measured } = self.frame_counts();
         let (mut wall, mut gpu) = (Vec::new(), Vec::new());
         for frame in 0..warm + measured {
             crate::interrupt::check()?;
@@ -82,7 +79,7 @@ impl Bench<'_> {
 
     /// Still frames (no simulation) with the passes `session.settings` asks for.
     fn time_still(&self, session: &mut FurSession) -> Result<f64> {
-        let (warm, measured) = self.frame_counts();
+        let Frames { warm, measured } = self.frame_counts();
         let mut wall = Vec::new();
         for frame in 0..warm + measured {
             crate::interrupt::check()?;
@@ -97,7 +94,7 @@ impl Bench<'_> {
 
     pub(super) fn frame(&mut self) -> Result<()> {
         let extent = self.frame_extent();
-        let (warm, measured) = self.frame_counts();
+        let Frames { warm, measured } = self.frame_counts();
         let _ = writeln!(
             self.md,
             "## Frame time ({}×{})\n\nSimulated (shake, wind, gravity) and drawn every frame; median \

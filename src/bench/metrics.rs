@@ -4,6 +4,22 @@ use glam::{DVec3, Vec3};
 
 use crate::render::RgbaImage;
 
+/// How many frames a measurement draws: the warm-up frames first, untimed, then the
+/// measured ones.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Frames {
+    pub warm: usize,
+    pub measured: usize,
+}
+
+impl Frames {
+    /// One frame, for its image: no warm-up.
+    pub const STILL: Frames = Frames {
+        warm: 0,
+        measured: 1,
+    };
+}
+
 /// The median (NaN for no values). NaNs sort last.
 pub fn median(values: &[f64]) -> f64 {
     if values.is_empty() {

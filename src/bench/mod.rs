@@ -372,13 +372,10 @@ impl Bench<'_> {
         }
     }
 
-    /// (warm-up, measured) frames.
-    fn frames(&self) -> (usize, usize) {
-        if self.quick {
-            (1, 3)
-        } else {
-            (3, 15)
-        }
+    /// The frames a drawing is measured over.
+    fn frames(&self) -> metrics::Frames {
+        let (warm, measured) = if self.quick { (1, 3) } else { (3, 15) };
+        metrics::Frames { warm, measured }
     }
 }
 

@@ -14,7 +14,7 @@ use std::time::Instant;
 
 use ash::vk;
 
-use super::metrics::median;
+use super::metrics::{median, Frames};
 use crate::error::Result;
 use crate::gpu::Device;
 use crate::render::{FrameSettings, FurStyle, HairCounts, Lighting, Renderer, RgbaImage};
@@ -188,13 +188,17 @@ impl Shot {
     }
 
     /// Draws the frame with `style` `warm + measured` times; times the measured ones.
-    pub fn draw(&self, style: &FurStyle, frames: (usize, usize)) -> Result<Drawn> {
+    pub fn draw(&self, style: &FurStyle, frames: Frames) -> Result<Drawn> {
         self.draw_look(&self.look(style), frames)
     }
 
     /// Draws the frame with `look` `warm + measured` times; times the measured ones.
-    pub fn draw_look(&self, look: &Look, (warm, measured): (usize, usize)) -> Result<Drawn> {
-        self.draw_at(look, self.extent, 1, (warm, measured.max(1)), true)
+    pub fn draw_look(&self, look: &Look, Frames { warm, measured }: Frames) -> Result<Drawn> {
+        let frames = Frames {
+            warm,
+            measured: measured.max(1),
+        };
+        self.draw_at(look, self.extent, 1, frames, true)
     }
 
     fn draw_at(
@@ -202,7 +206,7 @@ impl Shot {
         look: &Look,
         extent: vk::Extent2D,
         supersample: u32,
-        (warm, measured): (usize, usize),
+        Frames { warm, measured }: Frames,
         count: bool,
     ) -> Result<Drawn> {
         let mut renderer = self.renderer(look, extent)?;
@@ -292,7 +296,7 @@ impl Shot {
             style,
             ..look.clone()
         };
-        let big = self.draw_at(&look, extent, factor, (0, 1), false)?;
+        let big = self.draw_at(&look, extent, factor, Frames::STILL, false)?;
         Ok(big.image.downsample(factor)?)
     }
 }

@@ -9,7 +9,7 @@
 use std::fmt::Write as _;
 use std::time::Instant;
 
-use super::metrics::{flip, median, rmse};
+use super::metrics::{flip, median, rmse, Frames};
 use super::quality::Shot;
 use super::{Bench, BenchScene};
 use crate::error::Result;
@@ -107,8 +107,8 @@ impl Bench<'_> {
                     ..scene.scene.options.draw.clone()
                 };
                 // Only its image is used: one frame.
-                let still = shot.draw(&shot.style(&draw), (0, 1))?;
-                let mut m = self.simulated(&scene, &draw, (warm, measured))?;
+                let still = shot.draw(&shot.style(&draw), Frames::STILL)?;
+                let mut m = self.simulated(&scene, &draw, Frames { warm, measured })?;
                 m.name = name.clone();
                 m.flip = flip(&reference, &still.image);
                 m.rmse = rmse(&reference, &still.image);
@@ -244,7 +244,7 @@ impl Bench<'_> {
         &self,
         scene: &BenchScene,
         draw: &FurStyle,
-        (warm, measured): (usize, usize),
+        Frames { warm, measured }: Frames,
     ) -> Result<Measured> {
         let mut session = self.session(scene, draw)?;
         let (mut wall, mut gpu, mut fur) = (Vec::new(), Vec::new(), Vec::new());

@@ -81,7 +81,7 @@ pub struct FrameExport {
 }
 
 impl FrameExport {
-    /// The frame `settings` draws at `width` × `height`: its captured `hairs` and the
+    /// The frame `settings` draws at `width` × `height` pixels: its captured `hairs` and the
     /// `mesh` with `posed` model-space positions and normals (a skinned body's pose;
     /// the rest pose when None), placed by the settings' head transform, coloured by
     /// `texture` where the frame draws one.
@@ -91,7 +91,7 @@ impl FrameExport {
         texture: Option<&Texture>,
         posed: Option<(Vec<Vec3>, Vec<Vec3>)>,
         settings: &FrameSettings,
-        (width, height): (u32, u32),
+        ash::vk::Extent2D { width, height }: ash::vk::Extent2D,
     ) -> Self {
         let camera = &settings.camera;
         let lighting = &settings.lighting;

@@ -187,10 +187,15 @@ impl FurSession {
         };
         let renderer = Renderer::for_body(
             device,
-            (&mesh, &patches),
+            &mesh,
+            &patches,
             texture.as_ref(),
             &textures,
-            (extent, frames_in_flight, settings.style.samples),
+            crate::render::TargetSpec {
+                extent,
+                frames_in_flight,
+                samples: settings.style.samples,
+            },
             sim.skinned.as_ref().map(|s| s.skin.posed.raw()),
         )?;
         Ok(Self {

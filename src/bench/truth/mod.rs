@@ -231,7 +231,7 @@ impl Bench<'_> {
         let (own_flip, own_rmse) = errors(&own_image, &truth)?;
         let (own_single, _) = errors(&own_image, &single)?;
         (self.progress)(&format!("{scene}: attribution"));
-        self.truth_table(scene, &measured, (noise_flip, noise_rmse));
+        self.truth_table(scene, &measured, noise_flip, noise_rmse);
         let share = |changed: f64| percent(100.0 * (own_flip - changed) / own_flip);
         let _ = writeln!(
             self.md,
@@ -262,7 +262,13 @@ impl Bench<'_> {
             .collect())
     }
 
-    fn truth_table(&mut self, scene: &str, measured: &[Measured], noise: (f64, f64)) {
+    fn truth_table(
+        &mut self,
+        scene: &str,
+        measured: &[Measured],
+        noise_flip: f64,
+        noise_rmse: f64,
+    ) {
         let pairs: Vec<(f64, f64)> = measured.iter().map(|m| (m.flip, m.flip_second)).collect();
         let names: Vec<String> = measured.iter().map(|m| m.name.clone()).collect();
         let (spread, gap) = seed_spread(&pairs);
@@ -271,8 +277,8 @@ impl Bench<'_> {
             self.md,
             "### {scene}\n\nReference noise: ꟻLIP {:.4}, RMSE {:.4}. {}\n\n| drawing | \
              frame ms | ꟻLIP | Δ ꟻLIP (noise) | RMSE |\n| --- | --- | --- | --- | --- |",
-            noise.0,
-            noise.1,
+            noise_flip,
+            noise_rmse,
             noise::capitalised(&noise_sentence(&pairs, &names, "the scene's drawing"))
         );
         self.row(
@@ -380,14 +386,13 @@ fn looks(own: &Look) -> Vec<(String, Look)> {
 /// the file and its text.
 fn export(shot: &Shot, look: &Look, usda: &Path) -> Result<(RgbaImage, PathBuf, String)> {
     let (image, hairs, settings) = shot.capture(look)?;
-    let extent = shot.extent;
     let frame = FrameExport::new(
         hairs,
         &shot.mesh,
         shot.texture(),
         None,
         &settings,
-        (extent.width, extent.height),
+        shot.extent,
     );
     frame.check_size()?;
     let text = write_usda(&frame, "fur bench")?;

@@ -56,7 +56,7 @@ impl Bench<'_> {
         let mut full = own.clone();
         full.lighting.model = LightingModel::Marschner;
         full.lighting.shadows.enabled = false;
-        let drawn = shot.draw_look(&full, (0, 1))?;
+        let drawn = shot.draw_look(&full, crate::bench::metrics::Frames::STILL)?;
         let (all_flip, all_rmse) = errors(&drawn.image, truth)?;
         self.row(
             "truth",
@@ -69,7 +69,7 @@ impl Bench<'_> {
         for (name, lobes) in Lobes::each_dropped() {
             let mut look = full.clone();
             look.lighting.lobes = lobes;
-            let drawn = shot.draw_look(&look, (0, 1))?;
+            let drawn = shot.draw_look(&look, crate::bench::metrics::Frames::STILL)?;
             let (f, e) = errors(&drawn.image, truth)?;
             self.row(
                 "truth",

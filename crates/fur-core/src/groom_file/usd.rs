@@ -402,13 +402,13 @@ fn read_curves(
             ));
         }
         let per_vertex = |values: &[f32], interpolation: &str, what: &str| {
-            shape.per_vertex(
-                values,
-                interpolation,
-                (c, start, count),
-                segments_before[c],
-                what,
-            )
+            let curve = cubic::CurveAt {
+                index: c,
+                first: start,
+                count,
+                varying_at: segments_before[c],
+            };
+            shape.per_vertex(values, interpolation, curve, what)
         };
         if let (Some(out), Some((w, i))) = (&mut widths_out, &widths) {
             out.extend(per_vertex(w, i, "widths")?);

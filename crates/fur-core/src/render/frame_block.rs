@@ -368,12 +368,13 @@ impl LightView {
         }
     }
 
-    /// The view along `settings`' light that holds a model of bounding sphere `bounds`
-    /// (centre and radius, model space) grown by its hair (`hair_length`), as the
-    /// frame's head transform carries it.
+    /// The view along `settings`' light that holds a model of bounding sphere `centre`,
+    /// `radius` (model space) grown by its hair (`hair_length`), as the frame's head
+    /// transform carries it.
     pub fn of_model(
         settings: &FrameSettings,
-        (centre, radius): (Vec3, f32),
+        centre: Vec3,
+        radius: f32,
         hair_length: f32,
         resolution: u32,
     ) -> Self {

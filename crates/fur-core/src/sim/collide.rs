@@ -51,6 +51,21 @@ pub(super) enum Carry<T> {
 /// A strand's root pose: rotation, rest root, skinned root (model space).
 pub(super) type Pose<T> = (M3<T>, V3<T>, V3<T>);
 
+/// The bones' capsules as posed in a substep and at the rest pose (each a pair of
+/// ends, radius in the first's `w`, the child capsule's index in the second's).
+#[derive(Clone, Copy)]
+pub(super) struct Capsules<'a> {
+    pub(super) posed: &'a [[glam::Vec4; 2]],
+    pub(super) rest: &'a [[glam::Vec4; 2]],
+}
+
+/// How far a strand reaches from its root: its length, and the collision margin.
+#[derive(Clone, Copy)]
+pub(super) struct Reach<T> {
+    pub(super) length: T,
+    pub(super) margin: T,
+}
+
 /// A strand on a skinned body in one substep, as the collision of each of its vertices
 /// sees it ([`Collider::push_out_skinned`]).
 #[derive(Clone, Copy)]
@@ -138,8 +153,11 @@ pub(super) struct NearCapsule<T> {
 /// strand is bound to counts as far as the root's blend of bones moved away from it.
 pub(super) fn near_capsules<T: Real>(
     pose: &Pose<T>,
-    (capsules, rest): (&[[glam::Vec4; 2]], &[[glam::Vec4; 2]]),
-    (length, margin): (T, T),
+    Capsules {
+        posed: capsules,
+        rest,
+    }: Capsules<'_>,
+    Reach { length, margin }: Reach<T>,
 ) -> Vec<NearCapsule<T>> {
     let (rotation, rest_root, root) = *pose;
     let reach = length + margin;

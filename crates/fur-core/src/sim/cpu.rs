@@ -232,12 +232,8 @@ impl<T: Real> CpuSim<T> {
             // An unchanged pose carries nothing: skipping the ride keeps a held pose
             // exactly at rest (the carried map is the identity only up to rounding).
             if let Some(pose) = poses.map(|p| &p[s]).filter(|&p| *p != self.last_poses[s]) {
-                ride(
-                    (&head, &to_model),
-                    (&self.last_poses[s], pose),
-                    &mut curr[1..],
-                    &mut prev[1..],
-                );
+                let (last, x, p) = (&self.last_poses[s], &mut curr[1..], &mut prev[1..]);
+                ride(&head, &to_model, last, pose, x, p);
                 self.last_poses[s] = *pose;
             }
             // Integrate (Verlet); the new positions go into `prev`, then the two swap.
@@ -276,14 +272,21 @@ impl<T: Real> CpuSim<T> {
             }
             // Collision with the body.
             if let Some(collider) = &collider {
-                let capsules = posed.map_or((&[][..], &[][..]), |p| {
-                    (p.capsules.as_slice(), p.rest_capsules.as_slice())
-                });
+                let capsules = posed.map_or(
+                    collide::Capsules {
+                        posed: &[],
+                        rest: &[],
+                    },
+                    |p| collide::Capsules {
+                        posed: p.capsules.as_slice(),
+                        rest: p.rest_capsules.as_slice(),
+                    },
+                );
                 // The margin is a fraction of this strand's own rest length.
                 let length = lengths[1..].iter().fold(T::ZERO, |sum, &l| sum + l);
                 let margin = collider.fraction * length;
                 let near = carrier.pose.as_ref().map_or(Vec::new(), |pose| {
-                    collide::near_capsules(pose, capsules, (length, margin))
+                    collide::near_capsules(pose, capsules, collide::Reach { length, margin })
                 });
                 let segments = T::from_f32((v - 1) as f32);
                 let bones = posed.map_or(&[][..], |p| p.bones.as_slice());
@@ -332,9 +335,12 @@ impl<T: Real> CpuSim<T> {
 /// Carries a strand's vertices (`x`) and their previous positions (`p`) by the change of
 /// its root pose from `last` to `now`, in model space under this substep's head
 /// transform: the strand rides along with the body (`ride` in `simulate.comp`).
+/// `to_model` is the inverse of `head`.
 fn ride<T: Real>(
-    (head, to_model): (&Head<T>, &Head<T>),
-    (last, now): (&RootPose, &RootPose),
+    head: &Head<T>,
+    to_model: &Head<T>,
+    last: &RootPose,
+    now: &RootPose,
     x: &mut [V3<T>],
     p: &mut [V3<T>],
 ) {

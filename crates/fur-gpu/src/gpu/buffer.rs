@@ -182,7 +182,8 @@ impl TexelBuffer {
         device: &Arc<Device>,
         name: &str,
         texels: u64,
-        (format, texel_bytes): (vk::Format, u64),
+        format: vk::Format,
+        texel_bytes: u64,
         location: MemoryLocation,
     ) -> Result<Self> {
         let limit = u64::from(device.info.limits.max_texel_buffer_elements);
@@ -225,7 +226,8 @@ impl TexelBuffer {
             device,
             name,
             bytes.len().div_ceil(16) as u64,
-            (format, 16),
+            format,
+            16,
             MemoryLocation::CpuToGpu,
         )?;
         texels.buffer.write(0, bytes);

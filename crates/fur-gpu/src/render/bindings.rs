@@ -175,7 +175,8 @@ pub(super) fn write_frame_set(
     device: &Device,
     set: vk::DescriptorSet,
     uniforms: &Buffer,
-    (positions, probe): (&Image, &Buffer),
+    positions: &Image,
+    probe: &Buffer,
     counters: &Buffer,
     shadow: &ShadowMap,
 ) {

@@ -18,4 +18,4 @@ pub use renderer::{
     CapturedHairs, FrameReport, HairCounts, RasterCapture, Renderer, BACKGROUND, MAX_CAPTURE_BYTES,
     STEP_NAMES,
 };
-pub use target::{check_samples, RenderTarget};
+pub use target::{check_samples, RenderTarget, TargetSpec};

@@ -11,29 +11,25 @@ use std::sync::Arc;
 
 use ash::vk;
 
-use super::bindings::{
-    write_body_set, write_probe, write_shadow_map, BodyBinding, BodyResources, FrameBinding,
-    SET_BODY, SET_FRAME, SET_RASTER,
-};
+use super::bindings::{write_probe, write_shadow_map};
 use super::graph::Pass;
 use super::slot::{RenderSlot, TS_FRAME, TS_START};
 use super::target::{check_samples, RenderTarget};
 use super::texture::{GpuTexture, ShadowMap};
 use super::uniforms::{FrameSettings, Raster, Stage, StrandShape};
 use super::RgbaImage;
-use crate::error::Error;
 use crate::error::Result;
 use crate::gpu::{Buffer, DescriptorPool, DescriptorSetLayout, Device, PipelineLayout};
-use crate::scene::{HairPatches, Mesh, Texture};
 use crate::strand_textures::StrandTextures;
 use compute_raster::ComputeRaster;
 use density_pass::DensityPass;
 use fur_core::render::{FrameInputs, FrameUniforms, LightView};
 use fur_pass::FurPass;
 use masters_pass::MastersPass;
-use mesh_pass::{MeshLook, MeshPass};
+use mesh_pass::{BodyTraits, MeshLook, MeshPass};
 use shadow_pass::ShadowPass;
 
+mod build;
 mod capture;
 mod raster_capture;
 mod raster_steps;
@@ -73,12 +69,12 @@ pub struct Renderer {
     /// Per triangle, its rest edge lengths and area; stands in for the posed vertices
     /// of a rigid body too.
     _rest_triangles: Buffer,
-    /// Whether the body is skinned (its posed vertices come from the skinning pass).
-    skinned: bool,
     /// The model's texture and its UVs per triangle corner (a white texel and no UVs
     /// for a model drawn without).
     texture: (GpuTexture, Buffer),
-    textured: bool,
+    /// Whether the body is textured, and skinned (its posed vertices come from the
+    /// skinning pass).
+    body: BodyTraits,
     /// The fur pass's patches: the body's triangles, then a drawn groom's own.
     indices: Buffer,
     /// The body's triangles' indices (the mesh and density passes draw these).
@@ -105,204 +101,6 @@ pub struct Renderer {
 }
 
 impl Renderer {
-    /// A renderer with `frames_in_flight` sets of per-frame resources (1 headless),
-    /// drawing into a target of `samples` per pixel.
-    pub fn new(
-        device: &Arc<Device>,
-        mesh: &Mesh,
-        strands: &StrandTextures,
-        extent: vk::Extent2D,
-        frames_in_flight: usize,
-        samples: u32,
-    ) -> Result<Self> {
-        Self::textured(
-            device,
-            mesh,
-            None,
-            strands,
-            extent,
-            frames_in_flight,
-            samples,
-        )
-    }
-
-    /// [`Renderer::new`] for a model coloured by `texture` through its corner UVs.
-    pub fn textured(
-        device: &Arc<Device>,
-        mesh: &Mesh,
-        texture: Option<&Texture>,
-        strands: &StrandTextures,
-        extent: vk::Extent2D,
-        frames_in_flight: usize,
-        samples: u32,
-    ) -> Result<Self> {
-        Self::for_body(
-            device,
-            (mesh, &HairPatches::default()),
-            texture,
-            strands,
-            (extent, frames_in_flight, samples),
-            None,
-        )
-    }
-
-    /// [`Renderer::textured`] for a skinned body whose posed vertices (position and
-    /// normal, two `vec4` each) the skinning pass writes into `posed`; `None` for a
-    /// rigid body. The fur's density comes from the rest pose either way.
-    pub fn for_body(
-        device: &Arc<Device>,
-        (mesh, patches): (&Mesh, &HairPatches),
-        texture: Option<&Texture>,
-        strands: &StrandTextures,
-        (extent, frames_in_flight, samples): (vk::Extent2D, usize, u32),
-        posed: Option<vk::Buffer>,
-    ) -> Result<Self> {
-        if texture.is_some() && mesh.uvs.len() != mesh.indices.len() {
-            return Err(Error::parameter(
-                "the model has no texture coordinates (`vt` on every face): a texture needs them",
-            ));
-        }
-        let textured = texture.is_some();
-        // Every binding is written, also those a frame's pipelines do not read (Mesa
-        // 22.3's lavapipe reads every descriptor of a bound set): without a texture a
-        // white texel and no UVs stand in.
-        let white = Texture::from_rgba(1, 1, vec![255; 4])?;
-        if textured && patches.uvs.len() != patches.indices.len() {
-            return Err(Error::parameter(
-                "the groom's patches have no texture coordinates: a texture needs them",
-            ));
-        }
-        // The fur pass's patches: the body's triangles, then the groom's own.
-        let corner_uvs: Vec<glam::Vec2> = if textured {
-            mesh.uvs.iter().chain(&patches.uvs).copied().collect()
-        } else {
-            vec![glam::Vec2::ZERO]
-        };
-        let hair_indices: Vec<u32> = mesh
-            .indices
-            .iter()
-            .chain(&patches.indices)
-            .copied()
-            .collect();
-        let mut masks = mesh.ownership_masks();
-        masks.extend(&patches.masks);
-        let mut rest = rest_triangles(mesh);
-        rest.extend(patches.indices.chunks_exact(3).map(|_| glam::Vec4::ZERO));
-        let texture = (
-            GpuTexture::upload(device, texture.unwrap_or(&white))?,
-            Buffer::with_data(
-                device,
-                "mesh.corner_uvs",
-                vk::BufferUsageFlags::STORAGE_BUFFER,
-                &corner_uvs,
-            )?,
-        );
-        let target = RenderTarget::new(device, extent, samples)?;
-        let (frame_bindings, body_bindings) =
-            (FrameBinding::set_layout(), BodyBinding::set_layout());
-        let frame_layout =
-            DescriptorSetLayout::new(device, "render.frame_set_layout", &frame_bindings)?;
-        let body_layout =
-            DescriptorSetLayout::new(device, "render.body_set_layout", &body_bindings)?;
-        let raster_layout = ComputeRaster::set_layout(device)?;
-        // In set order: SET_FRAME, SET_BODY, SET_RASTER.
-        const _: () = assert!(SET_FRAME == 0 && SET_BODY == 1 && SET_RASTER == 2);
-        let pipeline_layout = PipelineLayout::new(
-            device,
-            "render.pipeline_layout",
-            &[&frame_layout, &body_layout, &raster_layout],
-            &[],
-        )?;
-        let compute_raster = ComputeRaster::new(device, raster_layout, frames_in_flight)?;
-        // Four frame sets per slot (two position images, two views), one body set; the
-        // pool holds enough of every descriptor type for all of them.
-        let set_count = 4 * frames_in_flight.max(1) + 1;
-        let all_bindings: Vec<_> = frame_bindings
-            .iter()
-            .chain(&body_bindings)
-            .copied()
-            .collect();
-        let pool = DescriptorPool::new(
-            device,
-            "render.descriptor_pool",
-            set_count as u32,
-            &all_bindings,
-        )?;
-        let ownership = Buffer::with_data(
-            device,
-            "render.ownership",
-            vk::BufferUsageFlags::STORAGE_BUFFER,
-            &masks,
-        )?;
-        let indices = Buffer::with_data(
-            device,
-            "mesh.indices",
-            vk::BufferUsageFlags::INDEX_BUFFER | vk::BufferUsageFlags::STORAGE_BUFFER,
-            &hair_indices,
-        )?;
-        let rest_triangles = Buffer::with_data(
-            device,
-            "mesh.rest_triangles",
-            vk::BufferUsageFlags::STORAGE_BUFFER,
-            &rest,
-        )?;
-        let body_set = pool.allocate(&body_layout, 1)?[0];
-        write_body_set(
-            device,
-            body_set,
-            &BodyResources {
-                ownership: &ownership,
-                texture: &texture.0,
-                corner_uvs: &texture.1,
-                posed: posed.unwrap_or(rest_triangles.raw()),
-                rest_triangles: &rest_triangles,
-                indices: &indices,
-            },
-        );
-        let slots = (0..frames_in_flight.max(1))
-            .map(|slot| RenderSlot::new(device, slot, (&pool, &frame_layout), strands))
-            .collect::<Result<Vec<_>>>()?;
-        let vertices_per_strand = strands.layout.vertices_per_strand;
-        let skinned = posed.is_some();
-        let mesh_pass = MeshPass::new(device, mesh, samples, (textured, skinned))?;
-        let fur_pass = FurPass::new(device, vertices_per_strand, samples, (textured, skinned));
-        let shadow_pass = ShadowPass::new(device, vertices_per_strand, skinned);
-        let masters_pass = MastersPass::new(device, &strands.layout);
-        let density_pass = DensityPass::new(device, skinned);
-        Ok(Self {
-            device: device.clone(),
-            _set_layouts: (frame_layout, body_layout),
-            body_set,
-            pipeline_layout,
-            _pool: pool,
-            slots,
-            _ownership: ownership,
-            _rest_triangles: rest_triangles,
-            skinned,
-            texture,
-            textured,
-            indices,
-            index_count: mesh.indices.len() as u32,
-            hair_index_count: hair_indices.len() as u32,
-            shape: StrandShape {
-                vertices_per_strand,
-                strands_per_row: strands.layout.strands_per_row,
-                stub_length: super::uniforms::STUB_LIMIT * strands.hair_length,
-                coat_height: strands.coat_height,
-            },
-            bounds: mesh.bounds(),
-            hair_length: strands.hair_length,
-            shadow_pass,
-            mesh_pass,
-            fur_pass,
-            masters_pass,
-            density_pass,
-            compute_raster,
-            target,
-            spare: None,
-        })
-    }
-
     /// Recreates the render target for a new image size.
     pub fn resize(&mut self, extent: vk::Extent2D) -> Result<()> {
         if extent != self.target.extent {
@@ -334,7 +132,7 @@ impl Renderer {
                     &self.device,
                     self.shape.vertices_per_strand,
                     samples,
-                    (self.textured, self.skinned),
+                    self.body,
                 ),
             ),
         };
@@ -366,19 +164,23 @@ impl Renderer {
         };
         let shadows = settings.lighting.shadows.enabled
             && matches!(settings.show, Stage::Lit | Stage::Shadow);
+        let (centre, radius) = self.bounds;
         let mut variants = Vec::new();
         if settings.show.draws_fur() {
             variants = FurPass::variants(
                 &settings.style,
-                (shadows, settings.lighting.model, settings.show),
-                FurPass::root_pixel_range(settings, self.bounds, self.target.extent.height),
+                shadows,
+                settings.lighting.model,
+                settings.show,
+                FurPass::root_pixel_range(settings, centre, radius, self.target.extent.height),
             );
             self.fur_pass.prepare(&self.pipeline_layout, &variants)?;
         } else if settings.show.draws_masters() {
             self.masters_pass.prepare(
                 &self.pipeline_layout,
                 self.target.samples,
-                (settings.show, settings.arrows.step().is_some()),
+                settings.show,
+                settings.arrows.step().is_some(),
             )?;
         } else {
             self.density_pass
@@ -403,8 +205,9 @@ impl Renderer {
         )?;
         let (extent, max_level) = (self.target.extent, self.max_level());
         let resolution = settings.lighting.shadows.resolution;
-        let light = shadows
-            .then(|| LightView::of_model(settings, self.bounds, self.hair_length, resolution));
+        let hair_length = self.hair_length;
+        let light =
+            shadows.then(|| LightView::of_model(settings, centre, radius, hair_length, resolution));
         let frame = &mut self.slots[slot];
         if shadows {
             if frame.shadow.resolution != resolution {
@@ -482,18 +285,4 @@ impl Renderer {
         }
         passes
     }
-}
-
-/// Per triangle of `mesh` (its rest pose): the lengths of the edges opposite corners
-/// 0, 1, 2 (the tessellation's outer levels 0, 1, 2) and the area, as `fur.tesc` reads
-/// them for a skinned body, whose live triangles stretch as its joints bend.
-fn rest_triangles(mesh: &Mesh) -> Vec<glam::Vec4> {
-    mesh.indices
-        .chunks_exact(3)
-        .map(|t| {
-            let [a, b, c] = [t[0], t[1], t[2]].map(|i| mesh.positions[i as usize]);
-            let area = 0.5 * (b - a).cross(c - a).length();
-            glam::Vec4::new(b.distance(c), c.distance(a), a.distance(b), area)
-        })
-        .collect()
 }

@@ -62,7 +62,8 @@ impl RenderSlot {
     pub(super) fn new(
         device: &Arc<Device>,
         slot: usize,
-        (pool, set_layout): (&DescriptorPool, &DescriptorSetLayout),
+        pool: &DescriptorPool,
+        set_layout: &DescriptorSetLayout,
         strands: &StrandTextures,
     ) -> Result<Self> {
         let uniforms = Buffer::new(
@@ -95,7 +96,8 @@ impl RenderSlot {
                 device,
                 *set,
                 ubo,
-                (&strands.positions[i % 2], &strands.probe),
+                &strands.positions[i % 2],
+                &strands.probe,
                 &counters,
                 &shadow,
             );

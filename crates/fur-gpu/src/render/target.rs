@@ -14,6 +14,15 @@ use crate::gpu::{
     barrier, image_barriers, whole_image_copy, Access, Buffer, Device, Image, ImageDesc, State,
 };
 
+/// What a renderer draws into: the target's size, the frames in flight (each with its
+/// own uniforms and sets) and the samples per pixel.
+#[derive(Clone, Copy, Debug)]
+pub struct TargetSpec {
+    pub extent: vk::Extent2D,
+    pub frames_in_flight: usize,
+    pub samples: u32,
+}
+
 pub const COLOR_FORMAT: vk::Format = vk::Format::R8G8B8A8_SRGB;
 pub const DEPTH_FORMAT: vk::Format = vk::Format::D32_SFLOAT;
 

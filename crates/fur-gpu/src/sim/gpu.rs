@@ -208,7 +208,8 @@ impl GpuSim {
             device,
             "sim.no_capsules",
             2,
-            (vk::Format::R32G32B32A32_SFLOAT, 16),
+            vk::Format::R32G32B32A32_SFLOAT,
+            16,
             MemoryLocation::CpuToGpu,
         )?;
         let capsules = |slot: usize| {

@@ -163,7 +163,8 @@ impl GpuSkin {
             device,
             "skin.root_poses",
             per_substep / 16 * u64::from(max_substeps),
-            (float, 16),
+            float,
+            16,
             MemoryLocation::GpuOnly,
         )?;
         let frames_in_flight = frames_in_flight.max(1);
@@ -174,7 +175,8 @@ impl GpuSkin {
                     device,
                     &format!("skin.joints[{slot}]"),
                     (step_capacity * joint_count as usize * 4) as u64,
-                    (vk::Format::R32G32B32A32_SFLOAT, 16),
+                    vk::Format::R32G32B32A32_SFLOAT,
+                    16,
                     MemoryLocation::CpuToGpu,
                 )
             })
@@ -184,7 +186,8 @@ impl GpuSkin {
             device,
             "skin.last_poses",
             3 * u64::from(vertex_count),
-            (float, 16),
+            float,
+            16,
             MemoryLocation::GpuOnly,
         )?;
         // The bind pose's capsules lead each slot's buffer (the simulation scales each
@@ -196,7 +199,8 @@ impl GpuSkin {
                     device,
                     &format!("skin.capsules[{slot}]"),
                     ((step_capacity + 1) * capsule_count.max(1) as usize * 2) as u64,
-                    (vk::Format::R32G32B32A32_SFLOAT, 16),
+                    vk::Format::R32G32B32A32_SFLOAT,
+                    16,
                     MemoryLocation::CpuToGpu,
                 )?;
                 capsules
@@ -215,7 +219,8 @@ impl GpuSkin {
                     } else {
                         1
                     },
-                    (vk::Format::R32G32B32A32_SFLOAT, 16),
+                    vk::Format::R32G32B32A32_SFLOAT,
+                    16,
                     MemoryLocation::CpuToGpu,
                 )
             })

@@ -31,6 +31,18 @@ pub enum Shape {
     CatmullRom { pinned: bool },
 }
 
+/// Where one curve lies in a curves prim's arrays.
+#[derive(Clone, Copy, Debug)]
+pub struct CurveAt {
+    /// The curve's index in the prim.
+    pub index: usize,
+    /// Its first control point, and how many it has.
+    pub first: usize,
+    pub count: usize,
+    /// Where its `varying` values start.
+    pub varying_at: usize,
+}
+
 impl Shape {
     pub fn new(curve_type: &str, basis: &str, wrap: &str) -> Result<Self, String> {
         let pinned = wrap == "pinned";
@@ -171,17 +183,22 @@ impl Shape {
         })
     }
 
-    /// Curve `c`'s values of a primvar (`values` for the whole prim, with USD's
-    /// `interpolation`) at each vertex of its polyline; `cvs` is (curve, first control
-    /// point, control points) and `varying_at` where its `varying` values start.
+    /// A curve's values of a primvar (`values` for the whole prim, with USD's
+    /// `interpolation`) at each vertex of its polyline, the curve lying at `curve` in
+    /// the prim's arrays.
     pub fn per_vertex(
         &self,
         values: &[f32],
         interpolation: &str,
-        (c, start, count): (usize, usize, usize),
-        varying_at: usize,
+        curve: CurveAt,
         what: &str,
     ) -> Result<Vec<f32>, String> {
+        let CurveAt {
+            index: c,
+            first: start,
+            count,
+            varying_at,
+        } = curve;
         let segments = self.segments(count)?;
         let vertices = if self.is_cubic() {
             segments * CUBIC_SAMPLES + 1

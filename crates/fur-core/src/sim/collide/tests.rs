@@ -247,7 +247,14 @@ fn the_nearest_capsules_within_reach_come_nearest_first() {
     let rest: Vec<[glam::Vec4; 2]> = capsules.iter().map(|c| [c[0] + far, c[1] + far]).collect();
     let identity = M3([V3(1.0, 0.0, 0.0), V3(0.0, 1.0, 0.0), V3(0.0, 0.0, 1.0)]);
     let pose: Pose<f32> = (identity, V3(0.0, 0.0, 0.0), V3(0.0, 0.0, 0.0));
-    let near = near_capsules(&pose, (&capsules, &rest), (1.0, 0.1));
+    let reach = Reach {
+        length: 1.0,
+        margin: 0.1,
+    };
+    let near_of = |posed: &[[glam::Vec4; 2]], rest: &[[glam::Vec4; 2]]| {
+        near_capsules(&pose, Capsules { posed, rest }, reach)
+    };
+    let near = near_of(&capsules, &rest);
     let roots: Vec<f32> = near.iter().map(|c| c.root).collect();
     let expected = [0.1f32, 0.3, 0.3, 0.5].map(|d| d + radius);
     assert_eq!(near.len(), NEAR_CAPSULES);
@@ -261,17 +268,13 @@ fn the_nearest_capsules_within_reach_come_nearest_first() {
     // moved at all: none.
     let half = glam::Vec4::new(0.0, 0.0, 0.5 * CAPSULE_RAMP, 0.0);
     let one = [capsules[3]];
-    let near = near_capsules(
-        &pose,
-        (&one, &[[one[0][0] + half, one[0][1] + half]]),
-        (1.0, 0.1),
-    );
+    let near = near_of(&one, &[[one[0][0] + half, one[0][1] + half]]);
     assert!(
         (near[0].radius - 0.5 * radius).abs() < 1e-6,
         "{}",
         near[0].radius
     );
-    let near = near_capsules(&pose, (&one, &one), (1.0, 0.1));
+    let near = near_of(&one, &one);
     assert_eq!(near[0].radius, 0.0);
     // A capsule that did not move, whose child bone (index 1, out of reach) moved its
     // far end by half the ramp: half the radius; its child not moved: none.
@@ -283,14 +286,14 @@ fn the_nearest_capsules_within_reach_come_nearest_first() {
     rest[0][1].w = 1.0;
     let mut posed = rest;
     posed[1][1] += half;
-    let near = near_capsules(&pose, (&posed, &rest), (1.0, 0.1));
+    let near = near_of(&posed, &rest);
     assert_eq!(near.len(), 1, "the child is out of reach");
     assert!(
         (near[0].radius - 0.5 * radius).abs() < 1e-6,
         "{}",
         near[0].radius
     );
-    let near = near_capsules(&pose, (&rest, &rest), (1.0, 0.1));
+    let near = near_of(&rest, &rest);
     assert_eq!(
         near[0].radius, 0.0,
         "a child that did not move moves nothing"

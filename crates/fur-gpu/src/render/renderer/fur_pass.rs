@@ -17,6 +17,7 @@ use super::super::pipeline::{
 use super::super::target::{sample_flag, COLOR_FORMAT, DEPTH_FORMAT};
 use super::super::uniforms::{FrameSettings, FurStyle, Primitive, Raster, Shading, Stage};
 use super::super::LightingModel;
+use super::mesh_pass::BodyTraits;
 use crate::error::Result;
 use crate::gpu::{Access, Device, Pipeline, PipelineLayout, ShaderModule};
 
@@ -79,7 +80,7 @@ impl FurPass {
         device: &Arc<Device>,
         vertices_per_strand: u32,
         samples: u32,
-        (textured, skinned): (bool, bool),
+        BodyTraits { textured, skinned }: BodyTraits,
     ) -> Self {
         Self {
             device: device.clone(),
@@ -98,8 +99,10 @@ impl FurPass {
     /// its colour made per vertex.
     pub fn variants(
         style: &FurStyle,
-        (shadows, model, stage): (bool, LightingModel, Stage),
-        root_px: (f32, f32),
+        shadows: bool,
+        model: LightingModel,
+        stage: Stage,
+        root_px: std::ops::RangeInclusive<f32>,
     ) -> Vec<Variant> {
         let view = stage.fur_code();
         let compute = style.raster == Raster::Compute || stage.needs_compute();
@@ -109,8 +112,8 @@ impl FurPass {
             Primitive::Lines => (true, false),
             Primitive::Ribbons => (false, true),
             Primitive::Auto => (
-                root_px.0 < style.ribbon_above_px,
-                root_px.1 >= style.ribbon_above_px,
+                *root_px.start() < style.ribbon_above_px,
+                *root_px.end() >= style.ribbon_above_px,
             ),
         };
         [(ribbons, false), (lines, true)]
@@ -144,9 +147,10 @@ impl FurPass {
     /// model (bounding sphere `centre`, `radius`) in a target `height` pixels tall.
     pub fn root_pixel_range(
         settings: &FrameSettings,
-        (centre, radius): (glam::Vec3, f32),
+        centre: glam::Vec3,
+        radius: f32,
         height: u32,
-    ) -> (f32, f32) {
+    ) -> std::ops::RangeInclusive<f32> {
         let style = &settings.style;
         let centre = settings.head.transform_point3(centre);
         let eye = settings.camera.eye();
@@ -170,7 +174,7 @@ impl FurPass {
         }
         let lo = samples.iter().copied().fold(f32::MAX, f32::min);
         let hi = samples.iter().copied().fold(0.0, f32::max);
-        (lo, hi)
+        lo..=hi
     }
 
     /// Whether the body is skinned.

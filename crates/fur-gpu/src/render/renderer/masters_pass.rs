@@ -29,6 +29,16 @@ pub struct MastersPass {
     arrows: Vec<(u32, Pipeline)>,
 }
 
+/// Lines drawn by a vertex shader alone: the pipeline's name, the shader and its
+/// defines, what it draws and how it meets the depth.
+struct Lines<'a> {
+    name: &'a str,
+    vert: &'a str,
+    defines: &'a [(&'static str, String)],
+    topology: vk::PrimitiveTopology,
+    depth: DepthAttachment,
+}
+
 impl MastersPass {
     /// The pass's name (its debug label).
     pub const NAME: &'static str = "masters pass";
@@ -50,7 +60,8 @@ impl MastersPass {
         &mut self,
         layout: &PipelineLayout,
         samples: u32,
-        (stage, arrows): (Stage, bool),
+        stage: Stage,
+        arrows: bool,
     ) -> Result<()> {
         if arrows && !self.arrows.iter().any(|(s, _)| *s == samples) {
             let pipeline = self.arrows_pipeline(layout, samples)?;
@@ -65,15 +76,14 @@ impl MastersPass {
         }
         let mut defines = super::super::bindings::render_defines();
         defines.push(("STAGE_VIEW", stage.code().to_string()));
-        let pipeline = self.lines_pipeline(
-            layout,
-            samples,
-            ("masters pass", "masters.vert", &defines),
-            (
-                vk::PrimitiveTopology::LINE_STRIP,
-                DepthAttachment::nearest(DEPTH_FORMAT),
-            ),
-        )?;
+        let lines = Lines {
+            name: "masters pass",
+            vert: "masters.vert",
+            defines: &defines,
+            topology: vk::PrimitiveTopology::LINE_STRIP,
+            depth: DepthAttachment::nearest(DEPTH_FORMAT),
+        };
+        let pipeline = self.lines_pipeline(layout, samples, lines)?;
         self.pipelines.push(((samples, stage), pipeline));
         Ok(())
     }
@@ -82,29 +92,33 @@ impl MastersPass {
     /// their depth, not written.
     fn arrows_pipeline(&self, layout: &PipelineLayout, samples: u32) -> Result<Pipeline> {
         let defines = super::super::bindings::render_defines();
-        self.lines_pipeline(
-            layout,
-            samples,
-            ("simulation arrows", "arrows.vert", &defines),
-            (
-                vk::PrimitiveTopology::LINE_LIST,
-                DepthAttachment {
-                    format: DEPTH_FORMAT,
-                    compare: vk::CompareOp::LESS_OR_EQUAL,
-                    write: false,
-                },
-            ),
-        )
+        let lines = Lines {
+            name: "simulation arrows",
+            vert: "arrows.vert",
+            defines: &defines,
+            topology: vk::PrimitiveTopology::LINE_LIST,
+            depth: DepthAttachment {
+                format: DEPTH_FORMAT,
+                compare: vk::CompareOp::LESS_OR_EQUAL,
+                write: false,
+            },
+        };
+        self.lines_pipeline(layout, samples, lines)
     }
 
-    /// Lines from vertex shader `vert` (no vertex buffers), each in its flat colour
+    /// `lines`' pipeline: no vertex buffers, each line in its flat colour
     /// (`masters.frag`), opaque.
     fn lines_pipeline(
         &self,
         layout: &PipelineLayout,
         samples: u32,
-        (name, vert, defines): (&str, &str, &[(&'static str, String)]),
-        (topology, depth): (vk::PrimitiveTopology, DepthAttachment),
+        Lines {
+            name,
+            vert,
+            defines,
+            topology,
+            depth,
+        }: Lines<'_>,
     ) -> Result<Pipeline> {
         let vert = ShaderModule::new(&self.device, vert, defines)?;
         let frag = ShaderModule::new(&self.device, "masters.frag", defines)?;

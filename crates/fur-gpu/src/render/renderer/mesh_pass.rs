@@ -53,6 +53,15 @@ impl MeshLook {
 
 type Pipelines = [Option<Pipeline>; MeshLook::COUNT];
 
+/// What the body brings to the passes that draw it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct BodyTraits {
+    /// A texture, read through the corner UVs.
+    pub textured: bool,
+    /// A skin: the posed positions and normals come from the skinning pass.
+    pub skinned: bool,
+}
+
 pub struct MeshPass {
     /// One per look, built on first use.
     pipelines: Pipelines,
@@ -77,7 +86,7 @@ impl MeshPass {
         device: &Arc<Device>,
         mesh: &Mesh,
         samples: u32,
-        (textured, skinned): (bool, bool),
+        BodyTraits { textured, skinned }: BodyTraits,
     ) -> Result<Self> {
         let vertex = |i: u32, uv: Vec2| MeshVertex {
             position: mesh.positions[i as usize],
@@ -139,7 +148,10 @@ impl MeshPass {
                 device,
                 layout,
                 self.samples,
-                (self.textured, self.skinned),
+                BodyTraits {
+                    textured: self.textured,
+                    skinned: self.skinned,
+                },
                 look,
             )?);
         }
@@ -150,7 +162,7 @@ impl MeshPass {
         device: &Arc<Device>,
         layout: &PipelineLayout,
         samples: u32,
-        (textured, skinned): (bool, bool),
+        BodyTraits { textured, skinned }: BodyTraits,
         look: MeshLook,
     ) -> Result<Pipeline> {
         let flag = |on: bool| u32::from(on).to_string();

@@ -14,6 +14,7 @@ use ash::vk;
 
 use super::super::graph::{Attachments, FrameContext, Pass, Use, View};
 use super::fur_pass::{hair_uses, FurPass, Variant};
+use super::mesh_pass::BodyTraits;
 use crate::error::Result;
 use crate::gpu::{Device, PipelineLayout};
 
@@ -31,7 +32,15 @@ impl ShadowPass {
     /// `skinned` or not.
     pub fn new(device: &Arc<Device>, vertices_per_strand: u32, skinned: bool) -> Self {
         Self {
-            casters: FurPass::new(device, vertices_per_strand, 1, (false, skinned)),
+            casters: FurPass::new(
+                device,
+                vertices_per_strand,
+                1,
+                BodyTraits {
+                    textured: false,
+                    skinned,
+                },
+            ),
         }
     }
 

@@ -12,6 +12,7 @@ use super::script::Action;
 use super::{ui, Frames, Viewer, FRAMES_IN_FLIGHT};
 use crate::error::{Result, VkContext};
 use crate::gpu::image_barriers;
+use crate::gpu::Scope;
 use crate::session::{FurSession, SessionSetup};
 
 impl Viewer {
@@ -185,11 +186,11 @@ impl Viewer {
         let barrier = |src, dst, old, new| {
             crate::gpu::image_barrier(image, vk::ImageAspectFlags::COLOR, src, dst, old, new)
         };
-        let blit = (
+        let blit = Scope::new(
             vk::PipelineStageFlags2::BLIT,
             vk::AccessFlags2::TRANSFER_WRITE,
         );
-        let attachment = (
+        let attachment = Scope::new(
             vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT,
             vk::AccessFlags2::COLOR_ATTACHMENT_WRITE | vk::AccessFlags2::COLOR_ATTACHMENT_READ,
         );
@@ -200,7 +201,7 @@ impl Viewer {
             &d,
             cmd,
             &[barrier(
-                (vk::PipelineStageFlags2::BLIT, vk::AccessFlags2::NONE),
+                Scope::new(vk::PipelineStageFlags2::BLIT, vk::AccessFlags2::NONE),
                 blit,
                 vk::ImageLayout::UNDEFINED,
                 vk::ImageLayout::TRANSFER_DST_OPTIMAL,
@@ -241,11 +242,11 @@ impl Viewer {
             &d,
             cmd,
             &[barrier(
-                (
+                Scope::new(
                     vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT,
                     vk::AccessFlags2::COLOR_ATTACHMENT_WRITE,
                 ),
-                (vk::PipelineStageFlags2::NONE, vk::AccessFlags2::NONE),
+                Scope::NONE,
                 vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
                 vk::ImageLayout::PRESENT_SRC_KHR,
             )],

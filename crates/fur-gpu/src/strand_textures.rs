@@ -14,6 +14,7 @@ use glam::{Mat4, Vec3, Vec4};
 use gpu_allocator::MemoryLocation;
 
 use crate::error::{Error, Result};
+use crate::gpu::Scope;
 use crate::gpu::{image_barriers, whole_image_copy, Buffer, Device, Image, ImageDesc};
 use crate::scene::Strands;
 
@@ -254,12 +255,12 @@ impl StrandTextures {
         }
         let d = &self.device;
         let extent = self.extent();
-        let none = (vk::PipelineStageFlags2::NONE, vk::AccessFlags2::NONE);
-        let copy_write = (
+        let none = Scope::NONE;
+        let copy_write = Scope::new(
             vk::PipelineStageFlags2::COPY,
             vk::AccessFlags2::TRANSFER_WRITE,
         );
-        let storage = (
+        let storage = Scope::new(
             crate::gpu::SHARED_DATA_STAGES,
             vk::AccessFlags2::SHADER_STORAGE_READ | vk::AccessFlags2::SHADER_STORAGE_WRITE,
         );
@@ -336,11 +337,11 @@ impl StrandTextures {
         let extent = self.extent();
         d.submit_once(|cmd| {
             let general = vk::ImageLayout::GENERAL;
-            let all = (
+            let all = Scope::new(
                 crate::gpu::SHARED_DATA_STAGES,
                 vk::AccessFlags2::SHADER_STORAGE_WRITE,
             );
-            let copy_read = (
+            let copy_read = Scope::new(
                 vk::PipelineStageFlags2::COPY,
                 vk::AccessFlags2::TRANSFER_READ,
             );
@@ -354,7 +355,7 @@ impl StrandTextures {
                 d.raw
                     .cmd_copy_image_to_buffer(cmd, image.raw(), src, buffer.raw(), &[region])
             };
-            let after = (
+            let after = Scope::new(
                 crate::gpu::SHARED_DATA_STAGES,
                 vk::AccessFlags2::SHADER_STORAGE_READ | vk::AccessFlags2::SHADER_STORAGE_WRITE,
             );
@@ -362,7 +363,7 @@ impl StrandTextures {
                 d,
                 cmd,
                 &[image.barrier(
-                    (
+                    Scope::new(
                         vk::PipelineStageFlags2::COPY,
                         vk::AccessFlags2::TRANSFER_READ,
                     ),

@@ -147,12 +147,28 @@ impl State {
     }
 }
 
-/// The dependency a use needs on what came before: source and destination (stages,
-/// accesses) and, for an image, the layouts.
+/// One side of a dependency: the pipeline stages, and the memory accesses of them.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Scope {
+    pub stages: vk::PipelineStageFlags2,
+    pub access: vk::AccessFlags2,
+}
+
+impl Scope {
+    pub const fn new(stages: vk::PipelineStageFlags2, access: vk::AccessFlags2) -> Self {
+        Self { stages, access }
+    }
+
+    /// No stage and no access: nothing to wait for (an image's first use).
+    pub const NONE: Scope = Scope::new(vk::PipelineStageFlags2::NONE, vk::AccessFlags2::NONE);
+}
+
+/// The dependency a use needs on what came before: source and destination scopes and,
+/// for an image, the layouts.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Barrier {
-    pub src: (vk::PipelineStageFlags2, vk::AccessFlags2),
-    pub dst: (vk::PipelineStageFlags2, vk::AccessFlags2),
+    pub src: Scope,
+    pub dst: Scope,
     pub old_layout: vk::ImageLayout,
     pub new_layout: vk::ImageLayout,
 }
@@ -212,7 +228,7 @@ pub fn barrier(before: &State, next: &[Access], image: bool) -> Option<Barrier> 
         (vk::ImageLayout::UNDEFINED, vk::ImageLayout::UNDEFINED)
     };
     Some(Barrier {
-        src: (
+        src: Scope::new(
             if src_stages.is_empty() {
                 vk::PipelineStageFlags2::NONE
             } else {
@@ -220,7 +236,7 @@ pub fn barrier(before: &State, next: &[Access], image: bool) -> Option<Barrier> 
             },
             src_access,
         ),
-        dst: (next_stages, dst_access),
+        dst: Scope::new(next_stages, dst_access),
         old_layout,
         new_layout,
     })
@@ -257,7 +273,7 @@ impl<K: Copy + PartialEq + std::fmt::Debug> Tracker<K> {
             state.write = write;
             state.visible = vk::PipelineStageFlags2::empty();
         } else {
-            if needed.is_some_and(|b| !b.src.1.is_empty()) {
+            if needed.is_some_and(|b| !b.src.access.is_empty()) {
                 state.visible |= stages_of(next);
             }
             // A layout change must be waited for by a later write: it counts as a use.
@@ -298,22 +314,25 @@ mod tests {
     fn a_read_after_a_write_makes_the_write_visible_to_the_reading_stages() {
         let before = State::after(&[Access::ComputeWrite]);
         let b = barrier(&before, &[Access::HairStagesRead], false).expect("a barrier");
-        assert_eq!(b.src.0, S::COMPUTE_SHADER);
-        assert!(b.src.1.contains(A::SHADER_STORAGE_WRITE));
+        assert_eq!(b.src.stages, S::COMPUTE_SHADER);
+        assert!(b.src.access.contains(A::SHADER_STORAGE_WRITE));
         assert!(
-            !b.src.1.contains(A::SHADER_STORAGE_READ),
+            !b.src.access.contains(A::SHADER_STORAGE_READ),
             "reads are not flushed"
         );
-        assert!(b.dst.0.contains(S::GEOMETRY_SHADER | S::VERTEX_SHADER));
-        assert_eq!(b.dst.1, A::SHADER_STORAGE_READ);
+        assert!(b.dst.stages.contains(S::GEOMETRY_SHADER | S::VERTEX_SHADER));
+        assert_eq!(b.dst.access, A::SHADER_STORAGE_READ);
     }
 
     #[test]
     fn a_write_after_reads_waits_for_them_without_a_memory_dependency() {
         let before = State::after(&[Access::HairStagesRead]);
         let b = barrier(&before, &[Access::ComputeWrite], false).expect("a barrier");
-        assert_eq!(b.src, (Access::HairStagesRead.stages(), A::empty()));
-        assert_eq!(b.dst, (S::COMPUTE_SHADER, A::empty()));
+        assert_eq!(
+            b.src,
+            Scope::new(Access::HairStagesRead.stages(), A::empty())
+        );
+        assert_eq!(b.dst, Scope::new(S::COMPUTE_SHADER, A::empty()));
     }
 
     #[test]
@@ -322,12 +341,15 @@ mod tests {
         let b = barrier(&written, &[Access::ShadingSampled], true).expect("a transition");
         assert_eq!(b.old_layout, vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL);
         assert_eq!(b.new_layout, vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL);
-        assert!(b.src.1.contains(A::DEPTH_STENCIL_ATTACHMENT_WRITE));
-        assert_eq!(b.dst.1, A::SHADER_SAMPLED_READ);
+        assert!(b.src.access.contains(A::DEPTH_STENCIL_ATTACHMENT_WRITE));
+        assert_eq!(b.dst.access, A::SHADER_SAMPLED_READ);
         let reused = State::discarded_after(&[Access::ShadingSampled]);
         let b = barrier(&reused, &[Access::DepthAttachment], true).expect("a transition");
         assert_eq!(b.old_layout, vk::ImageLayout::UNDEFINED);
-        assert_eq!(b.src, (Access::ShadingSampled.stages(), A::empty()));
+        assert_eq!(
+            b.src,
+            Scope::new(Access::ShadingSampled.stages(), A::empty())
+        );
         assert_eq!(b.new_layout, vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL);
     }
 
@@ -345,12 +367,15 @@ mod tests {
         assert!(t.access("buf", &[Access::HairStagesRead], false).is_none());
         // The write is not yet visible to the fragment stage: a read there needs it.
         let b = t.access("buf", &[Access::ShadingSampled], false).unwrap();
-        assert_eq!(b.src.0, S::COMPUTE_SHADER | Access::HairStagesRead.stages());
-        assert!(b.src.1.contains(A::SHADER_STORAGE_WRITE));
+        assert_eq!(
+            b.src.stages,
+            S::COMPUTE_SHADER | Access::HairStagesRead.stages()
+        );
+        assert!(b.src.access.contains(A::SHADER_STORAGE_WRITE));
         let b = t.access("buf", &[Access::TransferWrite], false).unwrap();
         // After the earlier write and every read since it.
         assert_eq!(
-            b.src.0,
+            b.src.stages,
             S::COMPUTE_SHADER | Access::HairStagesRead.stages() | Access::ShadingSampled.stages()
         );
     }

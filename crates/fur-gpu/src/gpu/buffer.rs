@@ -6,6 +6,7 @@ use ash::vk;
 use gpu_allocator::vulkan::{Allocation, AllocationCreateDesc, AllocationScheme};
 use gpu_allocator::MemoryLocation;
 
+use super::access::Scope;
 use super::Device;
 use crate::error::{Error, Result, VkContext};
 
@@ -125,11 +126,11 @@ impl Buffer {
             super::memory_barrier(
                 d,
                 cmd,
-                (
+                Scope::new(
                     vk::PipelineStageFlags2::ALL_COMMANDS,
                     vk::AccessFlags2::MEMORY_WRITE,
                 ),
-                (
+                Scope::new(
                     vk::PipelineStageFlags2::COPY,
                     vk::AccessFlags2::TRANSFER_READ,
                 ),

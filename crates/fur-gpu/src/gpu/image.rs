@@ -6,6 +6,7 @@ use ash::vk;
 use gpu_allocator::vulkan::{Allocation, AllocationCreateDesc, AllocationScheme};
 use gpu_allocator::MemoryLocation;
 
+use super::access::Scope;
 use super::Device;
 use crate::error::{Error, Result, VkContext};
 
@@ -138,8 +139,8 @@ impl Image {
     /// A layout transition (and memory dependency) for the whole image.
     pub fn barrier(
         &self,
-        src: (vk::PipelineStageFlags2, vk::AccessFlags2),
-        dst: (vk::PipelineStageFlags2, vk::AccessFlags2),
+        src: Scope,
+        dst: Scope,
         old_layout: vk::ImageLayout,
         new_layout: vk::ImageLayout,
     ) -> vk::ImageMemoryBarrier2<'static> {
@@ -152,16 +153,16 @@ impl Image {
 pub fn image_barrier(
     image: vk::Image,
     aspect: vk::ImageAspectFlags,
-    (src_stage, src_access): (vk::PipelineStageFlags2, vk::AccessFlags2),
-    (dst_stage, dst_access): (vk::PipelineStageFlags2, vk::AccessFlags2),
+    src: Scope,
+    dst: Scope,
     old_layout: vk::ImageLayout,
     new_layout: vk::ImageLayout,
 ) -> vk::ImageMemoryBarrier2<'static> {
     vk::ImageMemoryBarrier2::default()
-        .src_stage_mask(src_stage)
-        .src_access_mask(src_access)
-        .dst_stage_mask(dst_stage)
-        .dst_access_mask(dst_access)
+        .src_stage_mask(src.stages)
+        .src_access_mask(src.access)
+        .dst_stage_mask(dst.stages)
+        .dst_access_mask(dst.access)
         .old_layout(old_layout)
         .new_layout(new_layout)
         .src_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
@@ -249,17 +250,12 @@ pub fn image_barriers(
 }
 
 /// Records a global memory barrier (used between dependent compute dispatches).
-pub fn memory_barrier(
-    device: &Device,
-    cmd: vk::CommandBuffer,
-    (src_stage, src_access): (vk::PipelineStageFlags2, vk::AccessFlags2),
-    (dst_stage, dst_access): (vk::PipelineStageFlags2, vk::AccessFlags2),
-) {
+pub fn memory_barrier(device: &Device, cmd: vk::CommandBuffer, src: Scope, dst: Scope) {
     let barrier = [vk::MemoryBarrier2::default()
-        .src_stage_mask(src_stage)
-        .src_access_mask(src_access)
-        .dst_stage_mask(dst_stage)
-        .dst_access_mask(dst_access)];
+        .src_stage_mask(src.stages)
+        .src_access_mask(src.access)
+        .dst_stage_mask(dst.stages)
+        .dst_access_mask(dst.access)];
     let dependency = vk::DependencyInfo::default().memory_barriers(&barrier);
     // SAFETY: callers pass a command buffer of `device` in the recording state, outside
     // a rendering; the barrier names no resource and `dependency` borrows it through

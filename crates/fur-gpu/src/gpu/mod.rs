@@ -19,7 +19,7 @@ mod sync;
 
 use std::sync::Arc;
 
-pub use access::{barrier, Access, Barrier, State, Tracker};
+pub use access::{barrier, Access, Barrier, Scope, State, Tracker};
 pub use buffer::{Buffer, TexelBuffer};
 pub use choice::{choose, Candidate, DeviceEntry, DeviceKind, DeviceList};
 pub(crate) use descriptors::bindings;

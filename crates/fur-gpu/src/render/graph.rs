@@ -376,10 +376,10 @@ fn record_barriers(
 
 fn memory_barrier(b: &Barrier) -> vk::MemoryBarrier2<'static> {
     vk::MemoryBarrier2::default()
-        .src_stage_mask(b.src.0)
-        .src_access_mask(b.src.1)
-        .dst_stage_mask(b.dst.0)
-        .dst_access_mask(b.dst.1)
+        .src_stage_mask(b.src.stages)
+        .src_access_mask(b.src.access)
+        .dst_stage_mask(b.dst.stages)
+        .dst_access_mask(b.dst.access)
 }
 
 fn image_barrier(

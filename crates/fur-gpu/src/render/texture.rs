@@ -8,6 +8,7 @@ use gpu_allocator::MemoryLocation;
 
 use super::target::DEPTH_FORMAT;
 use crate::error::{Error, Result};
+use crate::gpu::Scope;
 use crate::gpu::{image_barriers, Buffer, Device, Image, ImageDesc, Sampler};
 use crate::scene::Texture;
 
@@ -80,8 +81,8 @@ impl GpuTexture {
                 device,
                 cmd,
                 &[image.barrier(
-                    (vk::PipelineStageFlags2::NONE, vk::AccessFlags2::NONE),
-                    (
+                    Scope::NONE,
+                    Scope::new(
                         vk::PipelineStageFlags2::ALL_TRANSFER,
                         vk::AccessFlags2::TRANSFER_WRITE,
                     ),
@@ -104,11 +105,11 @@ impl GpuTexture {
                 device,
                 cmd,
                 &[image.barrier(
-                    (
+                    Scope::new(
                         vk::PipelineStageFlags2::ALL_TRANSFER,
                         vk::AccessFlags2::TRANSFER_WRITE,
                     ),
-                    (
+                    Scope::new(
                         vk::PipelineStageFlags2::GEOMETRY_SHADER
                             | vk::PipelineStageFlags2::FRAGMENT_SHADER,
                         vk::AccessFlags2::SHADER_SAMPLED_READ,

@@ -15,6 +15,7 @@ use gpu_allocator::MemoryLocation;
 
 use super::sdf::Sdf;
 use crate::error::{Error, Result};
+use crate::gpu::Scope;
 use crate::gpu::{image_barriers, Buffer, Device, Image, ImageDesc};
 
 /// The image holding `sdf` (a single grid point, zero, without a body), left in
@@ -129,12 +130,12 @@ fn volume(
         MemoryLocation::CpuToGpu,
     )?;
     staging.write(0, bytes);
-    let none = (vk::PipelineStageFlags2::NONE, vk::AccessFlags2::NONE);
-    let copy_write = (
+    let none = Scope::NONE;
+    let copy_write = Scope::new(
         vk::PipelineStageFlags2::COPY,
         vk::AccessFlags2::TRANSFER_WRITE,
     );
-    let read = (
+    let read = Scope::new(
         vk::PipelineStageFlags2::COMPUTE_SHADER,
         vk::AccessFlags2::SHADER_STORAGE_READ,
     );

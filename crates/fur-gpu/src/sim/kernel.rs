@@ -8,6 +8,7 @@ use glam::{Mat4, UVec3, Vec3, Vec4};
 
 use super::params::StepConstants;
 use super::steps::SimStep;
+use crate::gpu::Scope;
 use crate::gpu::{bindings, memory_barrier, Buffer, Device, TexelBuffer};
 use crate::strand_textures::StrandTextures;
 
@@ -154,8 +155,8 @@ pub(super) fn after_dispatch(device: &Device, cmd: vk::CommandBuffer) {
     memory_barrier(
         device,
         cmd,
-        (compute, vk::AccessFlags2::SHADER_STORAGE_WRITE),
-        (
+        Scope::new(compute, vk::AccessFlags2::SHADER_STORAGE_WRITE),
+        Scope::new(
             compute,
             vk::AccessFlags2::SHADER_STORAGE_READ | vk::AccessFlags2::SHADER_STORAGE_WRITE,
         ),

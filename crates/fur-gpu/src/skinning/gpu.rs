@@ -18,6 +18,7 @@ use crate::gpu::{
 
 /// Vertices per workgroup (`local_size_x` in `skin.comp`).
 use crate::gpu::shader::GROUP_SIZE;
+use crate::gpu::Scope;
 /// The most root-pose memory a body may take (substeps × strands × 48 bytes).
 const MAX_ROOT_POSE_BYTES: u64 = 256 << 20;
 
@@ -345,11 +346,11 @@ impl GpuSkin {
         memory_barrier(
             d,
             cmd,
-            (
+            Scope::new(
                 crate::gpu::SHARED_DATA_STAGES,
                 vk::AccessFlags2::SHADER_STORAGE_READ,
             ),
-            (
+            Scope::new(
                 vk::PipelineStageFlags2::COMPUTE_SHADER,
                 vk::AccessFlags2::SHADER_STORAGE_WRITE,
             ),
@@ -384,11 +385,11 @@ impl GpuSkin {
         memory_barrier(
             d,
             cmd,
-            (
+            Scope::new(
                 vk::PipelineStageFlags2::COMPUTE_SHADER,
                 vk::AccessFlags2::SHADER_STORAGE_WRITE,
             ),
-            (
+            Scope::new(
                 vk::PipelineStageFlags2::COMPUTE_SHADER
                     | vk::PipelineStageFlags2::VERTEX_SHADER
                     | vk::PipelineStageFlags2::TESSELLATION_CONTROL_SHADER,

@@ -9,6 +9,7 @@ use super::compute_raster::ComputeRaster;
 use super::Renderer;
 use crate::error::{Error, Result};
 use crate::gpu::Buffer;
+use crate::gpu::Scope;
 use fur_core::render::strand_raster::order::DEPTH_BINS;
 use fur_core::render::strand_raster::pools::{
     PoolBudget, LAYER_BYTES, SEGMENT_BYTES, TILE_BYTES, VERTEX_BYTES,
@@ -164,11 +165,11 @@ fn read_depth(
         let to_copy = crate::gpu::image_barrier(
             target.depth.raw(),
             aspect,
-            (
+            Scope::new(
                 vk::PipelineStageFlags2::ALL_COMMANDS,
                 vk::AccessFlags2::MEMORY_WRITE,
             ),
-            (
+            Scope::new(
                 vk::PipelineStageFlags2::COPY,
                 vk::AccessFlags2::TRANSFER_READ,
             ),
@@ -178,11 +179,11 @@ fn read_depth(
         let back = crate::gpu::image_barrier(
             target.depth.raw(),
             aspect,
-            (
+            Scope::new(
                 vk::PipelineStageFlags2::COPY,
                 vk::AccessFlags2::TRANSFER_READ,
             ),
-            (
+            Scope::new(
                 vk::PipelineStageFlags2::ALL_COMMANDS,
                 vk::AccessFlags2::MEMORY_READ,
             ),

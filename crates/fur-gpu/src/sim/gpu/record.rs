@@ -6,6 +6,7 @@ use ash::vk;
 use glam::DMat4;
 
 use super::*;
+use crate::gpu::Scope;
 
 impl GpuSim {
     fn group_count(&self) -> u32 {
@@ -86,13 +87,13 @@ impl GpuSim {
         memory_barrier(
             d,
             cmd,
-            (
+            Scope::new(
                 crate::gpu::SHARED_DATA_STAGES,
                 vk::AccessFlags2::SHADER_STORAGE_READ
                     | vk::AccessFlags2::SHADER_STORAGE_WRITE
                     | vk::AccessFlags2::TRANSFER_READ,
             ),
-            (
+            Scope::new(
                 vk::PipelineStageFlags2::COMPUTE_SHADER,
                 vk::AccessFlags2::SHADER_STORAGE_READ | vk::AccessFlags2::SHADER_STORAGE_WRITE,
             ),

@@ -44,21 +44,41 @@ impl Span {
         v.is_finite() && above && v <= self.max
     }
 
+    /// [`Span::contains`] for an `f32`, against the ends as `f32`s: the `f32` nearest
+    /// 0.1 is in (0, 0.1], though it is a little more than 0.1.
+    pub fn contains_f32(self, v: f32) -> bool {
+        let (min, max) = (self.min as f32, self.max as f32);
+        let above = if self.min_open { v > min } else { v >= min };
+        v.is_finite() && above && v <= max
+    }
+
     /// Checks the value `v` of what `name` names: the message says what is wanted and
     /// what was given.
     pub fn check(self, name: &str, v: f64) -> Result<(), String> {
         if self.contains(v) {
             return Ok(());
         }
+        Err(self.refusal(name, v))
+    }
+
+    /// [`Span::check`] for an `f32` ([`Span::contains_f32`]).
+    pub fn check_f32(self, name: &str, v: f32) -> Result<(), String> {
+        if self.contains_f32(v) {
+            return Ok(());
+        }
+        Err(self.refusal(name, f64::from(v)))
+    }
+
+    fn refusal(self, name: &str, v: f64) -> String {
         let unbounded = self.max >= f64::from(f32::MAX);
-        Err(match (self.min_open, unbounded) {
+        match (self.min_open, unbounded) {
             (true, true) if self.min == 0.0 => {
                 format!("{name} must be positive and finite, got {v}")
             }
             (false, true) => format!("{name} must be finite and at least {}, got {v}", self.min),
             (true, _) => format!("{name} must be in ({}, {}], got {v}", self.min, self.max),
             (false, false) => format!("{name} must be in [{}, {}], got {v}", self.min, self.max),
-        })
+        }
     }
 }
 
@@ -79,5 +99,10 @@ mod tests {
         assert_eq!(refusal, "cull margin must be in [0, 1], got 2");
         let refusal = positive.check("density", 0.0).unwrap_err();
         assert_eq!(refusal, "density must be positive and finite, got 0");
+        // An f32 at a decimal end is in the span, though its f64 is past it.
+        let dt = Span::within(0.01, 0.1);
+        assert!(!dt.contains(f64::from(0.1f32)) && !dt.contains(f64::from(0.01f32)));
+        assert!(dt.contains_f32(0.1) && dt.contains_f32(0.01));
+        assert!(!dt.contains_f32(0.100_001) && !dt.contains_f32(0.009_999));
     }
 }

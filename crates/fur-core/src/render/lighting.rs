@@ -259,7 +259,7 @@ pub mod spans {
 }
 
 fn check_range(name: &str, v: f32, span: crate::span::Span) -> Result<()> {
-    span.check(name, f64::from(v)).map_err(Error::Parameter)
+    span.check_f32(name, v).map_err(Error::Parameter)
 }
 
 impl Lighting {

@@ -205,7 +205,7 @@ impl FurStyle {
             ),
         ];
         for (name, v, span) in numbers {
-            span.check(name, f64::from(v)).map_err(Error::Parameter)?;
+            span.check_f32(name, v).map_err(Error::Parameter)?;
         }
         if !(1..=MAX_NEAREST).contains(&self.nearest) {
             return Err(Error::Parameter(format!(

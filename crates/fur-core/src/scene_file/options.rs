@@ -175,7 +175,7 @@ impl SceneOptions {
             ("camera distance", self.distance.unwrap_or(1.0)),
         ] {
             crate::span::Span::positive()
-                .check(name, f64::from(v))
+                .check_f32(name, v)
                 .map_err(Error::Parameter)?;
         }
         if self.groom_mode == crate::scene::GroomMode::Draw && self.groom_file.is_none() {
@@ -186,7 +186,7 @@ impl SceneOptions {
             ));
         }
         FOV_DEG
-            .check("field of view (degrees)", f64::from(self.fov_deg))
+            .check_f32("field of view (degrees)", self.fov_deg)
             .map_err(Error::Parameter)?;
         self.lighting.validate()?;
         let (center, radius) = mesh.bounds();

@@ -48,6 +48,16 @@ fn an_open_skinned_body_gets_the_open_mesh_warning() {
     );
 }
 
+/// `fur export-model --model critter` into `path`, which must succeed.
+fn export_critter(path: &std::path::Path) {
+    let status = std::process::Command::new(env!("CARGO_BIN_EXE_fur"))
+        .args(["export-model", "--model", "critter"])
+        .arg(path)
+        .status()
+        .unwrap();
+    assert!(status.success());
+}
+
 /// `fur render --model` takes glTF files, and a broken one is a clean error naming the
 /// file and the problem (exit 1, no panic), like a broken OBJ.
 #[test]
@@ -55,12 +65,7 @@ fn the_command_line_refuses_a_broken_glb_by_name() {
     let dir = std::env::temp_dir().join(format!("fur-broken-glb-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let good = dir.join("critter.glb");
-    let status = std::process::Command::new(env!("CARGO_BIN_EXE_fur"))
-        .args(["export-model", "--model", "critter"])
-        .arg(&good)
-        .status()
-        .unwrap();
-    assert!(status.success());
+    export_critter(&good);
     let bytes = std::fs::read(&good).unwrap();
     let broken = dir.join("truncated.glb");
     std::fs::write(&broken, &bytes[..bytes.len() / 2]).unwrap();
@@ -96,12 +101,7 @@ fn the_built_in_critter_round_trips_through_export_model() {
     let dir = std::env::temp_dir().join(format!("fur-critter-export-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let path = dir.join("critter.glb");
-    let status = std::process::Command::new(env!("CARGO_BIN_EXE_fur"))
-        .args(["export-model", "--model", "critter"])
-        .arg(&path)
-        .status()
-        .unwrap();
-    assert!(status.success());
+    export_critter(&path);
     let (mesh, rig) = fur::scene::critter();
     let body = fur::scene::load_gltf(&path).unwrap();
     assert!(body.warnings.is_empty(), "{:?}", body.warnings);

@@ -61,12 +61,13 @@ impl Span {
         Err(self.refusal(name, v))
     }
 
-    /// [`Span::check`] for an `f32` ([`Span::contains_f32`]).
-    pub fn check_f32(self, name: &str, v: f32) -> Result<(), String> {
+    /// The `f32` `v` of what `name` names, checked ([`Span::contains_f32`]): an
+    /// impossible parameter is the core's [`crate::Error::Parameter`], naming it.
+    pub fn require(self, name: &str, v: f32) -> crate::Result<()> {
         if self.contains_f32(v) {
             return Ok(());
         }
-        Err(self.refusal(name, f64::from(v)))
+        Err(crate::Error::Parameter(self.refusal(name, f64::from(v))))
     }
 
     fn refusal(self, name: &str, v: f64) -> String {

@@ -129,7 +129,7 @@ impl Fibre {
             ),
             ("the index of refraction", self.ior, spans::IOR),
         ] {
-            check_range(name, v, span)?;
+            span.require(name, v)?;
         }
         Ok(())
     }
@@ -258,10 +258,6 @@ pub mod spans {
     pub const COLOUR_MAX: f64 = 1e3;
 }
 
-fn check_range(name: &str, v: f32, span: crate::span::Span) -> Result<()> {
-    span.check_f32(name, v).map_err(Error::Parameter)
-}
-
 impl Lighting {
     pub fn validate(&self) -> Result<()> {
         if !self.light_direction.is_finite() || self.light_direction.length() < 1e-6 {
@@ -302,7 +298,7 @@ impl Lighting {
             ("shadow opacity", s.opacity, spans::FRACTION),
             ("shadow spacing", s.spacing, spans::SPACING),
         ] {
-            check_range(name, v, span)?;
+            span.require(name, v)?;
         }
         self.fibre.validate()?;
         if !(16..=Shadows::MAX_RESOLUTION).contains(&s.resolution) {

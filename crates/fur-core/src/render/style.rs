@@ -74,7 +74,15 @@ pub const DENSITY: f32 = 12_000.0;
 pub const TILE_SIZES: [u32; 4] = [2, 4, 8, 16];
 
 /// What [`FurStyle::tile`] accepts: 0 (the device's) or one of [`TILE_SIZES`].
-pub const TILE_CHOICES: [u32; 5] = [0, 2, 4, 8, 16];
+pub const TILE_CHOICES: [u32; TILE_SIZES.len() + 1] = {
+    let mut choices = [0; TILE_SIZES.len() + 1];
+    let mut i = 0;
+    while i < TILE_SIZES.len() {
+        choices[i + 1] = TILE_SIZES[i];
+        i += 1;
+    }
+    choices
+};
 
 /// The sample counts a render target may have ([`FurStyle::samples`]); the device
 /// decides which of them exist.
@@ -205,7 +213,7 @@ impl FurStyle {
             ),
         ];
         for (name, v, span) in numbers {
-            span.check_f32(name, v).map_err(Error::Parameter)?;
+            span.require(name, v)?;
         }
         if !(1..=MAX_NEAREST).contains(&self.nearest) {
             return Err(Error::Parameter(format!(
@@ -221,7 +229,7 @@ impl FurStyle {
         }
         if !SAMPLE_COUNTS.contains(&self.samples) {
             return Err(Error::Parameter(format!(
-                "samples per pixel must be 1, 2, 4, 8 or 16, got {}",
+                "samples per pixel must be one of {SAMPLE_COUNTS:?}, got {}",
                 self.samples
             )));
         }

@@ -101,7 +101,7 @@ impl GroomParams {
             ),
             ("thickness limit", self.thickness_limit, SHAPE),
         ] {
-            span.check_f32(name, v).map_err(Error::Parameter)?;
+            span.require(name, v)?;
         }
         if !self.comb_direction.is_finite() {
             return Err(Error::Parameter("comb direction must be finite".into()));

@@ -174,9 +174,7 @@ impl SceneOptions {
             ("hair length", self.hair_length),
             ("camera distance", self.distance.unwrap_or(1.0)),
         ] {
-            crate::span::Span::positive()
-                .check_f32(name, v)
-                .map_err(Error::Parameter)?;
+            crate::span::Span::positive().require(name, v)?;
         }
         if self.groom_mode == crate::scene::GroomMode::Draw && self.groom_file.is_none() {
             return Err(Error::Parameter(
@@ -185,9 +183,7 @@ impl SceneOptions {
                     .into(),
             ));
         }
-        FOV_DEG
-            .check_f32("field of view (degrees)", self.fov_deg)
-            .map_err(Error::Parameter)?;
+        FOV_DEG.require("field of view (degrees)", self.fov_deg)?;
         self.lighting.validate()?;
         let (center, radius) = mesh.bounds();
         let groom = GroomParams {

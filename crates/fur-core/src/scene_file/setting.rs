@@ -199,8 +199,8 @@ impl Setting {
                 Value::Number(v),
             ) => {
                 let v = *v;
-                let above = if min_open { v > min } else { v >= min };
-                if v.is_finite() && above && v <= max {
+                let span = crate::span::Span { min, max, min_open };
+                if span.contains(v) {
                     Ok(())
                 } else if min_open && min == 0.0 && max >= f64::from(f32::MAX) {
                     Err(format!("must be a positive number, got {v}"))

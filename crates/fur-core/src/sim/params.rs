@@ -139,7 +139,7 @@ impl SimParams {
             ("collision margin", self.collision_margin, spans::FRACTION),
             ("friction", self.friction, spans::FRACTION),
         ] {
-            span.check_f32(name, v).map_err(Error::Parameter)?;
+            span.require(name, v)?;
         }
         let (lo, hi) = SDF_RESOLUTION_RANGE;
         if self.sdf_resolution != 0 && !(lo..=hi).contains(&self.sdf_resolution) {

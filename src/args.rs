@@ -3,9 +3,9 @@
 //! definitions); and the device (with `fur bench`).
 
 use clap::Args;
-use fur::scene::{ModelSpec, TextureSpec};
-use fur::scene_file::Scene;
 use fur::setting_args::SettingArgs;
+use fur_core::scene::{ModelSpec, TextureSpec};
+use fur_core::scene_file::Scene;
 
 /// The model and every setting of the scene. Options left out come from the scene
 /// file, if one is given, else from the model's defaults (`--model sphere` is the
@@ -62,7 +62,10 @@ impl DeviceArgs {
     }
 
     /// A headless device: the chosen one, with the validation layer if `validate`.
-    pub fn headless(&self, validate: bool) -> anyhow::Result<std::sync::Arc<fur::gpu::Device>> {
-        Ok(fur::gpu::headless_on(validate, self.choice().as_deref())?)
+    pub fn headless(&self, validate: bool) -> anyhow::Result<std::sync::Arc<fur_gpu::gpu::Device>> {
+        Ok(fur_gpu::gpu::headless_on(
+            validate,
+            self.choice().as_deref(),
+        )?)
     }
 }

@@ -29,8 +29,8 @@ pub(super) fn export_frame(args: &ExportArgs) -> anyhow::Result<()> {
         );
     }
     let binary = check_extension(&args.usd)?;
-    fur::files::check_output_file(&args.usd)?;
-    fur::files::check_output_file(&r.out)?;
+    fur_core::files::check_output_file(&args.usd)?;
+    fur_core::files::check_output_file(&r.out)?;
     let simulate = r.frames > 1;
     let Opened {
         device,
@@ -39,7 +39,7 @@ pub(super) fn export_frame(args: &ExportArgs) -> anyhow::Result<()> {
         height,
     } = open(r, simulate)?;
     let show = session.settings.show;
-    if show != fur::render::Stage::Lit {
+    if show != fur_core::render::Stage::Lit {
         bail!(
             "export-frame writes the final frame as drawn; --show {} is a study view of \
              `fur render` and `fur view`, not a frame to path-trace",
@@ -55,7 +55,7 @@ pub(super) fn export_frame(args: &ExportArgs) -> anyhow::Result<()> {
             .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
         );
         for frame in 0..r.frames {
-            fur::interrupt::check()?;
+            fur_core::interrupt::check()?;
             session
                 .step_and_render()
                 .with_context(|| format!("simulating frame {frame}"))?;
@@ -88,12 +88,12 @@ pub(super) fn export_frame(args: &ExportArgs) -> anyhow::Result<()> {
     let generator = format!("fur {}", env!("CARGO_PKG_VERSION"));
     let text = fur::export::write_usda(&frame, &generator)?;
     let bytes = if binary {
-        fur::groom_file::usdc_from_text(&text)
+        fur_core::groom_file::usdc_from_text(&text)
             .map_err(|m| anyhow::anyhow!("writing the frame as binary USD: {m}"))?
     } else {
         text.into_bytes()
     };
-    fur::files::write_output(&args.usd, &bytes, "write the frame to")?;
+    fur_core::files::write_output(&args.usd, &bytes, "write the frame to")?;
     image.write_png(&r.out)?;
     if frame.hairs.count() == 0 {
         eprintln!("warning: no hair was drawn: the export holds the body only");
@@ -110,11 +110,11 @@ pub(super) fn export_frame(args: &ExportArgs) -> anyhow::Result<()> {
         frame.hairs.count(),
         frame.hairs.vertices_per_strand,
         frame.body.as_ref().map_or(0, |b| b.indices.len() / 3),
-        fur::files::size_text(bytes.len() as u64),
+        fur_core::files::size_text(bytes.len() as u64),
         r.out.display()
     );
     drop(session);
-    fur::gpu::shut_down(device)?;
+    fur_gpu::gpu::shut_down(device)?;
     Ok(())
 }
 

@@ -7,8 +7,8 @@ use ab_glyph::ScaleFont;
 use glam::{Mat4, Vec3};
 
 use crate::legend::{key_font, text_width, Canvas};
-use crate::render::RgbaImage;
-use crate::scene::{singular_points, Mesh, Singularity, Strands};
+use fur_core::render::RgbaImage;
+use fur_core::scene::{singular_points, Mesh, Singularity, Strands};
 
 /// A whorl's mark (linear red).
 pub const WHORL: Vec3 = Vec3::new(1.0, 0.08, 0.05);
@@ -231,7 +231,7 @@ mod tests {
     #[test]
     fn the_masters_marks_are_the_flows_singular_points() {
         let mesh = Mesh::blob();
-        let (groom, _) = crate::scene_file::SceneOptions::default()
+        let (groom, _) = fur_core::scene_file::SceneOptions::default()
             .resolve(&mesh)
             .unwrap();
         let strands = Strands::grow(&mesh, &groom).unwrap();

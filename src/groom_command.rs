@@ -4,7 +4,7 @@
 
 use super::render_command::{open, Opened};
 use super::*;
-use fur::scene::DrawnGroom;
+use fur_core::scene::DrawnGroom;
 
 #[derive(Args, Clone)]
 pub(super) struct GroomArgs {
@@ -32,8 +32,8 @@ pub(super) fn export_groom(args: &GroomArgs) -> anyhow::Result<()> {
     if args.frames == 0 {
         bail!("--frames must be at least 1");
     }
-    fur::groom_file::GroomFormat::of(&args.out)?;
-    fur::files::check_output_file(&args.out)?;
+    fur_core::groom_file::GroomFormat::of(&args.out)?;
+    fur_core::files::check_output_file(&args.out)?;
     let generator = format!("fur {}", env!("CARGO_PKG_VERSION"));
     let (guides, which) = if args.frames == 1 {
         (at_rest(args)?, "at rest, in the model's space".to_string())
@@ -43,7 +43,7 @@ pub(super) fn export_groom(args: &GroomArgs) -> anyhow::Result<()> {
             format!("frame {} of the simulation, in world space", args.frames),
         )
     };
-    fur::groom_file::write_groom(&args.out, &guides, &generator)?;
+    fur_core::groom_file::write_groom(&args.out, &guides, &generator)?;
     println!(
         "wrote {} ({which}): {} master hairs of {} vertices",
         args.out.display(),
@@ -54,7 +54,7 @@ pub(super) fn export_groom(args: &GroomArgs) -> anyhow::Result<()> {
 }
 
 /// The master hairs as the session grows them, without a device.
-fn at_rest(args: &GroomArgs) -> anyhow::Result<fur::groom_file::Guides> {
+fn at_rest(args: &GroomArgs) -> anyhow::Result<fur_core::groom_file::Guides> {
     let scene = args::scene(args.scene_file.as_deref(), &args.scene)?;
     let (mesh, rig, warnings) = scene.model.prepare_body(scene.options.texture.as_ref())?;
     for warning in warnings {
@@ -64,7 +64,7 @@ fn at_rest(args: &GroomArgs) -> anyhow::Result<fur::groom_file::Guides> {
     let (mut groom, settings) = scene.options.resolve(&mesh)?;
     if let Some((rig, _)) = &rig {
         // As the session does: a skinned body's fur flows along its bones.
-        groom.comb_field = Some(fur::skinning::fur_flow(rig));
+        groom.comb_field = Some(fur_core::skinning::fur_flow(rig));
     }
     let (strands, warnings) = match groom.drawn_source() {
         // A drawn groom: its guides' master hairs, not the body's stubs.
@@ -72,7 +72,7 @@ fn at_rest(args: &GroomArgs) -> anyhow::Result<fur::groom_file::Guides> {
             let drawn = DrawnGroom::from_file(mesh, rig.map(|(r, _)| r), &groom, source)?;
             (drawn.guide_strands(), drawn.warnings())
         }
-        None => fur::scene::Strands::grow_reported(&mesh, &groom)?,
+        None => fur_core::scene::Strands::grow_reported(&mesh, &groom)?,
     };
     for warning in warnings {
         eprintln!("warning: {warning}");
@@ -81,7 +81,7 @@ fn at_rest(args: &GroomArgs) -> anyhow::Result<fur::groom_file::Guides> {
 }
 
 /// The master hairs at the last of `args.frames` simulated frames, read back.
-fn simulated(args: &GroomArgs) -> anyhow::Result<fur::groom_file::Guides> {
+fn simulated(args: &GroomArgs) -> anyhow::Result<fur_core::groom_file::Guides> {
     let render = RenderArgs {
         scene_file: args.scene_file.clone(),
         scene: args.scene.clone(),
@@ -98,7 +98,7 @@ fn simulated(args: &GroomArgs) -> anyhow::Result<fur::groom_file::Guides> {
         ..
     } = open(&render, true)?;
     for frame in 0..args.frames {
-        fur::interrupt::check()?;
+        fur_core::interrupt::check()?;
         session
             .step_and_render()
             .with_context(|| format!("simulating frame {frame}"))?;
@@ -110,7 +110,7 @@ fn simulated(args: &GroomArgs) -> anyhow::Result<fur::groom_file::Guides> {
         // A drawn groom: its guides' master hairs, not the body's stubs.
         vertices.drain(..first * per_strand as usize);
     }
-    let guides = fur::groom_file::Guides {
+    let guides = fur_core::groom_file::Guides {
         counts: vec![per_strand; vertices.len() / per_strand.max(1) as usize],
         points: vertices.iter().map(|v| v.truncate()).collect(),
         widths: Some(vec![session.settings.style.hair_width; vertices.len()]),
@@ -118,6 +118,6 @@ fn simulated(args: &GroomArgs) -> anyhow::Result<fur::groom_file::Guides> {
         notes: Vec::new(),
     };
     drop(session);
-    fur::gpu::shut_down(device)?;
+    fur_gpu::gpu::shut_down(device)?;
     Ok(guides)
 }

@@ -7,12 +7,12 @@
 use ab_glyph::{Font, FontRef, PxScale, ScaleFont};
 use glam::Vec3;
 
-use crate::colour::linear_to_srgb8;
-use crate::render::stage::{
+use fur_core::colour::linear_to_srgb8;
+use fur_core::render::stage::{
     displacement_colour, legend_entries, legend_levels, level_colour, tile_colour,
     DISPLACEMENT_FULL_SCALE, EMPTY_TILE, TILE_ENTRIES_FULL_SCALE,
 };
-use crate::render::{FrameSettings, RgbaImage, Stage};
+use fur_core::render::{FrameSettings, RgbaImage, Stage};
 
 /// A swatch beside the scale: a colour, or the density view's grey stripes.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -212,7 +212,7 @@ impl Canvas<'_> {
             return;
         }
         let i = ((y * width + x) * 4) as usize;
-        let lut = crate::colour::srgb8_lut();
+        let lut = fur_core::colour::srgb8_lut();
         for c in 0..3 {
             let below = lut[self.image.data[i + c] as usize];
             let mixed = below + (colour[c] - below) * opacity;
@@ -315,7 +315,7 @@ pub(crate) mod tests {
                 .collect()
         };
         assert_eq!(labels(&settings), ["pushed by collision"]);
-        settings.arrows = crate::render::stage::Arrows::Step(crate::sim::SimStep::Length);
+        settings.arrows = fur_core::render::stage::Arrows::Step(fur_core::sim::SimStep::Length);
         settings.arrow_scale = 50.0;
         assert_eq!(labels(&settings), ["pushed by collision", "length ×50"]);
     }

@@ -14,9 +14,9 @@ use anyhow::{bail, Context as _};
 use args::{DeviceArgs, SceneArgs};
 use ash::vk;
 use clap::{Args, Parser, Subcommand};
-use fur::scene::ModelSpec;
-use fur::session::{FurSession, SessionSetup};
-use fur::sim::MotionKind;
+use fur_core::scene::ModelSpec;
+use fur_core::sim::MotionKind;
+use fur_gpu::session::{FurSession, SessionSetup};
 
 /// Real-time fur rendering and simulation on Vulkan: master hairs grown from a mesh,
 /// simulated in compute shaders (Han & Harada 2012), interpolated by tessellation,
@@ -182,11 +182,11 @@ struct RenderArgs {
 fn main() -> ExitCode {
     env_logger::Builder::from_env(env_logger::Env::default().default_filter_or("warn")).init();
     let cli = Cli::parse();
-    // Ctrl-C asks long runs to stop between frames (`fur::interrupt`); a second one
+    // Ctrl-C asks long runs to stop between frames (`fur_core::interrupt`); a second one
     // while the first is being honoured exits at once, with status 130. Failing to
     // install (another handler is set) leaves the default behaviour.
     let _ = ctrlc::set_handler(|| {
-        if fur::interrupt::request() {
+        if fur_core::interrupt::request() {
             std::process::exit(130);
         }
     });
@@ -261,14 +261,14 @@ fn bench(args: &BenchArgs) -> anyhow::Result<()> {
         (Some(_), Some(_)) => bail!("--width and --height must be 1..=16384 pixels"),
         _ => bail!("--width and --height go together"),
     };
-    fur::files::check_output_dir(out_dir)?;
+    fur_core::files::check_output_dir(out_dir)?;
     let device = device.headless(validate)?;
     let scene = match scene {
         Some(path) => {
             let name = path
                 .file_stem()
                 .map_or("scene".into(), |n| n.to_string_lossy().into_owned());
-            Some((name, fur::scene_file::Scene::load(Some(path), None)?))
+            Some((name, fur_core::scene_file::Scene::load(Some(path), None)?))
         }
         None => None,
     };
@@ -300,7 +300,7 @@ fn bench(args: &BenchArgs) -> anyhow::Result<()> {
         report.rows.len(),
         out_dir.display()
     );
-    fur::gpu::shut_down(device)?;
+    fur_gpu::gpu::shut_down(device)?;
     Ok(())
 }
 
@@ -319,9 +319,9 @@ fn view(args: ViewArgs) -> anyhow::Result<()> {
         bail!("--target-fps must be 0 (off) to 1000 frames per second, got {target_fps}");
     }
     if let Some(path) = &args.save_scene {
-        fur::files::check_output_file(path)?;
+        fur_core::files::check_output_file(path)?;
     }
-    fur::files::check_output_dir(&args.screenshot_dir)?;
+    fur_core::files::check_output_dir(&args.screenshot_dir)?;
     let options = fur::viewer::ViewerOptions {
         model: scene.model.clone(),
         scene: scene.options.clone(),
@@ -344,11 +344,11 @@ fn view(args: ViewArgs) -> anyhow::Result<()> {
 }
 
 fn settings(write_docs: Option<&Path>) -> anyhow::Result<()> {
-    use fur::scene_file::docs;
+    use fur_core::scene_file::docs;
     let tables = docs::markdown();
     match write_docs {
         Some(path) => {
-            fur::files::write_region(path, docs::BEGIN, docs::END, &tables)?;
+            fur_core::files::write_region(path, docs::BEGIN, docs::END, &tables)?;
             eprintln!("wrote the settings into {}", path.display());
         }
         None => println!("{tables}"),
@@ -357,7 +357,7 @@ fn settings(write_docs: Option<&Path>) -> anyhow::Result<()> {
 }
 
 fn devices(device: &DeviceArgs) -> anyhow::Result<()> {
-    let list = fur::gpu::list_devices()?
+    let list = fur_gpu::gpu::list_devices()?
         .with_choice(device.choice().as_deref())
         .map_err(fur::Error::DeviceChoice)?;
     println!("{list}");
@@ -372,14 +372,14 @@ fn export_model(out: &Path, model: &ModelSpec) -> anyhow::Result<()> {
             path.display()
         );
     }
-    fur::files::check_output_file(out)?;
+    fur_core::files::check_output_file(out)?;
     let glb = out
         .extension()
         .is_some_and(|e| e.eq_ignore_ascii_case("glb"));
     let (mesh, rig, _) = model.load_body()?;
     if glb {
-        let bytes = fur::scene::write_glb(&mesh, rig.as_ref())?;
-        fur::files::write_output(out, &bytes, "write the model to")?;
+        let bytes = fur_core::scene::write_glb(&mesh, rig.as_ref())?;
+        fur_core::files::write_output(out, &bytes, "write the model to")?;
     } else {
         if rig.is_some() {
             eprintln!(
@@ -390,7 +390,7 @@ fn export_model(out: &Path, model: &ModelSpec) -> anyhow::Result<()> {
         mesh.write_obj(out)?;
     }
     let summary = format!("wrote {}", out.display());
-    if out.as_os_str() == fur::files::STDOUT {
+    if out.as_os_str() == fur_core::files::STDOUT {
         eprintln!("{summary}");
     } else {
         println!("{summary}");
@@ -404,7 +404,7 @@ fn interrupted(error: &anyhow::Error) -> bool {
     error.chain().any(|cause| {
         matches!(
             cause.downcast_ref(),
-            Some(fur::error::CoreError::Interrupted)
+            Some(fur_gpu::error::CoreError::Interrupted)
         ) || cause.downcast_ref().is_some_and(fur::Error::is_interrupted)
     })
 }

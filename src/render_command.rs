@@ -37,9 +37,9 @@ pub(super) fn render(args: &RenderArgs) -> anyhow::Result<()> {
         .clone()
         .unwrap_or_else(|| PathBuf::from("frames"));
     if simulate {
-        fur::files::check_output_dir(&frames_dir)?;
+        fur_core::files::check_output_dir(&frames_dir)?;
     } else {
-        fur::files::check_output_file(&args.out)?;
+        fur_core::files::check_output_file(&args.out)?;
     }
     let Opened {
         device,
@@ -85,19 +85,19 @@ pub(super) fn render(args: &RenderArgs) -> anyhow::Result<()> {
             height,
             elapsed.as_secs_f64() * 1e3,
         );
-        if args.out.as_os_str() == fur::files::STDOUT {
+        if args.out.as_os_str() == fur_core::files::STDOUT {
             eprintln!("{summary}");
         } else {
             println!("{summary}");
         }
     }
     drop(session);
-    fur::gpu::shut_down(device)?;
+    fur_gpu::gpu::shut_down(device)?;
     Ok(())
 }
 
 /// Warns when a view that draws fur drew none.
-fn warn_without_fur(session: &FurSession, counts: Option<fur::render::HairCounts>) {
+fn warn_without_fur(session: &FurSession, counts: Option<fur_gpu::render::HairCounts>) {
     if session.settings.show.draws_fur() && counts.is_some_and(|c| c.hairs == 0) {
         eprintln!("warning: {NO_FUR}");
     }
@@ -106,8 +106,8 @@ fn warn_without_fur(session: &FurSession, counts: Option<fur::render::HairCounts
 /// Where the `masters` view marks the fur's flow turning: the singular points of the
 /// master hairs as grown (found once a run; they move only with the posed body); none
 /// for the other views.
-fn flow_points(session: &FurSession) -> Vec<fur::scene::Singularity> {
-    if session.settings.show == fur::render::Stage::Masters {
+fn flow_points(session: &FurSession) -> Vec<fur_core::scene::Singularity> {
+    if session.settings.show == fur_core::render::Stage::Masters {
         fur::flow_marks::of_masters(&session.mesh, &session.strands)
     } else {
         Vec::new()
@@ -118,10 +118,10 @@ fn flow_points(session: &FurSession) -> Vec<fur::scene::Singularity> {
 /// has one (`fur::legend`), and the flow's singular `points` ([`flow_points`]) marked
 /// where the body is posed (`fur::flow_marks`).
 fn with_legend(
-    mut image: fur::render::RgbaImage,
+    mut image: fur_core::render::RgbaImage,
     session: &FurSession,
-    points: &[fur::scene::Singularity],
-) -> anyhow::Result<fur::render::RgbaImage> {
+    points: &[fur_core::scene::Singularity],
+) -> anyhow::Result<fur_core::render::RgbaImage> {
     let max_level = session.renderer.max_level();
     if let Some(legend) = fur::legend::Legend::of(&session.settings, max_level) {
         legend.draw(&mut image);
@@ -149,7 +149,7 @@ fn with_legend(
 
 /// A scene built and ready to draw.
 pub(super) struct Opened {
-    pub device: std::sync::Arc<fur::gpu::Device>,
+    pub device: std::sync::Arc<fur_gpu::gpu::Device>,
     pub session: FurSession,
     pub width: u32,
     pub height: u32,
@@ -249,11 +249,11 @@ fn render_sequence(args: &RenderArgs, dir: &Path, session: &mut FurSession) -> a
         .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
     );
     let mut frame_ms = Vec::new();
-    let mut budget = args.budget_ms.map(fur::render::budget::Budget::new);
+    let mut budget = args.budget_ms.map(fur_core::render::budget::Budget::new);
     let base = session.settings.style.clone();
     let points = flow_points(session);
     for frame in 0..args.frames {
-        fur::interrupt::check()?;
+        fur_core::interrupt::check()?;
         let warm = frame as usize > WARM_UP_FRAMES;
         if let (Some(budget), Some(&last), true) = (&mut budget, frame_ms.last(), warm) {
             // A sequence is always in motion: the budget never refines. The warm-up
@@ -264,11 +264,11 @@ fn render_sequence(args: &RenderArgs, dir: &Path, session: &mut FurSession) -> a
                 bar.suspend(|| {
                     eprintln!(
                         "frame {frame}: quality rung {rung} ({})",
-                        fur::render::budget::LADDER[rung].name
+                        fur_core::render::budget::LADDER[rung].name
                     )
                 });
             }
-            session.settings.style = fur::render::budget::LADDER[rung].apply(&base);
+            session.settings.style = fur_core::render::budget::LADDER[rung].apply(&base);
         }
         // The first frame (a warm-up frame, not timed) counts what it draws.
         session.settings.count_hairs = frame == 0;
@@ -308,7 +308,7 @@ fn render_sequence(args: &RenderArgs, dir: &Path, session: &mut FurSession) -> a
         fur::bench::metrics::median(warm)
     );
     if let Some(budget) = &budget {
-        let rung = &fur::render::budget::LADDER[budget.rung];
+        let rung = &fur_core::render::budget::LADDER[budget.rung];
         println!(
             "budget {:.1} ms: the last frame was drawn at quality rung {} ({}){}",
             budget.target_ms,

@@ -188,7 +188,7 @@ fn quick_bench_writes_every_expected_measurement() {
             error("compute, 16 in order") < error("compute, 4 in order"),
             "{scene}: 16 fragments in order err no less than 4"
         );
-        for step in fur::render::STEP_NAMES {
+        for step in fur_gpu::render::STEP_NAMES {
             let step = step.trim_start_matches("strand ");
             expect("raster_steps", &format!("{scene}, {step}"), "gpu_ms");
         }
@@ -208,7 +208,7 @@ fn quick_bench_writes_every_expected_measurement() {
     // measure, not a test's).
     for scene in ["blob", "sphere"] {
         let mut last = -1.0f64;
-        for (r, rung) in fur::render::budget::LADDER.iter().enumerate() {
+        for (r, rung) in fur_core::render::budget::LADDER.iter().enumerate() {
             let case = format!("{scene}: rung {r} ({})", rung.name);
             for metric in ["frame_ms", "flip", "ordered"] {
                 expect("ladder", &case, metric);
@@ -234,7 +234,7 @@ fn quick_bench_writes_every_expected_measurement() {
         expect("ladder", orbit, metric);
     }
     let rung = value("ladder", orbit, "rung");
-    assert!(rung >= 0.0 && rung < fur::render::budget::LADDER.len() as f64);
+    assert!(rung >= 0.0 && rung < fur_core::render::budget::LADDER.len() as f64);
     assert!(value("ladder", orbit, "settled_frames") >= 1.0);
     let chosen = value("ladder", orbit, "default_chosen_s");
     assert!(chosen >= 0.0 && value("ladder", orbit, "back_to_default_s") > chosen);
@@ -265,7 +265,7 @@ fn quick_bench_writes_every_expected_measurement() {
         }
     }
     // Every stage view timed against the lit frame (the lit one's ratio is exactly 1).
-    for stage in fur::render::Stage::ALL {
+    for stage in fur_core::render::Stage::ALL {
         for metric in ["frame", "ratio to lit"] {
             expect("stages", stage.name(), metric);
         }
@@ -281,8 +281,9 @@ fn quick_bench_writes_every_expected_measurement() {
     // it can be all the decoding needs, so zero is a valid peak here).
     for format in ["usda", "usdc"] {
         let peak = value("grooms", format, "peak_mib");
-        let limit = fur::groom_file::usd_limits(0).memory as f64 / f64::from(1 << 20)
-            + fur::groom_file::USD_MEMORY_PER_BYTE as f64 * value("grooms", format, "file_mib");
+        let limit = fur_core::groom_file::usd_limits(0).memory as f64 / f64::from(1 << 20)
+            + fur_core::groom_file::USD_MEMORY_PER_BYTE as f64
+                * value("grooms", format, "file_mib");
         assert!(
             (0.0..limit).contains(&peak),
             "{format}: {peak} MiB against {limit}"

@@ -154,8 +154,8 @@ fn a_simulated_sequence_moves_and_is_validated() {
 #[test]
 fn the_shipped_model_is_the_built_in_one() {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/blob.obj");
-    let shipped = fur::scene::Mesh::load_obj(&path).unwrap();
-    let built_in = fur::scene::Mesh::blob();
+    let shipped = fur_core::scene::Mesh::load_obj(&path).unwrap();
+    let built_in = fur_core::scene::Mesh::blob();
     assert_eq!(shipped.vertex_count(), built_in.vertex_count());
     assert_eq!(shipped.triangle_count(), built_in.triangle_count());
     // Loading renumbers vertices in order of first use; triangles keep their order.
@@ -199,7 +199,7 @@ fn the_original_sphere_is_built_in_and_exports() {
         "{}",
         String::from_utf8_lossy(&out.stderr)
     );
-    let sphere = fur::scene::Mesh::load_obj(&obj).unwrap();
+    let sphere = fur_core::scene::Mesh::load_obj(&obj).unwrap();
     assert_eq!(
         (sphere.vertex_count(), sphere.triangle_count()),
         (3161, 6240)
@@ -437,7 +437,7 @@ fn last_rung(stdout: &str) -> usize {
 /// did nothing passes neither.
 #[test]
 fn a_budget_steps_a_sequence_down_the_ladder_and_prints_the_rungs() {
-    let rungs = fur::render::budget::LADDER.len();
+    let rungs = fur_core::render::budget::LADDER.len();
     let (stdout, stderr) = sequence("tight", "64", "0.001");
     let steps: Vec<&str> = stderr
         .lines()

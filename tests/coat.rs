@@ -6,9 +6,11 @@
 mod common;
 mod standing;
 
-use fur::render::marschner::{coat_layers, marschner, Layers, Lobes};
-use fur::render::{FrameSettings, FurStyle, Lighting, LightingModel, RgbaImage, Shading, Shadows};
-use fur::scene::{Camera, GroomParams, Mesh};
+use fur_core::render::marschner::{coat_layers, marschner, Layers, Lobes};
+use fur_core::render::{
+    FrameSettings, FurStyle, Lighting, LightingModel, RgbaImage, Shading, Shadows,
+};
+use fur_core::scene::{Camera, GroomParams, Mesh};
 use glam::Vec3;
 use standing::*;
 
@@ -23,7 +25,7 @@ const PIXELS: u32 = 160;
 /// (the terminator is the image's middle column) by the Marschner model alone: no
 /// ambient, no body drawn, one hair layer per unit so that the coat's depth dims the
 /// light little and where the skin stops it shows.
-fn lit_sphere(device: &std::sync::Arc<fur::gpu::Device>) -> RgbaImage {
+fn lit_sphere(device: &std::sync::Arc<fur_gpu::gpu::Device>) -> RgbaImage {
     let sphere = Mesh::icosphere(3);
     let groom = GroomParams {
         segments: 5,
@@ -112,8 +114,9 @@ fn tips_past_the_skins_horizon_catch_the_light_as_a_shell_lets_them() {
     );
     // The same coat on flat skin (the curvature estimate taken out) keeps the far side
     // dark: the check above tells the two apart.
-    let flat =
-        fur::gpu::shader::with_test_defines(&[("FUR_TEST_FLAT_COAT", "1")], || lit_sphere(&device));
+    let flat = fur_gpu::gpu::shader::with_test_defines(&[("FUR_TEST_FLAT_COAT", "1")], || {
+        lit_sphere(&device)
+    });
     common::keep(&flat, "coat_sphere_flat");
     let flat_left = leftmost_lit(&flat);
     println!("flat skin: lit from x = {flat_left:.3}");

@@ -8,9 +8,10 @@ use std::sync::Arc;
 
 use common::rounding::{self, Body};
 
-use fur::scene::{GroomParams, Mesh, Strands};
-use fur::sim::{CpuSim, GpuSim, Motion, MotionKind, Sdf, SimParams, V3};
-use fur::strand_textures::StrandTextures;
+use fur_core::scene::{GroomParams, Mesh, Strands};
+use fur_core::sim::{CpuSim, Motion, MotionKind, Sdf, SimParams, V3};
+use fur_gpu::sim::GpuSim;
+use fur_gpu::strand_textures::StrandTextures;
 use glam::{DMat4, Vec3};
 
 /// A closed cube of half-size `h` centred on the origin, outward-facing.
@@ -47,7 +48,7 @@ fn cube(h: f32) -> Mesh {
     mesh
 }
 
-use fur::sim::sdf::exact_distances as exact;
+use fur_core::sim::sdf::exact_distances as exact;
 
 /// Deterministic points spread over the field's grid.
 fn sample_points(sdf: &Sdf, count: usize) -> Vec<Vec3> {
@@ -59,9 +60,9 @@ fn sample_points(sdf: &Sdf, count: usize) -> Vec<Vec3> {
     (0..count as u32)
         .map(|i| {
             let u = Vec3::new(
-                fur::scene::hash_unit(3 * i),
-                fur::scene::hash_unit(3 * i + 1),
-                fur::scene::hash_unit(3 * i + 2),
+                fur_core::scene::hash_unit(3 * i),
+                fur_core::scene::hash_unit(3 * i + 1),
+                fur_core::scene::hash_unit(3 * i + 2),
             );
             sdf.origin + u * extent
         })
@@ -174,7 +175,7 @@ struct Pressed {
 fn pressed(mesh: &Mesh, margin: Option<f32>, frames: usize) -> Pressed {
     let device = common::device();
     let (_, radius) = mesh.bounds();
-    let (groom, params, motion) = fur::sim::sdf::pressing_case(radius, margin.is_some());
+    let (groom, params, motion) = fur_core::sim::sdf::pressing_case(radius, margin.is_some());
     let params = SimParams {
         collision_margin: margin.unwrap_or(params.collision_margin),
         ..params
@@ -191,7 +192,8 @@ fn pressed(mesh: &Mesh, margin: Option<f32>, frames: usize) -> Pressed {
     let mut textures = StrandTextures::new(&device, &strands, motion.head(0.0).as_mat4()).unwrap();
     let mut gpu = GpuSim::with_body(&device, &textures, params.clone(), 1, Some(&sdf)).unwrap();
     assert_eq!(
-        gpu.active_steps().contains(&fur::sim::SimStep::Collision),
+        gpu.active_steps()
+            .contains(&fur_core::sim::SimStep::Collision),
         margin.is_some()
     );
     gpu.run_frames(&mut textures, frames, |t| motion.head(t))
@@ -356,7 +358,7 @@ fn gpu_collision_matches_the_cpu_reference() {
         segment_length: 0.03,
         comb_direction: Vec3::NEG_Y,
         comb_strength: 3.0,
-        flow: fur::scene::Flow::Direction,
+        flow: fur_core::scene::Flow::Direction,
         ..Default::default()
     };
     let strands = Strands::grow(&mesh, &groom).unwrap();

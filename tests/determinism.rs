@@ -9,9 +9,10 @@
 mod common;
 
 use ash::vk;
-use fur::render::{FrameSettings, FurStyle, Lighting, Primitive, Renderer, Shading, Shadows};
-use fur::scene::{Camera, GroomParams, Mesh, Strands};
-use fur::strand_textures::StrandTextures;
+use fur_core::render::{FrameSettings, FurStyle, Lighting, Primitive, Shading, Shadows};
+use fur_core::scene::{Camera, GroomParams, Mesh, Strands};
+use fur_gpu::render::Renderer;
+use fur_gpu::strand_textures::StrandTextures;
 
 /// The drawings whose frames are compared: each primitive, shading and sample count, the
 /// vertex LOD, thin-hair AA, shadows and the supersampled reference's settings.
@@ -61,7 +62,7 @@ fn drawings() -> Vec<(&'static str, FrameSettings)> {
             "Marschner, per vertex",
             FrameSettings {
                 lighting: Lighting {
-                    model: fur::render::LightingModel::Marschner,
+                    model: fur_core::render::LightingModel::Marschner,
                     ..Lighting::default()
                 },
                 ..base.clone()
@@ -71,7 +72,7 @@ fn drawings() -> Vec<(&'static str, FrameSettings)> {
             "Marschner, per fragment",
             FrameSettings {
                 lighting: Lighting {
-                    model: fur::render::LightingModel::Marschner,
+                    model: fur_core::render::LightingModel::Marschner,
                     ..Lighting::default()
                 },
                 style: FurStyle {

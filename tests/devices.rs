@@ -51,14 +51,14 @@ fn render_on(choice: &str, out: &Path, env: Option<&str>) -> Output {
 }
 
 /// The devices as the library lists them (the same list `fur devices` prints).
-fn devices() -> fur::gpu::DeviceList {
-    let list = fur::gpu::list_devices().expect("the Vulkan devices can be listed");
+fn devices() -> fur_gpu::gpu::DeviceList {
+    let list = fur_gpu::gpu::list_devices().expect("the Vulkan devices can be listed");
     assert!(!list.devices.is_empty(), "no Vulkan device (see README)");
     list
 }
 
 /// A case-changed part of a name only the default device has: `LLVMpipe` on lavapipe.
-fn name_choice(list: &fur::gpu::DeviceList) -> String {
+fn name_choice(list: &fur_gpu::gpu::DeviceList) -> String {
     let default = &list.devices[list.default.expect("a usable device")];
     let lavapipe = list
         .devices
@@ -132,11 +132,11 @@ fn a_device_is_chosen_by_index_and_by_any_case_part_of_its_name() {
     }
     // The library takes the same choices, with the validation layer on.
     for choice in &choices {
-        let device = fur::gpu::headless_on(true, Some(choice)).expect("the chosen device");
+        let device = fur_gpu::gpu::headless_on(true, Some(choice)).expect("the chosen device");
         assert_eq!(device.info().name, list.devices[default].name);
         assert!(!device.info().driver.is_empty());
         common::assert_clean(&device);
-        fur::gpu::shut_down(device).unwrap();
+        fur_gpu::gpu::shut_down(device).unwrap();
     }
     // `--device` wins over FUR_DEVICE.
     let image = dir.join("over_env.png");

@@ -437,7 +437,7 @@ fn the_measured_documents_prose_quotes_their_runs() {
         .collect();
     // The ratios and the distances between the two models, per scene and fur colour.
     held.extend(truth_ratios().derived());
-    let fibre = fur::render::Fibre::default();
+    let fibre = fur_core::render::Fibre::default();
     held.extend(
         [
             fibre.longitudinal_roughness,
@@ -448,7 +448,7 @@ fn the_measured_documents_prose_quotes_their_runs() {
     );
     // The goal's body's vertices (`dense-sphere`: its masters), bound to the code by
     // tests/stated_figures.rs.
-    let dense: fur::scene::ModelSpec = "dense-sphere".parse().unwrap();
+    let dense: fur_core::scene::ModelSpec = "dense-sphere".parse().unwrap();
     held.insert(dense.load().unwrap().positions.len().to_string());
     let mut unheld = Vec::new();
     for (doc, name) in docs {

@@ -3,8 +3,8 @@
 //! a minute; `FUR_FUZZ_CASES=200000 cargo test --release --test fuzz` runs longer. No
 //! input may panic, and whatever parses must be usable.
 
-use fur::scene::Mesh;
 use fur::viewer::Script;
+use fur_core::scene::Mesh;
 use proptest::prelude::*;
 use proptest::test_runner::{Config, RngAlgorithm, TestRng, TestRunner};
 
@@ -210,7 +210,7 @@ fn scripts_never_panic_the_parser() {
 
 /// A small valid `.glb`: a rigged quad (two joints, a clip of each interpolation, UVs).
 fn small_glb() -> Vec<u8> {
-    use fur::scene::{Channel, Clip, Interpolation, Joint, Node, Property, Rig, Transform};
+    use fur_core::scene::{Channel, Clip, Interpolation, Joint, Node, Property, Rig, Transform};
     use glam::{Mat4, Quat, Vec2, Vec3, Vec4};
     let nodes = vec![
         Node {
@@ -287,7 +287,7 @@ fn small_glb() -> Vec<u8> {
         indices,
         texture: None,
     };
-    fur::scene::write_glb(&mesh, Some(&rig)).unwrap()
+    fur_core::scene::write_glb(&mesh, Some(&rig)).unwrap()
 }
 
 /// One change to a file's bytes; positions are taken modulo its length.
@@ -345,14 +345,14 @@ fn mutated_glb_files_never_panic_the_gltf_loader() {
     std::fs::create_dir_all(&dir).unwrap();
     let path = dir.join("mutated.glb");
     std::fs::write(&path, &original).unwrap();
-    let body = fur::scene::load_gltf(&path).expect("the unmutated file loads");
+    let body = fur_core::scene::load_gltf(&path).expect("the unmutated file loads");
     assert!(body.rig.is_some());
     let loaded = std::cell::Cell::new(0u32);
     let mut runner = runner(2000);
     let cases = runner.config().cases;
     let result = runner.run(&prop::collection::vec(mutation(), 1..4), |mutations| {
         std::fs::write(&path, mutate(original.clone(), &mutations)).unwrap();
-        if let Ok(body) = fur::scene::load_gltf(&path) {
+        if let Ok(body) = fur_core::scene::load_gltf(&path) {
             check_mesh(&body.mesh)?;
             if let Some(rig) = &body.rig {
                 prop_assert!(

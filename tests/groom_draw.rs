@@ -6,7 +6,7 @@ mod common;
 use std::path::{Path, PathBuf};
 use std::process::Output;
 
-use fur::groom_file::{read_groom, Guides};
+use fur_core::groom_file::{read_groom, Guides};
 use glam::Vec3;
 
 fn fur(args: &[&str]) -> Output {
@@ -62,7 +62,7 @@ fn each_guide_is_drawn_once_as_it_is() {
     ok(&fur(&["export-groom", s(&own), "--model", "blob"]));
     let guides = curled_guides(&read_groom(&own).unwrap());
     let path = dir.join("curled.hair");
-    fur::groom_file::write_groom(&path, &guides, "test").unwrap();
+    fur_core::groom_file::write_groom(&path, &guides, "test").unwrap();
     let frame = dir.join("frame.usda");
     // The groom drawn as it is, small, validation on: the export and the renders below.
     let drawing = |command: &[&str], more: &[&str], out: &Path| {
@@ -106,7 +106,7 @@ fn each_guide_is_drawn_once_as_it_is() {
             .unwrap();
         assert!(!matched[g], "guide {g} drawn twice");
         matched[g] = true;
-        let expected = fur::scene::resample(guide, 8);
+        let expected = fur_core::scene::resample(guide, 8);
         let shift = hair[0] - expected[0];
         let worst = hair
             .iter()

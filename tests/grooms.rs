@@ -12,7 +12,7 @@ mod hostile;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
-use fur::groom_file::{read_groom, Guides};
+use fur_core::groom_file::{read_groom, Guides};
 use glam::Vec3;
 
 fn fur(args: &[&str]) -> Output {
@@ -93,7 +93,7 @@ fn an_exported_groom_comes_back_as_the_same_master_hairs() {
 #[test]
 fn export_groom_writes_the_masters_combed_along_the_flow() {
     let dir = scratch("flow");
-    let mesh = fur::scene::Mesh::blob();
+    let mesh = fur_core::scene::Mesh::blob();
     let mut written = Vec::new();
     for flow in ["body", "direction"] {
         let path = dir.join(format!("{flow}.usda"));
@@ -105,12 +105,12 @@ fn export_groom_writes_the_masters_combed_along_the_flow() {
             "--flow",
             flow,
         ]));
-        let options = fur::scene_file::SceneOptions {
+        let options = fur_core::scene_file::SceneOptions {
             flow: flow.parse().unwrap(),
             ..Default::default()
         };
         let (groom, _) = options.resolve(&mesh).unwrap();
-        let grown = fur::scene::Strands::grow(&mesh, &groom).unwrap();
+        let grown = fur_core::scene::Strands::grow(&mesh, &groom).unwrap();
         let grown = grown.to_guides(None);
         let read = read_groom(&path).unwrap();
         let (worst, length) = apart(&grown, &read);
@@ -353,7 +353,7 @@ fn a_groom_file_draws_the_fur_it_came_from() {
     let mut moved = read_groom(&groom).unwrap();
     moved.transform(glam::Mat4::from_translation(Vec3::new(0.0, 0.0, 0.1)));
     let moved_path = dir.join("moved.hair");
-    fur::groom_file::write_groom(&moved_path, &moved, "test").unwrap();
+    fur_core::groom_file::write_groom(&moved_path, &moved, "test").unwrap();
     let shifted = dir.join("moved.png");
     ok(&fur(&[
         &[
@@ -399,7 +399,7 @@ fn a_bald_region_draws_no_hair() {
     }
     assert!(half.count() * 3 < guides.count() * 2 && half.count() * 3 > guides.count());
     let half_path = dir.join("half.hair");
-    fur::groom_file::write_groom(&half_path, &half, "test").unwrap();
+    fur_core::groom_file::write_groom(&half_path, &half, "test").unwrap();
     let hairs = |groom: &Path| -> u64 {
         let out = ok(&fur(&[
             "render",
@@ -477,12 +477,12 @@ fn a_simulated_groom_is_the_frame_as_drawn() {
 #[test]
 fn a_saved_scene_keeps_its_groom_file() {
     let dir = scratch("saved");
-    let mut scene = fur::scene_file::Scene::defaults(fur::scene::ModelSpec::Blob);
+    let mut scene = fur_core::scene_file::Scene::defaults(fur_core::scene::ModelSpec::Blob);
     scene.options.groom_file = Some("grooms/blob.hair".into());
     let saved = dir.join("elsewhere").join("scene.toml");
     std::fs::create_dir_all(saved.parent().unwrap()).unwrap();
     scene.save(&saved).unwrap();
-    let back = fur::scene_file::Scene::load(Some(&saved), None).unwrap();
+    let back = fur_core::scene_file::Scene::load(Some(&saved), None).unwrap();
     let want = std::env::current_dir().unwrap().join("grooms/blob.hair");
     assert_eq!(back.options.groom_file.as_deref(), want.to_str());
 }

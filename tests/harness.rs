@@ -1,6 +1,6 @@
 //! Tests of the checks every GPU test and the binary lean on: the test device hears the
 //! validation layer, a validation error fails `common::assert_clean`, and a leaked
-//! buffer fails `fur::gpu::shut_down`, what `fur render` and `fur bench` run at exit
+//! buffer fails `fur_gpu::gpu::shut_down`, what `fur render` and `fur bench` run at exit
 //! (their errors end the process with a failure, which `tests/cli.rs`'s
 //! `nothing_is_left_alive_at_exit` asserts against).
 
@@ -11,7 +11,7 @@ use gpu_allocator::MemoryLocation;
 
 /// A buffer the layer must object to: no usage at all (VUID-VkBufferCreateInfo-None-09499
 /// / usage-requiredbitmask), which lavapipe itself creates without complaint.
-fn create_invalid_buffer(device: &fur::gpu::Device) -> vk::Buffer {
+fn create_invalid_buffer(device: &fur_gpu::gpu::Device) -> vk::Buffer {
     let info = vk::BufferCreateInfo::default()
         .size(256)
         .usage(vk::BufferUsageFlags::empty())
@@ -45,7 +45,7 @@ fn a_validation_error_fails_the_gpu_tests_check() {
 fn a_leaked_buffer_fails_the_exit_check() {
     // A buffer never dropped keeps the device alive: `shut_down` names the leak.
     let device = common::device();
-    let buffer = fur::gpu::Buffer::new(
+    let buffer = fur_gpu::gpu::Buffer::new(
         &device,
         "leaked on purpose",
         1024,
@@ -54,7 +54,7 @@ fn a_leaked_buffer_fails_the_exit_check() {
     )
     .unwrap();
     std::mem::forget(buffer);
-    let error = fur::gpu::shut_down(device).expect_err("a leaked buffer passed shut_down");
+    let error = fur_gpu::gpu::shut_down(device).expect_err("a leaked buffer passed shut_down");
     assert!(matches!(error, fur::Error::Leak(_)), "{error}");
     assert!(error.to_string().contains("leak"), "{error}");
 
@@ -69,7 +69,7 @@ fn a_leaked_buffer_fails_the_exit_check() {
     let raw = unsafe { device.raw().create_buffer(&info, None) }.unwrap();
     assert_ne!(raw, vk::Buffer::null());
     common::assert_clean(&device);
-    let error = fur::gpu::shut_down(device).expect_err("a leaked VkBuffer passed shut_down");
+    let error = fur_gpu::gpu::shut_down(device).expect_err("a leaked VkBuffer passed shut_down");
     let text = error.to_string();
     assert!(
         matches!(error, fur::Error::Validation { .. }) && text.contains("VkBuffer"),
@@ -78,7 +78,7 @@ fn a_leaked_buffer_fails_the_exit_check() {
 
     // And the same run without the leak passes.
     let device = common::device();
-    let buffer = fur::gpu::Buffer::new(
+    let buffer = fur_gpu::gpu::Buffer::new(
         &device,
         "released",
         1024,
@@ -87,5 +87,5 @@ fn a_leaked_buffer_fails_the_exit_check() {
     )
     .unwrap();
     drop(buffer);
-    fur::gpu::shut_down(device).unwrap();
+    fur_gpu::gpu::shut_down(device).unwrap();
 }

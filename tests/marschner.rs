@@ -1,12 +1,12 @@
 //! The Marschner fibre model on the device follows its CPU twin
-//! (`fur::render::marschner`), and the twin has the shape of the model: lavapipe,
+//! (`fur_core::render::marschner`), and the twin has the shape of the model: lavapipe,
 //! validation on.
 
 mod common;
 mod standing;
 
-use fur::render::marschner::{marschner, marschner_of, sigma_a_from_color, Layers, Lobes};
-use fur::render::Fibre;
+use fur_core::render::marschner::{marschner, marschner_of, sigma_a_from_color, Layers, Lobes};
+use fur_core::render::Fibre;
 use glam::Vec3;
 use standing::*;
 

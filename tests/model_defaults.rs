@@ -4,9 +4,9 @@
 
 mod common;
 
-use fur::render::RgbaImage;
-use fur::scene::{Mesh, Strands};
-use fur::session::SceneOptions;
+use fur_core::render::RgbaImage;
+use fur_core::scene::{Mesh, Strands};
+use fur_core::scene_file::SceneOptions;
 use glam::Vec3;
 
 const SIZE: (u32, u32) = (192, 108);
@@ -112,7 +112,7 @@ fn thin_protrusions_keep_their_shape_under_the_fur() {
         // body's flow lays thin parts flat, which hides the spikes' burial).
         SceneOptions {
             thickness_limit: 0.0,
-            flow: fur::scene::Flow::Direction,
+            flow: fur_core::scene::Flow::Direction,
             ..SceneOptions::default()
         },
     );

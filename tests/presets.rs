@@ -6,7 +6,7 @@ mod common;
 
 use std::path::Path;
 
-use fur::render::FurPreset;
+use fur_core::render::FurPreset;
 use glam::Vec3;
 
 fn ok(out: &std::process::Output) {

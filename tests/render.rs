@@ -3,8 +3,8 @@
 
 mod common;
 
-use fur::render::{kajiya_kay, FrameSettings, FurStyle, Lighting, Primitive};
-use fur::scene::{Camera, GroomParams, Mesh};
+use fur_core::render::{kajiya_kay, FrameSettings, FurStyle, Lighting, Primitive};
+use fur_core::scene::{Camera, GroomParams, Mesh};
 use glam::Vec3;
 
 const SIZE: (u32, u32) = (192, 144);
@@ -301,7 +301,7 @@ fn linear(c: u8) -> f32 {
 /// summed over `mask` (the pixels the hairs cover), the mask of this image's covered
 /// pixels, and the background's linear red.
 fn standing_hairs_lit(
-    device: &std::sync::Arc<fur::gpu::Device>,
+    device: &std::sync::Arc<fur_gpu::gpu::Device>,
     light_deg: Option<f32>,
     defines: &[(&str, &str)],
     mask: Option<&[bool]>,
@@ -325,7 +325,7 @@ fn standing_hairs_lit(
         },
         ..Default::default()
     };
-    let (image, _, _) = fur::gpu::shader::with_test_defines(defines, || {
+    let (image, _, _) = fur_gpu::gpu::shader::with_test_defines(defines, || {
         common::render(device, &plane, &groom, &settings, (128, 96))
     });
     common::keep(
@@ -363,7 +363,7 @@ fn kajiya_kay_lighting(light: Vec3, kd: f32, ambient: f32) -> Lighting {
         root_occlusion: 0.0,
         root_color: Vec3::splat(0.8),
         tip_color: Vec3::splat(0.8),
-        highlights: fur::render::Highlights {
+        highlights: fur_core::render::Highlights {
             secondary: false,
             ..Default::default()
         },
@@ -383,7 +383,7 @@ const LIGHT_ANGLES: [f32; 7] = [0.0, 30.0, 60.0, 90.0, 120.0, 150.0, 180.0];
 /// S the coverage the unlit render measures (S (0.8 − b)). Returns the largest
 /// difference as a fraction of S × 0.8 (the brightest a hair gets), and the values.
 fn kajiya_kay_mismatch(
-    device: &std::sync::Arc<fur::gpu::Device>,
+    device: &std::sync::Arc<fur_gpu::gpu::Device>,
     defines: &[(&str, &str)],
 ) -> (f32, Vec<(f32, f32)>) {
     let (unlit, mask, background) = standing_hairs_lit(device, None, defines, None);

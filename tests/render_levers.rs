@@ -4,9 +4,9 @@
 
 mod common;
 
-use fur::render::{FrameSettings, FurStyle, Lighting, Primitive, RgbaImage};
-use fur::scene::{Camera, GroomParams, Mesh, ModelSpec, Strands};
-use fur::session::SceneOptions;
+use fur_core::render::{FrameSettings, FurStyle, Lighting, Primitive, RgbaImage};
+use fur_core::scene::{Camera, GroomParams, Mesh, ModelSpec, Strands};
+use fur_core::scene_file::SceneOptions;
 use glam::Vec3;
 
 /// A few master hairs on a small plane seen from the side, unlit: each pixel's
@@ -165,7 +165,7 @@ fn within_a_pixel(a: &[(i32, i32)], b: &[(i32, i32)]) -> bool {
 /// drew the same hairs in under half the segments with every root and tip pixel within
 /// a pixel of where it was: `Err` names what broke.
 fn vertex_lod_keeps_the_ends(
-    device: &std::sync::Arc<fur::gpu::Device>,
+    device: &std::sync::Arc<fur_gpu::gpu::Device>,
     defines: &[(&str, &str)],
 ) -> Result<(), String> {
     let plane = Mesh::grid(3, 3, 0.6);
@@ -176,14 +176,15 @@ fn vertex_lod_keeps_the_ends(
     settings.style.vertex_lod_px = 0.0;
     // Tips drawn at full strength, so their pixels can be found (thin-hair AA fades them).
     settings.style.thin_hair_aa = false;
-    let ((exact, _, all), (lod, _, fewer)) = fur::gpu::shader::with_test_defines(defines, || {
-        let exact = common::render(device, &plane, &groom, &settings, size);
-        settings.style.vertex_lod_px = 0.5;
-        (
-            exact,
-            common::render(device, &plane, &groom, &settings, size),
-        )
-    });
+    let ((exact, _, all), (lod, _, fewer)) =
+        fur_gpu::gpu::shader::with_test_defines(defines, || {
+            let exact = common::render(device, &plane, &groom, &settings, size);
+            settings.style.vertex_lod_px = 0.5;
+            (
+                exact,
+                common::render(device, &plane, &groom, &settings, size),
+            )
+        });
     common::keep(&exact, &format!("lod_exact{}", defines.len()));
     common::keep(&lod, &format!("lod_decimated{}", defines.len()));
     if fewer.hairs != all.hairs {
@@ -337,7 +338,7 @@ fn the_hair_count_follows_the_density_formula_at_every_scale() {
 /// back to rung 3's.
 #[test]
 fn every_rung_of_the_ladder_draws_differently() {
-    use fur::render::budget::LADDER;
+    use fur_core::render::budget::LADDER;
     let device = common::device();
     let mesh = ModelSpec::Blob.load().unwrap();
     let (groom, settings) = SceneOptions::default().resolve(&mesh).unwrap();
@@ -397,12 +398,14 @@ fn the_sample_count_can_change_between_frames() {
     };
     let strands = Strands::grow(&mesh, &groom).unwrap();
     let textures =
-        fur::strand_textures::StrandTextures::new(&device, &strands, glam::Mat4::IDENTITY).unwrap();
+        fur_gpu::strand_textures::StrandTextures::new(&device, &strands, glam::Mat4::IDENTITY)
+            .unwrap();
     let extent = ash::vk::Extent2D {
         width: 64,
         height: 48,
     };
-    let mut renderer = fur::render::Renderer::new(&device, &mesh, &textures, extent, 1, 4).unwrap();
+    let mut renderer =
+        fur_gpu::render::Renderer::new(&device, &mesh, &textures, extent, 1, 4).unwrap();
     let mut settings = FrameSettings {
         camera: Camera {
             distance: 4.0,

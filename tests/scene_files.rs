@@ -5,8 +5,8 @@
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
-use fur::scene::ModelSpec;
-use fur::scene_file::{Scene, SceneFile};
+use fur_core::scene::ModelSpec;
+use fur_core::scene_file::{Scene, SceneFile};
 use proptest::prelude::*;
 use proptest::test_runner::{Config, RngAlgorithm, TestRng, TestRunner};
 
@@ -102,7 +102,7 @@ fn a_saved_scene_loads_back_unchanged() {
     // A model given by path is written as it was given and read back relative to the
     // file's folder.
     let obj = scratch("model.obj");
-    fur::scene::Mesh::blob().write_obj(&obj).unwrap();
+    fur_core::scene::Mesh::blob().write_obj(&obj).unwrap();
     std::fs::write(scratch("with_model.toml"), "model = \"model.obj\"\n").unwrap();
     let loaded = Scene::load(Some(&scratch("with_model.toml")), None).unwrap();
     assert_eq!(loaded.model, ModelSpec::File(obj));

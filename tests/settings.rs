@@ -6,9 +6,9 @@
 use std::path::{Path, PathBuf};
 
 use clap::{Args, FromArgMatches};
-use fur::scene::ModelSpec;
-use fur::scene_file::{docs, Flag, Kind, Scene, SceneFile, Setting, Value, GROUPS};
 use fur::setting_args::SettingArgs;
+use fur_core::scene::ModelSpec;
+use fur_core::scene_file::{docs, Flag, Kind, Scene, SceneFile, Setting, Value, GROUPS};
 
 fn scratch(name: &str) -> PathBuf {
     let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("settings");
@@ -246,7 +246,7 @@ fn the_scene_file_docs_hold_the_generated_tables() {
     let doc =
         std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("docs/scene-files.md"))
             .unwrap();
-    let (before, after) = fur::files::region(&doc, docs::BEGIN, docs::END).expect("markers");
+    let (before, after) = fur_core::files::region(&doc, docs::BEGIN, docs::END).expect("markers");
     let _ = before;
     let table = &doc[doc.len() - after.len() - (doc.len() - before.len() - after.len())
         ..doc.len() - after.len()];

@@ -5,9 +5,10 @@ mod common;
 
 use common::rounding;
 
-use fur::scene::{GroomParams, Mesh, Strands};
-use fur::sim::{CpuSim, GpuSim, Motion, MotionKind, SimParams, StepConstants};
-use fur::strand_textures::StrandTextures;
+use fur_core::scene::{GroomParams, Mesh, Strands};
+use fur_core::sim::{CpuSim, Motion, MotionKind, SimParams, StepConstants};
+use fur_gpu::sim::GpuSim;
+use fur_gpu::strand_textures::StrandTextures;
 use glam::{DMat4, Vec3};
 
 fn strands(subdivisions: u32, groom: &GroomParams) -> Strands {
@@ -362,7 +363,7 @@ fn a_creeping_root_keeps_its_strand_awake() {
     );
     let settle = 1.0;
     let speed =
-        0.2 * f64::from(fur::sim::cpu::REST_MOTION) * f64::from(strands.hair_length()) * 60.0;
+        0.2 * f64::from(fur_core::sim::cpu::REST_MOTION) * f64::from(strands.hair_length()) * 60.0;
     let head = move |t: f64| {
         DMat4::from_translation(glam::DVec3::new((t - settle).max(0.0) * speed, 0.0, 0.0))
     };

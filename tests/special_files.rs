@@ -384,9 +384,10 @@ fn lines_and_points_are_not_faces() {
     ]);
     assert_fails(&o, &["no faces", "lines.obj"], "an OBJ of lines and points");
     // Beside faces, a three-vertex line adds no triangle.
-    let mesh =
-        fur::scene::Mesh::parse_obj(b"v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 2 3\nl 1 2 4\np 4\n")
-            .unwrap();
+    let mesh = fur_core::scene::Mesh::parse_obj(
+        b"v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 2 3\nl 1 2 4\np 4\n",
+    )
+    .unwrap();
     assert_eq!(mesh.triangle_count(), 1);
 }
 

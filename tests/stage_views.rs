@@ -8,17 +8,19 @@ mod common;
 use std::collections::HashMap;
 
 use ash::vk;
-use fur::colour::linear_to_srgb8;
-use fur::render::stage::{displacement_colour, inner_level, level_colour};
-use fur::render::{FrameReport, FrameSettings, FurStyle, Renderer, RgbaImage, Stage};
-use fur::scene::{Camera, GroomParams, Mesh, Strands};
-use fur::sim::{GpuSim, Sdf, SimParams};
-use fur::strand_textures::StrandTextures;
+use fur_core::colour::linear_to_srgb8;
+use fur_core::render::stage::{displacement_colour, inner_level, level_colour};
+use fur_core::render::{FrameSettings, FurStyle, RgbaImage, Stage};
+use fur_core::scene::{Camera, GroomParams, Mesh, Strands};
+use fur_core::sim::{Sdf, SimParams};
+use fur_gpu::render::{FrameReport, Renderer};
+use fur_gpu::sim::GpuSim;
+use fur_gpu::strand_textures::StrandTextures;
 use glam::{Mat4, Vec2, Vec3, Vec4, Vec4Swizzles};
 
 /// Draws `strands` on `mesh` once at `size`, one frame in flight.
 fn draw(
-    device: &std::sync::Arc<fur::gpu::Device>,
+    device: &std::sync::Arc<fur_gpu::gpu::Device>,
     mesh: &Mesh,
     strands: &Strands,
     settings: &FrameSettings,
@@ -251,7 +253,7 @@ fn the_masters_view_draws_exactly_the_master_hairs() {
 }
 
 /// One pressing case (hair combed down on a sphere under strong gravity and a shake,
-/// `fur::sim::sdf::pressing_case`) simulated on the GPU for `frames` frames, with or
+/// `fur_core::sim::sdf::pressing_case`) simulated on the GPU for `frames` frames, with or
 /// without collision and the probe: the vertices (w = the probe's value, or 1).
 struct Pressed {
     strands: Strands,
@@ -266,7 +268,7 @@ fn pressed(collision: bool, probe: bool, frames: usize) -> Pressed {
     let device = common::device();
     let mesh = Mesh::icosphere(2);
     let (_, radius) = mesh.bounds();
-    let (groom, params, motion) = fur::sim::sdf::pressing_case(radius, collision);
+    let (groom, params, motion) = fur_core::sim::sdf::pressing_case(radius, collision);
     let strands = Strands::grow(&mesh, &groom).unwrap();
     let hair = strands.hair_length();
     let (sdf, _) = Sdf::build(
@@ -327,7 +329,7 @@ fn the_simulation_probe_measures_displacement_and_pushes_without_changing_the_si
             let model = probed.head.inverse().transform_point3(p.xyz());
             let (field, _) = probed
                 .sdf
-                .sample(fur::geometry::V3::<f32>::from_vec3(model))
+                .sample(fur_core::geometry::V3::<f32>::from_vec3(model))
                 .expect("a pushed vertex lies in the field");
             let margin = probed.margin * length;
             assert!(
@@ -361,8 +363,8 @@ fn the_simulation_view_is_blue_at_rest_and_coloured_in_motion() {
     let mesh = Mesh::blob();
     let (centre, radius) = mesh.bounds();
     let strands = Strands::grow(&mesh, &GroomParams::default()).unwrap();
-    let motion = fur::sim::Motion {
-        kind: fur::sim::MotionKind::Shake,
+    let motion = fur_core::sim::Motion {
+        kind: fur_core::sim::MotionKind::Shake,
         amplitude: 0.3,
         rate: 2.0,
     };
@@ -386,7 +388,7 @@ fn the_simulation_view_is_blue_at_rest_and_coloured_in_motion() {
     let mut renderer = Renderer::new(&device, &mesh, &textures, extent, 1, 1).unwrap();
     let mut gpu = GpuSim::new(&device, &textures, SimParams::default()).unwrap();
     gpu.set_probe(Some(None), &mut textures).unwrap();
-    let background = srgb(fur::render::BACKGROUND);
+    let background = srgb(fur_gpu::render::BACKGROUND);
     let drawn = |image: &RgbaImage| -> Vec<[u8; 3]> {
         (0..image.height)
             .flat_map(|y| (0..image.width).map(move |x| (x, y)))
@@ -399,7 +401,7 @@ fn the_simulation_view_is_blue_at_rest_and_coloured_in_motion() {
     };
     // Lines cover their pixels partly (lavapipe draws them smooth): a pixel is a blend
     // of the background and its line's colour.
-    let linear = |p: [u8; 3]| Vec3::from(p.map(fur::colour::srgb8_to_linear));
+    let linear = |p: [u8; 3]| Vec3::from(p.map(fur_core::colour::srgb8_to_linear));
     let bg = linear(background);
     let blend_of = |p: [u8; 3], colour: Vec3| {
         let (p, d) = (linear(p) - bg, colour - bg);

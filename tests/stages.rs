@@ -4,19 +4,18 @@
 mod common;
 
 use ash::vk;
-use fur::colour::linear_to_srgb8;
-use fur::render::{
-    FrameReport, FrameSettings, FurStyle, Lighting, Primitive, Renderer, RgbaImage, Stage,
-};
-use fur::scene::{Camera, GroomParams, Mesh, Strands};
-use fur::strand_textures::StrandTextures;
+use fur_core::colour::linear_to_srgb8;
+use fur_core::render::{FrameSettings, FurStyle, Lighting, Primitive, RgbaImage, Stage};
+use fur_core::scene::{Camera, GroomParams, Mesh, Strands};
+use fur_gpu::render::{FrameReport, Renderer};
+use fur_gpu::strand_textures::StrandTextures;
 use glam::{Vec3, Vec4Swizzles};
 
 const SIZE: (u32, u32) = (256, 192);
 
 /// Draws `strands` on `mesh` once, at `SIZE` and one frame in flight.
 fn draw(
-    device: &std::sync::Arc<fur::gpu::Device>,
+    device: &std::sync::Arc<fur_gpu::gpu::Device>,
     mesh: &Mesh,
     strands: &Strands,
     settings: &FrameSettings,

@@ -14,7 +14,7 @@ mod common;
 mod phrases;
 
 use common::{flat, read_doc as read};
-use fur::files::size_text;
+use fur_core::files::size_text;
 use phrases::{count_text, stated};
 
 #[test]

@@ -4,9 +4,10 @@
 
 mod common;
 
-use fur::scene::{GroomParams, Mesh, Strands};
-use fur::sim::{GpuSim, Motion, MotionKind, Sdf, SimParams, SimStep};
-use fur::strand_textures::StrandTextures;
+use fur_core::scene::{GroomParams, Mesh, Strands};
+use fur_core::sim::{Motion, MotionKind, Sdf, SimParams, SimStep};
+use fur_gpu::sim::GpuSim;
+use fur_gpu::strand_textures::StrandTextures;
 use glam::{Vec3, Vec4Swizzles};
 
 /// One frame's worth of the blob's shaken, windy, colliding hair at one substep per

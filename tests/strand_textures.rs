@@ -4,8 +4,8 @@
 
 mod common;
 
-use fur::render::{FrameSettings, FurStyle};
-use fur::scene::{Camera, GroomParams, Mesh};
+use fur_core::render::{FrameSettings, FurStyle};
+use fur_core::scene::{Camera, GroomParams, Mesh};
 
 #[test]
 fn fifty_thousand_master_hairs_tile_the_strand_textures() {
@@ -17,9 +17,10 @@ fn fifty_thousand_master_hairs_tile_the_strand_textures() {
         segment_length: 0.02,
         ..Default::default()
     };
-    let strands = fur::scene::Strands::grow(&mesh, &groom).unwrap();
+    let strands = fur_core::scene::Strands::grow(&mesh, &groom).unwrap();
     let textures =
-        fur::strand_textures::StrandTextures::new(&device, &strands, glam::Mat4::IDENTITY).unwrap();
+        fur_gpu::strand_textures::StrandTextures::new(&device, &strands, glam::Mat4::IDENTITY)
+            .unwrap();
     // 50,451 strands of 5 vertices in one row would need 252,255 texels: more than any
     // device's widest image, so they must tile into rows. The layout, worked out by
     // hand: ⌊max / 5⌋ strands a row, rows stacked downwards.

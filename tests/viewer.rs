@@ -315,8 +315,8 @@ fn the_viewer_saves_a_scene_that_reproduces_its_view() {
         Duration::from_secs(120),
     );
     assert_ok(&out);
-    let original = fur::scene_file::Scene::load(Some(&scene), None).unwrap();
-    let loaded = fur::scene_file::Scene::load(Some(&saved), None).unwrap();
+    let original = fur_core::scene_file::Scene::load(Some(&scene), None).unwrap();
+    let loaded = fur_core::scene_file::Scene::load(Some(&saved), None).unwrap();
     // The file's look, the script's camera and wind, the window's size.
     assert_eq!(loaded.options.segments, original.options.segments);
     // The same light (the viewer keeps its direction normalised).
@@ -328,7 +328,7 @@ fn the_viewer_saves_a_scene_that_reproduces_its_view() {
             < 1e-5
     );
     assert_eq!(
-        fur::render::Lighting {
+        fur_core::render::Lighting {
             light_direction: b.light_direction,
             ..a.clone()
         },

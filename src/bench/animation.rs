@@ -12,12 +12,14 @@ use glam::Vec3;
 
 use super::sim::SimRun;
 use super::Bench;
-use crate::error::Result;
-use crate::scene::{critter, Mesh, Rig, Strands};
-use crate::session::{FurSession, SceneOptions, SessionSetup};
-use crate::sim::{GpuSim, Sdf, SimParams};
-use crate::skinning::{self, Playback, SkinnedBody};
-use crate::strand_textures::StrandTextures;
+use fur_core::scene::{critter, Mesh, Rig, Strands};
+use fur_core::scene_file::SceneOptions;
+use fur_core::sim::{Sdf, SimParams};
+use fur_core::skinning::{self, Playback, SkinnedBody};
+use fur_gpu::error::Result;
+use fur_gpu::session::{FurSession, SessionSetup};
+use fur_gpu::sim::GpuSim;
+use fur_gpu::strand_textures::StrandTextures;
 
 /// Progress ticks: the skinning cost, the walking frame, and each way of collision.
 pub(super) fn tasks() -> u64 {
@@ -108,7 +110,7 @@ impl Bench<'_> {
         let params = SimParams {
             collision: way.collision,
             skin_blend: Some(way.skin_blend),
-            ..crate::scene_file::Scene::default_sim()
+            ..fur_core::scene_file::Scene::default_sim()
         };
         let mut textures = StrandTextures::new(self.device, strands, glam::Mat4::IDENTITY)?;
         let mut gpu = GpuSim::build(
@@ -124,7 +126,7 @@ impl Bench<'_> {
         gpu.run_frames(&mut textures, 30, |_| glam::DMat4::IDENTITY)?;
         let mut depths = super::metrics::Depths::default();
         for _ in 0..samples {
-            crate::interrupt::check()?;
+            fur_core::interrupt::check()?;
             gpu.run_frames(&mut textures, every, |_| glam::DMat4::IDENTITY)?;
             let posed = skinning::cpu::pose(body, &playback.joint_matrices(&body.rig, gpu.time));
             let surface = Mesh {
@@ -197,7 +199,7 @@ impl Bench<'_> {
         let (mesh, rig, strands) = critter_strands()?;
         let body = Arc::new(SkinnedBody::new(&mesh, rig.clone()));
         let playback = walk(&rig);
-        let params = crate::scene_file::Scene::default_sim();
+        let params = fur_core::scene_file::Scene::default_sim();
         let vertices = mesh.vertex_count();
 
         // Skinning: the integrate-only kernel on the skinned body against the same
@@ -272,7 +274,7 @@ impl Bench<'_> {
                     )),
                     groom: &groom,
                     sim: params.clone(),
-                    motion: crate::sim::Motion::still(),
+                    motion: fur_core::sim::Motion::still(),
                     settings,
                     extent: self.frame_extent(),
                     frames_in_flight: 1,

@@ -8,10 +8,11 @@ use glam::Vec3;
 
 use super::sim::{bench_shake, blob_body, blob_strands, SimRun};
 use super::Bench;
-use crate::error::Result;
-use crate::scene::{Mesh, Strands};
-use crate::sim::{GpuSim, Sdf, SimParams};
-use crate::strand_textures::StrandTextures;
+use fur_core::scene::{Mesh, Strands};
+use fur_core::sim::{Sdf, SimParams};
+use fur_gpu::error::Result;
+use fur_gpu::sim::GpuSim;
+use fur_gpu::strand_textures::StrandTextures;
 
 fn resolutions(quick: bool) -> &'static [u32] {
     if quick {
@@ -37,14 +38,14 @@ impl Bench<'_> {
         collision: bool,
     ) -> Result<(f64, f64)> {
         let mesh = Mesh::blob();
-        let (_, params, motion) = crate::sim::sdf::pressing_case(mesh.bounds().1, collision);
+        let (_, params, motion) = fur_core::sim::sdf::pressing_case(mesh.bounds().1, collision);
         let mut textures = StrandTextures::new(self.device, strands, motion.head(0.0).as_mat4())?;
         let mut gpu = GpuSim::with_body(self.device, &textures, params, 1, Some(body))?;
         let v = strands.vertices_per_strand as usize;
         let mut depths = super::metrics::Depths::default();
         // Sample the depth over the run's second half.
         for chunk in 0..4 {
-            crate::interrupt::check()?;
+            fur_core::interrupt::check()?;
             gpu.run_frames(&mut textures, frames / 4, |t| motion.head(t))?;
             if chunk < 2 {
                 continue;
@@ -66,7 +67,7 @@ impl Bench<'_> {
         let frames = if self.quick { 20 } else { 200 };
         let blob = Mesh::blob();
         let (_, radius) = blob.bounds();
-        let (groom, _, _) = crate::sim::sdf::pressing_case(radius, true);
+        let (groom, _, _) = fur_core::sim::sdf::pressing_case(radius, true);
         let pressed = Strands::grow(&blob, &groom)?;
         let hair = pressed.hair_length();
         let default_cells = Sdf::cells_for_hair(&blob, &SimParams::default(), hair, false);
@@ -157,7 +158,7 @@ impl Bench<'_> {
         // The cost in the default scene.
         let strands = blob_strands()?;
         let body = blob_body(&strands, &SimParams::default())?;
-        let params = crate::scene_file::Scene::default_sim();
+        let params = fur_core::scene_file::Scene::default_sim();
         let motion = bench_shake();
         let run = |collision| SimRun {
             params: SimParams {

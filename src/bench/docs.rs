@@ -7,7 +7,7 @@
 use std::path::Path;
 
 use super::Section;
-use crate::error::{CoreError, Error, Result};
+use fur_gpu::error::{CoreError, Error, Result};
 
 /// The lines between which [`write_docs`] puts the tables.
 pub const DOCS_BEGIN: &str = "<!-- BEGIN fur bench -->";
@@ -24,7 +24,7 @@ fn sections_line(sections: &[Section]) -> String {
 /// The sections the tables of `text`'s region hold: those its sections line names,
 /// every section for tables without the line, none for an empty region.
 fn sections_held(text: &str) -> Option<Vec<String>> {
-    let (before, after) = crate::files::region(text, DOCS_BEGIN, DOCS_END)?;
+    let (before, after) = fur_core::files::region(text, DOCS_BEGIN, DOCS_END)?;
     let inside = text[before.len()..text.len() - after.len()].trim();
     if inside.is_empty() {
         return Some(Vec::new());
@@ -50,15 +50,16 @@ fn sections_held(text: &str) -> Option<Vec<String>> {
 /// benchmark's markers whose tables (if any) are of the same sections: a run of some
 /// sections never replaces a document's tables of others.
 pub fn check_docs(path: &Path, sections: &[Section]) -> Result<()> {
-    crate::files::check_region(path, DOCS_BEGIN, DOCS_END)?;
-    let text = crate::files::read_text_bounded(path, crate::files::MAX_SCENE_BYTES, "document")
-        .map_err(|message| {
-            Error::Core(CoreError::Io {
-                operation: "read the document",
-                path: path.to_path_buf(),
-                message,
-            })
-        })?;
+    fur_core::files::check_region(path, DOCS_BEGIN, DOCS_END)?;
+    let text =
+        fur_core::files::read_text_bounded(path, fur_core::files::MAX_SCENE_BYTES, "document")
+            .map_err(|message| {
+                Error::Core(CoreError::Io {
+                    operation: "read the document",
+                    path: path.to_path_buf(),
+                    message,
+                })
+            })?;
     let held = sections_held(&text).unwrap_or_default();
     let running: Vec<String> = sections.iter().map(|s| s.name().to_string()).collect();
     if !held.is_empty() && held != running {
@@ -79,7 +80,7 @@ pub fn check_docs(path: &Path, sections: &[Section]) -> Result<()> {
 /// leaving the rest of the document as it is.
 pub fn write_docs(path: &Path, sections: &[Section], markdown: &str) -> Result<()> {
     let tables = format!("{}\n\n{}", sections_line(sections), markdown.trim());
-    Ok(crate::files::write_region(
+    Ok(fur_core::files::write_region(
         path, DOCS_BEGIN, DOCS_END, &tables,
     )?)
 }

@@ -9,15 +9,15 @@ use std::time::Instant;
 
 use super::metrics::median;
 use super::Bench;
-use crate::error::Result;
-use crate::scene::{FlowField, FlowFrom, Mesh, Strands};
-use crate::scene_file::SceneOptions;
+use fur_core::scene::{FlowField, FlowFrom, Mesh, Strands};
+use fur_core::scene_file::SceneOptions;
+use fur_gpu::error::Result;
 
 /// The models, smallest first; the quick suite takes the first two.
 fn models(quick: bool) -> Vec<(&'static str, Mesh)> {
     let mut all = vec![
         ("blob", Mesh::blob()),
-        ("critter (as a rigid body)", crate::scene::critter().0),
+        ("critter (as a rigid body)", fur_core::scene::critter().0),
     ];
     if !quick {
         all.push(("icosphere, 6 subdivisions", Mesh::icosphere(6)));

@@ -8,9 +8,10 @@ use std::time::Instant;
 
 use super::metrics::{median, Frames};
 use super::{Bench, BenchScene};
-use crate::error::Result;
-use crate::render::FurStyle;
-use crate::session::{FurSession, SceneOptions, SessionSetup};
+use fur_core::render::FurStyle;
+use fur_core::scene_file::SceneOptions;
+use fur_gpu::error::Result;
+use fur_gpu::session::{FurSession, SessionSetup};
 
 /// The original OpenGL demo's frame on its own scene, measured on this project's
 /// 2-core machine kind with Mesa's llvmpipe (1,345–1,641 ms; ~1,400 ms typical).
@@ -63,7 +64,7 @@ impl Bench<'_> {
         let Frames { warm, measured } = self.frame_counts();
         let (mut wall, mut gpu) = (Vec::new(), Vec::new());
         for frame in 0..warm + measured {
-            crate::interrupt::check()?;
+            fur_core::interrupt::check()?;
             let start = Instant::now();
             let (_, timings) = session.step_and_render()?;
             if frame >= warm {
@@ -82,7 +83,7 @@ impl Bench<'_> {
         let Frames { warm, measured } = self.frame_counts();
         let mut wall = Vec::new();
         for frame in 0..warm + measured {
-            crate::interrupt::check()?;
+            fur_core::interrupt::check()?;
             let start = Instant::now();
             session.render()?;
             if frame >= warm {
@@ -126,7 +127,7 @@ impl Bench<'_> {
                 (
                     "strands drawn in compute",
                     FurStyle {
-                        raster: crate::render::Raster::Compute,
+                        raster: fur_core::render::Raster::Compute,
                         ..scene.scene.options.draw.clone()
                     },
                 ),
@@ -164,7 +165,7 @@ impl Bench<'_> {
             let mut session = self.session(&scene, &scene.scene.options.draw)?;
             let mut sim_ms = Vec::new();
             for frame in 0..warm + measured {
-                crate::interrupt::check()?;
+                fur_core::interrupt::check()?;
                 let start = Instant::now();
                 let (user, motion) = (session.user, session.motion);
                 session

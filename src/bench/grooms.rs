@@ -10,11 +10,11 @@ use glam::Vec3;
 
 use super::metrics::median;
 use super::Bench;
-use crate::error::{Error, Result};
-use crate::groom_file::{
+use fur_core::groom_file::{
     parse_cyhair, parse_usd_measured, usd_limits, usdc_from_text, write_cyhair, write_usda,
     GroomFormat, Guides,
 };
+use fur_gpu::error::{Error, Result};
 
 pub(super) const TASKS: u64 = 3;
 

@@ -8,8 +8,8 @@ use super::metrics::flip;
 use super::plot::{Plot, Series, PALETTE};
 use super::quality::Shot;
 use super::Bench;
-use crate::error::Result;
-use crate::render::budget::LADDER;
+use fur_core::render::budget::LADDER;
+use fur_gpu::error::Result;
 
 pub(super) fn tasks(scenes: usize) -> u64 {
     scenes as u64 * (1 + LADDER.len() as u64)

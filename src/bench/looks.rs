@@ -9,9 +9,9 @@ use std::fmt::Write as _;
 use super::metrics::{flip, rmse};
 use super::quality::{Look, Shot};
 use super::Bench;
-use crate::error::Result;
-use crate::scene::{ModelSpec, TextureSpec};
-use crate::scene_file::Scene;
+use fur_core::scene::{ModelSpec, TextureSpec};
+use fur_core::scene_file::Scene;
+use fur_gpu::error::Result;
 
 pub(super) fn tasks(quick: bool) -> u64 {
     if quick {
@@ -86,7 +86,7 @@ impl Bench<'_> {
             }
             cases.push(Switches([true; 4]));
         }
-        let mut plain: Option<(f64, crate::render::RgbaImage)> = None;
+        let mut plain: Option<(f64, fur_core::render::RgbaImage)> = None;
         for case in cases {
             let look = case.look(&shot);
             let drawn = shot.draw_look(&look, frames)?;

@@ -2,7 +2,7 @@
 
 use glam::{DVec3, Vec3};
 
-use crate::render::RgbaImage;
+use fur_core::render::RgbaImage;
 
 /// How many frames a measurement draws: the warm-up frames first, untimed, then the
 /// measured ones.
@@ -81,7 +81,7 @@ pub fn max_stretch(positions: &[Vec3], rest_lengths: &[f64], v: usize) -> f64 {
     worst
 }
 
-pub use crate::render::flip;
+pub use fur_core::render::flip;
 
 /// Which points are on the Pareto front of (cost, error): no other point is at most as
 /// costly and at most as wrong while better in one of the two.
@@ -181,8 +181,8 @@ pub struct Depths {
 
 impl Depths {
     /// Adds the depth of every point of `points` inside `surface` (0 outside).
-    pub fn add(&mut self, surface: &crate::scene::Mesh, points: &[glam::Vec3]) {
-        for d in crate::geometry::sdf::exact_distances(surface, points) {
+    pub fn add(&mut self, surface: &fur_core::scene::Mesh, points: &[glam::Vec3]) {
+        for d in fur_core::geometry::sdf::exact_distances(surface, points) {
             let depth = f64::from((-d).max(0.0));
             self.sum += depth;
             self.count += 1;

@@ -41,9 +41,9 @@ use std::sync::Arc;
 
 use ash::vk;
 
-use crate::error::{Error, Result};
-use crate::gpu::Device;
-use crate::scene_file::Scene;
+use fur_core::scene_file::Scene;
+use fur_gpu::error::{Error, Result};
+use fur_gpu::gpu::Device;
 use plot::Plot;
 
 /// How much to measure.
@@ -74,7 +74,7 @@ pub(crate) struct BenchScene {
 impl BenchOptions {
     /// The scenes the frame and render-quality sections measure.
     pub(crate) fn scenes(&self) -> Vec<BenchScene> {
-        use crate::scene::ModelSpec;
+        use fur_core::scene::ModelSpec;
         match &self.scene {
             Some((name, scene)) => vec![BenchScene {
                 name: name.clone(),
@@ -222,7 +222,7 @@ impl Report {
                 csv_field(r.unit)
             );
         }
-        let write = crate::files::write_output;
+        let write = fur_core::files::write_output;
         write(&dir.join("results.csv"), csv.as_bytes(), "write")?;
         write(&dir.join("results.md"), self.markdown.as_bytes(), "write")?;
         for (name, plot) in &self.plots {
@@ -382,7 +382,7 @@ impl Bench<'_> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::scene::ModelSpec;
+    use fur_core::scene::ModelSpec;
 
     #[test]
     fn a_scene_file_is_measured_with_its_own_simulation_motion_and_drawing() {

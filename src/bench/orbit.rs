@@ -10,8 +10,8 @@ use std::time::Instant;
 
 use super::metrics::median;
 use super::Bench;
-use crate::error::Result;
-use crate::render::budget::{Budget, LADDER};
+use fur_core::render::budget::{Budget, LADDER};
+use fur_gpu::error::Result;
 
 /// The budget the benchmark holds: 10 frames a second.
 const TARGET_MS: f64 = 100.0;
@@ -29,7 +29,7 @@ impl Bench<'_> {
         // (rung, wall ms) of every orbiting frame.
         let mut frames: Vec<(usize, f64)> = Vec::new();
         for _ in 0..moving {
-            crate::interrupt::check()?;
+            fur_core::interrupt::check()?;
             session.settings.camera.yaw_deg += 3.0;
             session.settings.style = LADDER[budget.rung].apply(&base);
             let rung = budget.rung;
@@ -53,7 +53,7 @@ impl Bench<'_> {
         let mut elapsed = 0.0;
         let (mut chosen_s, mut back_s) = (f64::NAN, f64::NAN);
         for _ in 0..still {
-            crate::interrupt::check()?;
+            fur_core::interrupt::check()?;
             session.settings.style = LADDER[budget.rung].apply(&base);
             let rung = budget.rung;
             if rung == 0 && chosen_s.is_nan() {

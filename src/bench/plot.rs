@@ -5,7 +5,7 @@
 use plotters::coord::ranged1d::{AsRangedCoord, ValueFormatter};
 use plotters::prelude::*;
 
-use crate::error::{Error, Result};
+use fur_gpu::error::{Error, Result};
 
 const SIZE: (u32, u32) = (760, 480);
 

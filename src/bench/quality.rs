@@ -15,14 +15,16 @@ use std::time::Instant;
 use ash::vk;
 
 use super::metrics::{median, Frames};
-use crate::error::Result;
-use crate::gpu::Device;
-use crate::render::{FrameSettings, FurStyle, HairCounts, Lighting, Renderer, RgbaImage};
-use crate::scene::{Mesh, Strands, Texture};
-use crate::scene_file::Scene;
-use crate::session::{FurSession, SessionSetup};
-use crate::sim::{GpuSim, Motion};
-use crate::strand_textures::StrandTextures;
+use fur_core::render::{FrameSettings, FurStyle, Lighting, RgbaImage};
+use fur_core::scene::{Mesh, Strands, Texture};
+use fur_core::scene_file::Scene;
+use fur_core::sim::Motion;
+use fur_gpu::error::Result;
+use fur_gpu::gpu::Device;
+use fur_gpu::render::{HairCounts, Renderer};
+use fur_gpu::session::{FurSession, SessionSetup};
+use fur_gpu::sim::GpuSim;
+use fur_gpu::strand_textures::StrandTextures;
 
 /// Simulated frames before the shot.
 const SETTLE_FRAMES: usize = 20;
@@ -94,7 +96,7 @@ impl Shot {
         let name = scene.model.name();
         let (mesh, rig, _) = scene.model.prepare_body(scene.options.texture.as_ref())?;
         let Some((rig, playback)) = scene.animation.resolve(rig, &name)? else {
-            return Err(crate::error::Error::parameter(format!(
+            return Err(fur_gpu::error::Error::parameter(format!(
                 "{name} has no clip to play"
             )));
         };
@@ -119,11 +121,11 @@ impl Shot {
             },
         )?;
         for _ in 0..frames {
-            crate::interrupt::check()?;
+            fur_core::interrupt::check()?;
             session.step_and_render()?;
         }
         let (positions, normals) = session.posed_body()?.ok_or_else(|| {
-            crate::error::Error::parameter(format!("{name}'s body is not skinned"))
+            fur_gpu::error::Error::parameter(format!("{name}'s body is not skinned"))
         })?;
         let posed = Mesh {
             positions,
@@ -219,7 +221,7 @@ impl Shot {
         let mut ms = Vec::new();
         let mut image = None;
         for frame in 0..warm + measured {
-            crate::interrupt::check()?;
+            fur_core::interrupt::check()?;
             let start = Instant::now();
             image = Some(renderer.render(&self.textures, &settings)?.0);
             if frame >= warm {
@@ -261,7 +263,7 @@ impl Shot {
     pub fn capture(
         &self,
         look: &Look,
-    ) -> Result<(RgbaImage, crate::render::CapturedHairs, FrameSettings)> {
+    ) -> Result<(RgbaImage, fur_gpu::render::CapturedHairs, FrameSettings)> {
         let mut renderer = self.renderer(look, self.extent)?;
         let settings = FrameSettings {
             style: look.style.clone(),

@@ -12,9 +12,10 @@ use std::time::Instant;
 use super::metrics::{flip, median, rmse, Frames};
 use super::quality::Shot;
 use super::{Bench, BenchScene};
-use crate::error::Result;
-use crate::render::FurStyle;
-use crate::render::{Raster, MAX_NEAREST, STEP_NAMES};
+use fur_core::render::FurStyle;
+use fur_core::render::{Raster, MAX_NEAREST};
+use fur_gpu::error::Result;
+use fur_gpu::render::STEP_NAMES;
 
 /// The fragments a pixel keeps in order that the compute rows also measure, beside the
 /// scene's own.
@@ -40,13 +41,13 @@ struct Measured {
     rmse: f64,
     /// The compute passes: (step, median GPU ms), the geometry stage's first.
     steps: Vec<(&'static str, f64)>,
-    counts: Option<crate::render::ComputeCounts>,
+    counts: Option<fur_gpu::render::ComputeCounts>,
 }
 
 impl Bench<'_> {
     pub(super) fn raster(&mut self) -> Result<()> {
         let extent = self.frame_extent();
-        let tile = crate::render::default_tile(self.cpu_driver());
+        let tile = fur_core::render::default_tile(self.cpu_driver());
         let factor = if self.quick { 2 } else { 4 };
         // The quick suite's frames only have to exist (CI runs it on lavapipe).
         let (warm, measured) = if self.quick { (1, 2) } else { (5, 20) };
@@ -251,7 +252,7 @@ impl Bench<'_> {
         let mut steps: Vec<Vec<f64>> = Vec::new();
         let mut names = Vec::new();
         for frame in 0..warm + measured {
-            crate::interrupt::check()?;
+            fur_core::interrupt::check()?;
             let start = Instant::now();
             let (_, timings) = session.step_and_render()?;
             if frame < warm {

@@ -8,8 +8,8 @@ use super::metrics::{flip, pareto_front, rmse};
 use super::plot::{Plot, Series, PALETTE};
 use super::quality::Shot;
 use super::Bench;
-use crate::error::Result;
-use crate::render::{FurStyle, Primitive, Raster, Shading};
+use fur_core::render::{FurStyle, Primitive, Raster, Shading};
+use fur_gpu::error::Result;
 
 /// A setting to measure: its name, its drawing and the density multiplier.
 struct Case {

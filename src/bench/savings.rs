@@ -6,11 +6,11 @@ use std::fmt::Write as _;
 use super::quality::Shot;
 use super::sim::{blob_body, blob_strands};
 use super::Bench;
-use crate::error::Result;
-use crate::render::FurStyle;
-use crate::scene::{Mesh, ModelSpec};
-use crate::scene_file::Scene;
-use crate::sim::SimParams;
+use fur_core::render::FurStyle;
+use fur_core::scene::{Mesh, ModelSpec};
+use fur_core::scene_file::Scene;
+use fur_core::sim::SimParams;
+use fur_gpu::error::Result;
 
 pub(super) const TASKS: u64 = 5;
 

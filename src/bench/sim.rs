@@ -11,13 +11,14 @@ use glam::{DMat4, DVec3};
 use super::metrics::{max_stretch, median, pareto_front, position_error};
 use super::plot::{Plot, Series, PALETTE};
 use super::Bench;
-use crate::error::Result;
-use crate::scene::{GroomParams, Mesh, Strands};
-use crate::scene_file::Scene;
-use crate::session::SceneOptions;
-use crate::sim::{CpuSim, GpuSim, Motion, MotionKind, Sdf, SimParams, SimStep};
-use crate::skinning::{Playback, SkinnedBody};
-use crate::strand_textures::StrandTextures;
+use fur_core::scene::{GroomParams, Mesh, Strands};
+use fur_core::scene_file::Scene;
+use fur_core::scene_file::SceneOptions;
+use fur_core::sim::{CpuSim, Motion, MotionKind, Sdf, SimParams, SimStep};
+use fur_core::skinning::{Playback, SkinnedBody};
+use fur_gpu::error::Result;
+use fur_gpu::sim::GpuSim;
+use fur_gpu::strand_textures::StrandTextures;
 
 /// The head's motion while the simulation's cost is timed: a shake, so hair moves and
 /// touches the body.
@@ -104,7 +105,7 @@ impl Bench<'_> {
             };
             let mut cpu = CpuSim::<f64>::new(&strands, params, motion.head(0.0));
             for _ in 0..frames {
-                crate::interrupt::check()?;
+                fur_core::interrupt::check()?;
                 cpu.step_frame(|t| motion.head(t));
             }
             cpu
@@ -263,7 +264,7 @@ impl Bench<'_> {
         let (warm, measured) = if self.quick { (1, 3) } else { (5, 60) };
         let (mut gpu_ms, mut wall_ms) = (Vec::new(), Vec::new());
         for frame in 0..warm + measured {
-            crate::interrupt::check()?;
+            fur_core::interrupt::check()?;
             let start = Instant::now();
             let t = gpu.run_frames(&mut textures, 1, |t| motion.head(t))?;
             if frame >= warm {
@@ -302,7 +303,7 @@ impl Bench<'_> {
         // from one run to the next.
         let (warm, measured) = if self.quick { (1, 3) } else { (5, 300) };
         for frame in 0..warm + measured {
-            crate::interrupt::check()?;
+            fur_core::interrupt::check()?;
             for (textures, gpu, wall) in &mut sims {
                 let start = Instant::now();
                 gpu.run_frames(textures, 1, head)?;

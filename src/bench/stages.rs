@@ -5,10 +5,10 @@
 use std::fmt::Write as _;
 
 use super::Bench;
-use crate::error::Result;
-use crate::render::stage::Arrows;
-use crate::render::Stage;
-use crate::sim::SimStep;
+use fur_core::render::stage::Arrows;
+use fur_core::render::Stage;
+use fur_core::sim::SimStep;
+use fur_gpu::error::Result;
 
 pub(super) fn tasks() -> u64 {
     Stage::ALL.len() as u64

@@ -5,9 +5,10 @@
 use glam::Vec3;
 
 use super::reference::LinearImage;
-use crate::colour::{linear_to_srgb8, srgb8_to_linear};
-use crate::error::{Error, Result};
-use crate::render::{RgbaImage, BACKGROUND};
+use fur_core::colour::{linear_to_srgb8, srgb8_to_linear};
+use fur_core::render::RgbaImage;
+use fur_gpu::error::{Error, Result};
+use fur_gpu::render::BACKGROUND;
 
 /// How far a pixel's linear colour must be from the background (summed over the
 /// channels) to count as covered.
@@ -162,7 +163,7 @@ pub fn to_srgb8(reference: &LinearImage) -> RgbaImage {
 pub fn errors(fur: &RgbaImage, reference: &LinearImage) -> Result<(f64, f64)> {
     let lin = linear(fur);
     check_size(&lin, reference)?;
-    let flip = crate::render::flip(&to_srgb8(reference), fur);
+    let flip = fur_core::render::flip(&to_srgb8(reference), fur);
     let sum: f64 = lin
         .iter()
         .zip(&reference.pixels)

@@ -19,11 +19,12 @@ mod usda;
 
 use glam::{Mat4, Vec3};
 
-use crate::error::{size_text, Error, Result};
-pub use crate::render::Fibre;
-use crate::render::Lighting;
-use crate::render::{CapturedHairs, FrameSettings};
-use crate::scene::{Mesh, Texture};
+pub use fur_core::render::Fibre;
+use fur_core::render::FrameSettings;
+use fur_core::render::Lighting;
+use fur_core::scene::{Mesh, Texture};
+use fur_gpu::error::{size_text, Error, Result};
+use fur_gpu::render::CapturedHairs;
 
 pub use usda::write_usda;
 

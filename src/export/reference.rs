@@ -7,7 +7,7 @@ use std::process::Command;
 
 use glam::Vec3;
 
-use crate::error::{CoreError, Error, Result};
+use fur_gpu::error::{CoreError, Error, Result};
 
 /// The renderer script, as shipped in `tools/reference/render.py`.
 pub const SCRIPT: &str = include_str!("../../tools/reference/render.py");
@@ -155,7 +155,8 @@ pub fn read_pfm(path: &Path) -> Result<LinearImage> {
             message,
         })
     };
-    let bytes = crate::files::read_bounded(path, MAX_PFM_BYTES, "reference image").map_err(bad)?;
+    let bytes =
+        fur_core::files::read_bounded(path, MAX_PFM_BYTES, "reference image").map_err(bad)?;
     // Three header lines: "PF", "width height", the scale (negative: little-endian).
     let mut lines = Vec::new();
     let mut at = 0;

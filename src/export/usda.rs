@@ -10,7 +10,7 @@ use std::fmt::Write as _;
 use glam::{Mat4, Quat, Vec3};
 
 use super::{BodyExport, CameraExport, FrameExport, LightExport};
-use crate::error::{Error, Result};
+use fur_gpu::error::{Error, Result};
 
 /// The camera's film height in the file's units (USD cameras take apertures and a
 /// focal length; only their ratio to each other matters here).
@@ -30,7 +30,7 @@ pub fn write_usda(frame: &FrameExport, generator: &str) -> Result<String> {
          color3f \"fur:background\" = {}\n    }}\n)\n\ndef Xform \"World\"\n{{",
         c.width,
         c.height,
-        vec3(crate::render::BACKGROUND)
+        vec3(fur_gpu::render::BACKGROUND)
     );
     camera(&mut out, c);
     lights(&mut out, &frame.light);

@@ -2,8 +2,8 @@
 //! clip time (a scrub), from the panel and the keys (`c` next clip, `[` / `]` slower and
 //! faster; Space pauses the simulation and with it the clip).
 
-use crate::session::FurSession;
-use crate::skinning::{AnimationSpec, Playback};
+use fur_core::skinning::{AnimationSpec, Playback};
+use fur_gpu::session::FurSession;
 
 /// Shows the animation section of the panel when the body is skinned.
 pub(super) fn panel(ui: &mut egui::Ui, session: &mut FurSession) {

@@ -9,8 +9,8 @@ use winit::event_loop::ActiveEventLoop;
 use winit::window::Window;
 
 use super::ViewerOptions;
-use crate::error::{Error, Result};
-use crate::gpu::{Device, Surface, Swapchain};
+use fur_gpu::error::{Error, Result};
+use fur_gpu::gpu::{Device, Surface, Swapchain};
 
 /// The window and what presents to it.
 pub(super) struct Display {
@@ -46,7 +46,7 @@ impl Display {
                 .map_err(|e| Error::Window(format!("cannot create a window: {e}")))?,
         );
         let (device, surface) =
-            crate::gpu::windowed(options.validate, options.device.as_deref(), &*window)?;
+            fur_gpu::gpu::windowed(options.validate, options.device.as_deref(), &*window)?;
         let size = window.inner_size();
         let extent = vk::Extent2D {
             width: size.width.max(1),

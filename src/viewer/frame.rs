@@ -10,10 +10,10 @@ use glam::DVec3;
 use super::input::controls_view;
 use super::script::Action;
 use super::{ui, Frames, Viewer, FRAMES_IN_FLIGHT};
-use crate::error::{Result, VkContext};
-use crate::gpu::image_barriers;
-use crate::gpu::Scope;
-use crate::session::{FurSession, SessionSetup};
+use fur_gpu::error::{Result, VkContext};
+use fur_gpu::gpu::image_barriers;
+use fur_gpu::gpu::Scope;
+use fur_gpu::session::{FurSession, SessionSetup};
 
 impl Viewer {
     /// Rebuilds the swapchain at the window's size and the render target to match;
@@ -28,7 +28,7 @@ impl Viewer {
 
     /// Renders one frame. Returns false when the viewer should close.
     pub(super) fn frame(&mut self) -> Result<bool> {
-        if crate::interrupt::requested() {
+        if fur_core::interrupt::requested() {
             return Ok(false);
         }
         let actions: Vec<Action> = self.scripted.due();
@@ -184,7 +184,7 @@ impl Viewer {
             .expect("swapchain exists while drawing");
         let image = swapchain.images[image_index as usize];
         let barrier = |src, dst, old, new| {
-            crate::gpu::image_barrier(image, vk::ImageAspectFlags::COLOR, src, dst, old, new)
+            fur_gpu::gpu::image_barrier(image, vk::ImageAspectFlags::COLOR, src, dst, old, new)
         };
         let blit = Scope::new(
             vk::PipelineStageFlags2::BLIT,
@@ -389,8 +389,8 @@ impl Viewer {
     /// motion), once every frame in flight has finished.
     pub(super) fn rebuild_session(
         &mut self,
-        groom: &crate::scene::GroomParams,
-        settings: crate::render::FrameSettings,
+        groom: &fur_core::scene::GroomParams,
+        settings: fur_core::render::FrameSettings,
     ) -> Result<()> {
         self.device.wait_idle()?;
         let extent = self.session.renderer.target.extent;

@@ -7,8 +7,8 @@ use std::sync::Arc;
 use ash::vk;
 
 use super::FRAMES_IN_FLIGHT;
-use crate::error::Result;
-use crate::gpu::{CommandPool, Device, Fence, Semaphore};
+use fur_gpu::error::Result;
+use fur_gpu::gpu::{CommandPool, Device, Fence, Semaphore};
 
 /// Per frame in flight: command buffer, fence, acquire semaphore and what to do once
 /// the frame is done.

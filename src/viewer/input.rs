@@ -8,8 +8,8 @@ use winit::keyboard::{Key, NamedKey};
 
 use super::script::Action;
 use super::{ui, Controls, Viewer};
-use crate::scene_file::{MotionSpec, Scene};
-use crate::sim::{MotionKind, SimParams};
+use fur_core::scene_file::{MotionSpec, Scene};
+use fur_core::sim::{MotionKind, SimParams};
 
 impl Viewer {
     /// The scene on screen now, as a scene file would hold it: the groom, the camera,
@@ -182,7 +182,7 @@ impl Viewer {
             "c" | "[" | "]" => super::animation_ui::key(&mut self.session, c),
             digit => {
                 // 1, 2, …: the stage views, in `Stage::ALL`'s order.
-                let stages = crate::render::Stage::ALL;
+                let stages = fur_core::render::Stage::ALL;
                 let chosen = digit
                     .parse::<usize>()
                     .ok()

@@ -1,8 +1,8 @@
 //! The stage view's colour key in the panel: the same [`Legend`] `fur render` draws into
 //! a PNG's corner, as a colour bar with its labels.
 
-use crate::colour::linear_to_srgb8;
 use crate::legend::{Legend, Swatch};
+use fur_core::colour::linear_to_srgb8;
 
 fn colour(c: glam::Vec3) -> egui::Color32 {
     egui::Color32::from_rgb(

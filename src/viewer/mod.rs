@@ -38,25 +38,26 @@ use panel::Panel;
 use quality::Quality;
 use script::Scripted;
 
-use crate::error::{Error, Result};
-use crate::gpu::Device;
-use crate::scene::Mesh;
-use crate::session::{FurSession, SceneOptions, SessionSetup};
-use crate::sim::{Motion, MotionKind, SimParams};
+use fur_core::scene::Mesh;
+use fur_core::scene_file::SceneOptions;
+use fur_core::sim::{Motion, MotionKind, SimParams};
+use fur_gpu::error::{Error, Result};
+use fur_gpu::gpu::Device;
+use fur_gpu::session::{FurSession, SessionSetup};
 
 const FRAMES_IN_FLIGHT: usize = 2;
 
 /// What `fur view` was asked to do.
 #[derive(Clone, Debug)]
 pub struct ViewerOptions {
-    pub model: crate::scene::ModelSpec,
+    pub model: fur_core::scene::ModelSpec,
     pub scene: SceneOptions,
     pub sim: SimParams,
     /// The shake the motion toggle switches on (the viewer starts still and shakes
     /// only: another kind of motion in the scene gives the default shake).
-    pub motion: crate::scene_file::MotionSpec,
+    pub motion: fur_core::scene_file::MotionSpec,
     /// The clip a skinned or animated model plays.
-    pub animation: crate::skinning::AnimationSpec,
+    pub animation: fur_core::skinning::AnimationSpec,
     /// Frames per second to hold by lowering the drawing quality (0: off).
     pub target_fps: f64,
     pub vsync: bool,
@@ -139,7 +140,7 @@ pub fn run(options: ViewerOptions) -> Result<()> {
                     if let Some(e) = e {
                         println!(
                             "measured: rung {r} ({}) ꟻLIP {e:.4} against the default drawing at a still view",
-                            crate::render::budget::LADDER[r].name
+                            fur_core::render::budget::LADDER[r].name
                         );
                     }
                 }
@@ -150,7 +151,7 @@ pub fn run(options: ViewerOptions) -> Result<()> {
     let device = viewer.as_ref().map(|v| v.device.clone());
     drop(viewer);
     app.result?;
-    device.map_or(Ok(()), crate::gpu::shut_down)
+    device.map_or(Ok(()), fur_gpu::gpu::shut_down)
 }
 
 struct App {
@@ -262,7 +263,7 @@ pub(crate) struct Hud {
     /// The device bins (lavapipe): timestamps between stages misattribute.
     pub binning: bool,
     /// What the compute rasteriser counted, when it drew the last frame.
-    pub raster: Option<crate::render::ComputeCounts>,
+    pub raster: Option<fur_gpu::render::ComputeCounts>,
 }
 
 // The viewer in parts, each freeing what it holds itself, in the order its own fields
@@ -284,8 +285,8 @@ struct Viewer {
     clock: Clock,
     mesh: Mesh,
     /// The scene's texture (the panel turns it off and on).
-    scene_texture: Option<crate::scene::TextureSpec>,
-    model: crate::scene::ModelSpec,
+    scene_texture: Option<fur_core::scene::TextureSpec>,
+    model: fur_core::scene::ModelSpec,
     scene: SceneOptions,
     controls: Controls,
     hud: Hud,

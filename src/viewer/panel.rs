@@ -8,8 +8,8 @@ use ash::vk;
 use winit::window::Window;
 
 use super::{ui, FRAMES_IN_FLIGHT};
-use crate::error::{Error, Result};
-use crate::gpu::{CommandPool, Device};
+use fur_gpu::error::{Error, Result};
+use fur_gpu::gpu::{CommandPool, Device};
 
 type Renderer = egui_ash_renderer::Renderer<egui_ash_renderer::allocator::GpuAllocator>;
 

@@ -3,9 +3,9 @@
 //! is drawn at; drawing choices made in the panel are the base every rung starts from.
 
 use super::Viewer;
-use crate::error::Result;
-use crate::render::budget::{Budget, LADDER};
-use crate::render::{FurStyle, Raster};
+use fur_core::render::budget::{Budget, LADDER};
+use fur_core::render::{FurStyle, Raster};
+use fur_gpu::error::Result;
 
 /// The frame-time budget and the styles it steers between.
 pub(super) struct Quality {
@@ -60,7 +60,7 @@ impl Viewer {
         }
         settings.style.raster = Raster::Hardware;
         if tiles {
-            settings.show = crate::render::Stage::Lit;
+            settings.show = fur_core::render::Stage::Lit;
         }
         if !std::mem::replace(&mut self.raster_held, true) {
             eprintln!(
@@ -139,7 +139,7 @@ impl Viewer {
             (draw(0)?, drawn)
         };
         self.session.settings.style = style;
-        let error = crate::render::flip(&reference, &drawn);
+        let error = fur_core::render::flip(&reference, &drawn);
         self.quality.errors[r] = Some(error);
         if r == self.hud.rung {
             self.hud.rung_error = Some(error);

@@ -1,7 +1,7 @@
 //! The panel's quality line: the ladder rung in use, the budget, and a rung to pin.
 
 use super::Hud;
-use crate::render::budget::LADDER;
+use fur_core::render::budget::LADDER;
 
 pub(super) fn show(ui: &mut egui::Ui, hud: &Hud, pin: &mut Option<usize>) {
     let rung = &LADDER[hud.rung.min(LADDER.len() - 1)];

@@ -3,7 +3,7 @@
 
 use std::path::PathBuf;
 
-use crate::error::{Error, Result};
+use fur_gpu::error::{Error, Result};
 
 /// One scripted action.
 #[derive(Clone, Debug, PartialEq)]
@@ -25,7 +25,7 @@ pub enum Action {
     Screenshot(PathBuf),
     /// A setting changed as the panel would change it (`set=render.raster=compute`):
     /// its scene-file name and the value, checked when the script is read.
-    Set(String, crate::scene_file::Value),
+    Set(String, fur_core::scene_file::Value),
 }
 
 /// Actions keyed by the frame they run before.
@@ -86,7 +86,7 @@ impl Script {
                 "set" => {
                     let (name, text) = args.split_once('=').ok_or_else(error)?;
                     let (setting, value) = crate::setting_args::setting_value(name.trim(), text)?;
-                    if setting.effect == crate::scene_file::Effect::Restart {
+                    if setting.effect == fur_core::scene_file::Effect::Restart {
                         return Err(Error::parameter(format!(
                             "bad script event `{item}`: `{}` takes effect only when the viewer \
                              starts; give it as --{} instead",
@@ -204,7 +204,7 @@ mod tests {
 
     #[test]
     fn a_setting_is_set_by_its_scene_file_name() {
-        use crate::scene_file::Value;
+        use fur_core::scene_file::Value;
         let s = Script::parse("9:set=render.raster=compute; 8:set=render.nearest=4").unwrap();
         assert_eq!(
             s.events,

@@ -4,7 +4,7 @@
 //! What changed is reported by its effect: a new frame, new simulation parameters or
 //! regrown hairs.
 
-use crate::scene_file::{Effect, Kind, Panel, Scene, Setting, Value, GROUPS};
+use fur_core::scene_file::{Effect, Kind, Panel, Scene, Setting, Value, GROUPS};
 
 /// Shows every section with a visible setting; edits `scene` and returns the effects
 /// of what changed. `samples` are the MSAA counts the device supports.

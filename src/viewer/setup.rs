@@ -25,7 +25,7 @@ impl Viewer {
         settings.count_hairs = true;
         let shake = match options.motion.kind {
             MotionKind::Shake => options.motion,
-            _ => crate::scene_file::MotionSpec::default(),
+            _ => fur_core::scene_file::MotionSpec::default(),
         };
         let motion = Motion {
             kind: MotionKind::Still,

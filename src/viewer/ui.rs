@@ -3,9 +3,10 @@
 use std::path::PathBuf;
 
 use super::Hud;
-use crate::scene_file::{Effect, Scene};
-use crate::session::{FurSession, SceneOptions};
-use crate::sim::SimParams;
+use fur_core::scene_file::SceneOptions;
+use fur_core::scene_file::{Effect, Scene};
+use fur_core::sim::SimParams;
+use fur_gpu::session::FurSession;
 
 /// Controls the panel shares with the keyboard.
 pub(crate) struct ControlsView<'a> {
@@ -162,7 +163,7 @@ impl PanelState {
 
 /// The HUD's line for a frame drawn by the compute rasteriser: what it binned and
 /// blended out of order, and what found a pool full (then true: the line is a warning).
-fn raster_line(c: &crate::render::ComputeCounts) -> (String, bool) {
+fn raster_line(c: &fur_gpu::render::ComputeCounts) -> (String, bool) {
     let mut line = format!(
         "drawn in compute: {} tile entries, {} fragments blended out of depth order, {} \
          pixels opaque before their tile's list ended",
@@ -182,7 +183,7 @@ fn raster_line(c: &crate::render::ComputeCounts) -> (String, bool) {
 #[cfg(test)]
 mod tests {
     use super::raster_line;
-    use crate::render::ComputeCounts;
+    use fur_gpu::render::ComputeCounts;
 
     #[test]
     fn the_raster_line_warns_only_when_a_pool_was_full() {

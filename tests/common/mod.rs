@@ -3,7 +3,7 @@
 
 use std::sync::Arc;
 
-use fur::gpu::Device;
+use fur_gpu::gpu::Device;
 
 // The CPU-side helpers live with the core's tests, shared here.
 #[path = "../../crates/fur-core/tests/common/mod.rs"]
@@ -16,8 +16,8 @@ pub use core_common::{field_error, rounding, seed};
 /// [`assert_clean`] would pass on zero messages whatever the layer found, so the test
 /// refuses to run.
 pub fn device() -> Arc<Device> {
-    let device =
-        fur::gpu::headless(true).expect("a Vulkan device with the validation layer (see README)");
+    let device = fur_gpu::gpu::headless(true)
+        .expect("a Vulkan device with the validation layer (see README)");
     assert!(
         device.instance().has_debug_messenger(),
         "the validation layer is on but no debug messenger could be created \
@@ -109,10 +109,11 @@ pub fn assert_clean(device: &Arc<Device>) {
 }
 
 use ash::vk;
-use fur::gpu::FurStatistics;
-use fur::render::{FrameSettings, HairCounts, Renderer, RgbaImage};
-use fur::scene::{GroomParams, Mesh, Strands};
-use fur::strand_textures::StrandTextures;
+use fur_core::render::{FrameSettings, RgbaImage};
+use fur_core::scene::{GroomParams, Mesh, Strands};
+use fur_gpu::gpu::FurStatistics;
+use fur_gpu::render::{HairCounts, Renderer};
+use fur_gpu::strand_textures::StrandTextures;
 
 /// Renders `mesh` with `groom` once and returns the image, the fur pass's pipeline
 /// statistics (none when no fur is drawn; read them through [`statistics`]) and the
@@ -172,13 +173,13 @@ pub fn keep(image: &RgbaImage, name: &str) {
 
 /// Puts the device's current and previous positions into the CPU twin, so the next
 /// frame on each starts from the same state and one frame's arithmetic is compared.
-pub fn take_device_state(cpu: &mut fur::sim::CpuSim<f32>, textures: &StrandTextures) {
-    let state = |which: usize| -> Vec<fur::sim::V3<f32>> {
+pub fn take_device_state(cpu: &mut fur_core::sim::CpuSim<f32>, textures: &StrandTextures) {
+    let state = |which: usize| -> Vec<fur_core::sim::V3<f32>> {
         textures
             .read_positions(which)
             .unwrap()
             .into_iter()
-            .map(fur::sim::V3::from_vec3)
+            .map(fur_core::sim::V3::from_vec3)
             .collect()
     };
     cpu.current = state(textures.current);

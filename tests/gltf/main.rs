@@ -102,8 +102,8 @@ fn the_built_in_critter_round_trips_through_export_model() {
     std::fs::create_dir_all(&dir).unwrap();
     let path = dir.join("critter.glb");
     export_critter(&path);
-    let (mesh, rig) = fur::scene::critter();
-    let body = fur::scene::load_gltf(&path).unwrap();
+    let (mesh, rig) = fur_core::scene::critter();
+    let body = fur_core::scene::load_gltf(&path).unwrap();
     assert!(body.warnings.is_empty(), "{:?}", body.warnings);
     assert_eq!(body.rig.as_ref(), Some(&rig), "the rig changed on the way");
     assert_eq!(body.mesh.indices, mesh.indices);

@@ -4,7 +4,7 @@
 
 use std::process::Command;
 
-use fur::groom_file::{read_groom, Guides};
+use fur_core::groom_file::{read_groom, Guides};
 use glam::Vec3;
 
 use super::{common, fails, fur, s, scratch};
@@ -22,8 +22,8 @@ fn a_hostile_binary_groom_is_one_line_of_error() {
             .collect(),
         ..Guides::default()
     };
-    let text = fur::groom_file::write_usda(&guides, "test").unwrap();
-    let file = fur::groom_file::usdc_from_text(&text).unwrap();
+    let text = fur_core::groom_file::write_usda(&guides, "test").unwrap();
+    let file = fur_core::groom_file::usdc_from_text(&text).unwrap();
     let mut needle = 37u64.to_le_bytes().to_vec();
     needle.extend_from_slice(&1.5f32.to_le_bytes());
     let at = file.windows(12).position(|w| w == needle).unwrap();
@@ -85,12 +85,12 @@ st.GetRootLayer().Save()
         String::from_utf8_lossy(&run.stderr)
     );
     let file = std::fs::read(&path).unwrap();
-    let format = fur::groom_file::GroomFormat::Usdc;
+    let format = fur_core::groom_file::GroomFormat::Usdc;
     assert_eq!(read_groom(&path).unwrap().counts, vec![3, 2]);
     let (mut loaded, mut refused) = (0, 0);
-    let mut read = |bytes: &[u8]| match fur::groom_file::parse_usd_measured(bytes, format) {
+    let mut read = |bytes: &[u8]| match fur_core::groom_file::parse_usd_measured(bytes, format) {
         Ok((_, peak)) => {
-            let limit = fur::groom_file::usd_limits(bytes.len()).memory;
+            let limit = fur_core::groom_file::usd_limits(bytes.len()).memory;
             assert!(peak <= limit, "peak {peak} over {limit}");
             loaded += 1;
         }

@@ -13,8 +13,10 @@ mod texture;
 
 use glam::Vec3;
 
-use fur::render::{kajiya_kay, FrameSettings, FurStyle, Highlights, Lighting, RgbaImage, Shadows};
-use fur::scene::{Camera, GroomParams, Mesh};
+use fur_core::render::{
+    kajiya_kay, FrameSettings, FurStyle, Highlights, Lighting, RgbaImage, Shadows,
+};
+use fur_core::scene::{Camera, GroomParams, Mesh};
 
 /// The linear value of an sRGB-encoded channel.
 fn linear(c: u8) -> f32 {

@@ -1,7 +1,7 @@
 //! Self-shadowing: depth into the fur darkens, off costs nothing.
 
 use super::*;
-use fur::render::Stage;
+use fur_core::render::Stage;
 
 /// A dense tuft of straight hairs on a plane, seen from the side (+Z).
 fn tuft(light: Vec3, shadows: bool, draw_fur: bool) -> (Mesh, GroomParams, FrameSettings) {
@@ -81,14 +81,15 @@ fn shadows_darken_with_depth_into_the_fur_and_shade_the_skin() {
 fn shadows_off_cost_nothing_and_their_settings_change_nothing() {
     let device = common::device();
     let (mesh, groom, mut settings) = tuft(Vec3::new(0.0, 0.4, -1.0), false, true);
-    let strands = fur::scene::Strands::grow(&mesh, &groom).unwrap();
+    let strands = fur_core::scene::Strands::grow(&mesh, &groom).unwrap();
     let textures =
-        fur::strand_textures::StrandTextures::new(&device, &strands, settings.head).unwrap();
+        fur_gpu::strand_textures::StrandTextures::new(&device, &strands, settings.head).unwrap();
     let extent = ash::vk::Extent2D {
         width: 64,
         height: 64,
     };
-    let mut renderer = fur::render::Renderer::new(&device, &mesh, &textures, extent, 1, 4).unwrap();
+    let mut renderer =
+        fur_gpu::render::Renderer::new(&device, &mesh, &textures, extent, 1, 4).unwrap();
     let (plain, _) = renderer.render(&textures, &settings).unwrap();
     settings.lighting.shadows = Shadows {
         enabled: false,
@@ -134,21 +135,21 @@ fn light_through_fibres_takes_their_colour() {
         settings.style.thin_hair_aa = false;
         settings.draw_mesh = false;
         let l = &mut settings.lighting;
-        l.model = fur::render::LightingModel::Marschner;
+        l.model = fur_core::render::LightingModel::Marschner;
         (l.root_color, l.tip_color) = (colour, colour);
         common::render(&device, &mesh, &groom, &settings, (96, 96)).0
     };
     // The twin's ratio of ln transmittance, red over blue, per layer, at the hairs'
     // angle to the light (they stand along +Y).
-    let fibre = fur::render::Fibre::default();
-    let table = fur::render::dual_scattering::cached_table(&fibre);
+    let fibre = fur_core::render::Fibre::default();
+    let table = fur_core::render::dual_scattering::cached_table(&fibre);
     let twin_ratio = |colour: Vec3| {
         let ln_c = Vec3::from_array(colour.to_array().map(f32::ln));
         let u = behind.normalize().y;
-        let a_f = fur::render::dual_scattering::fibre_averages(&table, u, ln_c).a_f;
-        let one = fur::render::marschner::Layers {
+        let a_f = fur_core::render::dual_scattering::fibre_averages(&table, u, ln_c).a_f;
+        let one = fur_core::render::marschner::Layers {
             count: 1.0,
-            opacity: fur::render::Shadows::default().opacity,
+            opacity: fur_core::render::Shadows::default().opacity,
         };
         let (_, through) = one.through(a_f);
         through.x.ln() / through.z.ln()
@@ -170,11 +171,11 @@ fn light_through_fibres_takes_their_colour() {
         }
         r / b
     };
-    let blond = fur::render::FurPreset::Blond.colour(0.3).unwrap();
+    let blond = fur_core::render::FurPreset::Blond.colour(0.3).unwrap();
     let blond_view = draw(blond);
     common::keep(&blond_view, "shadow_view_blond_marschner");
     let (drawn, twin) = (ratio(&blond_view), twin_ratio(blond));
-    let black = fur::render::FurPreset::Black.colour(0.3).unwrap();
+    let black = fur_core::render::FurPreset::Black.colour(0.3).unwrap();
     let black_view = draw(black);
     let grey = ratio(&black_view);
     eprintln!(
@@ -216,11 +217,11 @@ fn the_coat_shades_the_skin_under_the_marschner_model() {
     let (mesh, groom, mut settings) = tuft(light, false, false);
     settings.lighting.skin_color = Vec3::splat(0.5);
     // Two layers over the skin: a spacing of half the coat's height.
-    let strands = fur::scene::Strands::grow(&mesh, &groom).unwrap();
+    let strands = fur_core::scene::Strands::grow(&mesh, &groom).unwrap();
     let height = strands.coat_height();
     settings.lighting.shadows.spacing = height / 2.0;
     let bare = common::render(&device, &mesh, &groom, &settings, (64, 64)).0;
-    settings.lighting.model = fur::render::LightingModel::Marschner;
+    settings.lighting.model = fur_core::render::LightingModel::Marschner;
     let shaded = common::render(&device, &mesh, &groom, &settings, (64, 64)).0;
     let luma = |image: &RgbaImage| {
         let (mut sum, mut n) = (0.0, 0);

@@ -64,7 +64,7 @@ fn expected_halves(
 /// least 99 % of them (the seam's filtering and a few pixels' edges) take the colour of
 /// the half their UVs point at. `Err` says how many did not.
 fn texture_halves_check(
-    device: &std::sync::Arc<fur::gpu::Device>,
+    device: &std::sync::Arc<fur_gpu::gpu::Device>,
     sphere: &Mesh,
     draw_fur: bool,
     swap: bool,
@@ -81,7 +81,7 @@ fn texture_halves_check(
                 }
             })
             .collect();
-        fur::scene::Texture::from_rgba(64, 32, rgba).unwrap()
+        fur_core::scene::Texture::from_rgba(64, 32, rgba).unwrap()
     };
     assert_eq!(sphere.uvs.len(), sphere.indices.len());
     let groom = texture_groom();
@@ -99,11 +99,12 @@ fn texture_halves_check(
         ..Default::default()
     };
     let size = (96, 96);
-    let strands = fur::scene::Strands::grow(sphere, &groom).unwrap();
+    let strands = fur_core::scene::Strands::grow(sphere, &groom).unwrap();
     let textures =
-        fur::strand_textures::StrandTextures::new(device, &strands, glam::Mat4::IDENTITY).unwrap();
-    let image = fur::gpu::shader::with_test_defines(defines, || {
-        let mut renderer = fur::render::Renderer::textured(
+        fur_gpu::strand_textures::StrandTextures::new(device, &strands, glam::Mat4::IDENTITY)
+            .unwrap();
+    let image = fur_gpu::gpu::shader::with_test_defines(defines, || {
+        let mut renderer = fur_gpu::render::Renderer::textured(
             device,
             sphere,
             Some(&halves(swap)),
@@ -197,11 +198,12 @@ fn the_texture_colours_the_fur_at_its_roots_and_the_skin() {
         uvs: Vec::new(),
         ..Mesh::grid(2, 2, 1.0)
     };
-    let strands = fur::scene::Strands::grow(&grid, &texture_groom()).unwrap();
+    let strands = fur_core::scene::Strands::grow(&grid, &texture_groom()).unwrap();
     let textures =
-        fur::strand_textures::StrandTextures::new(&device, &strands, glam::Mat4::IDENTITY).unwrap();
-    let texture = fur::scene::Texture::from_rgba(2, 2, vec![255; 16]).unwrap();
-    let error = fur::render::Renderer::textured(
+        fur_gpu::strand_textures::StrandTextures::new(&device, &strands, glam::Mat4::IDENTITY)
+            .unwrap();
+    let texture = fur_core::scene::Texture::from_rgba(2, 2, vec![255; 16]).unwrap();
+    let error = fur_gpu::render::Renderer::textured(
         &device,
         &grid,
         Some(&texture),
@@ -239,21 +241,29 @@ fn the_texture_colours_the_fur_of_a_finely_divided_sphere() {
 /// textured density view and the Marschner model lit per vertex once had one each).
 #[test]
 fn every_view_of_textured_fur_passes_validation() {
-    use fur::render::{LightingModel, Shading, Stage};
+    use fur_core::render::{LightingModel, Shading, Stage};
     let device = common::device();
     let sphere = Mesh::uv_sphere(1.0, 6, 12);
     let groom = texture_groom();
-    let strands = fur::scene::Strands::grow(&sphere, &groom).unwrap();
+    let strands = fur_core::scene::Strands::grow(&sphere, &groom).unwrap();
     let textures =
-        fur::strand_textures::StrandTextures::new(&device, &strands, glam::Mat4::IDENTITY).unwrap();
-    let texture = fur::scene::Texture::from_rgba(2, 2, vec![200; 16]).unwrap();
+        fur_gpu::strand_textures::StrandTextures::new(&device, &strands, glam::Mat4::IDENTITY)
+            .unwrap();
+    let texture = fur_core::scene::Texture::from_rgba(2, 2, vec![200; 16]).unwrap();
     let extent = ash::vk::Extent2D {
         width: 32,
         height: 32,
     };
-    let mut renderer =
-        fur::render::Renderer::textured(&device, &sphere, Some(&texture), &textures, extent, 1, 1)
-            .unwrap();
+    let mut renderer = fur_gpu::render::Renderer::textured(
+        &device,
+        &sphere,
+        Some(&texture),
+        &textures,
+        extent,
+        1,
+        1,
+    )
+    .unwrap();
     let mut drawn = 0;
     for show in Stage::ALL {
         for model in [LightingModel::KajiyaKay, LightingModel::Marschner] {

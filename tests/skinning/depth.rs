@@ -23,7 +23,7 @@ fn walk_depths_with(
 ) -> (f64, f64) {
     let device = common::device();
     let (mesh, rig) = critter();
-    let (mut groom, _) = fur::session::SceneOptions::default()
+    let (mut groom, _) = fur_core::scene_file::SceneOptions::default()
         .resolve(&mesh)
         .unwrap();
     groom.comb_field = Some(skinning::fur_flow(&rig));
@@ -34,9 +34,10 @@ fn walk_depths_with(
         collision,
         skin_blend: Some(skin_blend),
         sdf_resolution: cells.unwrap_or(0),
-        ..fur::scene_file::Scene::default_sim()
+        ..fur_core::scene_file::Scene::default_sim()
     };
-    let (field, _) = fur::sim::Sdf::for_hair(&mesh, &params, strands.hair_length(), true).unwrap();
+    let (field, _) =
+        fur_core::sim::Sdf::for_hair(&mesh, &params, strands.hair_length(), true).unwrap();
     let mut textures = StrandTextures::new(&device, &strands, glam::Mat4::IDENTITY).unwrap();
     let mut gpu = skinned_sim(
         &device,
@@ -64,7 +65,7 @@ fn walk_depths_with(
             .filter(|(i, _)| i % v != 0)
             .map(|(_, p)| p)
             .collect();
-        for d in fur::sim::sdf::exact_distances(&surface, &points) {
+        for d in fur_core::sim::sdf::exact_distances(&surface, &points) {
             let depth = f64::from((-d).max(0.0));
             sum += depth;
             count += 1;
@@ -141,21 +142,21 @@ fn each_skinned_collision_rule_keeps_the_walking_hair_out() {
         let (mesh, _) = critter();
         let strands = Strands::grow(
             &mesh,
-            &fur::session::SceneOptions::default()
+            &fur_core::scene_file::SceneOptions::default()
                 .resolve(&mesh)
                 .unwrap()
                 .0,
         )
         .unwrap();
-        fur::sim::Sdf::cells_for_hair(
+        fur_core::sim::Sdf::cells_for_hair(
             &mesh,
-            &fur::scene_file::Scene::default_sim(),
+            &fur_core::scene_file::Scene::default_sim(),
             strands.hair_length(),
             false,
         )
     };
     let without = |define: Option<&str>, cells: Option<u32>| match define {
-        Some(define) => fur::gpu::shader::with_test_defines(&[(define, "1")], || {
+        Some(define) => fur_gpu::gpu::shader::with_test_defines(&[(define, "1")], || {
             walk_depths_with((true, true), frames, cells)
         }),
         None => walk_depths_with((true, true), frames, cells),
@@ -299,7 +300,7 @@ fn the_walk_keeps_the_skin_out_of_itself() {
             positions: posed.positions,
             ..mesh.clone()
         };
-        let outside = fur::sim::sdf::exact_distances(&surface, &under)
+        let outside = fur_core::sim::sdf::exact_distances(&surface, &under)
             .iter()
             .filter(|&&d| d > 0.0)
             .count();

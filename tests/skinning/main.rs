@@ -13,10 +13,11 @@ mod rest;
 
 use std::sync::Arc;
 
-use fur::scene::{critter, GroomParams, Mesh, Rig, Strands};
-use fur::sim::{CpuSim, GpuSim, SimParams};
-use fur::skinning::{self, Playback, SkinnedBody};
-use fur::strand_textures::StrandTextures;
+use fur_core::scene::{critter, GroomParams, Mesh, Rig, Strands};
+use fur_core::sim::{CpuSim, SimParams};
+use fur_core::skinning::{self, Playback, SkinnedBody};
+use fur_gpu::sim::GpuSim;
+use fur_gpu::strand_textures::StrandTextures;
 use glam::{DMat4, Vec3, Vec4};
 
 fn groom() -> GroomParams {
@@ -37,10 +38,10 @@ fn walk(rig: &Rig) -> Playback {
 /// The device simulation of `textures`' strands on the skinned `body` playing `playback`,
 /// one frame in flight, colliding with `field` when given.
 fn skinned_sim(
-    device: &Arc<fur::gpu::Device>,
+    device: &Arc<fur_gpu::gpu::Device>,
     textures: &StrandTextures,
     params: SimParams,
-    field: Option<&fur::sim::Sdf>,
+    field: Option<&fur_core::sim::Sdf>,
     (body, playback): (Arc<SkinnedBody>, Playback),
 ) -> GpuSim {
     GpuSim::build(device, textures, params, 1, field, Some((body, playback))).unwrap()
@@ -71,7 +72,9 @@ fn largest_move(gpu: &mut GpuSim, textures: &mut StrandTextures, frames: usize) 
 /// The session's groom on the critter: hair 0.2 × its radius, combed along the bones,
 /// every hair full length.
 fn session_strands(mesh: &Mesh, rig: &Rig) -> (Strands, GroomParams) {
-    let (mut groom, _) = fur::session::SceneOptions::default().resolve(mesh).unwrap();
+    let (mut groom, _) = fur_core::scene_file::SceneOptions::default()
+        .resolve(mesh)
+        .unwrap();
     groom.comb_field = Some(skinning::fur_flow(rig));
     // Every hair full length: the thickness limit leaves hairs on the ears with
     // segments (~6e-4) shorter than gravity moves a vertex in one step (2.7e-3), a
@@ -83,10 +86,11 @@ fn session_strands(mesh: &Mesh, rig: &Rig) -> (Strands, GroomParams) {
 
 /// The critter with the session's groom ([`session_strands`]), its skinned body and the
 /// rest pose's distance field for `params`.
-fn critter_with_field(params: &SimParams) -> (Strands, Arc<SkinnedBody>, fur::sim::Sdf) {
+fn critter_with_field(params: &SimParams) -> (Strands, Arc<SkinnedBody>, fur_core::sim::Sdf) {
     let (mesh, rig) = critter();
     let (strands, _) = session_strands(&mesh, &rig);
-    let (sdf, _) = fur::sim::Sdf::for_hair(&mesh, params, strands.hair_length(), true).unwrap();
+    let (sdf, _) =
+        fur_core::sim::Sdf::for_hair(&mesh, params, strands.hair_length(), true).unwrap();
     (strands, Arc::new(SkinnedBody::new(&mesh, rig)), sdf)
 }
 
@@ -142,20 +146,20 @@ fn hairs_per_triangle_stay_the_same_as_the_body_walks() {
     let device = common::device();
     let (mesh, rig) = critter();
     let playback = walk(&rig);
-    let mut options = fur::session::SceneOptions::default();
+    let mut options = fur_core::scene_file::SceneOptions::default();
     options.draw.density *= 0.2;
     options.draw.cull = false;
     options.draw.lod_distance = 1e4;
     let (groom, mut settings) = options.resolve(&mesh).unwrap();
     settings.count_hairs = true;
-    let mut session = fur::session::FurSession::new(
+    let mut session = fur_gpu::session::FurSession::new(
         &device,
-        fur::session::SessionSetup {
+        fur_gpu::session::SessionSetup {
             mesh: mesh.clone(),
             rig: Some((rig, playback)),
             groom: &groom,
             sim: SimParams::default(),
-            motion: fur::sim::Motion::still(),
+            motion: fur_core::sim::Motion::still(),
             settings,
             extent: ash::vk::Extent2D {
                 width: 96,

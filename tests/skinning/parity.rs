@@ -3,7 +3,7 @@
 
 use super::*;
 use common::rounding::{self, Body};
-use fur::sim::V3;
+use fur_core::sim::V3;
 
 /// The animated simulation on the device matches the CPU reference over 40 frames of the
 /// walk, frame by frame from the same state, within each frame's rounding budget
@@ -188,9 +188,10 @@ fn gpu_matches_cpu_on_a_walking_body_without_the_skins_blend() {
 fn gpu_matches_cpu_where_only_child_bones_move() {
     let parity = clip_parity(Clip::ChildrenTurn, true, CHILDREN_FRAMES);
     parity.assert_held();
-    let without = fur::gpu::shader::with_test_defines(&[("FUR_TEST_NO_CHILD_MOTION", "1")], || {
-        clip_parity(Clip::ChildrenTurn, true, CHILDREN_FRAMES)
-    });
+    let without =
+        fur_gpu::gpu::shader::with_test_defines(&[("FUR_TEST_NO_CHILD_MOTION", "1")], || {
+            clip_parity(Clip::ChildrenTurn, true, CHILDREN_FRAMES)
+        });
     println!("without the child's motion: {without}");
     assert!(
         !without.broken.is_empty(),
@@ -213,7 +214,7 @@ enum Clip {
 impl Clip {
     /// The clip's index in `rig`, added to it where it is made here.
     fn index_in(self, rig: &mut Rig) -> usize {
-        use fur::scene::{Channel, Interpolation, Property};
+        use fur_core::scene::{Channel, Interpolation, Property};
         match self {
             Clip::Walk => walk(rig).clip.unwrap(),
             Clip::ChildrenTurn => {
@@ -231,7 +232,7 @@ impl Clip {
                     turn("front_leg.R.paw", Vec3::X),
                     turn("head", Vec3::Y),
                 ];
-                rig.clips.push(fur::scene::Clip {
+                rig.clips.push(fur_core::scene::Clip {
                     name: "children turn".into(),
                     channels,
                 });
@@ -270,7 +271,8 @@ fn clip_parity(clip: Clip, skin_blend: bool, frames: usize) -> Parity {
         (body.clone(), playback.clone()),
     );
     assert_eq!(
-        gpu.active_steps().contains(&fur::sim::SimStep::Collision),
+        gpu.active_steps()
+            .contains(&fur_core::sim::SimStep::Collision),
         params.collision
     );
     let poses_at = |t: f64| skinning::cpu::pose(&body, &playback.joint_matrices(&body.rig, t));

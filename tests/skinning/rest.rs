@@ -4,8 +4,8 @@ use super::*;
 
 /// A clip that holds `locals` for half a second with every kind of key: rotations
 /// spherically interpolated (LINEAR), translations as a flat CUBICSPLINE, scales STEP.
-fn holding(name: &str, locals: &[fur::scene::Transform]) -> fur::scene::Clip {
-    use fur::scene::{Channel, Clip, Interpolation, Property};
+fn holding(name: &str, locals: &[fur_core::scene::Transform]) -> fur_core::scene::Clip {
+    use fur_core::scene::{Channel, Clip, Interpolation, Property};
     let times = vec![0.0, 0.25, 0.5];
     let mut channels = Vec::new();
     for (node, l) in locals.iter().enumerate() {
@@ -43,9 +43,9 @@ fn holding(name: &str, locals: &[fur::scene::Transform]) -> fur::scene::Clip {
 /// 90 frames, then returns the most any vertex moved in one of the next 3 frames, and how
 /// far gravity moved the hair while settling.
 fn held_pose_motion(
-    device: &Arc<fur::gpu::Device>,
+    device: &Arc<fur_gpu::gpu::Device>,
     (mesh, rig, strands): (&Mesh, &Rig, &Strands),
-    locals: &[fur::scene::Transform],
+    locals: &[fur_core::scene::Transform],
 ) -> (f32, f32) {
     let mut rig = rig.clone();
     rig.clips.push(holding("held", locals));
@@ -97,7 +97,7 @@ fn a_held_pose_leaves_the_hair_at_rest() {
             "{name} pose: gravity moved the hair by only {sag}"
         );
     }
-    let (moved, _) = fur::gpu::shader::with_test_defines(&[("FUR_TEST_NO_SLEEP", "1")], || {
+    let (moved, _) = fur_gpu::gpu::shader::with_test_defines(&[("FUR_TEST_NO_SLEEP", "1")], || {
         held_pose_motion(&device, (&mesh, &rig, &strands), &bent)
     });
     println!("without sleep: moved {moved:e} a frame after settling");

@@ -2,10 +2,10 @@
 //! the scene, camera and measures that `tests/marschner.rs` and `tests/coat.rs` share.
 #![allow(dead_code)]
 
-use fur::colour::srgb8_to_linear as linear;
-use fur::render::marschner::Lobes;
-use fur::render::{Fibre, FrameSettings, FurStyle, Lighting, LightingModel, Shading};
-use fur::scene::Camera;
+use fur_core::colour::srgb8_to_linear as linear;
+use fur_core::render::marschner::Lobes;
+use fur_core::render::{Fibre, FrameSettings, FurStyle, Lighting, LightingModel, Shading};
+use fur_core::scene::Camera;
 use glam::Vec3;
 
 pub const COLOR: Vec3 = Vec3::new(0.8, 0.45, 0.2);
@@ -63,7 +63,7 @@ pub fn height_of_row(row: u32) -> f32 {
 }
 
 /// Each row's linear light over the background, summed.
-pub fn row_sums(image: &fur::render::RgbaImage) -> Vec<Vec3> {
+pub fn row_sums(image: &fur_core::render::RgbaImage) -> Vec<Vec3> {
     let background = linear_at(image, 0, 0);
     (0..image.height)
         .map(|y| {
@@ -87,7 +87,7 @@ pub fn light_at(angle: f32) -> Vec3 {
 /// light over the background per channel summed over `mask`, the covered pixels and
 /// the background.
 pub fn standing_hairs(
-    device: &std::sync::Arc<fur::gpu::Device>,
+    device: &std::sync::Arc<fur_gpu::gpu::Device>,
     light: Option<Vec3>,
     lobes: Lobes,
     mask: Option<&[bool]>,
@@ -103,7 +103,7 @@ pub fn standing_hairs(
     (sum, covered, background)
 }
 
-pub fn linear_at(image: &fur::render::RgbaImage, x: u32, y: u32) -> Vec3 {
+pub fn linear_at(image: &fur_core::render::RgbaImage, x: u32, y: u32) -> Vec3 {
     let p = image.pixel(x, y);
     Vec3::new(linear(p[0]), linear(p[1]), linear(p[2]))
 }
@@ -111,18 +111,18 @@ pub fn linear_at(image: &fur::render::RgbaImage, x: u32, y: u32) -> Vec3 {
 /// The hair layers' opacity the standing hairs are drawn with (the shadow map's, which
 /// the coat's count takes).
 pub fn opacity() -> f32 {
-    fur::render::Shadows::default().opacity
+    fur_core::render::Shadows::default().opacity
 }
 
 /// The image of [`standing_hairs`] or, given the shadow map's layer spacing (which the
 /// coat's count takes; shadows stay off), of the hairs seen [`side_on`], every hair as
 /// long (no length jitter).
 pub fn render_standing(
-    device: &std::sync::Arc<fur::gpu::Device>,
+    device: &std::sync::Arc<fur_gpu::gpu::Device>,
     light: Option<Vec3>,
     lobes: Lobes,
     spacing: Option<f32>,
-) -> fur::render::RgbaImage {
+) -> fur_core::render::RgbaImage {
     let (plane, groom) = crate::common::standing_hairs_scene();
     let (light, intensity, ambient, model) = match light {
         Some(l) => (l.normalize(), INTENSITY, 0.0, LightingModel::Marschner),
@@ -145,7 +145,7 @@ pub fn render_standing(
             root_color: COLOR,
             tip_color: COLOR,
             lobes,
-            shadows: fur::render::Shadows {
+            shadows: fur_core::render::Shadows {
                 spacing: spacing.unwrap_or(0.0),
                 ..Default::default()
             },

@@ -2,7 +2,7 @@
 //! states.
 
 use super::common::read_doc as read;
-use fur::files::{self, size_text};
+use fur_core::files::{self, size_text};
 
 /// A whole number with thousands separated by commas, as the documents write counts.
 pub fn count_text(n: u64) -> String {
@@ -22,8 +22,8 @@ pub fn stated() -> Vec<(&'static str, Vec<String>)> {
     let mut all = limits();
     all.extend(design());
     // The compute rasteriser's pool table, line by line (the documents are read flat).
-    let pools = fur::render::strand_raster::pools::table(
-        &fur::render::strand_raster::pools::PoolBudget::default(),
+    let pools = fur_core::render::strand_raster::pools::table(
+        &fur_core::render::strand_raster::pools::PoolBudget::default(),
     );
     let mut raster: Vec<String> = pools
         .lines()
@@ -33,8 +33,8 @@ pub fn stated() -> Vec<(&'static str, Vec<String>)> {
     // The fragments a pixel keeps in order, in words: the phrase exists only for the
     // values it names.
     let nearest = (
-        fur::render::FurStyle::default().nearest,
-        fur::render::MAX_NEAREST,
+        fur_core::render::FurStyle::default().nearest,
+        fur_core::render::MAX_NEAREST,
     );
     raster.push(
         (if nearest == (8, 16) {
@@ -45,21 +45,21 @@ pub fn stated() -> Vec<(&'static str, Vec<String>)> {
         .to_string(),
     );
     // The depth bins and the opacity a pixel stops at.
-    use fur::render::strand_raster::order::{DEPTH_BINS, OPAQUE_TRANSMIT};
+    use fur_core::render::strand_raster::order::{DEPTH_BINS, OPAQUE_TRANSMIT};
     raster.push(format!("is cut into {DEPTH_BINS} equal depth bins"));
     raster.push(format!(
         "let through less than 1/{} of the light",
         (1.0 / OPAQUE_TRANSMIT).round()
     ));
     // The tile sides.
-    let sides = fur::render::TILE_SIZES.map(|t| t.to_string());
+    let sides = fur_core::render::TILE_SIZES.map(|t| t.to_string());
     let (last, first) = sides.split_last().expect("tile sides");
     raster.push(format!("`--tile`: {} or {last} pixels)", first.join(", ")));
-    let gpu = fur::render::default_tile(false);
+    let gpu = fur_core::render::default_tile(false);
     raster.push(format!("whose {}-pixel workgroup", gpu * gpu));
     all.push(("docs/compute-raster.md", raster));
     // The tiles view's scale.
-    let full = count_text(fur::render::stage::TILE_ENTRIES_FULL_SCALE as u64);
+    let full = count_text(fur_core::render::stage::TILE_ENTRIES_FULL_SCALE as u64);
     all.push(("docs/pipeline.md", vec![format!("red for {full} or more")]));
     all.push((
         "docs/scene-files.md",
@@ -99,17 +99,17 @@ fn channel(x: f32) -> String {
 
 /// The defaults, formats and counts the design documents state.
 fn design() -> Vec<(&'static str, Vec<String>)> {
-    use fur::render::FurPreset;
-    let scene = fur::scene_file::SceneOptions::default();
-    let sim = fur::sim::params::SimParams::default();
-    let style = fur::render::uniforms::FurStyle::default();
-    let fibre = fur::render::Fibre::default();
+    use fur_core::render::FurPreset;
+    let scene = fur_core::scene_file::SceneOptions::default();
+    let sim = fur_core::sim::params::SimParams::default();
+    let style = fur_core::render::uniforms::FurStyle::default();
+    let fibre = fur_core::render::Fibre::default();
     let frame = format!("1/{}", (1.0 / sim.dt).round());
     // The critter's body and bones.
-    let (critter, rig) = fur::scene::critter();
+    let (critter, rig) = fur_core::scene::critter();
     // The original demo's sphere: its bands from its counts (V = (r − 1)(s + 1) + 2,
     // T = 2s(r − 1)), its radius and segment length from its size.
-    let sphere: fur::scene::ModelSpec = "sphere".parse().unwrap();
+    let sphere: fur_core::scene::ModelSpec = "sphere".parse().unwrap();
     let sphere = sphere.load().unwrap();
     let (v, t) = (sphere.vertex_count() as u64, sphere.triangle_count() as u64);
     let bands = t / (2 * (v - 2) - t);
@@ -119,7 +119,7 @@ fn design() -> Vec<(&'static str, Vec<String>)> {
         .iter()
         .map(|p| p.length())
         .fold(0.0, f32::max);
-    let original = fur::scene_file::SceneOptions::original();
+    let original = fur_core::scene_file::SceneOptions::original();
     let half_diagonal = radius * 3f32.sqrt();
     let segment =
         (original.hair_length * half_diagonal / original.segments as f32 * 1000.0).round() / 1000.0;
@@ -137,50 +137,55 @@ fn design() -> Vec<(&'static str, Vec<String>)> {
         |c: glam::Vec3, f: &dyn Fn(f32) -> String| format!("({}, {}, {})", f(c.x), f(c.y), f(c.z));
     let beta_n = fibre.azimuthal_roughness;
     let colour = |p: FurPreset| p.colour(beta_n).unwrap();
-    let srgb = |x: f32| format!("{:.2}", f32::from(fur::colour::linear_to_srgb8(x)) / 255.0);
+    let srgb = |x: f32| {
+        format!(
+            "{:.2}",
+            f32::from(fur_core::colour::linear_to_srgb8(x)) / 255.0
+        )
+    };
     let openusd = read("Cargo.lock")
         .split("name = \"openusd\"\nversion = \"")
         .nth(1)
         .and_then(|rest| rest.split('"').next())
         .map(|v| v.trim_end_matches(".0").to_string())
         .expect("Cargo.lock pins openusd");
-    let dense: fur::scene::ModelSpec = "dense-sphere".parse().unwrap();
+    let dense: fur_core::scene::ModelSpec = "dense-sphere".parse().unwrap();
     let thousands = (dense.load().unwrap().positions.len() + 500) / 1000;
     vec![
         (
             "docs/design.md",
             vec![
                 format!("`segments` (default {})", scene.segments),
-                // How grown fur lies (fur::scene::flow, fur::scene::groom::comb).
+                // How grown fur lies (fur_core::scene::flow, fur_core::scene::groom::comb).
                 format!(
                     "time is ({} % of the body's size)²",
-                    fur::scene::HEAT_TIME * 100.0
+                    fur_core::scene::HEAT_TIME * 100.0
                 ),
                 format!(
                     "an axis that leans less than {} towards z",
-                    fur::scene::AXIS_LEAN
+                    fur_core::scene::AXIS_LEAN
                 ),
                 format!(
                     "a peak over the last {} % of the body's extent",
-                    fur::scene::CAP * 100.0
+                    fur_core::scene::CAP * 100.0
                 ),
                 format!(
                     "is at most {} of the body's (its {}th percentile",
-                    fur::scene::THIN,
-                    fur::scene::BODY_PERCENTILE
+                    fur_core::scene::THIN,
+                    fur_core::scene::BODY_PERCENTILE
                 ),
                 format!(
                     "each segment rising about {}° from the tangent plane",
-                    (1.0 / fur::scene::FLAT_LEAN).atan().to_degrees().round()
+                    (1.0 / fur_core::scene::FLAT_LEAN).atan().to_degrees().round()
                 ),
-                format!("from {} of the body's up", fur::scene::THICK),
+                format!("from {} of the body's up", fur_core::scene::THICK),
                 format!(
                     "not at all at {} or less",
-                    fur::scene::ONE_BONE
+                    fur_core::scene::ONE_BONE
                 ),
                 format!(
                     "offset is at most {} of the hair's own reach",
-                    fur::render::uniforms::JITTER_SHARE
+                    fur_core::render::uniforms::JITTER_SHARE
                 ),
                 format!(
                     "({} × the half-thickness in the default scene)",
@@ -194,11 +199,11 @@ fn design() -> Vec<(&'static str, Vec<String>)> {
                 format!("four vectors in a {}° cone", sim.wind_cone_deg),
                 format!(
                     "One invocation per strand, {} strands per workgroup",
-                    fur::gpu::shader::GROUP_SIZE
+                    fur_gpu::gpu::shader::GROUP_SIZE
                 ),
                 format!(
                     "moved by at most {} ulps of its largest coordinate",
-                    fur::sim::cpu::SLEEP_ULPS
+                    fur_core::sim::cpu::SLEEP_ULPS
                 ),
                 format!(
                     "{}–{} cells along the longest axis",
@@ -213,7 +218,7 @@ fn design() -> Vec<(&'static str, Vec<String>)> {
                 format!("(vertices 1 and 2 of {})", scene.segments),
                 format!(
                     "where its grid would pass {}",
-                    size_text(fur::skinning::blend::MAX_BYTES as u64)
+                    size_text(fur_core::skinning::blend::MAX_BYTES as u64)
                 ),
                 format!(
                     "({} vertices, closed and outward), {} bones",
@@ -254,8 +259,8 @@ fn design() -> Vec<(&'static str, Vec<String>)> {
                 format!("melanin, the pigments of hair: {};", melanin.join(", ")),
                 format!(
                     "σa = eumelanin · {} + pheomelanin · {}",
-                    triple(fur::render::presets::EUMELANIN_SIGMA_A, &|x| x.to_string()),
-                    triple(fur::render::presets::PHEOMELANIN_SIGMA_A, &|x| x.to_string())
+                    triple(fur_core::render::presets::EUMELANIN_SIGMA_A, &|x| x.to_string()),
+                    triple(fur_core::render::presets::PHEOMELANIN_SIGMA_A, &|x| x.to_string())
                 ),
                 format!(
                     "at β_n = {beta_n} they are white {}, blond {}, ginger {}, brown {} and black (≈ 0)",
@@ -277,7 +282,7 @@ fn design() -> Vec<(&'static str, Vec<String>)> {
         (
             "docs/grooms.md",
             vec![
-                format!("(d below {} radii)", power_of_ten(fur::scene::EXACT_ROOT)),
+                format!("(d below {} radii)", power_of_ten(fur_core::scene::EXACT_ROOT)),
                 format!(
                     "the {thousands}K-vertex `dense-sphere` reading its own {thousands}K-guide groom"
                 ),
@@ -290,24 +295,24 @@ fn design() -> Vec<(&'static str, Vec<String>)> {
 
 /// The limits, targets and defaults the other documents state.
 fn limits() -> Vec<(&'static str, Vec<String>)> {
-    use fur::render::dual_scattering as ds;
+    use fur_core::render::dual_scattering as ds;
     // The table's darkest colour node, whose logarithm the code holds.
     let darkest = 1e-4f32;
     assert!((darkest.ln() - ds::LN_MIN_COLOUR).abs() < 1e-6);
     let calibration = fur::export::compare::Calibration::MAX_SHIFT_PX;
     let radiance = fur::export::compare::Calibration::MAX_RATIO_ERROR;
-    let (low, high) = fur::scene::Mesh::SCALE_RANGE;
+    let (low, high) = fur_core::scene::Mesh::SCALE_RANGE;
     let cargo = read("Cargo.toml");
     let rust = cargo
         .lines()
         .find_map(|l| l.strip_prefix("rust-version = \""))
         .and_then(|v| v.strip_suffix('"'))
         .expect("Cargo.toml states its rust-version");
-    let idle = fur::render::budget::Budget::IDLE_SECONDS;
-    let near = fur::sim::collide::NEAR_CAPSULES;
+    let idle = fur_core::render::budget::Budget::IDLE_SECONDS;
+    let near = fur_core::sim::collide::NEAR_CAPSULES;
     // The goal's body (`dense-sphere`), whose vertices the README's groom and the GPU
     // goal's masters are.
-    let dense: fur::scene::ModelSpec = "dense-sphere".parse().unwrap();
+    let dense: fur_core::scene::ModelSpec = "dense-sphere".parse().unwrap();
     let dense = dense.load().unwrap().positions.len() as u64;
     vec![
         (
@@ -320,73 +325,73 @@ fn limits() -> Vec<(&'static str, Vec<String>)> {
                     size_text(files::MAX_MATERIAL_BYTES),
                     size_text(files::MAX_SCENE_BYTES)
                 ),
-                format!("over {} on a side", fur::scene::Texture::MAX_SIDE),
+                format!("over {} on a side", fur_core::scene::Texture::MAX_SIDE),
                 format!(
                     "over {}, of an unknown extension",
-                    size_text(fur::groom_file::MAX_GROOM_BYTES)
+                    size_text(fur_core::groom_file::MAX_GROOM_BYTES)
                 ),
                 format!(
                     "| a groom file's size | {}, checked before reading; at most {} + 1 byte",
-                    size_text(fur::groom_file::MAX_GROOM_BYTES),
-                    size_text(fur::groom_file::MAX_GROOM_BYTES)
+                    size_text(fur_core::groom_file::MAX_GROOM_BYTES),
+                    size_text(fur_core::groom_file::MAX_GROOM_BYTES)
                 ),
                 format!(
                     "| memory of USD's decoding | {} × the file's size + {} of address space",
-                    fur::groom_file::USD_MEMORY_PER_BYTE,
-                    size_text(fur::groom_file::USD_MEMORY_BASE)
+                    fur_core::groom_file::USD_MEMORY_PER_BYTE,
+                    size_text(fur_core::groom_file::USD_MEMORY_BASE)
                 ),
                 format!(
                     "| CPU time of USD's decoding | {} s + {} s a MiB (`RLIMIT_CPU`), and twice \
                      that + {} s of wall time",
-                    fur::groom_file::USD_SECONDS_BASE,
-                    fur::groom_file::USD_SECONDS_PER_MIB,
-                    fur::groom_file::USD_WALL_SLACK_SECONDS
+                    fur_core::groom_file::USD_SECONDS_BASE,
+                    fur_core::groom_file::USD_SECONDS_PER_MIB,
+                    fur_core::groom_file::USD_WALL_SLACK_SECONDS
                 ),
                 format!(
                     "nested over {} brackets deep",
-                    count_text(fur::groom_file::MAX_TEXT_NESTING as u64)
+                    count_text(fur_core::groom_file::MAX_TEXT_NESTING as u64)
                 ),
                 format!(
                     "| USD text nesting | {} brackets |",
-                    count_text(fur::groom_file::MAX_TEXT_NESTING as u64)
+                    count_text(fur_core::groom_file::MAX_TEXT_NESTING as u64)
                 ),
                 format!(
                     "| prims visited, prim nesting | 2{} prims, {} deep |",
-                    if fur::groom_file::MAX_PRIMS == 1 << 20 { "²⁰" } else { "(MAX_PRIMS changed)" },
-                    fur::groom_file::MAX_DEPTH
+                    if fur_core::groom_file::MAX_PRIMS == 1 << 20 { "²⁰" } else { "(MAX_PRIMS changed)" },
+                    fur_core::groom_file::MAX_DEPTH
                 ),
                 format!(
                     "| notes kept (what reading changed) | {} |",
-                    fur::groom_file::MAX_NOTES
+                    fur_core::groom_file::MAX_NOTES
                 ),
                 format!(
                     "| a curve's vertices after reading | {} |",
-                    count_text(fur::groom_file::MAX_CURVE_VERTICES as u64)
+                    count_text(fur_core::groom_file::MAX_CURVE_VERTICES as u64)
                 ),
                 format!(
                     "over {} bounding radii from the body",
-                    fur::scene::BIND_LIMIT
+                    fur_core::scene::BIND_LIMIT
                 ),
-                format!("over {}, a warning", fur::scene::BIND_TOLERANCE),
+                format!("over {}, a warning", fur_core::scene::BIND_TOLERANCE),
                 format!(
                     "would pass {}",
-                    size_text(fur::skinning::blend::MAX_BYTES as u64)
+                    size_text(fur_core::skinning::blend::MAX_BYTES as u64)
                 ),
                 format!(
                     "more than {} strand vertices",
-                    count_text(fur::session::MAX_STRAND_VERTICES)
+                    count_text(fur_gpu::session::MAX_STRAND_VERTICES)
                 ),
                 format!(
                     "more than {} hair segments a frame",
-                    count_text(fur::session::MAX_SEGMENTS_PER_FRAME)
+                    count_text(fur_gpu::session::MAX_SEGMENTS_PER_FRAME)
                 ),
                 format!(
                     "a render target over {}",
-                    size_text(fur::session::MAX_TARGET_BYTES)
+                    size_text(fur_gpu::session::MAX_TARGET_BYTES)
                 ),
                 format!(
                     "over {} to capture, or whose file would pass {}",
-                    size_text(fur::render::MAX_CAPTURE_BYTES),
+                    size_text(fur_gpu::render::MAX_CAPTURE_BYTES),
                     size_text(fur::export::MAX_EXPORT_BYTES)
                 ),
                 format!(
@@ -429,15 +434,15 @@ fn limits() -> Vec<(&'static str, Vec<String>)> {
                 format!("such a groom: {} curly strands", count_text(dense)),
                 format!(
                     "A curve may have at most {} vertices after evaluation",
-                    count_text(fur::groom_file::MAX_CURVE_VERTICES as u64)
+                    count_text(fur_core::groom_file::MAX_CURVE_VERTICES as u64)
                 ),
                 format!(
                     "A root farther than **{} bounding radii** from the surface is reported",
-                    fur::scene::BIND_TOLERANCE
+                    fur_core::scene::BIND_TOLERANCE
                 ),
                 format!(
                     "A root farther than **{} bounding radii** refuses the groom",
-                    fur::scene::BIND_LIMIT
+                    fur_core::scene::BIND_LIMIT
                 ),
             ],
         ),
@@ -453,11 +458,11 @@ fn limits() -> Vec<(&'static str, Vec<String>)> {
             vec![
                 format!(
                     "(`--shadow-opacity {}` = α",
-                    fur::render::Shadows::default().opacity
+                    fur_core::render::Shadows::default().opacity
                 ),
                 format!(
                     "(at least `--min-pixel-width`, {} px)",
-                    fur::render::uniforms::FurStyle::default().min_pixel_width
+                    fur_core::render::uniforms::FurStyle::default().min_pixel_width
                 ),
                 format!(
                     "with the {} bone capsules nearest its root",

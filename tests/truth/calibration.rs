@@ -6,7 +6,7 @@ use std::path::Path;
 
 use fur::export::compare::Calibration;
 use fur::export::reference::{read_pfm, Reference, TraceOptions};
-use fur::render::RgbaImage;
+use fur_core::render::RgbaImage;
 
 use super::{common, export, number_before, scratch};
 

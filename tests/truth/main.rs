@@ -17,10 +17,11 @@ use std::process::{Command, Output};
 
 use ash::vk;
 use fur::export::reference::read_pfm;
-use fur::render::{FrameSettings, Renderer, RgbaImage};
-use fur::scene::{ModelSpec, Strands};
-use fur::scene_file::Scene;
-use fur::strand_textures::StrandTextures;
+use fur_core::render::{FrameSettings, RgbaImage};
+use fur_core::scene::{ModelSpec, Strands};
+use fur_core::scene_file::Scene;
+use fur_gpu::render::Renderer;
+use fur_gpu::strand_textures::StrandTextures;
 use glam::Vec3;
 
 fn fur(args: &[&str]) -> Output {
@@ -33,11 +34,16 @@ fn scratch(name: &str) -> PathBuf {
 
 /// The blob's default scene, small, drawn and captured by the library.
 fn captured(
-    device: &std::sync::Arc<fur::gpu::Device>,
-    mesh: Option<fur::scene::Mesh>,
+    device: &std::sync::Arc<fur_gpu::gpu::Device>,
+    mesh: Option<fur_core::scene::Mesh>,
     edit: impl FnOnce(&mut FrameSettings),
     (width, height): (u32, u32),
-) -> (RgbaImage, fur::render::CapturedHairs, FrameSettings, u64) {
+) -> (
+    RgbaImage,
+    fur_gpu::render::CapturedHairs,
+    FrameSettings,
+    u64,
+) {
     let scene = Scene::defaults(ModelSpec::Blob);
     let mesh = mesh.unwrap_or_else(|| scene.model.load_body().unwrap().0);
     let (groom, mut settings) = scene.options.resolve(&mesh).unwrap();
@@ -138,7 +144,7 @@ fn a_hairs_jitter_is_at_most_a_share_of_its_own_reach() {
     let scattered = run(100.0);
     assert!(still.len() > 1000, "{} hairs", still.len());
     assert_eq!(still.len(), scattered.len());
-    let share = fur::render::uniforms::JITTER_SHARE;
+    let share = fur_core::render::uniforms::JITTER_SHARE;
     for (key, (root, tip)) in &still {
         let (_, moved) = scattered[key];
         let (offset, reach) = (moved.distance(*tip), tip.distance(*root));
@@ -156,7 +162,7 @@ fn captured_hairs_project_onto_the_pixels_drawn() {
     // A few hairs on a coarse sphere: a wrong projection lands on empty pixels.
     let (image, hairs, settings, _) = captured(
         &device,
-        Some(fur::scene::Mesh::icosphere(1)),
+        Some(fur_core::scene::Mesh::icosphere(1)),
         |s| {
             // The hair alone, opaque: every pixel a hair crosses differs from the clear colour.
             s.draw_mesh = false;
@@ -306,7 +312,7 @@ fn the_export_holds_what_render_draws_and_usd_core_reads_it() {
         String::from_utf8_lossy(&read.stderr)
     );
     let v = 17; // the default 16 segments
-    let blob_triangles = fur::scene::Mesh::blob().triangle_count();
+    let blob_triangles = fur_core::scene::Mesh::blob().triangle_count();
     assert_eq!(
         line,
         format!(

@@ -4,8 +4,8 @@
 //! scene on them frame by frame ([`session`]).
 //!
 //! The device-free parts (scene, settings, the CPU references the kernels are checked
-//! against, lighting models) are `fur-core`, re-exported here under the same paths so
-//! that `crate::scene` reads the same in both crates.
+//! against, lighting models) are `fur-core`'s, named there (`fur_core::scene`); this
+//! crate re-exports none of them.
 
 pub mod error;
 pub mod gpu;
@@ -14,8 +14,6 @@ pub mod session;
 pub mod sim;
 pub mod skinning;
 pub mod strand_textures;
-
-pub use fur_core::{colour, files, geometry, groom_file, interrupt, scene, scene_file};
 
 pub use error::{Error, Result};
 

@@ -9,15 +9,16 @@ use glam::DMat4;
 use crate::error::Error;
 use crate::error::Result;
 use crate::gpu::Device;
-use crate::render::{FrameReport, FrameSettings, Renderer, RgbaImage, Stage};
-use crate::scene::{DrawnGroom, GroomParams, HairPatches, Mesh, Rig, Strands};
-use crate::sim::{GpuSim, Motion, Sdf, SdfReport, SimParams};
-use crate::skinning::{Playback, SkinnedBody};
+use crate::render::{FrameReport, Renderer};
+use crate::sim::GpuSim;
 use crate::strand_textures::StrandTextures;
+use fur_core::render::{FrameSettings, RgbaImage, Stage};
+use fur_core::scene::{DrawnGroom, GroomParams, HairPatches, Mesh, Rig, Strands};
+use fur_core::sim::{Motion, Sdf, SdfReport, SimParams};
+use fur_core::skinning::{Playback, SkinnedBody};
 
 mod options;
 
-pub use fur_core::scene_file::SceneOptions;
 pub use options::{check_work, MAX_SEGMENTS_PER_FRAME, MAX_STRAND_VERTICES, MAX_TARGET_BYTES};
 
 /// What a frame reports beyond the image.
@@ -120,7 +121,7 @@ impl FurSession {
             Some((rig, playback)) => {
                 rig.validate(mesh.vertex_count())
                     .map_err(|m| Error::parameter(format!("the model's skin: {m}")))?;
-                groom.comb_field = Some(crate::skinning::fur_flow(&rig));
+                groom.comb_field = Some(fur_core::skinning::fur_flow(&rig));
                 Some((Arc::new(SkinnedBody::new(&mesh, rig)), playback))
             }
             None => None,
@@ -158,7 +159,7 @@ impl FurSession {
             // The default blend stands down where its grid does not fit; asked for, it is
             // refused there, naming the limit.
             let limit = device.info.limits.max_image_dimension3_d;
-            let misfit = crate::skinning::blend::misfit(sdf, limit);
+            let misfit = fur_core::skinning::blend::misfit(sdf, limit);
             if let Some(why) = &misfit {
                 warnings.push(format!(
                     "{why}: collision goes without it (hair may sink into skin that bends \

@@ -16,7 +16,7 @@ use gpu_allocator::MemoryLocation;
 use crate::error::{Error, Result};
 use crate::gpu::Scope;
 use crate::gpu::{image_barriers, whole_image_copy, Buffer, Device, Image, ImageDesc};
-use crate::scene::Strands;
+use fur_core::scene::Strands;
 
 /// Where each strand vertex lives in the strand textures.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -86,7 +86,7 @@ pub struct StrandTextures {
     /// Rest positions in model space; w = rest length of the segment ending here
     /// (filled in by the simulation's rest pass).
     pub rest: Image,
-    /// Each segment's rest vector in its parent's frame (see [`crate::sim::RestPose`]);
+    /// Each segment's rest vector in its parent's frame (see [`fur_core::sim::RestPose`]);
     /// computed on the GPU by the simulation's rest pass.
     pub rest_local: Image,
     /// World-space positions, ping-ponged by the simulation.

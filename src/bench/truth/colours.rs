@@ -8,11 +8,11 @@ use std::path::Path;
 use super::noise::capitalised;
 use super::{cached_trace, delta_cell, differences, export, noise_sentence, percent, seed_spread};
 use crate::bench::Bench;
-use crate::error::Result;
 use crate::export::compare::{errors, to_srgb8};
 use crate::export::reference::Reference;
-use crate::render::{flip, FurPreset, LightingModel};
-use crate::scene::TextureSpec;
+use fur_core::render::{flip, FurPreset, LightingModel};
+use fur_core::scene::TextureSpec;
+use fur_gpu::error::Result;
 
 use crate::bench::quality::Shot;
 

@@ -27,15 +27,15 @@ use ash::vk;
 use super::plot::{Plot, Series, PALETTE};
 use super::quality::{Look, Shot};
 use super::Bench;
-use crate::error::Result;
 use crate::export::compare::{errors, rmse_linear, to_srgb8};
 use crate::export::reference::{read_pfm, LinearImage, Reference, TraceOptions, SCRIPT};
 use crate::export::{write_usda, FrameExport};
-use crate::render::budget::LADDER;
-use crate::render::marschner::Lobes;
-use crate::render::{flip, LightingModel, Raster, RgbaImage};
-use crate::scene::ModelSpec;
-use crate::scene_file::Scene;
+use fur_core::render::budget::LADDER;
+use fur_core::render::marschner::Lobes;
+use fur_core::render::{flip, LightingModel, Raster, RgbaImage};
+use fur_core::scene::ModelSpec;
+use fur_core::scene_file::Scene;
+use fur_gpu::error::Result;
 
 mod colours;
 mod noise;
@@ -113,7 +113,7 @@ impl Bench<'_> {
         };
         let dir = out_dir.join("truth");
         std::fs::create_dir_all(&dir)
-            .map_err(|e| crate::error::Error::io("create the folder", &dir, e))?;
+            .map_err(|e| fur_gpu::error::Error::io("create the folder", &dir, e))?;
         let _ = writeln!(
             self.md,
             "Each scene's settled frame at {}×{}, drawn by fur and path-traced by \
@@ -396,7 +396,7 @@ fn export(shot: &Shot, look: &Look, usda: &Path) -> Result<(RgbaImage, PathBuf, 
     );
     frame.check_size()?;
     let text = write_usda(&frame, "fur bench")?;
-    crate::files::write_output(usda, text.as_bytes(), "write the frame to")?;
+    fur_core::files::write_output(usda, text.as_bytes(), "write the frame to")?;
     Ok((image, usda.to_path_buf(), text))
 }
 

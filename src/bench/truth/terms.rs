@@ -6,11 +6,11 @@ use std::fmt::Write as _;
 use super::super::quality::{Look, Shot};
 use super::super::Bench;
 use super::percent;
-use crate::error::Result;
 use crate::export::compare::errors;
 use crate::export::reference::LinearImage;
-use crate::render::marschner::Lobes;
-use crate::render::LightingModel;
+use fur_core::render::marschner::Lobes;
+use fur_core::render::LightingModel;
+use fur_gpu::error::Result;
 
 impl Bench<'_> {
     /// The Marschner drawing (without a shadow map: the light through the fur is the

@@ -116,9 +116,9 @@ pub(super) fn binding_defines() -> Vec<(&'static str, String)> {
 }
 
 /// Every define a render shader takes from Rust: the drawing's flags
-/// ([`super::uniforms::shader_defines`]) and the set and binding numbers.
+/// ([`fur_core::render::uniforms::shader_defines`]) and the set and binding numbers.
 pub(crate) fn render_defines() -> Vec<(&'static str, String)> {
-    let mut defines = super::uniforms::shader_defines();
+    let mut defines = fur_core::render::uniforms::shader_defines();
     defines.extend(binding_defines());
     defines
 }
@@ -232,7 +232,7 @@ mod tests {
     };
     use crate::gpu::reflect::{check_bindings, check_struct, reflect};
     use crate::gpu::shader::compile;
-    use crate::render::uniforms::shader_defines;
+    use fur_core::render::uniforms::shader_defines;
     use fur_core::render::FrameUniforms;
 
     /// Each struct of the `Frame` uniform block as Rust lays it out: the GLSL struct's

@@ -11,8 +11,8 @@ use super::bindings::{SET_BODY, SET_FRAME};
 use super::pipeline::begin_rendering;
 use super::slot::RenderSlot;
 use super::target::RenderTarget;
-use super::uniforms::FrameSettings;
 use crate::gpu::{Access, Barrier, Device, PipelineLayout, State, Tracker};
+use fur_core::render::uniforms::FrameSettings;
 
 /// The images and buffers a frame's passes share.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

@@ -1,8 +1,6 @@
 //! The render passes: mesh (skin) and fur, into an offscreen target; the drawing's
 //! settings, lighting models and images are the core's ([`fur_core::render`]).
 
-pub use fur_core::render::*;
-
 mod bindings;
 mod graph;
 mod pipeline;

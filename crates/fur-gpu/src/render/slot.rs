@@ -8,10 +8,10 @@ use ash::vk;
 use super::bindings::write_frame_set;
 use super::renderer::Variant;
 use super::texture::ShadowMap;
-use super::FrameUniforms;
 use crate::error::Result;
 use crate::gpu::{Buffer, DescriptorPool, DescriptorSetLayout, Device, QueryPool};
 use crate::strand_textures::StrandTextures;
+use fur_core::render::FrameUniforms;
 
 /// Timestamp slots: the frame's start (before its simulation), the passes' start, after
 /// the mesh pass, after the fur pass; when the strands are drawn in compute, after the

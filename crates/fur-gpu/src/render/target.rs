@@ -8,11 +8,11 @@ use std::sync::Arc;
 use ash::vk;
 use gpu_allocator::MemoryLocation;
 
-use super::RgbaImage;
 use crate::error::{Error, Result};
 use crate::gpu::{
     barrier, image_barriers, whole_image_copy, Access, Buffer, Device, Image, ImageDesc, State,
 };
+use fur_core::render::RgbaImage;
 
 /// What a renderer draws into: the target's size, the frames in flight (each with its
 /// own uniforms and sets) and the samples per pixel.

@@ -10,7 +10,7 @@ use super::target::DEPTH_FORMAT;
 use crate::error::{Error, Result};
 use crate::gpu::Scope;
 use crate::gpu::{image_barriers, Buffer, Device, Image, ImageDesc, Sampler};
-use crate::scene::Texture;
+use fur_core::scene::Texture;
 
 /// The model's colour texture on the device: sRGB with its mip chain, trilinear and
 /// repeating, read by the fur's geometry stage and the skin's fragment stage.

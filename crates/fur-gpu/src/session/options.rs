@@ -3,9 +3,9 @@
 use ash::vk;
 
 use crate::error::{Error, Result};
-use crate::render::strand_raster::pools::{Demand, PoolBudget, PoolSizes};
-use crate::render::{FrameSettings, Raster};
-use crate::scene::{GroomParams, Mesh};
+use fur_core::render::strand_raster::pools::{Demand, PoolBudget, PoolSizes};
+use fur_core::render::{FrameSettings, Raster};
+use fur_core::scene::{GroomParams, Mesh};
 
 /// Strand vertices (master hairs × their vertices) a scene may have: 8 M take 512 MiB
 /// of strand textures.

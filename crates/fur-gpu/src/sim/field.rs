@@ -13,10 +13,10 @@ use ash::vk;
 use glam::Vec4;
 use gpu_allocator::MemoryLocation;
 
-use super::sdf::Sdf;
 use crate::error::{Error, Result};
 use crate::gpu::Scope;
 use crate::gpu::{image_barriers, Buffer, Device, Image, ImageDesc};
+use fur_core::sim::sdf::Sdf;
 
 /// The image holding `sdf` (a single grid point, zero, without a body), left in
 /// `GENERAL` layout for the kernel to read.
@@ -49,23 +49,23 @@ pub(super) fn upload(device: &Arc<Device>, sdf: Option<&Sdf>) -> Result<Image> {
 }
 
 /// The image holding a skinned body's blend of bones at each grid point of `sdf` (see
-/// [`crate::skinning::blend`]; `rgba32ui`, two grid points along x per texel, the same
+/// [`fur_core::skinning::blend`]; `rgba32ui`, two grid points along x per texel, the same
 /// grid as the field's), or a single texel of zeros (no blend: the root pose carries
 /// every vertex), left in `GENERAL` layout for the kernel to read. Two points to a
 /// texel keep to the formats every device can store (`rg32ui` needs a feature).
 pub(super) fn upload_blend(
     device: &Arc<Device>,
-    blend: Option<(&Sdf, &[crate::skinning::blend::Packed])>,
+    blend: Option<(&Sdf, &[fur_core::skinning::blend::Packed])>,
 ) -> Result<Image> {
     match blend {
         Some((sdf, packed))
             if packed.len()
-                == crate::skinning::blend::dims(sdf).iter().product::<u32>() as usize =>
+                == fur_core::skinning::blend::dims(sdf).iter().product::<u32>() as usize =>
         {
-            let [nx, ny, nz] = crate::skinning::blend::dims(sdf);
+            let [nx, ny, nz] = fur_core::skinning::blend::dims(sdf);
             let dims = [nx.div_ceil(2), ny, nz];
             let limit = device.info.limits.max_image_dimension3_d;
-            if let Some(why) = crate::skinning::blend::misfit(sdf, limit) {
+            if let Some(why) = fur_core::skinning::blend::misfit(sdf, limit) {
                 return Err(Error::parameter(format!(
                     "{why}; lower --sdf-resolution or turn --skin-blend off"
                 )));

@@ -20,16 +20,17 @@ use super::kernel::{
     after_dispatch, write_sim_set, BodyViews, GpuStep, SimBinding, SimStatic, BODY_BLEND,
     BODY_SKINNED, PROBE, SLEEP,
 };
-use super::params::{SimParams, StepConstants};
-use super::sdf::Sdf;
-pub use super::steps::SimStep;
 use crate::error::{Error, Result};
 use crate::gpu::{
     memory_barrier, Buffer, DescriptorPool, DescriptorSetLayout, Device, Pipeline, PipelineLayout,
     QueryPool, Specialization, TexelBuffer,
 };
-use crate::skinning::{GpuSkin, Playback, SkinCapacity, SkinnedBody};
+use crate::skinning::{GpuSkin, SkinCapacity};
 use crate::strand_textures::StrandTextures;
+use fur_core::sim::params::{SimParams, StepConstants};
+use fur_core::sim::sdf::Sdf;
+pub use fur_core::sim::steps::SimStep;
+use fur_core::skinning::{Playback, SkinnedBody};
 
 /// Strands per workgroup (one invocation each).
 use crate::gpu::shader::GROUP_SIZE;
@@ -70,7 +71,7 @@ pub struct GpuSim {
     /// placeholder without a body) and its grid.
     _body: crate::gpu::Image,
     /// A skinned body's blend of bones at each of the field's grid points (see
-    /// [`crate::skinning::blend`]; a placeholder otherwise).
+    /// [`fur_core::skinning::blend`]; a placeholder otherwise).
     _blend: crate::gpu::Image,
     /// Whether `_blend` holds a body's blend (built when the simulation is).
     has_blend: bool,
@@ -217,14 +218,13 @@ impl GpuSim {
                 .as_ref()
                 .map_or(&no_capsules, |s: &Skinned| &s.skin.capsules[slot])
         };
-        let blend = match (&skinned, body) {
-            (Some(s), Some(sdf)) if params.blends() => Some(crate::skinning::blend::for_body(
-                &s.body,
-                sdf,
-                textures.hair_length,
-            )?),
-            _ => None,
-        };
+        let blend =
+            match (&skinned, body) {
+                (Some(s), Some(sdf)) if params.blends() => Some(
+                    fur_core::skinning::blend::for_body(&s.body, sdf, textures.hair_length)?,
+                ),
+                _ => None,
+            };
         let blend_field = super::field::upload_blend(device, body.zip(blend.as_deref()))?;
         let bones = |slot: usize| {
             skinned

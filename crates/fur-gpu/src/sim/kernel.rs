@@ -6,11 +6,11 @@
 use ash::vk;
 use glam::{Mat4, UVec3, Vec3, Vec4};
 
-use super::params::StepConstants;
-use super::steps::SimStep;
 use crate::gpu::Scope;
 use crate::gpu::{bindings, memory_barrier, Buffer, Device, TexelBuffer};
 use crate::strand_textures::StrandTextures;
+use fur_core::sim::params::StepConstants;
+use fur_core::sim::steps::SimStep;
 
 /// The kernel's `STEPS` bit for a skinned body (`BODY_SKINNED` in `simulate.comp`).
 pub(super) const BODY_SKINNED: u32 = 64;
@@ -43,19 +43,25 @@ pub fn kernel_defines() -> Vec<(&'static str, String)> {
         ("SLEEP", uint(SLEEP)),
         ("BODY_BLEND", uint(BODY_BLEND)),
         ("PROBE", uint(PROBE)),
-        ("PROJECTIONS", uint(super::collide::PROJECTIONS)),
+        ("PROJECTIONS", uint(fur_core::sim::collide::PROJECTIONS)),
         (
             "PROJECTIONS_SKINNED",
-            uint(super::collide::PROJECTIONS_SKINNED),
+            uint(fur_core::sim::collide::PROJECTIONS_SKINNED),
         ),
-        ("SLEEP_ULPS", float(super::cpu::SLEEP_ULPS)),
-        ("REST_MOTION", float(super::cpu::REST_MOTION)),
-        ("REST_GRAVITY", float(super::cpu::REST_GRAVITY)),
-        ("NEAR_CAPSULES", uint(super::collide::NEAR_CAPSULES as u32)),
-        ("CAPSULE_RAMP", float(super::collide::CAPSULE_RAMP)),
-        ("MIN_DETERMINANT", float(super::collide::MIN_DETERMINANT)),
-        ("BLEND_REFINE", uint(crate::skinning::blend::REFINE)),
-        ("MIN_LENGTH", float(super::math::MIN_LENGTH)),
+        ("SLEEP_ULPS", float(fur_core::sim::cpu::SLEEP_ULPS)),
+        ("REST_MOTION", float(fur_core::sim::cpu::REST_MOTION)),
+        ("REST_GRAVITY", float(fur_core::sim::cpu::REST_GRAVITY)),
+        (
+            "NEAR_CAPSULES",
+            uint(fur_core::sim::collide::NEAR_CAPSULES as u32),
+        ),
+        ("CAPSULE_RAMP", float(fur_core::sim::collide::CAPSULE_RAMP)),
+        (
+            "MIN_DETERMINANT",
+            float(fur_core::sim::collide::MIN_DETERMINANT),
+        ),
+        ("BLEND_REFINE", uint(fur_core::skinning::blend::REFINE)),
+        ("MIN_LENGTH", float(fur_core::sim::math::MIN_LENGTH)),
     ]
     .into_iter()
     .chain(SimBinding::defines())

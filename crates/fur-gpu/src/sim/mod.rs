@@ -1,8 +1,6 @@
 //! Han & Harada (2012) strand simulation: the core's parameters and CPU reference
 //! ([`fur_core::sim`]) and the compute-shader implementation.
 
-pub use fur_core::sim::*;
-
 mod field;
 mod gpu;
 mod kernel;

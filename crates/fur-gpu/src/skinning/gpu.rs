@@ -9,12 +9,12 @@ use ash::vk;
 use glam::{Mat4, UVec4, Vec4};
 use gpu_allocator::MemoryLocation;
 
-use super::SkinnedBody;
 use crate::error::{Error, Result};
 use crate::gpu::{
     bindings, memory_barrier, Buffer, DescriptorPool, DescriptorSetLayout, Device, Pipeline,
     PipelineLayout, Specialization, TexelBuffer,
 };
+use fur_core::skinning::SkinnedBody;
 
 /// Vertices per workgroup (`local_size_x` in `skin.comp`).
 use crate::gpu::shader::GROUP_SIZE;
@@ -41,7 +41,7 @@ pub struct GpuSkin {
     pub capsules: Vec<TexelBuffer>,
     pub capsule_count: u32,
     /// Per frame in flight: every joint's motion from the rest pose (three rows, see
-    /// [`super::blend::bone_rows`]) for each substep of a submission (read by the
+    /// [`fur_core::skinning::blend::bone_rows`]) for each substep of a submission (read by the
     /// simulation's collision step).
     pub bones: Vec<TexelBuffer>,
     /// Per strand, its root pose after the last simulated substep (the simulation's).
@@ -193,7 +193,7 @@ impl GpuSkin {
         )?;
         // The bind pose's capsules lead each slot's buffer (the simulation scales each
         // capsule by how far it moved from there relative to a strand's root).
-        let rest_capsules = super::capsules::pose(&body.capsules, &[]);
+        let rest_capsules = fur_core::skinning::capsules::pose(&body.capsules, &[]);
         let capsules = (0..frames_in_flight)
             .map(|slot| {
                 let mut capsules = TexelBuffer::new(
@@ -313,7 +313,7 @@ impl GpuSkin {
     }
 
     /// Writes slot `slot`'s posed capsules, every capsule of each substep of the coming
-    /// submission, substep after substep (see [`super::capsules::pose`]), after the
+    /// submission, substep after substep (see [`fur_core::skinning::capsules::pose`]), after the
     /// bind pose's, which lead the buffer.
     pub fn write_capsules(&mut self, slot: usize, capsules: &[[Vec4; 2]]) {
         let lead = self.capsule_count as usize;
@@ -324,7 +324,7 @@ impl GpuSkin {
     }
 
     /// Writes slot `slot`'s bone motions, every joint's three rows of each substep of
-    /// the coming submission, substep after substep (see [`super::blend::bone_rows`]).
+    /// the coming submission, substep after substep (see [`fur_core::skinning::blend::bone_rows`]).
     pub fn write_bones(&mut self, slot: usize, rows: &[[Vec4; 3]]) {
         let buffer = &mut self.bones[slot].buffer;
         let n = rows.len().min(buffer.size() as usize / 48);

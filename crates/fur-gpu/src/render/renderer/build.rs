@@ -11,7 +11,6 @@ use super::super::bindings::{
 use super::super::slot::RenderSlot;
 use super::super::target::{RenderTarget, TargetSpec};
 use super::super::texture::GpuTexture;
-use super::super::uniforms::StrandShape;
 use super::compute_raster::ComputeRaster;
 use super::density_pass::DensityPass;
 use super::fur_pass::FurPass;
@@ -21,8 +20,9 @@ use super::shadow_pass::ShadowPass;
 use super::Renderer;
 use crate::error::{Error, Result};
 use crate::gpu::{Buffer, DescriptorPool, DescriptorSetLayout, Device, PipelineLayout};
-use crate::scene::{HairPatches, Mesh, Texture};
 use crate::strand_textures::StrandTextures;
+use fur_core::render::uniforms::StrandShape;
+use fur_core::scene::{HairPatches, Mesh, Texture};
 
 impl Renderer {
     /// A renderer with `frames_in_flight` sets of per-frame resources (1 headless),
@@ -219,7 +219,7 @@ impl Renderer {
             shape: StrandShape {
                 vertices_per_strand,
                 strands_per_row: strands.layout.strands_per_row,
-                stub_length: super::super::uniforms::STUB_LIMIT * strands.hair_length,
+                stub_length: fur_core::render::uniforms::STUB_LIMIT * strands.hair_length,
                 coat_height: strands.coat_height,
             },
             bounds: mesh.bounds(),

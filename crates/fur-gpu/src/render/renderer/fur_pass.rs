@@ -15,11 +15,11 @@ use super::super::pipeline::{
     graphics_pipeline, Blend, ColourAttachment, DepthAttachment, GraphicsDesc,
 };
 use super::super::target::{sample_flag, COLOR_FORMAT, DEPTH_FORMAT};
-use super::super::uniforms::{FrameSettings, FurStyle, Primitive, Raster, Shading, Stage};
-use super::super::LightingModel;
 use super::mesh_pass::BodyTraits;
 use crate::error::Result;
 use crate::gpu::{Access, Device, Pipeline, PipelineLayout, ShaderModule};
+use fur_core::render::uniforms::{FrameSettings, FurStyle, Primitive, Raster, Shading, Stage};
+use fur_core::render::LightingModel;
 
 /// One compiled form of the fur pipeline.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

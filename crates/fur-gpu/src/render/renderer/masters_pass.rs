@@ -16,8 +16,8 @@ use super::super::pipeline::{
 use super::super::target::{sample_flag, COLOR_FORMAT, DEPTH_FORMAT};
 use crate::error::Result;
 use crate::gpu::{Access, Device, Pipeline, PipelineLayout, ShaderModule};
-use crate::render::Stage;
 use crate::strand_textures::StrandLayout;
+use fur_core::render::Stage;
 
 pub struct MastersPass {
     device: Arc<Device>,

@@ -14,8 +14,8 @@ use super::super::pipeline::{
 use super::super::target::{sample_flag, COLOR_FORMAT, DEPTH_FORMAT};
 use crate::error::Result;
 use crate::gpu::{Access, Buffer, Device, Pipeline, PipelineLayout, ShaderModule};
-use crate::render::Stage;
-use crate::scene::Mesh;
+use fur_core::render::Stage;
+use fur_core::scene::Mesh;
 
 /// Interleaved position, normal and texture coordinates.
 #[repr(C)]

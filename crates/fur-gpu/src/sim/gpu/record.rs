@@ -156,9 +156,10 @@ impl GpuSim {
             ));
             if let Some(s) = &mut self.skinned {
                 let matrices = s.playback.joint_matrices(&s.body.rig, self.time);
-                let capsules = crate::skinning::capsules::pose(&s.body.capsules, &matrices);
+                let capsules = fur_core::skinning::capsules::pose(&s.body.capsules, &matrices);
                 if self.params.blends() {
-                    let rows = crate::skinning::blend::bone_rows(&matrices, &s.body.rest_inverse);
+                    let rows =
+                        fur_core::skinning::blend::bone_rows(&matrices, &s.body.rest_inverse);
                     s.pending_bones.extend(rows);
                 }
                 s.pending.extend(matrices);

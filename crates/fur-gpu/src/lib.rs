@@ -8,6 +8,7 @@
 //! crate re-exports none of them.
 
 pub mod error;
+pub mod frame;
 pub mod gpu;
 pub mod render;
 pub mod session;

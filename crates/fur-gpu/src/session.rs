@@ -258,11 +258,20 @@ impl FurSession {
         self.settings.head = self.head_at(self.sim.time).as_mat4();
         self.renderer.update(slot, &self.settings)?;
         self.renderer.begin_frame(cmd, slot);
+        // One tracker through the submission: the skinning and the simulation declare
+        // their uses, then the frame's passes, and the barriers follow.
+        let mut tracker = crate::frame::tracker();
         if !constants.is_empty() {
-            self.sim.record(cmd, slot, &mut self.textures, &constants)?;
+            self.sim
+                .record(cmd, &mut tracker, slot, &mut self.textures, &constants)?;
         }
-        self.renderer
-            .record(cmd, slot, self.textures.current, &self.settings);
+        self.renderer.record(
+            cmd,
+            &mut tracker,
+            slot,
+            self.textures.current,
+            &self.settings,
+        );
         Ok(())
     }
 

@@ -294,7 +294,13 @@ fn overflowing_every_pool_is_counted_and_the_pools_grow_to_the_frame() {
         device
             .submit_once(|cmd| {
                 renderer.begin_frame(cmd, 0);
-                renderer.record(cmd, 0, textures.current, &settings);
+                renderer.record(
+                    cmd,
+                    &mut fur_gpu::frame::tracker(),
+                    0,
+                    textures.current,
+                    &settings,
+                );
                 Ok(())
             })
             .unwrap();

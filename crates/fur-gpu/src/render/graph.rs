@@ -1,6 +1,8 @@
 //! The frame as a list of passes. Each pass says where it draws ([`Attachments`]) and
 //! what else it reads and writes ([`Use`]); [`record_frame`] derives the barriers
-//! between them from those declarations (through [`crate::gpu::Tracker`]), opens one
+//! between them from those declarations (through the submission's tracker,
+//! [`crate::frame`], which the skinning and the simulation declared their uses to
+//! first), opens one
 //! rendering scope for consecutive passes drawing into the same attachments (the mesh
 //! and the fur share the target's, as a frame graph merges passes), and records them.
 //! No pass writes a barrier of its own.
@@ -11,64 +13,10 @@ use super::bindings::{SET_BODY, SET_FRAME};
 use super::pipeline::begin_rendering;
 use super::slot::RenderSlot;
 use super::target::RenderTarget;
-use crate::gpu::{Access, Barrier, Device, PipelineLayout, State, Tracker};
+use crate::frame::record_uses;
+pub use crate::frame::{uses, Resource, Use};
+use crate::gpu::{Access, Device, PipelineLayout, Tracker};
 use fur_core::render::uniforms::FrameSettings;
-
-/// The images and buffers a frame's passes share.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Resource {
-    /// The strand positions the simulation last wrote (a storage image in `GENERAL`).
-    Positions,
-    /// A skinned body's posed vertices, written by the skinning kernel.
-    Posed,
-    /// The hair counters (and the capture behind them).
-    Counters,
-    /// The simulation kernel's arrows (the simulation view).
-    Probe,
-    /// The slot's shadow map.
-    ShadowMap,
-    /// The target's depth, its multisampled colour (with MSAA) and its single-sample
-    /// colour (resolved into, or drawn into without MSAA).
-    Depth,
-    Color,
-    Resolve,
-    /// The compute rasteriser's strands: their counts, vertices and segments.
-    Strands,
-    /// The compute rasteriser's tiles and the entry pool of their lists.
-    TileBins,
-    /// The compute rasteriser's hair layer, composited over the target.
-    HairLayer,
-    /// The compute rasteriser's composited image (storage, `GENERAL`), copied onto the
-    /// target's single-sample colour.
-    Composited,
-}
-
-impl Resource {
-    /// Whether it is an image with layouts (storage images stay in `GENERAL` and are
-    /// ordered like buffers).
-    fn is_image(self) -> bool {
-        matches!(
-            self,
-            Resource::ShadowMap
-                | Resource::Depth
-                | Resource::Color
-                | Resource::Resolve
-                | Resource::Composited
-        )
-    }
-}
-
-/// A pass's use of a resource.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct Use {
-    pub resource: Resource,
-    pub access: Access,
-}
-
-/// `resource` used by `access`.
-pub const fn uses(resource: Resource, access: Access) -> Use {
-    Use { resource, access }
-}
 
 /// The attachments a pass draws into; consecutive passes with the same ones share a
 /// rendering scope, the first one clearing them.
@@ -180,57 +128,6 @@ impl FrameContext<'_> {
             | Resource::HairLayer => None,
         }
     }
-
-    /// Where each resource stands when the frame starts: what last used it (the
-    /// previous frame's use of a slot's images may still be in flight; the simulation
-    /// and skinning of this frame were recorded before it).
-    pub fn initial_states(&self) -> Vec<(Resource, State)> {
-        vec![
-            (Resource::Positions, State::after(&[Access::ComputeWrite])),
-            (Resource::Posed, State::after(&[Access::ComputeWrite])),
-            (Resource::Probe, State::after(&[Access::ComputeWrite])),
-            // Read by the host after the previous frame's fence: nothing to wait for.
-            (Resource::Counters, State::after(&[])),
-            (
-                Resource::ShadowMap,
-                State::discarded_after(&[Access::ShadingSampled]),
-            ),
-            (
-                Resource::Depth,
-                State::discarded_after(&[Access::DepthAttachment, Access::ComputeSampled]),
-            ),
-            // The compute rasteriser's buffers, last used by the previous frame's passes.
-            (
-                Resource::Strands,
-                State::after(&[
-                    Access::ComputeRead,
-                    Access::IndirectRead,
-                    Access::ComputeWrite,
-                ]),
-            ),
-            (
-                Resource::TileBins,
-                State::after(&[Access::ComputeWrite, Access::ComputeRead]),
-            ),
-            (Resource::HairLayer, State::after(&[Access::ComputeRead])),
-            (
-                Resource::Composited,
-                State::discarded_after(&[Access::TransferRead]),
-            ),
-            (
-                Resource::Color,
-                State::discarded_after(&[Access::ColorAttachment]),
-            ),
-            (
-                Resource::Resolve,
-                State::discarded_after(&[
-                    Access::TransferRead,
-                    Access::ColorAttachment,
-                    Access::TransferWrite,
-                ]),
-            ),
-        ]
-    }
 }
 
 /// Whose view of the frame a pass draws, which decides its frame set: the camera's
@@ -278,15 +175,16 @@ pub enum Event {
     ScopeClosed(Attachments),
 }
 
-/// Records `passes` in order with the barriers their declarations need, calling
+/// Records `passes` in order with the barriers their declarations need after what
+/// `tracker` has seen (the submission's skinning and simulation before them), calling
 /// `event` around them.
 pub fn record_frame(
     frame: &FrameContext<'_>,
     cmd: vk::CommandBuffer,
+    tracker: &mut Tracker<Resource>,
     passes: &[&dyn Pass],
     event: &mut dyn FnMut(Event),
 ) {
-    let mut tracker = Tracker::new(frame.initial_states());
     let mut bound: Option<View> = None;
     let mut i = 0;
     while i < passes.len() {
@@ -306,7 +204,7 @@ pub fn record_frame(
         for pass in group {
             all.extend(pass.uses(frame));
         }
-        record_barriers(frame, cmd, &mut tracker, &all);
+        record_uses(frame.device, cmd, tracker, &all, &|r| frame.image(r));
         if attachments != Attachments::None {
             event(Event::ScopeOpening(attachments));
             begin_scope(frame, cmd, attachments);
@@ -331,63 +229,6 @@ pub fn record_frame(
         }
         i = end;
     }
-}
-
-/// The barriers `list` (one group's uses) needs, recorded as one dependency.
-fn record_barriers(
-    frame: &FrameContext<'_>,
-    cmd: vk::CommandBuffer,
-    tracker: &mut Tracker<Resource>,
-    list: &[Use],
-) {
-    let mut resources: Vec<Resource> = Vec::new();
-    for u in list {
-        if !resources.contains(&u.resource) {
-            resources.push(u.resource);
-        }
-    }
-    let mut memory = Vec::new();
-    let mut images = Vec::new();
-    for resource in resources {
-        let accesses: Vec<Access> = list
-            .iter()
-            .filter(|u| u.resource == resource)
-            .map(|u| u.access)
-            .collect();
-        let image = frame.image(resource);
-        let Some(b) = tracker.access(resource, &accesses, resource.is_image()) else {
-            continue;
-        };
-        match image {
-            Some((raw, aspect)) => images.push(image_barrier(raw, aspect, &b)),
-            None => memory.push(memory_barrier(&b)),
-        }
-    }
-    if memory.is_empty() && images.is_empty() {
-        return;
-    }
-    let dependency = vk::DependencyInfo::default()
-        .memory_barriers(&memory)
-        .image_memory_barriers(&images);
-    // SAFETY: the command buffer is recording outside a rendering scope; the images
-    // belong to the frame's slot and target, alive while the frame is.
-    unsafe { frame.device.raw.cmd_pipeline_barrier2(cmd, &dependency) };
-}
-
-fn memory_barrier(b: &Barrier) -> vk::MemoryBarrier2<'static> {
-    vk::MemoryBarrier2::default()
-        .src_stage_mask(b.src.stages)
-        .src_access_mask(b.src.access)
-        .dst_stage_mask(b.dst.stages)
-        .dst_access_mask(b.dst.access)
-}
-
-fn image_barrier(
-    image: vk::Image,
-    aspect: vk::ImageAspectFlags,
-    b: &Barrier,
-) -> vk::ImageMemoryBarrier2<'static> {
-    crate::gpu::image_barrier(image, aspect, b.src, b.dst, b.old_layout, b.new_layout)
 }
 
 /// Begins the rendering scope of `attachments`, cleared.

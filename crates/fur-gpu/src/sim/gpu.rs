@@ -17,13 +17,13 @@ use gpu_allocator::MemoryLocation;
 
 pub use super::kernel::kernel_defines;
 use super::kernel::{
-    after_dispatch, write_sim_set, BodyViews, GpuStep, SimBinding, SimStatic, BODY_BLEND,
-    BODY_SKINNED, PROBE, SLEEP,
+    write_sim_set, BodyViews, GpuStep, SimBinding, SimStatic, BODY_BLEND, BODY_SKINNED, PROBE,
+    SLEEP,
 };
 use crate::error::{Error, Result};
 use crate::gpu::{
-    memory_barrier, Buffer, DescriptorPool, DescriptorSetLayout, Device, Pipeline, PipelineLayout,
-    QueryPool, Specialization, TexelBuffer,
+    Buffer, DescriptorPool, DescriptorSetLayout, Device, Pipeline, PipelineLayout, QueryPool,
+    Specialization, TexelBuffer,
 };
 use crate::skinning::{GpuSkin, SkinCapacity};
 use crate::strand_textures::StrandTextures;
@@ -319,9 +319,9 @@ impl GpuSim {
         let d = &*self.device;
         d.submit_once(|cmd| {
             d.begin_label(cmd, "rest pose");
+            self.declare_uses(cmd, &mut crate::frame::tracker());
             self.dispatch(cmd, &pipeline, self.slots[0].sets[0], [0, 0, 0]);
             d.end_label(cmd);
-            after_dispatch(d, cmd);
             Ok(())
         })
     }

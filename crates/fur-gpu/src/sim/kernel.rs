@@ -6,8 +6,7 @@
 use ash::vk;
 use glam::{Mat4, UVec3, Vec3, Vec4};
 
-use crate::gpu::Scope;
-use crate::gpu::{bindings, memory_barrier, Buffer, Device, TexelBuffer};
+use crate::gpu::{bindings, Buffer, Device, TexelBuffer};
 use crate::strand_textures::StrandTextures;
 use fur_core::sim::params::StepConstants;
 use fur_core::sim::steps::SimStep;
@@ -153,21 +152,6 @@ bindings!(
         Probe = ("SB_PROBE", STORAGE_BUFFER, COMPUTE),
     }
 );
-
-/// Makes a dispatch's storage writes visible to the next dispatch (a pipeline barrier
-/// between dependent compute steps).
-pub(super) fn after_dispatch(device: &Device, cmd: vk::CommandBuffer) {
-    let compute = vk::PipelineStageFlags2::COMPUTE_SHADER;
-    memory_barrier(
-        device,
-        cmd,
-        Scope::new(compute, vk::AccessFlags2::SHADER_STORAGE_WRITE),
-        Scope::new(
-            compute,
-            vk::AccessFlags2::SHADER_STORAGE_READ | vk::AccessFlags2::SHADER_STORAGE_WRITE,
-        ),
-    );
-}
 
 /// A skinned body's resources as the kernel reads them (placeholders on a rigid body):
 /// the field, the root poses, the capsules, the last root poses, the skin's blend of

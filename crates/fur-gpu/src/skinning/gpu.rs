@@ -11,14 +11,15 @@ use gpu_allocator::MemoryLocation;
 
 use crate::error::{Error, Result};
 use crate::gpu::{
-    bindings, memory_barrier, Buffer, DescriptorPool, DescriptorSetLayout, Device, Pipeline,
-    PipelineLayout, Specialization, TexelBuffer,
+    bindings, Buffer, DescriptorPool, DescriptorSetLayout, Device, Pipeline, PipelineLayout,
+    Specialization, TexelBuffer,
 };
 use fur_core::skinning::SkinnedBody;
 
+use crate::frame::{record_memory_uses, uses, Resource};
 /// Vertices per workgroup (`local_size_x` in `skin.comp`).
 use crate::gpu::shader::GROUP_SIZE;
-use crate::gpu::Scope;
+use crate::gpu::{Access, Tracker};
 /// The most root-pose memory a body may take (substeps × strands × 48 bytes).
 const MAX_ROOT_POSE_BYTES: u64 = 256 << 20;
 
@@ -337,23 +338,24 @@ impl GpuSkin {
     }
 
     /// Records the skinning of substeps `first .. first + count` of the submission (the
-    /// root poses of each, the posed body of the last), followed by the barrier that
-    /// makes them visible to the simulation and the draws.
-    pub fn record(&self, cmd: vk::CommandBuffer, slot: usize, first: u32, count: u32) {
+    /// root poses of each, the posed body of the last), declaring to `tracker` that it
+    /// writes them: the barrier after their earlier readers comes from there, and the
+    /// simulation and the draws declare their reads.
+    pub fn record(
+        &self,
+        cmd: vk::CommandBuffer,
+        tracker: &mut Tracker<Resource>,
+        slot: usize,
+        first: u32,
+        count: u32,
+    ) {
         let d = &*self.device;
         d.begin_label(cmd, "skinning");
-        // Earlier readers of the root poses and the posed body finish before we write.
-        memory_barrier(
+        record_memory_uses(
             d,
             cmd,
-            Scope::new(
-                crate::gpu::SHARED_DATA_STAGES,
-                vk::AccessFlags2::SHADER_STORAGE_READ,
-            ),
-            Scope::new(
-                vk::PipelineStageFlags2::COMPUTE_SHADER,
-                vk::AccessFlags2::SHADER_STORAGE_WRITE,
-            ),
+            tracker,
+            &[uses(Resource::Posed, Access::ComputeWrite)],
         );
         let push = [first, count, self.vertex_count, self.joint_count];
         // SAFETY: callers pass a command buffer of this device in the recording state,
@@ -382,20 +384,6 @@ impl GpuSkin {
                 .cmd_dispatch(cmd, self.vertex_count.div_ceil(GROUP_SIZE), 1, 1);
         }
         d.end_label(cmd);
-        memory_barrier(
-            d,
-            cmd,
-            Scope::new(
-                vk::PipelineStageFlags2::COMPUTE_SHADER,
-                vk::AccessFlags2::SHADER_STORAGE_WRITE,
-            ),
-            Scope::new(
-                vk::PipelineStageFlags2::COMPUTE_SHADER
-                    | vk::PipelineStageFlags2::VERTEX_SHADER
-                    | vk::PipelineStageFlags2::TESSELLATION_CONTROL_SHADER,
-                vk::AccessFlags2::SHADER_STORAGE_READ,
-            ),
-        );
     }
 
     /// Device memory the pass takes, in bytes.

@@ -9,13 +9,14 @@ use std::sync::Arc;
 
 use ash::vk;
 
-use super::super::graph::{FrameContext, Pass, Use};
+use super::super::graph::{FrameContext, Pass};
 use super::super::pipeline::{
     graphics_pipeline, Blend, ColourAttachment, DepthAttachment, GraphicsDesc,
 };
 use super::super::target::{sample_flag, COLOR_FORMAT, DEPTH_FORMAT};
 use super::fur_pass::hair_uses;
 use crate::error::Result;
+use crate::frame::Use;
 use crate::gpu::{Device, Pipeline, PipelineLayout, ShaderModule};
 
 pub struct DensityPass {

@@ -9,12 +9,13 @@ use std::sync::Arc;
 
 use ash::vk;
 
-use super::super::graph::{uses, FrameContext, Pass, Resource, Use};
+use super::super::graph::{FrameContext, Pass};
 use super::super::pipeline::{
     graphics_pipeline, Blend, ColourAttachment, DepthAttachment, GraphicsDesc,
 };
 use super::super::target::{sample_flag, COLOR_FORMAT, DEPTH_FORMAT};
 use crate::error::Result;
+use crate::frame::{uses, Resource, Use};
 use crate::gpu::{Access, Device, Pipeline, PipelineLayout, ShaderModule};
 use crate::strand_textures::StrandLayout;
 use fur_core::render::Stage;

@@ -3,8 +3,9 @@
 
 use ash::vk;
 
-use super::super::graph::{uses, Attachments, FrameContext, Pass, Resource, Use};
+use super::super::graph::{Attachments, FrameContext, Pass};
 use super::compute_raster::ComputeCounts;
+use crate::frame::{uses, Resource, Use};
 use crate::gpu::{whole_image_copy, Access};
 
 /// The name of the fur's last pass when its strands are drawn in compute.

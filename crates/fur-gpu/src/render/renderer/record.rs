@@ -1,12 +1,11 @@
 //! Recording a frame: its first timestamp, then the shadow, mesh and fur passes into
 //! the target, with timestamps and pipeline statistics around them.
 
-use super::super::graph::{
-    record_frame, uses, Attachments, Event, FrameContext, Pass, Resource, Use,
-};
+use super::super::graph::{record_frame, Attachments, Event, FrameContext, Pass};
 use super::super::slot::COUNTERS_BYTES;
 use super::*;
-use crate::gpu::Access;
+use crate::frame::{uses, Resource, Use};
+use crate::gpu::{Access, Tracker};
 
 /// Zeroes the hair counters' header before the fur pass counts into it. The previous
 /// frame's counts have been read (its fence waited on); a capture behind the header is
@@ -56,10 +55,12 @@ impl Renderer {
     /// [`Renderer::begin_frame`]; the resolved image is left in
     /// `COLOR_ATTACHMENT_OPTIMAL` for [`RenderTarget::copy_out`] or a blit. `current`
     /// selects the position image the simulation last wrote. The barriers between the
-    /// passes come from what each declares it uses (`super::super::graph`).
+    /// passes come from what each declares it uses (`super::super::graph`), after the
+    /// uses `tracker` has seen this submission (the skinning's and simulation's).
     pub fn record(
         &self,
         cmd: vk::CommandBuffer,
+        tracker: &mut Tracker<Resource>,
         slot: usize,
         current: usize,
         settings: &FrameSettings,
@@ -87,7 +88,7 @@ impl Renderer {
         };
         let passes = self.passes(settings, frame.shadows);
         d.begin_label(cmd, "frame");
-        record_frame(&context, cmd, &passes, &mut |event| match event {
+        record_frame(&context, cmd, tracker, &passes, &mut |event| match event {
             Event::ScopeOpening(Attachments::Target) => {
                 self.timestamp(cmd, slot, TS_START);
                 // The statistics query spans the whole rendering scope (the mesh pass
@@ -151,7 +152,13 @@ impl Renderer {
             self.update(0, settings)?;
             device.submit_once(|cmd| {
                 self.begin_frame(cmd, 0);
-                self.record(cmd, 0, strands.current, settings);
+                self.record(
+                    cmd,
+                    &mut crate::frame::tracker(),
+                    0,
+                    strands.current,
+                    settings,
+                );
                 self.target.copy_out(&device, cmd);
                 Ok(())
             })?;

@@ -12,10 +12,11 @@ use std::sync::Arc;
 
 use ash::vk;
 
-use super::super::graph::{Attachments, FrameContext, Pass, Use, View};
+use super::super::graph::{Attachments, FrameContext, Pass, View};
 use super::fur_pass::{hair_uses, FurPass, Variant};
 use super::mesh_pass::BodyTraits;
 use crate::error::Result;
+use crate::frame::Use;
 use crate::gpu::{Device, PipelineLayout};
 
 /// The fur seen from the light, depth only, into the slot's shadow map. It owns its

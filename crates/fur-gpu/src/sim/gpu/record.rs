@@ -6,11 +6,26 @@ use ash::vk;
 use glam::DMat4;
 
 use super::*;
-use crate::gpu::Scope;
+use crate::frame::{record_memory_uses, uses, Resource};
+use crate::gpu::{Access, Tracker};
 
 impl GpuSim {
     fn group_count(&self) -> u32 {
         self.strand_count.div_ceil(GROUP_SIZE)
+    }
+
+    /// Declares the uses of the kernel's next dispatch to `tracker`, which records the
+    /// barriers they need: it writes the strand positions (and the probe's arrows) and
+    /// reads a skinned body's root poses.
+    pub(super) fn declare_uses(&self, cmd: vk::CommandBuffer, tracker: &mut Tracker<Resource>) {
+        let mut list = vec![uses(Resource::Positions, Access::ComputeWrite)];
+        if self.skinned.is_some() {
+            list.push(uses(Resource::Posed, Access::ComputeRead));
+        }
+        if self.probe().is_some() {
+            list.push(uses(Resource::Probe, Access::ComputeWrite));
+        }
+        record_memory_uses(&self.device, cmd, tracker, &list);
     }
 
     /// Records one dispatch of `pipeline` over every strand with descriptor set `set`
@@ -54,6 +69,7 @@ impl GpuSim {
     pub fn record(
         &mut self,
         cmd: vk::CommandBuffer,
+        tracker: &mut Tracker<Resource>,
         slot: usize,
         textures: &mut StrandTextures,
         constants: &[StepConstants],
@@ -83,21 +99,6 @@ impl GpuSim {
         let d = &*self.device;
         let raw = &d.raw;
         d.begin_label(cmd, "simulation");
-        // Earlier reads of the strand images (drawing, copies) finish before we write.
-        memory_barrier(
-            d,
-            cmd,
-            Scope::new(
-                crate::gpu::SHARED_DATA_STAGES,
-                vk::AccessFlags2::SHADER_STORAGE_READ
-                    | vk::AccessFlags2::SHADER_STORAGE_WRITE
-                    | vk::AccessFlags2::TRANSFER_READ,
-            ),
-            Scope::new(
-                vk::PipelineStageFlags2::COMPUTE_SHADER,
-                vk::AccessFlags2::SHADER_STORAGE_READ | vk::AccessFlags2::SHADER_STORAGE_WRITE,
-            ),
-        );
         let per_frame = self.params.substeps as usize;
         let frames = constants.len().div_ceil(per_frame);
         // One timestamp before the first dispatch and one after every dispatch.
@@ -113,19 +114,16 @@ impl GpuSim {
         for (index, chunk) in constants.chunks(per_frame).enumerate() {
             let first = (index * per_frame) as u32;
             if let Some(skinned) = &self.skinned {
-                skinned.skin.record(cmd, slot, first, chunk.len() as u32);
+                skinned
+                    .skin
+                    .record(cmd, tracker, slot, first, chunk.len() as u32);
             }
+            self.declare_uses(cmd, tracker);
             let push = [first, chunk.len() as u32, 0];
             d.begin_label(cmd, "simulate frame");
             self.dispatch(cmd, pipeline, frame.sets[textures.current], push);
             d.end_label(cmd);
             textures.current = 1 - textures.current;
-            // The next frame reads what this one wrote. The last needs no barrier here:
-            // whoever reads the result next (the fur pass, a copy, the next submission)
-            // brings its own.
-            if index + 1 < frames {
-                after_dispatch(d, cmd);
-            }
             if let Some(q) = &frame.timestamps {
                 let stage = vk::PipelineStageFlags2::COMPUTE_SHADER;
                 // SAFETY: `cmd` is recording and query `1 + index` lies within the
@@ -188,16 +186,17 @@ impl GpuSim {
         }
         let d = self.device.clone();
         d.submit_once(|cmd| {
+            let mut tracker = crate::frame::tracker();
             if let Some(skinned) = &self.skinned {
-                skinned.skin.record(cmd, 0, 0, 1);
+                skinned.skin.record(cmd, &mut tracker, 0, 0, 1);
             }
+            self.declare_uses(cmd, &mut tracker);
             self.dispatch(
                 cmd,
                 pipeline,
                 self.slots[0].sets[textures.current],
                 [0, 1, 1],
             );
-            after_dispatch(&d, cmd);
             Ok(())
         })
     }
@@ -217,7 +216,9 @@ impl GpuSim {
             let n = remaining.min(per_submit);
             let constants = self.next_constants(n, &head_at);
             let device = self.device.clone();
-            device.submit_once(|cmd| self.record(cmd, 0, textures, &constants))?;
+            device.submit_once(|cmd| {
+                self.record(cmd, &mut crate::frame::tracker(), 0, textures, &constants)
+            })?;
             ms = self.last_gpu_ms(0)? / n as f64;
             remaining -= n;
         }

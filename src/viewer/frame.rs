@@ -11,8 +11,6 @@ use super::input::controls_view;
 use super::script::Action;
 use super::{ui, Frames, Viewer, FRAMES_IN_FLIGHT};
 use fur_gpu::error::{Result, VkContext};
-use fur_gpu::gpu::image_barriers;
-use fur_gpu::gpu::Scope;
 use fur_gpu::session::{FurSession, SessionSetup};
 
 impl Viewer {
@@ -183,41 +181,9 @@ impl Viewer {
             .swapchain()
             .expect("swapchain exists while drawing");
         let image = swapchain.images[image_index as usize];
-        let barrier = |src, dst, old, new| {
-            fur_gpu::gpu::image_barrier(image, vk::ImageAspectFlags::COLOR, src, dst, old, new)
-        };
-        let blit = Scope::new(
-            vk::PipelineStageFlags2::BLIT,
-            vk::AccessFlags2::TRANSFER_WRITE,
-        );
-        let attachment = Scope::new(
-            vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT,
-            vk::AccessFlags2::COLOR_ATTACHMENT_WRITE | vk::AccessFlags2::COLOR_ATTACHMENT_READ,
-        );
-        // The acquire semaphore is waited at the blit, the first use of the swapchain
-        // image (the simulation and the passes before it need not wait for it), so this
-        // barrier chains to it.
-        image_barriers(
-            &d,
-            cmd,
-            &[barrier(
-                Scope::new(vk::PipelineStageFlags2::BLIT, vk::AccessFlags2::NONE),
-                blit,
-                vk::ImageLayout::UNDEFINED,
-                vk::ImageLayout::TRANSFER_DST_OPTIMAL,
-            )],
-        );
+        swapchain.before_blit(cmd, image_index);
         target.blit_to(&d, cmd, image);
-        image_barriers(
-            &d,
-            cmd,
-            &[barrier(
-                blit,
-                attachment,
-                vk::ImageLayout::TRANSFER_DST_OPTIMAL,
-                vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
-            )],
-        );
+        swapchain.before_panel(cmd, image_index);
         let color = [vk::RenderingAttachmentInfo::default()
             .image_view(swapchain.views[image_index as usize])
             .image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
@@ -238,19 +204,7 @@ impl Viewer {
         // draws into it).
         unsafe { raw.cmd_end_rendering(cmd) };
         d.end_label(cmd);
-        image_barriers(
-            &d,
-            cmd,
-            &[barrier(
-                Scope::new(
-                    vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT,
-                    vk::AccessFlags2::COLOR_ATTACHMENT_WRITE,
-                ),
-                Scope::NONE,
-                vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
-                vk::ImageLayout::PRESENT_SRC_KHR,
-            )],
-        );
+        swapchain.before_present(cmd, image_index);
         // SAFETY: `cmd` is recording (begun above) and every rendering and label opened
         // in it was closed.
         unsafe { raw.end_command_buffer(cmd) }.vk("vkEndCommandBuffer")?;

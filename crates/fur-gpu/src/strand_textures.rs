@@ -14,8 +14,9 @@ use glam::{Mat4, Vec3, Vec4};
 use gpu_allocator::MemoryLocation;
 
 use crate::error::{Error, Result};
-use crate::gpu::Scope;
-use crate::gpu::{image_barriers, whole_image_copy, Buffer, Device, Image, ImageDesc};
+use crate::gpu::{
+    image_barriers, whole_image_copy, Access, Buffer, Device, Image, ImageDesc, State,
+};
 use fur_core::scene::Strands;
 
 /// Where each strand vertex lives in the strand textures.
@@ -255,26 +256,17 @@ impl StrandTextures {
         }
         let d = &self.device;
         let extent = self.extent();
-        let none = Scope::NONE;
-        let copy_write = Scope::new(
-            vk::PipelineStageFlags2::COPY,
-            vk::AccessFlags2::TRANSFER_WRITE,
-        );
-        let storage = Scope::new(
-            crate::gpu::SHARED_DATA_STAGES,
-            vk::AccessFlags2::SHADER_STORAGE_READ | vk::AccessFlags2::SHADER_STORAGE_WRITE,
-        );
-        let (undefined, dst, general) = (
-            vk::ImageLayout::UNDEFINED,
-            vk::ImageLayout::TRANSFER_DST_OPTIMAL,
-            vk::ImageLayout::GENERAL,
-        );
+        let dst = vk::ImageLayout::TRANSFER_DST_OPTIMAL;
+        // Once filled, the images are read and written as storage by the kernels and
+        // read by the hair stages.
+        let storage = [Access::ComputeWrite, Access::HairStagesRead];
+        let fresh = State::discarded_after(&[]);
         d.submit_once(|cmd| {
             let mut to_dst: Vec<_> = images
                 .iter()
-                .map(|(image, _)| image.barrier(none, copy_write, undefined, dst))
+                .filter_map(|(image, _)| image.barrier_after(&fresh, &[Access::TransferWrite]))
                 .collect();
-            to_dst.push(layout_only.barrier(none, storage, undefined, general));
+            to_dst.extend(layout_only.barrier_after(&fresh, &storage));
             image_barriers(d, cmd, &to_dst);
             for (image, k) in images {
                 let region = whole_image_copy(extent, offsets[*k]);
@@ -287,9 +279,10 @@ impl StrandTextures {
                         .cmd_copy_buffer_to_image(cmd, staging.raw(), image.raw(), dst, &[region])
                 };
             }
+            let written = State::after(&[Access::TransferWrite]);
             let to_general: Vec<_> = images
                 .iter()
-                .map(|(image, _)| image.barrier(copy_write, storage, dst, general))
+                .filter_map(|(image, _)| image.barrier_after(&written, &storage))
                 .collect();
             image_barriers(d, cmd, &to_general);
             Ok(())
@@ -336,17 +329,11 @@ impl StrandTextures {
         let d = &self.device;
         let extent = self.extent();
         d.submit_once(|cmd| {
-            let general = vk::ImageLayout::GENERAL;
-            let all = Scope::new(
-                crate::gpu::SHARED_DATA_STAGES,
-                vk::AccessFlags2::SHADER_STORAGE_WRITE,
-            );
-            let copy_read = Scope::new(
-                vk::PipelineStageFlags2::COPY,
-                vk::AccessFlags2::TRANSFER_READ,
-            );
+            // Last read and written as storage; copied from; storage again.
+            let storage = [Access::ComputeWrite, Access::HairStagesRead];
             let src = vk::ImageLayout::TRANSFER_SRC_OPTIMAL;
-            image_barriers(d, cmd, &[image.barrier(all, copy_read, general, src)]);
+            let to_copy = image.barrier_after(&State::after(&storage), &[Access::TransferRead]);
+            image_barriers(d, cmd, &Vec::from_iter(to_copy));
             let region = whole_image_copy(extent, 0);
             // SAFETY: `cmd` is recording (inside `submit_once`); the image was moved to
             // TRANSFER_SRC_OPTIMAL by the barrier above, and the buffer holds exactly
@@ -355,23 +342,8 @@ impl StrandTextures {
                 d.raw
                     .cmd_copy_image_to_buffer(cmd, image.raw(), src, buffer.raw(), &[region])
             };
-            let after = Scope::new(
-                crate::gpu::SHARED_DATA_STAGES,
-                vk::AccessFlags2::SHADER_STORAGE_READ | vk::AccessFlags2::SHADER_STORAGE_WRITE,
-            );
-            image_barriers(
-                d,
-                cmd,
-                &[image.barrier(
-                    Scope::new(
-                        vk::PipelineStageFlags2::COPY,
-                        vk::AccessFlags2::TRANSFER_READ,
-                    ),
-                    after,
-                    src,
-                    general,
-                )],
-            );
+            let back = image.barrier_after(&State::after(&[Access::TransferRead]), &storage);
+            image_barriers(d, cmd, &Vec::from_iter(back));
             Ok(())
         })?;
         let texel_data: &[Vec4] = bytemuck::cast_slice(buffer.mapped());

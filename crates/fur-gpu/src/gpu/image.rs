@@ -6,7 +6,7 @@ use ash::vk;
 use gpu_allocator::vulkan::{Allocation, AllocationCreateDesc, AllocationScheme};
 use gpu_allocator::MemoryLocation;
 
-use super::access::Scope;
+use super::access::{Access, Scope, State};
 use super::Device;
 use crate::error::{Error, Result, VkContext};
 
@@ -134,6 +134,19 @@ impl Image {
 
     pub fn view(&self) -> vk::ImageView {
         self.view
+    }
+
+    /// The barrier a use of the whole image by `next` needs after `before`, derived
+    /// from the two ([`super::access::barrier`]: stages, access masks and layouts);
+    /// None when none is needed. What an upload or a read-back outside a frame records
+    /// around its copy.
+    pub fn barrier_after(
+        &self,
+        before: &State,
+        next: &[Access],
+    ) -> Option<vk::ImageMemoryBarrier2<'static>> {
+        super::access::barrier(before, next, true)
+            .map(|b| self.barrier(b.src, b.dst, b.old_layout, b.new_layout))
     }
 
     /// A layout transition (and memory dependency) for the whole image.

@@ -5,7 +5,14 @@ use std::sync::Arc;
 use ash::{khr, vk};
 use raw_window_handle::{HasDisplayHandle, HasWindowHandle};
 
+use super::access::Scope;
 use super::{Device, Instance, Semaphore};
+
+/// The blit's write into a swapchain image.
+const BLIT_WRITE: Scope = Scope::new(
+    vk::PipelineStageFlags2::BLIT,
+    vk::AccessFlags2::TRANSFER_WRITE,
+);
 use crate::error::{Error, Result, VkContext};
 
 /// A `VkSurfaceKHR` for a window.
@@ -201,6 +208,67 @@ impl Swapchain {
             mode
         );
         Ok(swapchain)
+    }
+
+    /// Records the barrier before image `index`'s first use in a frame, the blit into
+    /// it: from whatever layout into `TRANSFER_DST_OPTIMAL`. The acquire semaphore is
+    /// waited at the blit (the simulation and the passes before it need not wait for
+    /// it), so the barrier's source is that stage, which chains it to the wait.
+    pub fn before_blit(&self, cmd: vk::CommandBuffer, index: u32) {
+        self.transition(
+            cmd,
+            index,
+            Scope::new(vk::PipelineStageFlags2::BLIT, vk::AccessFlags2::NONE),
+            BLIT_WRITE,
+            vk::ImageLayout::UNDEFINED,
+            vk::ImageLayout::TRANSFER_DST_OPTIMAL,
+        );
+    }
+
+    /// Records the barrier between the blit into image `index` and the panel drawn over
+    /// it as a colour attachment.
+    pub fn before_panel(&self, cmd: vk::CommandBuffer, index: u32) {
+        self.transition(
+            cmd,
+            index,
+            BLIT_WRITE,
+            Scope::new(
+                vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT,
+                vk::AccessFlags2::COLOR_ATTACHMENT_WRITE | vk::AccessFlags2::COLOR_ATTACHMENT_READ,
+            ),
+            vk::ImageLayout::TRANSFER_DST_OPTIMAL,
+            vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
+        );
+    }
+
+    /// Records the barrier after the panel, into the layout the presentation engine
+    /// reads (the present waits on the frame's semaphore, not on a stage).
+    pub fn before_present(&self, cmd: vk::CommandBuffer, index: u32) {
+        self.transition(
+            cmd,
+            index,
+            Scope::new(
+                vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT,
+                vk::AccessFlags2::COLOR_ATTACHMENT_WRITE,
+            ),
+            Scope::NONE,
+            vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
+            vk::ImageLayout::PRESENT_SRC_KHR,
+        );
+    }
+
+    fn transition(
+        &self,
+        cmd: vk::CommandBuffer,
+        index: u32,
+        src: Scope,
+        dst: Scope,
+        old: vk::ImageLayout,
+        new: vk::ImageLayout,
+    ) {
+        let image = self.images[index as usize];
+        let barrier = super::image_barrier(image, vk::ImageAspectFlags::COLOR, src, dst, old, new);
+        super::image_barriers(&self.device, cmd, &[barrier]);
     }
 
     /// Acquires the next image; `None` when the swapchain must be recreated.

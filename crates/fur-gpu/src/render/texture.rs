@@ -8,8 +8,7 @@ use gpu_allocator::MemoryLocation;
 
 use super::target::DEPTH_FORMAT;
 use crate::error::{Error, Result};
-use crate::gpu::Scope;
-use crate::gpu::{image_barriers, Buffer, Device, Image, ImageDesc, Sampler};
+use crate::gpu::{image_barriers, Access, Buffer, Device, Image, ImageDesc, Sampler, State};
 use fur_core::scene::Texture;
 
 /// The model's colour texture on the device: sRGB with its mip chain, trilinear and
@@ -77,18 +76,11 @@ impl GpuTexture {
             })
             .collect();
         device.submit_once(|cmd| {
+            let fresh = State::discarded_after(&[]);
             image_barriers(
                 device,
                 cmd,
-                &[image.barrier(
-                    Scope::NONE,
-                    Scope::new(
-                        vk::PipelineStageFlags2::ALL_TRANSFER,
-                        vk::AccessFlags2::TRANSFER_WRITE,
-                    ),
-                    vk::ImageLayout::UNDEFINED,
-                    vk::ImageLayout::TRANSFER_DST_OPTIMAL,
-                )],
+                &Vec::from_iter(image.barrier_after(&fresh, &[Access::TransferWrite])),
             );
             // SAFETY: the one-time command buffer is recording; the image was just transitioned to
             // TRANSFER_DST_OPTIMAL and the staging buffer holds every level the regions name.
@@ -101,22 +93,12 @@ impl GpuTexture {
                     &copies,
                 )
             };
+            // Sampled by the geometry and fragment stages from then on.
+            let written = State::after(&[Access::TransferWrite]);
             image_barriers(
                 device,
                 cmd,
-                &[image.barrier(
-                    Scope::new(
-                        vk::PipelineStageFlags2::ALL_TRANSFER,
-                        vk::AccessFlags2::TRANSFER_WRITE,
-                    ),
-                    Scope::new(
-                        vk::PipelineStageFlags2::GEOMETRY_SHADER
-                            | vk::PipelineStageFlags2::FRAGMENT_SHADER,
-                        vk::AccessFlags2::SHADER_SAMPLED_READ,
-                    ),
-                    vk::ImageLayout::TRANSFER_DST_OPTIMAL,
-                    vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
-                )],
+                &Vec::from_iter(image.barrier_after(&written, &[Access::ShadingSampled])),
             );
             Ok(())
         })?;

@@ -14,8 +14,7 @@ use glam::Vec4;
 use gpu_allocator::MemoryLocation;
 
 use crate::error::{Error, Result};
-use crate::gpu::Scope;
-use crate::gpu::{image_barriers, Buffer, Device, Image, ImageDesc};
+use crate::gpu::{image_barriers, Access, Buffer, Device, Image, ImageDesc, State};
 use fur_core::sim::sdf::Sdf;
 
 /// The image holding `sdf` (a single grid point, zero, without a body), left in
@@ -130,15 +129,6 @@ fn volume(
         MemoryLocation::CpuToGpu,
     )?;
     staging.write(0, bytes);
-    let none = Scope::NONE;
-    let copy_write = Scope::new(
-        vk::PipelineStageFlags2::COPY,
-        vk::AccessFlags2::TRANSFER_WRITE,
-    );
-    let read = Scope::new(
-        vk::PipelineStageFlags2::COMPUTE_SHADER,
-        vk::AccessFlags2::SHADER_STORAGE_READ,
-    );
     let dst = vk::ImageLayout::TRANSFER_DST_OPTIMAL;
     let region = vk::BufferImageCopy::default()
         .image_subresource(vk::ImageSubresourceLayers {
@@ -153,10 +143,11 @@ fn volume(
             depth: dims[2],
         });
     device.submit_once(|cmd| {
+        let fresh = State::discarded_after(&[]);
         image_barriers(
             device,
             cmd,
-            &[image.barrier(none, copy_write, vk::ImageLayout::UNDEFINED, dst)],
+            &Vec::from_iter(image.barrier_after(&fresh, &[Access::TransferWrite])),
         );
         // SAFETY: `cmd` is recording (inside `submit_once`); the staging buffer holds
         // all of `bytes`, which is the whole volume of `region`, and the image, of
@@ -167,10 +158,12 @@ fn volume(
                 .raw
                 .cmd_copy_buffer_to_image(cmd, staging.raw(), image.raw(), dst, &[region])
         };
+        // Read as storage by the simulation's kernel from then on.
+        let written = State::after(&[Access::TransferWrite]);
         image_barriers(
             device,
             cmd,
-            &[image.barrier(copy_write, read, dst, vk::ImageLayout::GENERAL)],
+            &Vec::from_iter(image.barrier_after(&written, &[Access::ComputeRead])),
         );
         Ok(())
     })?;

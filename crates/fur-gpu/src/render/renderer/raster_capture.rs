@@ -9,7 +9,7 @@ use super::compute_raster::ComputeRaster;
 use super::Renderer;
 use crate::error::{Error, Result};
 use crate::gpu::Buffer;
-use crate::gpu::Scope;
+use crate::gpu::{Access, State};
 use fur_core::render::strand_raster::order::DEPTH_BINS;
 use fur_core::render::strand_raster::pools::{
     PoolBudget, LAYER_BYTES, SEGMENT_BYTES, TILE_BYTES, VERTEX_BYTES,
@@ -162,33 +162,14 @@ fn read_depth(
     )?;
     device.submit_once(|cmd| {
         let aspect = vk::ImageAspectFlags::DEPTH;
-        let to_copy = crate::gpu::image_barrier(
-            target.depth.raw(),
-            aspect,
-            Scope::new(
-                vk::PipelineStageFlags2::ALL_COMMANDS,
-                vk::AccessFlags2::MEMORY_WRITE,
-            ),
-            Scope::new(
-                vk::PipelineStageFlags2::COPY,
-                vk::AccessFlags2::TRANSFER_READ,
-            ),
-            vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
-            vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
-        );
-        let back = crate::gpu::image_barrier(
-            target.depth.raw(),
-            aspect,
-            Scope::new(
-                vk::PipelineStageFlags2::COPY,
-                vk::AccessFlags2::TRANSFER_READ,
-            ),
-            Scope::new(
-                vk::PipelineStageFlags2::ALL_COMMANDS,
-                vk::AccessFlags2::MEMORY_READ,
-            ),
-            vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
-            vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
+        // The frame drew the depth and left it sampled by the compute strand passes.
+        let drawn = State::after(&[Access::ComputeSampled, Access::DepthAttachment]);
+        let to_copy = Vec::from_iter(target.depth.barrier_after(&drawn, &[Access::TransferRead]));
+        let copied = State::after(&[Access::TransferRead]);
+        let back = Vec::from_iter(
+            target
+                .depth
+                .barrier_after(&copied, &[Access::ComputeSampled]),
         );
         let mut region = crate::gpu::whole_image_copy(extent, 0);
         region.image_subresource.aspect_mask = aspect;
@@ -198,7 +179,7 @@ fn read_depth(
             let raw = &device.raw;
             raw.cmd_pipeline_barrier2(
                 cmd,
-                &vk::DependencyInfo::default().image_memory_barriers(&[to_copy]),
+                &vk::DependencyInfo::default().image_memory_barriers(&to_copy),
             );
             raw.cmd_copy_image_to_buffer(
                 cmd,
@@ -209,7 +190,7 @@ fn read_depth(
             );
             raw.cmd_pipeline_barrier2(
                 cmd,
-                &vk::DependencyInfo::default().image_memory_barriers(&[back]),
+                &vk::DependencyInfo::default().image_memory_barriers(&back),
             );
         }
         Ok(())

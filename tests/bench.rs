@@ -74,7 +74,7 @@ fn quick_bench_writes_every_expected_measurement() {
         "the truth section did not run although the reference is required"
     );
     if truth_runs {
-        for scene in ["blob", "sphere", "critter-walking"] {
+        for scene in ["blob", "sphere", "critter-walking", "groom-drawn"] {
             expect("truth", scene, "own_flip");
             expect("truth", scene, "noise_flip");
             // The seed's spread is measured drawing by drawing: never below zero, and

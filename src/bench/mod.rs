@@ -274,7 +274,7 @@ pub fn task_count(options: &BenchOptions) -> u64 {
             Section::Ladder => ladder::tasks(options.scenes().len()) + 2,
             Section::Animation => animation::tasks(),
             Section::Truth => {
-                truth::tasks(options.scenes().len() + usize::from(options.scene.is_none()))
+                truth::tasks(options.scenes().len() + 2 * usize::from(options.scene.is_none()))
             }
             Section::Stages => stages::tasks(),
             Section::Grooms => grooms::TASKS,

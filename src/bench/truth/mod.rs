@@ -38,6 +38,7 @@ use fur_core::scene_file::Scene;
 use fur_gpu::error::Result;
 
 mod colours;
+mod groom;
 mod noise;
 mod terms;
 
@@ -150,6 +151,22 @@ impl Bench<'_> {
             let scene = Scene::defaults(ModelSpec::Critter);
             let shot = Shot::walking(self.device, &scene, extent, walk)?;
             (self.progress)(&format!("{name}: walked"));
+            let points = self.truth_scene(name, &shot, &truth)?;
+            series.push(Series {
+                name: name.to_string(),
+                points,
+                color: PALETTE[series.len() % PALETTE.len()],
+                line: true,
+            });
+            let name = groom::NAME;
+            let _ = writeln!(
+                self.md,
+                "A groom file drawn as it is (`{name}`): the blob's master hairs, curled, \
+                 written as a groom file and drawn with `--groom-mode draw`, each guide one \
+                 hair (no interpolated hairs).\n"
+            );
+            let scene = groom::scene(&dir.join(format!("{name}-guides.usda")))?;
+            let shot = Shot::new(self.device, &scene, extent)?;
             let points = self.truth_scene(name, &shot, &truth)?;
             series.push(Series {
                 name: name.to_string(),

@@ -325,9 +325,9 @@ fn the_ratios_the_readme_draws_from_the_truth_are_the_runs() {
     let readme = flat(&read("README.md"));
     let near = format!(
         "It is at {:.2} of Kajiya–Kay's distance on the blob, {:.2} on the sphere, {:.2} on \
-         the walking critter, {:.2} on white fur and {:.2} on black fur, at \
-         {fastest:.1}–{slowest:.1}× its frame time here",
-        ratios[0], ratios[1], ratios[2], colours[0], colours[2]
+         the walking critter, {:.2} on a groom drawn as it is, {:.2} on white fur and {:.2} \
+         on black fur, at {fastest:.1}–{slowest:.1}× its frame time here",
+        ratios[0], ratios[1], ratios[2], ratios[3], colours[0], colours[2]
     );
     let short = format!(
         "on blond fur ({:.2}) it is short of half, so Kajiya–Kay stays the default",
@@ -343,7 +343,7 @@ fn the_ratios_the_readme_draws_from_the_truth_are_the_runs() {
     let within: Vec<bool> = ratios.iter().chain(&colours).map(|r| *r <= 0.5).collect();
     assert_eq!(
         within,
-        [true, true, true, true, false, true],
+        [true, true, true, true, true, false, true],
         "{ratios:?} {colours:?}"
     );
 }

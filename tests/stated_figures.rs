@@ -49,7 +49,7 @@ fn counts_are_written_with_commas() {
 /// The documents whose prose [`every_figure_in_the_documents_prose_is_bound_or_marked`]
 /// reads. The README's "What to expect" and the measured documents (docs/benchmark.md,
 /// ground-truth.md, gpu.md) quote the runs and are bound by `docs.rs`.
-const PROSE: [&str; 15] = [
+const PROSE: [&str; 16] = [
     "README.md",
     "docs/lighting.md",
     "docs/compute-raster.md",
@@ -61,6 +61,7 @@ const PROSE: [&str; 15] = [
     "docs/testing-drivers.md",
     "docs/mutation-runs.md",
     "docs/design.md",
+    "docs/simulation.md",
     "docs/pipeline.md",
     "docs/grooms.md",
     "docs/robustness.md",
@@ -92,18 +93,18 @@ const NOT_MEASURED: [(&str, &str, &str); 41] = [
         "the walk takes 16 entries a turn",
         "the fine pass's UNROLL (strand_fine.comp)",
     ),
-    ("docs/design.md", "(Han & Harada §4.2)", "a section of the paper"),
-    ("docs/design.md", "at 60 frames per second", "the frame rate the seed's wind assumes"),
+    ("docs/simulation.md", "(Han & Harada §4.2)", "a section of the paper"),
+    ("docs/simulation.md", "at 60 frames per second", "the frame rate the seed's wind assumes"),
     (
         "docs/design.md",
         "rows hold ⌊16384/V⌋ strands, so 15 M strands fit where the seed's one-row-per-strand layout stopped at 16,384",
         "lavapipe's largest image side, a device limit, and what it holds",
     ),
     ("docs/design.md", "(64 on lavapipe)", "lavapipe's largest tessellation level"),
-    ("docs/design.md", "32-bit floats", "the number format"),
-    ("docs/design.md", "one 16-byte load", "an rgba32f texel's size"),
-    ("docs/design.md", "two joint indices in 16 bits each", "the packing's format"),
-    ("docs/design.md", "**glTF 2.0**", "the format's version"),
+    ("docs/simulation.md", "32-bit floats", "the number format"),
+    ("docs/simulation.md", "one 16-byte load", "an rgba32f texel's size"),
+    ("docs/simulation.md", "two joint indices in 16 bits each", "the packing's format"),
+    ("docs/simulation.md", "**glTF 2.0**", "the format's version"),
     ("docs/lighting.md", "Kajiya–Kay (1989)", "a year"),
     ("docs/lighting.md", "Chiang et al. 2016's", "a year"),
     ("docs/lighting.md", "(Marschner et al. 2003)", "a year"),

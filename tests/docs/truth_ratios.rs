@@ -4,7 +4,8 @@
 use super::{read, region, tables};
 
 /// The ratios the README works out from the truth tables (docs/ground-truth.md's run):
-/// Marschner's ꟻLIP over Kajiya–Kay's on the blob, sphere and walking critter, then on
+/// Marschner's ꟻLIP over Kajiya–Kay's on the blob, sphere, walking critter and drawn
+/// groom, then on
 /// white, blond and black fur, and the range of their frame times' ratio.
 pub struct TruthRatios {
     pub scenes: Vec<f64>,
@@ -38,7 +39,7 @@ pub fn truth_ratios() -> TruthRatios {
         let i = header.iter().position(|h| h == name).unwrap();
         row[i].parse().unwrap()
     };
-    // Per scene (blob, sphere, walking critter, in the run's order): the default
+    // Per scene (blob, sphere, walking critter, drawn groom, in the run's order): the default
     // drawing's row and the Marschner drawing's.
     let mut scenes = Vec::new();
     let mut times = Vec::new();
@@ -51,7 +52,11 @@ pub fn truth_ratios() -> TruthRatios {
             gaps.push(figure(kk, header, "ꟻLIP") - figure(m, header, "ꟻLIP"));
         }
     }
-    assert_eq!(scenes.len(), 3, "the blob, sphere and critter tables");
+    assert_eq!(
+        scenes.len(),
+        4,
+        "the blob, sphere, critter and drawn groom tables"
+    );
     let (header, rows) = run
         .iter()
         .find(|(h, _)| h[0] == "fur")

@@ -195,6 +195,30 @@ fn design() -> Vec<(&'static str, Vec<String>)> {
                     "each at most {} × the model's local half-thickness long",
                     scene.thickness_limit
                 ),
+                format!("the tolerance (default {} px)", style.vertex_lod_px),
+                format!("never drawn under {} px", style.min_pixel_width),
+                format!(
+                    "(`--target-fps`, default {};",
+                    fur::viewer::DEFAULT_TARGET_FPS
+                ),
+                format!(
+                    "never more than {} × the model's local half-thickness",
+                    scene.thickness_limit
+                ),
+                format!(
+                    "a UV sphere of radius {radius} with {rings} × {bands} bands ({} vertices with the seam duplicated, {} triangles",
+                    count_text(v),
+                    count_text(t)
+                ),
+                format!(
+                    "one master hair of {} vertices and segments of {segment} per vertex",
+                    original.segments + 1
+                ),
+            ],
+        ),
+        (
+            "docs/simulation.md",
+            vec![
                 format!("default {frame} s, one substep"),
                 format!("four vectors in a {}° cone", sim.wind_cone_deg),
                 format!(
@@ -224,25 +248,6 @@ fn design() -> Vec<(&'static str, Vec<String>)> {
                     "({} vertices, closed and outward), {} bones",
                     count_text(critter.vertex_count() as u64),
                     rig.joints.len()
-                ),
-                format!("the tolerance (default {} px)", style.vertex_lod_px),
-                format!("never drawn under {} px", style.min_pixel_width),
-                format!(
-                    "(`--target-fps`, default {};",
-                    fur::viewer::DEFAULT_TARGET_FPS
-                ),
-                format!(
-                    "never more than {} × the model's local half-thickness",
-                    scene.thickness_limit
-                ),
-                format!(
-                    "a UV sphere of radius {radius} with {rings} × {bands} bands ({} vertices with the seam duplicated, {} triangles",
-                    count_text(v),
-                    count_text(t)
-                ),
-                format!(
-                    "one master hair of {} vertices and segments of {segment} per vertex",
-                    original.segments + 1
                 ),
             ],
         ),
@@ -464,11 +469,14 @@ fn limits() -> Vec<(&'static str, Vec<String>)> {
                     "(at least `--min-pixel-width`, {} px)",
                     fur_core::render::uniforms::FurStyle::default().min_pixel_width
                 ),
-                format!(
-                    "with the {} bone capsules nearest its root",
-                    ["no", "one", "two", "three", "four", "five", "six"][near.min(6)]
-                ),
             ],
+        ),
+        (
+            "docs/simulation.md",
+            vec![format!(
+                "with the {} bone capsules nearest its root",
+                ["no", "one", "two", "three", "four", "five", "six"][near.min(6)]
+            )],
         ),
         (
             "docs/lighting.md",

@@ -173,26 +173,20 @@ fn read_depth(
         );
         let mut region = crate::gpu::whole_image_copy(extent, 0);
         region.image_subresource.aspect_mask = aspect;
+        crate::gpu::image_barriers(device, cmd, &to_copy);
         // SAFETY: recording; the frame has finished (its fence was waited on) and left
-        // the depth sampled by compute; the staging buffer holds the whole copy.
+        // the depth sampled by compute, moved to TRANSFER_SRC_OPTIMAL by the barrier
+        // above; the staging buffer holds the whole copy.
         unsafe {
-            let raw = &device.raw;
-            raw.cmd_pipeline_barrier2(
-                cmd,
-                &vk::DependencyInfo::default().image_memory_barriers(&to_copy),
-            );
-            raw.cmd_copy_image_to_buffer(
+            device.raw.cmd_copy_image_to_buffer(
                 cmd,
                 target.depth.raw(),
                 vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
                 staging.raw(),
                 &[region],
             );
-            raw.cmd_pipeline_barrier2(
-                cmd,
-                &vk::DependencyInfo::default().image_memory_barriers(&back),
-            );
         }
+        crate::gpu::image_barriers(device, cmd, &back);
         Ok(())
     })?;
     Ok(

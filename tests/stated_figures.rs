@@ -12,6 +12,8 @@ mod common;
 
 #[path = "stated_figures/phrases.rs"]
 mod phrases;
+#[path = "stated_figures/simulation.rs"]
+mod simulation;
 
 use common::{flat, read_doc as read};
 use fur_core::files::size_text;

@@ -21,6 +21,7 @@ pub fn count_text(n: u64) -> String {
 pub fn stated() -> Vec<(&'static str, Vec<String>)> {
     let mut all = limits();
     all.extend(design());
+    all.extend(super::simulation::simulation());
     // The compute rasteriser's pool table, line by line (the documents are read flat).
     let pools = fur_core::render::strand_raster::pools::table(
         &fur_core::render::strand_raster::pools::PoolBudget::default(),
@@ -105,8 +106,6 @@ fn design() -> Vec<(&'static str, Vec<String>)> {
     let style = fur_core::render::uniforms::FurStyle::default();
     let fibre = fur_core::render::Fibre::default();
     let frame = format!("1/{}", (1.0 / sim.dt).round());
-    // The critter's body and bones.
-    let (critter, rig) = fur_core::scene::critter();
     // The original demo's sphere: its bands from its counts (V = (r − 1)(s + 1) + 2,
     // T = 2s(r − 1)), its radius and segment length from its size.
     let sphere: fur_core::scene::ModelSpec = "sphere".parse().unwrap();
@@ -217,41 +216,6 @@ fn design() -> Vec<(&'static str, Vec<String>)> {
             ],
         ),
         (
-            "docs/simulation.md",
-            vec![
-                format!("default {frame} s, one substep"),
-                format!("four vectors in a {}° cone", sim.wind_cone_deg),
-                format!(
-                    "One invocation per strand, {} strands per workgroup",
-                    fur_gpu::gpu::shader::GROUP_SIZE
-                ),
-                format!(
-                    "moved by at most {} ulps of its largest coordinate",
-                    fur_core::sim::cpu::SLEEP_ULPS
-                ),
-                format!(
-                    "{}–{} cells along the longest axis",
-                    sim.sdf_cells(1.0, 1e9, false),
-                    sim.sdf_cells(1e9, 1.0, false)
-                ),
-                format!(
-                    "a fraction of each strand's own length, default {})",
-                    sim.collision_margin
-                ),
-                format!("`--friction` (default {})", sim.friction),
-                format!("(vertices 1 and 2 of {})", scene.segments),
-                format!(
-                    "where its grid would pass {}",
-                    size_text(fur_core::skinning::blend::MAX_BYTES as u64)
-                ),
-                format!(
-                    "({} vertices, closed and outward), {} bones",
-                    count_text(critter.vertex_count() as u64),
-                    rig.joints.len()
-                ),
-            ],
-        ),
-        (
             "docs/lighting.md",
             vec![
                 format!(
@@ -314,7 +278,6 @@ fn limits() -> Vec<(&'static str, Vec<String>)> {
         .and_then(|v| v.strip_suffix('"'))
         .expect("Cargo.toml states its rust-version");
     let idle = fur_core::render::budget::Budget::IDLE_SECONDS;
-    let near = fur_core::sim::collide::NEAR_CAPSULES;
     // The goal's body (`dense-sphere`), whose vertices the README's groom and the GPU
     // goal's masters are.
     let dense: fur_core::scene::ModelSpec = "dense-sphere".parse().unwrap();
@@ -470,13 +433,6 @@ fn limits() -> Vec<(&'static str, Vec<String>)> {
                     fur_core::render::uniforms::FurStyle::default().min_pixel_width
                 ),
             ],
-        ),
-        (
-            "docs/simulation.md",
-            vec![format!(
-                "with the {} bone capsules nearest its root",
-                ["no", "one", "two", "three", "four", "five", "six"][near.min(6)]
-            )],
         ),
         (
             "docs/lighting.md",

@@ -130,15 +130,19 @@ impl Bench<'_> {
             spp,
         };
         let mut series = Vec::new();
-        for (k, bench_scene) in self.scenes.clone().iter().enumerate() {
+        // One line of the chart per scene, each its own colour.
+        let add = |series: &mut Vec<Series>, name: &str, points| {
+            series.push(Series {
+                name: name.to_string(),
+                points,
+                color: PALETTE[series.len() % PALETTE.len()],
+                line: true,
+            })
+        };
+        for bench_scene in self.scenes.clone() {
             let shot = Shot::new(self.device, &bench_scene.scene, extent)?;
             let points = self.truth_scene(&bench_scene.name, &shot, &truth)?;
-            series.push(Series {
-                name: bench_scene.name.clone(),
-                points,
-                color: PALETTE[k % PALETTE.len()],
-                line: true,
-            });
+            add(&mut series, &bench_scene.name, points);
         }
         if self.default_scenes {
             let name = "critter-walking";
@@ -152,12 +156,7 @@ impl Bench<'_> {
             let shot = Shot::walking(self.device, &scene, extent, walk)?;
             (self.progress)(&format!("{name}: walked"));
             let points = self.truth_scene(name, &shot, &truth)?;
-            series.push(Series {
-                name: name.to_string(),
-                points,
-                color: PALETTE[series.len() % PALETTE.len()],
-                line: true,
-            });
+            add(&mut series, name, points);
             let name = groom::NAME;
             let _ = writeln!(
                 self.md,
@@ -168,12 +167,7 @@ impl Bench<'_> {
             let scene = groom::scene(&dir.join(format!("{name}-guides.usda")))?;
             let shot = Shot::new(self.device, &scene, extent)?;
             let points = self.truth_scene(name, &shot, &truth)?;
-            series.push(Series {
-                name: name.to_string(),
-                points,
-                color: PALETTE[series.len() % PALETTE.len()],
-                line: true,
-            });
+            add(&mut series, name, points);
         }
         self.truth_colours(&reference, &dir, extent, spp)?;
         self.plots.push((

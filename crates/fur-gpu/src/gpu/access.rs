@@ -246,13 +246,27 @@ pub fn barrier(before: &State, next: &[Access], image: bool) -> Option<Barrier> 
 /// them). [`Tracker::access`] returns the barrier a use needs and records the use.
 pub struct Tracker<K> {
     states: Vec<(K, State)>,
+    /// The state of a resource at its first use.
+    first: fn(K) -> State,
 }
 
 impl<K: Copy + PartialEq + std::fmt::Debug> Tracker<K> {
     /// A tracker whose resources start in `initial`'s states (their last use in the
     /// previous frame); a resource not named starts unused.
     pub fn new(initial: Vec<(K, State)>) -> Self {
-        Self { states: initial }
+        Self {
+            states: initial,
+            first: |_| State::after(&[]),
+        }
+    }
+
+    /// A tracker in which each resource starts, at its first use, in the state
+    /// `first` gives it (how the previous submission left it).
+    pub fn starting(first: fn(K) -> State) -> Self {
+        Self {
+            states: Vec::new(),
+            first,
+        }
     }
 
     /// Records that `key` is next used by `next` and returns the barrier that use
@@ -261,7 +275,7 @@ impl<K: Copy + PartialEq + std::fmt::Debug> Tracker<K> {
         let index = match self.states.iter().position(|(k, _)| *k == key) {
             Some(i) => i,
             None => {
-                self.states.push((key, State::after(&[])));
+                self.states.push((key, (self.first)(key)));
                 self.states.len() - 1
             }
         };

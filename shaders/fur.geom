@@ -247,22 +247,21 @@ void write_strand() {
     uint first = atomicAdd(raster_counts.vertices, kept_count);
     uint segments = kept_count - 1u;
     uint first_segment = atomicAdd(raster_counts.segments, segments);
-    uint segment_room = uint(strand_segment_list.length());
-    if (first + kept_count > uint(strand_vertex_list.length())
-        || first_segment + segments > segment_room) {
+    uint room = segment_room();
+    if (first + kept_count > vertex_room() || first_segment + segments > room) {
         atomicAdd(raster_counts.hairs_lost, 1u);
         // Its segments that fit are marked as none, so that the bin passes skip them.
-        for (uint i = 0u; i < segments && first_segment + i < segment_room; ++i) {
-            strand_segment_list[first_segment + i] = uvec2(NO_SEGMENT);
+        for (uint i = 0u; i < segments && first_segment + i < room; ++i) {
+            imageStore(strand_segments, int(first_segment + i), uvec4(NO_SEGMENT));
         }
         return;
     }
     for (uint i = 0u; i < kept_count; ++i) {
-        strand_vertex_list[first + i].position = kept_position[i];
-        strand_vertex_list[first + i].color = vec4(kept_color[i], 1.0);
+        imageStore(strand_vertices, int(2u * (first + i)), kept_position[i]);
+        imageStore(strand_vertices, int(2u * (first + i) + 1u), vec4(kept_color[i], 1.0));
     }
     for (uint i = 0u; i < segments; ++i) {
-        strand_segment_list[first_segment + i] = uvec2(first + i, first);
+        imageStore(strand_segments, int(first_segment + i), uvec4(first + i, first, 0u, 0u));
     }
     // The bin passes' workgroups, at most the dispatch limit every device has (each
     // invocation then takes every so-many-th segment).

@@ -13,12 +13,12 @@
 layout(local_size_x = GROUP_SIZE) in;
 
 void bin_segment(uint s) {
-    uvec2 segment = strand_segment_list[s];
+    uvec2 segment = strand_segment(s);
     if (segment.x == NO_SEGMENT) {
         return;
     }
-    vec4 a = strand_vertex_list[segment.x].position;
-    vec4 b = strand_vertex_list[segment.x + 1u].position;
+    vec4 a = vertex_position(segment.x);
+    vec4 b = vertex_position(segment.x + 1u);
     float radius = 0.5 * max(a.w, b.w) + 0.70710678;
     float near = min(a.z, b.z);
 #if !SCATTER
@@ -67,7 +67,7 @@ void bin_segment(uint s) {
 #if SCATTER
             uint slot = atomicAdd(tile_bins[tile].cursor, 1u);
             if (slot < tile_bins[tile].kept) {
-                tile_entries[tile_bins[tile].offset + slot] = s;
+                imageStore(tile_entries, int(tile_bins[tile].offset + slot), uvec4(s));
             }
 #else
             atomicAdd(tile_bins[tile].count, 1u);
@@ -79,7 +79,7 @@ void bin_segment(uint s) {
 }
 
 void main() {
-    uint segments = min(raster_counts.segments, uint(strand_segment_list.length()));
+    uint segments = min(raster_counts.segments, segment_room());
     uint stride = gl_NumWorkGroups.x * GROUP_SIZE;
     for (uint s = gl_GlobalInvocationID.x; s < segments; s += stride) {
         bin_segment(s);

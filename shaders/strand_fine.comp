@@ -107,9 +107,9 @@ shared uint open_pixels;
 
 // Fetches entry `entry` of the pool into the batch's slot `slot`.
 void fetch(uint entry, uint slot) {
-    uvec2 segment = strand_segment_list[tile_order[entry]];
-    StrandVertex va = strand_vertex_list[segment.x];
-    StrandVertex vb = strand_vertex_list[segment.x + 1u];
+    uvec2 segment = strand_segment(ordered_entry(entry));
+    StrandVertex va = strand_vertex(segment.x);
+    StrandVertex vb = strand_vertex(segment.x + 1u);
     batch_ends[slot] = vec4(va.position.xy, vb.position.xy);
     batch_shape[slot] = vec4(va.position.w, vb.position.w, va.position.z, vb.position.z);
     batch_color_a[slot] = va.color;
@@ -190,9 +190,9 @@ void main() {
 // The fragment entry `entry` of the pool leaves in the pixel centred at `centre`, if
 // it is in front of the body there.
 void take(uint entry, vec2 centre, float body) {
-    uvec2 segment = strand_segment_list[tile_order[entry]];
-    StrandVertex va = strand_vertex_list[segment.x];
-    StrandVertex vb = strand_vertex_list[segment.x + 1u];
+    uvec2 segment = strand_segment(ordered_entry(entry));
+    StrandVertex va = strand_vertex(segment.x);
+    StrandVertex vb = strand_vertex(segment.x + 1u);
     vec2 foot = strand_footprint(centre, va.position.xy, vb.position.xy, va.position.w,
                                  vb.position.w);
     vec4 c = mix(va.color, vb.color, foot.y);

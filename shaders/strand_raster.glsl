@@ -33,14 +33,36 @@ layout(set = SET_RASTER, binding = B_RASTER_COUNTS, std430) buffer RasterCounts 
     uint pixels_stopped;    // pixels that stopped, opaque, before their tile's list ended
 } raster_counts;
 
-layout(set = SET_RASTER, binding = B_STRAND_VERTICES, std430) buffer StrandVertices {
-    StrandVertex strand_vertex_list[];
-};
+// The pools the passes read in their loops are texel buffers: on a CPU driver a texel
+// read is one gather across the invocations, where a storage-buffer read loops over
+// them one by one.
+// Per vertex, two texels: its position, then its colour.
+layout(set = SET_RASTER, binding = B_STRAND_VERTICES, rgba32f) uniform imageBuffer strand_vertices;
 
 // Per segment: its first vertex (the second follows it) and its strand.
-layout(set = SET_RASTER, binding = B_STRAND_SEGMENTS, std430) buffer StrandSegments {
-    uvec2 strand_segment_list[];
-};
+layout(set = SET_RASTER, binding = B_STRAND_SEGMENTS, rg32ui) uniform uimageBuffer strand_segments;
+
+// The vertices the pool holds.
+uint vertex_room() {
+    return uint(imageSize(strand_vertices)) / 2u;
+}
+
+uint segment_room() {
+    return uint(imageSize(strand_segments));
+}
+
+vec4 vertex_position(uint v) {
+    return imageLoad(strand_vertices, int(2u * v));
+}
+
+StrandVertex strand_vertex(uint v) {
+    return StrandVertex(imageLoad(strand_vertices, int(2u * v)),
+                        imageLoad(strand_vertices, int(2u * v + 1u)));
+}
+
+uvec2 strand_segment(uint s) {
+    return imageLoad(strand_segments, int(s)).xy;
+}
 
 // Per tile: the body's farthest depth in it, its entries counted, where its list
 // starts in the entry pool, how many it keeps, and the cursor the scatter fills by;
@@ -63,14 +85,18 @@ layout(set = SET_RASTER, binding = B_TILE_BINS, std430) buffer TileBins {
     TileBin tile_bins[];
 };
 
-layout(set = SET_RASTER, binding = B_TILE_ENTRIES, std430) buffer TileEntries {
-    uint tile_entries[];
-};
+layout(set = SET_RASTER, binding = B_TILE_ENTRIES, r32ui) uniform uimageBuffer tile_entries;
+
+uint listed_entry(uint at) {
+    return imageLoad(tile_entries, int(at)).x;
+}
 
 // The entry pool again, each tile's list sorted front to back by depth bin.
-layout(set = SET_RASTER, binding = B_TILE_ORDER, std430) buffer TileOrder {
-    uint tile_order[];
-};
+layout(set = SET_RASTER, binding = B_TILE_ORDER, r32ui) uniform uimageBuffer tile_order;
+
+uint ordered_entry(uint at) {
+    return imageLoad(tile_order, int(at)).x;
+}
 
 // A segment's sort key: its nearer end's depth, at least 0 (order::depth_key).
 float depth_key(float a, float b) {

@@ -18,7 +18,7 @@ uint sat_add(uint a, uint b) {
 
 void main() {
     uint tiles = uint(tile_bins.length());
-    uint capacity = uint(tile_entries.length());
+    uint capacity = uint(imageSize(tile_entries));
     uint me = gl_LocalInvocationIndex;
     uint run = (tiles + GROUP_SIZE - 1u) / GROUP_SIZE;
     uint first = min(me * run, tiles);

@@ -18,9 +18,9 @@ shared uint cursor[DEPTH_BINS];
 
 // The bin of the segment entry `at` of the pool lists.
 uint bin_of(uint at, float lo, float scale) {
-    uvec2 segment = strand_segment_list[tile_entries[at]];
-    float a = strand_vertex_list[segment.x].position.z;
-    float b = strand_vertex_list[segment.x + 1u].position.z;
+    uvec2 segment = strand_segment(listed_entry(at));
+    float a = vertex_position(segment.x).z;
+    float b = vertex_position(segment.x + 1u).z;
     return depth_bin(depth_key(a, b), lo, scale);
 }
 
@@ -56,6 +56,6 @@ void main() {
     barrier();
     for (uint i = lane; i < count; i += GROUP) {
         uint slot = atomicAdd(cursor[bin_of(offset + i, lo, scale)], 1u);
-        tile_order[offset + slot] = tile_entries[offset + i];
+        imageStore(tile_order, int(offset + slot), uvec4(listed_entry(offset + i)));
     }
 }

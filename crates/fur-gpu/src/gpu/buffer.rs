@@ -187,6 +187,20 @@ impl TexelBuffer {
         texel_bytes: u64,
         location: MemoryLocation,
     ) -> Result<Self> {
+        let usage = vk::BufferUsageFlags::empty();
+        Self::with_usage(device, name, texels, format, texel_bytes, usage, location)
+    }
+
+    /// [`TexelBuffer::new`] with `usage` besides (a transfer source, to be read back).
+    pub fn with_usage(
+        device: &Arc<Device>,
+        name: &str,
+        texels: u64,
+        format: vk::Format,
+        texel_bytes: u64,
+        usage: vk::BufferUsageFlags,
+        location: MemoryLocation,
+    ) -> Result<Self> {
         let limit = u64::from(device.info.limits.max_texel_buffer_elements);
         if texels > limit {
             return Err(Error::parameter(format!(
@@ -198,7 +212,7 @@ impl TexelBuffer {
             device,
             name,
             texels.max(1) * texel_bytes,
-            vk::BufferUsageFlags::STORAGE_TEXEL_BUFFER,
+            vk::BufferUsageFlags::STORAGE_TEXEL_BUFFER | usage,
             location,
         )?;
         let info = vk::BufferViewCreateInfo::default()

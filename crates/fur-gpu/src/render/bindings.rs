@@ -81,15 +81,15 @@ bindings!(
         /// What the passes counted, and the bin passes' indirect dispatch.
         Counts = ("B_RASTER_COUNTS", STORAGE_BUFFER, RASTER_STAGES),
         /// The strands' vertices on the screen.
-        Vertices = ("B_STRAND_VERTICES", STORAGE_BUFFER, RASTER_STAGES),
+        Vertices = ("B_STRAND_VERTICES", STORAGE_TEXEL_BUFFER, RASTER_STAGES),
         /// The segments: first vertex and strand.
-        Segments = ("B_STRAND_SEGMENTS", STORAGE_BUFFER, RASTER_STAGES),
+        Segments = ("B_STRAND_SEGMENTS", STORAGE_TEXEL_BUFFER, RASTER_STAGES),
         /// Per tile: the body's depth and the tile's list in the entry pool.
         TileBins = ("B_TILE_BINS", STORAGE_BUFFER, vk::ShaderStageFlags::COMPUTE),
         /// The entry pool: segments listed per tile.
-        TileEntries = ("B_TILE_ENTRIES", STORAGE_BUFFER, vk::ShaderStageFlags::COMPUTE),
+        TileEntries = ("B_TILE_ENTRIES", STORAGE_TEXEL_BUFFER, vk::ShaderStageFlags::COMPUTE),
         /// The entry pool again, each tile's list sorted front to back by depth bin.
-        TileOrder = ("B_TILE_ORDER", STORAGE_BUFFER, vk::ShaderStageFlags::COMPUTE),
+        TileOrder = ("B_TILE_ORDER", STORAGE_TEXEL_BUFFER, vk::ShaderStageFlags::COMPUTE),
         /// Per pixel: the hair, premultiplied, and the light it lets through.
         HairLayer = ("B_HAIR_LAYER", STORAGE_BUFFER, RASTER_STAGES),
         /// The mesh pass's depth.

@@ -21,7 +21,7 @@ use super::raster_steps::{Step, StepPass};
 use crate::error::{Error, Result};
 use crate::gpu::{
     Buffer, DescriptorPool, DescriptorSetLayout, Device, Image, ImageDesc, Pipeline,
-    PipelineLayout, Sampler, Specialization,
+    PipelineLayout, Sampler, Specialization, TexelBuffer,
 };
 use fur_core::render::strand_raster::pools::{Demand, PoolBudget, PoolSizes};
 use fur_core::render::FurStyle;
@@ -64,12 +64,14 @@ pub(super) struct Pools {
     capacity: Demand,
     pub(super) columns: u32,
     pub(super) rows: u32,
-    pub(super) vertices: Buffer,
-    pub(super) segments: Buffer,
+    /// The vertices, the segments and the entries are texel buffers
+    /// (`shaders/strand_raster.glsl` says why).
+    pub(super) vertices: TexelBuffer,
+    pub(super) segments: TexelBuffer,
     pub(super) tiles: Buffer,
-    pub(super) entries: Buffer,
+    pub(super) entries: TexelBuffer,
     /// The entries again, each tile's list sorted front to back by depth bin.
-    pub(super) sorted: Buffer,
+    pub(super) sorted: TexelBuffer,
     pub(super) layer: Buffer,
     /// The hair over the target, sRGB-encoded, copied onto the target.
     composited: Image,
@@ -328,16 +330,38 @@ impl ComputeRaster {
                 MemoryLocation::GpuOnly,
             )
         };
+        // Read in the passes' loops through texel views (`strand_raster.glsl`).
+        let texels = |name: &str, size: u64, format: vk::Format, bytes: u64| {
+            TexelBuffer::with_usage(
+                &self.device,
+                name,
+                size / bytes,
+                format,
+                bytes,
+                vk::BufferUsageFlags::TRANSFER_SRC,
+                MemoryLocation::GpuOnly,
+            )
+        };
         Ok(Pools {
             extent,
             capacity,
             columns: extent.width.div_ceil(self.budget.tile),
             rows: extent.height.div_ceil(self.budget.tile),
-            vertices: storage("raster.vertices", sizes.vertices)?,
-            segments: storage("raster.segments", sizes.segments)?,
+            vertices: texels(
+                "raster.vertices",
+                sizes.vertices,
+                vk::Format::R32G32B32A32_SFLOAT,
+                16,
+            )?,
+            segments: texels(
+                "raster.segments",
+                sizes.segments,
+                vk::Format::R32G32_UINT,
+                8,
+            )?,
             tiles: storage("raster.tiles", sizes.tiles)?,
-            entries: storage("raster.entries", sizes.entries)?,
-            sorted: storage("raster.sorted", sizes.sorted)?,
+            entries: texels("raster.entries", sizes.entries, vk::Format::R32_UINT, 4)?,
+            sorted: texels("raster.sorted", sizes.sorted, vk::Format::R32_UINT, 4)?,
             layer: storage("raster.layer", sizes.layer)?,
             composited: Image::new(
                 &self.device,
@@ -360,13 +384,12 @@ impl ComputeRaster {
                 .buffer(b.raw())
                 .range(vk::WHOLE_SIZE)]
         };
-        let (vertices, segments, tiles, entries, sorted, layer) = (
-            info(&pools.vertices),
-            info(&pools.segments),
-            info(&pools.tiles),
-            info(&pools.entries),
-            info(&pools.sorted),
-            info(&pools.layer),
+        let (tiles, layer) = (info(&pools.tiles), info(&pools.layer));
+        let (vertices, segments, entries, sorted) = (
+            [pools.vertices.view()],
+            [pools.segments.view()],
+            [pools.entries.view()],
+            [pools.sorted.view()],
         );
         let sampled = |view: vk::ImageView| {
             [vk::DescriptorImageInfo::default()
@@ -383,11 +406,19 @@ impl ComputeRaster {
             let counts = info(&self.counts[slot]);
             let writes = [
                 RasterBinding::Counts.write(*set).buffer_info(&counts),
-                RasterBinding::Vertices.write(*set).buffer_info(&vertices),
-                RasterBinding::Segments.write(*set).buffer_info(&segments),
+                RasterBinding::Vertices
+                    .write(*set)
+                    .texel_buffer_view(&vertices),
+                RasterBinding::Segments
+                    .write(*set)
+                    .texel_buffer_view(&segments),
                 RasterBinding::TileBins.write(*set).buffer_info(&tiles),
-                RasterBinding::TileEntries.write(*set).buffer_info(&entries),
-                RasterBinding::TileOrder.write(*set).buffer_info(&sorted),
+                RasterBinding::TileEntries
+                    .write(*set)
+                    .texel_buffer_view(&entries),
+                RasterBinding::TileOrder
+                    .write(*set)
+                    .texel_buffer_view(&sorted),
                 RasterBinding::HairLayer.write(*set).buffer_info(&layer),
                 RasterBinding::BodyDepth.write(*set).image_info(&depth),
                 RasterBinding::TargetColor.write(*set).image_info(&under),

@@ -76,8 +76,8 @@ fn capture(
     let counts = raster.counts(slot);
     let words =
         |b: &Buffer| -> Result<Vec<f32>> { Ok(bytemuck::cast_slice(&b.read_back()?).to_vec()) };
-    let vertex_floats = words(&pools.vertices)?;
-    let segment_bytes = pools.segments.read_back()?;
+    let vertex_floats = words(&pools.vertices.buffer)?;
+    let segment_bytes = pools.segments.buffer.read_back()?;
     let segment_words: &[u32] = bytemuck::cast_slice(&segment_bytes);
     let vertex = |i: usize| {
         let v = &vertex_floats[i * (VERTEX_BYTES / 4) as usize..][..8];
@@ -119,7 +119,7 @@ fn capture(
     // (`TileBin`).
     let tile_bytes = pools.tiles.read_back()?;
     let tile_words: &[u32] = bytemuck::cast_slice(&tile_bytes);
-    let entry_bytes = pools.sorted.read_back()?;
+    let entry_bytes = pools.sorted.buffer.read_back()?;
     let entries: &[u32] = bytemuck::cast_slice(&entry_bytes);
     let tiles = tile_words.chunks_exact((TILE_BYTES / 4) as usize);
     let lists = tiles

@@ -87,9 +87,9 @@ impl SceneOptions {
     /// segments of 0.05 along the normals, seen from the side of the poles' axis through
     /// the original's camera (the eye 10 units from the sphere's centre, a 45° vertical
     /// field of view; at its 1280×720 the same pixels). The density gives the whole
-    /// sphere 35,081 interpolated hairs (`tests/render_levers.rs`), within 1 % of the
-    /// distinct points of the original's tessellation levels (⌊350 · area⌋ per
-    /// triangle: 35,129), which it drew 189,600 times.
+    /// sphere as many interpolated hairs as the original's tessellation levels
+    /// (⌊350 · area⌋ per triangle) give it distinct points, within 1 %
+    /// (`tests/render_levers.rs` counts both).
     pub fn original() -> Self {
         Self {
             hair_length: 0.55 / SPHERE_BOUNDS,

@@ -10,9 +10,9 @@ use super::sdf::Sdf;
 /// Projections onto the margin per vertex and substep, at most, on a rigid body.
 /// Tuned (docs/testing.md, "Tuned constants").
 pub const PROJECTIONS: u32 = 3;
-/// The same on a skinned body, onto each of its constraints in turn. A second and third
-/// round moved the walk's deepest vertex by 3e-4 hair lengths and took a tenth of the
-/// simulation step (docs/benchmark.md); what one leaves, the next substep takes up.
+/// The same on a skinned body, onto each of its constraints in turn. Further rounds
+/// barely moved the walk's deepest vertex at a real share of the simulation step
+/// (docs/benchmark.md); what one leaves, the next substep takes up.
 /// Tuned (docs/testing.md, "Tuned constants").
 pub const PROJECTIONS_SKINNED: u32 = 1;
 

@@ -10,7 +10,7 @@ use fur_core::scene::{GroomParams, Mesh};
 /// Strand vertices (master hairs × their vertices) a scene may have: 8 M take 512 MiB
 /// of strand textures.
 pub const MAX_STRAND_VERTICES: u64 = 8_000_000;
-/// Hair segments a frame may draw at most (about 15 s a frame on lavapipe).
+/// Hair segments a frame may draw at most (a frame of many seconds on a CPU driver).
 pub const MAX_SEGMENTS_PER_FRAME: u64 = 20_000_000;
 /// Render-target memory an image may take (colour, depth and resolve), and, apart,
 /// the compute rasteriser's pools for it.

@@ -14,12 +14,19 @@
 // - BATCHED (GPUs): the workgroup walks the tile's list a batch at a time: each
 //   invocation fetches one entry's segment and its two vertices (two dependent reads)
 //   into shared memory, and every pixel then takes the whole batch from there;
-// - not (CPU drivers): each pixel reads the list itself (the same addresses across the
-//   workgroup), with no barriers, which a CPU driver runs slowly.
+// - not (CPU drivers): each pixel walks the list itself, with no barriers, which a CPU
+//   driver runs slowly. A CPU driver runs a vector of invocations through every branch
+//   of an `if` (only a loop ends when none of them is left in it), so each pixel first
+//   searches the list, a cheap test an entry, for the next entry whose segment can
+//   reach it, and takes only that one: the dear part of a turn (the exact coverage and
+//   the sorted insertion) is paid once a fragment, not once an entry of the tile.
 //
-// Every loop but the walk is unrolled, and the walk takes UNROLL entries a turn:
+// Every loop but the walk is unrolled, and the search tests UNROLL entries a turn:
 // lavapipe ends any invocation whose loops have turned 65,535 times in all (Mesa's
-// gallivm loop limiter), which a pixel of a dense tile would otherwise reach.
+// gallivm loop limiter), which a pixel of a dense tile would otherwise reach; the
+// per-pixel form counts its turns, and a pixel that would pass MAX_TURNS stops there,
+// counted as stopped (it has met thousands of fragments, or searched a list of near a
+// million entries).
 // TILE, NEAREST, DEPTH_SAMPLES, BATCHED, DEPTH_BINS and OPAQUE_TRANSMIT are defined by
 // the renderer.
 #extension GL_EXT_control_flow_attributes : require
@@ -35,8 +42,16 @@ layout(set = SET_RASTER, binding = B_BODY_DEPTH) uniform sampler2DMS body_depth;
 layout(set = SET_RASTER, binding = B_BODY_DEPTH) uniform sampler2D body_depth;
 #endif
 
-// Entries a turn of the walk takes.
+// Entries a turn of the walk takes (of the per-pixel form's search, tests).
 const uint UNROLL = 16u;
+
+// The most turns the per-pixel form's loops take in all, under lavapipe's 65,535 (a
+// test lowers it).
+#ifdef FUR_TEST_MAX_TURNS
+const uint MAX_TURNS = FUR_TEST_MAX_TURNS;
+#else
+const uint MAX_TURNS = 60000u;
+#endif
 
 // Where a pixel is in its walk of the tile's list: the next stop (the index where a
 // depth bin ends), which of the tile's stops it is, and whether the pixel has stopped.
@@ -205,6 +220,29 @@ void take(uint entry, vec2 centre, float body) {
     }
 }
 
+// Whether entry `entry` can leave a fragment in the pixel centred at `centre`: whether
+// the pixel's square meets the segment's box (its axis widened by the larger width on
+// either side), tested along the axis and across it; where they do not meet, the
+// footprint's area is 0, so `take` would keep nothing.
+bool reaches(uint entry, vec2 centre) {
+    uvec2 segment = strand_segment(ordered_entry(entry));
+    vec4 a = vertex_position(segment.x);
+    vec4 b = vertex_position(segment.x + 1u);
+    vec2 d = b.xy - a.xy;
+    float len = length(d);
+    if (isnan(len) || len < 1e-3) {
+        return false;
+    }
+    vec2 u = d / len;
+    vec2 q = centre - a.xy;
+    float s = dot(q, u);
+    float across = dot(q, vec2(-u.y, u.x));
+    // The pixel's half-extent along the axis and across it.
+    float reach = 0.5 * (abs(u.x) + abs(u.y));
+    float half_w = 0.5 * max(a.w, b.w);
+    return abs(across) < half_w + reach && s > -reach && s < len + reach;
+}
+
 void main() {
     ivec2 p = ivec2(gl_GlobalInvocationID.xy);
     ivec2 size = ivec2(frame.camera.viewport);
@@ -217,11 +255,49 @@ void main() {
     uint count = tile_bins[tile].kept;
     uint offset = tile_bins[tile].offset;
     Walk walk = start_walk(tile, count);
-    for (uint base = 0u; base < count && !walk.done; base += UNROLL) {
-        [[unroll]] for (uint j = 0u; j < UNROLL; ++j) {
-            if (base + j < count && !walk.done && !stops_at(walk, tile, base + j)) {
-                take(offset + base + j, centre, body);
+    uint i = 0u;
+    // The loops' turns, held under lavapipe's limit (MAX_TURNS).
+    uint turns = 0u;
+    while (i < count && !walk.done) {
+        // The next entry that can reach the pixel: the rest leave nothing in it.
+        bool found = false;
+        while (!found && i < count) {
+            turns += 1u;
+            [[unroll]] for (uint j = 0u; j < UNROLL; ++j) {
+                if (!found && i < count) {
+                    if (reaches(offset + i, centre)) {
+                        found = true;
+                    } else {
+                        i += 1u;
+                    }
+                }
             }
+        }
+        if (!found) {
+            break;
+        }
+        turns += 1u;
+        if (turns > MAX_TURNS) {
+            walk.done = true;
+            atomicAdd(raster_counts.pixels_stopped, 1u);
+            break;
+        }
+        // The stops passed since the last entry taken: the pixel has met nothing since.
+        while (walk.stop_at <= i && !walk.done) {
+            turns += 1u;
+            if (seen_transmit < OPAQUE_TRANSMIT) {
+                walk.done = true;
+                atomicAdd(raster_counts.pixels_stopped, 1u);
+            } else {
+                walk.next += 1u;
+                walk.stop_at = walk.next < tile_bins[tile].stop_count
+                                   ? tile_bins[tile].stops[walk.next]
+                                   : 0xffffffffu;
+            }
+        }
+        if (!walk.done) {
+            take(offset + i, centre, body);
+            i += 1u;
         }
     }
     finish(p, size);

@@ -17,9 +17,10 @@
 // - not (CPU drivers): each pixel walks the list itself, with no barriers, which a CPU
 //   driver runs slowly. A CPU driver runs a vector of invocations through every branch
 //   of an `if` (only a loop ends when none of them is left in it), so each pixel first
-//   searches the list, a cheap test an entry, for the next entry whose segment can
-//   reach it, and takes only that one: the dear part of a turn (the exact coverage and
-//   the sorted insertion) is paid once a fragment, not once an entry of the tile.
+//   searches the list, one bit of the entry's mask (strand_sort.comp) an entry, for
+//   the next entry whose segment can reach it, and takes only that one: the dear part
+//   of a turn (the exact coverage and the sorted insertion) is paid once a fragment,
+//   not once an entry of the tile.
 //
 // Every loop but the walk is unrolled, and the search tests UNROLL entries a turn:
 // lavapipe ends any invocation whose loops have turned 65,535 times in all (Mesa's
@@ -220,27 +221,12 @@ void take(uint entry, vec2 centre, float body) {
     }
 }
 
-// Whether entry `entry` can leave a fragment in the pixel centred at `centre`: whether
-// the pixel's square meets the segment's box (its axis widened by the larger width on
-// either side), tested along the axis and across it; where they do not meet, the
-// footprint's area is 0, so `take` would keep nothing.
-bool reaches(uint entry, vec2 centre) {
-    uvec2 segment = strand_segment(ordered_entry(entry));
-    vec4 a = vertex_position(segment.x);
-    vec4 b = vertex_position(segment.x + 1u);
-    vec2 d = b.xy - a.xy;
-    float len = length(d);
-    if (isnan(len) || len < 1e-3) {
-        return false;
-    }
-    vec2 u = d / len;
-    vec2 q = centre - a.xy;
-    float s = dot(q, u);
-    float across = dot(q, vec2(-u.y, u.x));
-    // The pixel's half-extent along the axis and across it.
-    float reach = 0.5 * (abs(u.x) + abs(u.y));
-    float half_w = 0.5 * max(a.w, b.w);
-    return abs(across) < half_w + reach && s > -reach && s < len + reach;
+// Whether entry `entry` can leave a fragment in the pixel of the tile whose bit of the
+// entry's mask is `bit`: whether its segment's box meets the pixel's block (the sort
+// pass's block_mask); where it does not, the footprint's area is 0, so `take` would
+// keep nothing.
+bool reaches(uint entry, uint bit) {
+    return ((imageLoad(tile_order, int(entry)).y >> bit) & 1u) != 0u;
 }
 
 void main() {
@@ -254,6 +240,7 @@ void main() {
     uint tile = gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x;
     uint count = tile_bins[tile].kept;
     uint offset = tile_bins[tile].offset;
+    uint bit = mask_bit(gl_LocalInvocationID.xy);
     Walk walk = start_walk(tile, count);
     uint i = 0u;
     // The loops' turns, held under lavapipe's limit (MAX_TURNS).
@@ -265,7 +252,7 @@ void main() {
             turns += 1u;
             [[unroll]] for (uint j = 0u; j < UNROLL; ++j) {
                 if (!found && i < count) {
-                    if (reaches(offset + i, centre)) {
+                    if (reaches(offset + i, bit)) {
                         found = true;
                     } else {
                         i += 1u;

@@ -91,12 +91,28 @@ uint listed_entry(uint at) {
     return imageLoad(tile_entries, int(at)).x;
 }
 
-// The entry pool again, each tile's list sorted front to back by depth bin.
-layout(set = SET_RASTER, binding = B_TILE_ORDER, r32ui) uniform uimageBuffer tile_order;
+// The entry pool again, each tile's list sorted front to back by depth bin: each
+// entry its segment and the mask of the blocks of the tile its segment can reach
+// (block_mask, strand_sort.comp).
+layout(set = SET_RASTER, binding = B_TILE_ORDER, rg32ui) uniform uimageBuffer tile_order;
 
 uint ordered_entry(uint at) {
     return imageLoad(tile_order, int(at)).x;
 }
+
+#ifdef TILE
+// The mask's grid: MASK_X × MASK_Y blocks of BLOCK_X × BLOCK_Y pixels cover a tile, at
+// most 32 (one pixel a block up to 4×4 tiles).
+const uint MASK_X = TILE < 8u ? TILE : 8u;
+const uint MASK_Y = TILE < 32u / MASK_X ? TILE : 32u / MASK_X;
+const uint BLOCK_X = TILE / MASK_X;
+const uint BLOCK_Y = TILE / MASK_Y;
+
+// The bit of the mask that holds the pixel `p` of a tile (its place in the tile).
+uint mask_bit(uvec2 p) {
+    return (p.y / BLOCK_Y) * MASK_X + p.x / BLOCK_X;
+}
+#endif
 
 // A segment's sort key: its nearer end's depth, at least 0 (order::depth_key).
 float depth_key(float a, float b) {

@@ -5,7 +5,10 @@
 // with the end of each bin that holds an entry: the stops where the fine pass's
 // pixels may end their walk once opaque. One workgroup per tile. The twin:
 // render::strand_raster::order (sort_by_depth).
+// Each entry is written with the mask of the tile's blocks its segment can reach, which
+// the fine pass's per-pixel form searches by.
 // TILE, DEPTH_BINS are defined by the renderer.
+#extension GL_EXT_control_flow_attributes : require
 #include "common.glsl"
 #include "strand_raster.glsl"
 
@@ -15,6 +18,42 @@ layout(local_size_x = GROUP) in;
 
 // Per bin: its count, then where its next entry goes.
 shared uint cursor[DEPTH_BINS];
+
+// The blocks of the tile whose corner is `corner` (pixels) that the segment a–b, its
+// box widened by half its larger width `half_w` on either side, meets: a bit per block
+// (mask_bit), tested along the four axes that separate a rectangle from one it does not
+// meet (the segment's axis, across it, x and y). Where a block's bit is clear, the
+// footprint of every pixel in it is 0 (strand_footprint).
+uint block_mask(vec2 corner, vec2 a, vec2 b, float half_w) {
+    vec2 d = b - a;
+    float len = length(d);
+    if (isnan(len) || len < 1e-3) {
+        return 0u;
+    }
+    vec2 u = d / len;
+    vec2 n = vec2(-u.y, u.x);
+    const vec2 half_block = 0.5 * vec2(BLOCK_X, BLOCK_Y);
+    // The block's half-extent along the axis and across it; the box's along x and y.
+    float along_reach = dot(half_block, abs(u));
+    float across_reach = dot(half_block, abs(n));
+    vec2 widen = half_w * abs(n) + half_block;
+    vec2 lo = min(a, b) - widen;
+    vec2 hi = max(a, b) + widen;
+    uint mask = 0u;
+    [[unroll]] for (uint by = 0u; by < MASK_Y; ++by) {
+        [[unroll]] for (uint bx = 0u; bx < MASK_X; ++bx) {
+            vec2 centre = corner + (vec2(bx, by) + 0.5) * vec2(BLOCK_X, BLOCK_Y);
+            vec2 q = centre - a;
+            float s = dot(q, u);
+            float across = dot(q, n);
+            bool meets = abs(across) < half_w + across_reach && s > -along_reach
+                && s < len + along_reach && all(lessThan(lo, centre))
+                && all(greaterThan(hi, centre));
+            mask |= meets ? 1u << (by * MASK_X + bx) : 0u;
+        }
+    }
+    return mask;
+}
 
 // The bin of the segment entry `at` of the pool lists.
 uint bin_of(uint at, float lo, float scale) {
@@ -54,8 +93,14 @@ void main() {
         tile_bins[tile].stop_count = stops;
     }
     barrier();
+    vec2 corner = vec2(gl_WorkGroupID.xy * TILE);
     for (uint i = lane; i < count; i += GROUP) {
         uint slot = atomicAdd(cursor[bin_of(offset + i, lo, scale)], 1u);
-        imageStore(tile_order, int(offset + slot), uvec4(listed_entry(offset + i)));
+        uint s = listed_entry(offset + i);
+        uvec2 segment = strand_segment(s);
+        vec4 a = vertex_position(segment.x);
+        vec4 b = vertex_position(segment.x + 1u);
+        uint mask = block_mask(corner, a.xy, b.xy, 0.5 * max(a.w, b.w));
+        imageStore(tile_order, int(offset + slot), uvec4(s, mask, 0u, 0u));
     }
 }

@@ -47,7 +47,7 @@ struct Measured {
 impl Bench<'_> {
     pub(super) fn raster(&mut self) -> Result<()> {
         let extent = self.frame_extent();
-        let tile = fur_core::render::default_tile(self.cpu_driver());
+        let tile = fur_core::render::DEFAULT_TILE;
         let factor = if self.quick { 2 } else { 4 };
         // The quick suite's frames only have to exist (CI runs it on lavapipe).
         let (warm, measured) = if self.quick { (1, 2) } else { (5, 20) };
@@ -94,9 +94,7 @@ impl Bench<'_> {
                     own_tile,
                 ));
             }
-            let scene_tile = shot
-                .style(&scene.scene.options.draw)
-                .tile_on(self.cpu_driver());
+            let scene_tile = shot.style(&scene.scene.options.draw).tile_side();
             for t in TILE_SWEEP.into_iter().filter(|t| *t != scene_tile) {
                 cases.push((format!("compute, {t}×{t} tiles"), Raster::Compute, own, t));
             }
@@ -150,12 +148,6 @@ impl Bench<'_> {
         }
         self.raster_steps(&all);
         Ok(())
-    }
-
-    /// Whether the bench's device is a CPU driver (the compute rasteriser's tile side
-    /// depends on it).
-    fn cpu_driver(&self) -> bool {
-        self.device.info.device_type == ash::vk::PhysicalDeviceType::CPU
     }
 
     /// The compute passes' tables: each step's GPU time, then what the pools counted;

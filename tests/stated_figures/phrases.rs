@@ -56,8 +56,8 @@ pub fn stated() -> Vec<(&'static str, Vec<String>)> {
     let sides = fur_core::render::TILE_SIZES.map(|t| t.to_string());
     let (last, first) = sides.split_last().expect("tile sides");
     raster.push(format!("`--tile`: {} or {last} pixels)", first.join(", ")));
-    let gpu = fur_core::render::default_tile(false);
-    raster.push(format!("whose {}-pixel workgroup", gpu * gpu));
+    let side = fur_core::render::DEFAULT_TILE;
+    raster.push(format!("whose {}-pixel workgroup", side * side));
     all.push(("docs/compute-raster.md", raster));
     // The tiles view's scale.
     let full = count_text(fur_core::render::stage::TILE_ENTRIES_FULL_SCALE as u64);

@@ -137,6 +137,8 @@ fn the_gpu_draws_what_its_cpu_twin_draws() {
         (FineForm::Batched, MAX_NEAREST, 0),
         (FineForm::PerPixel, MAX_NEAREST, 0),
         (FineForm::Batched, default, TILE_SIZES[0]),
+        // A pixel a bit of the per-pixel form's masks (4×4), and blocks of 2×4 (16×16).
+        (FineForm::PerPixel, default, 4),
         (
             FineForm::PerPixel,
             default,

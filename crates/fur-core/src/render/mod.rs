@@ -23,6 +23,6 @@ pub use lighting::spans as lighting_spans;
 pub use lighting::{kajiya_kay, Fibre, Highlights, Lighting, LightingModel, Shade, Shadows};
 pub use presets::FurPreset;
 pub use uniforms::{
-    default_tile, FrameSettings, FurStyle, Primitive, Raster, Shading, Stage, StrandShape,
+    FrameSettings, FurStyle, Primitive, Raster, Shading, Stage, StrandShape, DEFAULT_TILE,
     MAX_NEAREST, STUB_LIMIT, TILE_SIZES,
 };

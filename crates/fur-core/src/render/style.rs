@@ -62,7 +62,7 @@ pub struct FurStyle {
     /// the true order and costs more (`fur bench --only raster` measures the trade).
     pub nearest: u32,
     /// With `Raster::Compute`: the side of the screen tiles the strands are binned to,
-    /// pixels (one of [`TILE_SIZES`]), or 0 for the device's ([`default_tile`]).
+    /// pixels (one of [`TILE_SIZES`]), or 0 for the default ([`DEFAULT_TILE`]).
     pub tile: u32,
 }
 
@@ -105,17 +105,11 @@ pub mod spans {
     pub const PIXELS: Span = Span::within(0.0, 1e6);
 }
 
-/// The compute rasteriser's tile side on a device, pixels: 4 on a CPU driver, where a
-/// pixel's walk of its tile's list is the cost and a smaller tile lists fewer segments
-/// per pixel, and 8 on a GPU, whose workgroup of a tile's pixels fills two warps
-/// (`fur bench --only raster` measures the other sides).
-pub fn default_tile(cpu_driver: bool) -> u32 {
-    if cpu_driver {
-        4
-    } else {
-        8
-    }
-}
+/// The compute rasteriser's tile side unless a style sets one, pixels: on a GPU a
+/// tile's workgroup of 64 pixels fills two warps, and on a CPU driver, where a pixel
+/// finds the entries that reach it by their masks, a larger tile lists each segment in
+/// fewer tiles (`fur bench --only raster` measures the other sides).
+pub const DEFAULT_TILE: u32 = 8;
 
 impl Default for FurStyle {
     fn default() -> Self {
@@ -181,11 +175,11 @@ impl FurStyle {
         }
     }
 
-    /// The compute rasteriser's tile side this style draws with on a CPU driver
-    /// (`cpu_driver`) or a GPU, pixels: its own, or the device's ([`default_tile`]).
-    pub fn tile_on(&self, cpu_driver: bool) -> u32 {
+    /// The compute rasteriser's tile side this style draws with, pixels: its own, or
+    /// the default ([`DEFAULT_TILE`]).
+    pub fn tile_side(&self) -> u32 {
         match self.tile {
-            0 => default_tile(cpu_driver),
+            0 => DEFAULT_TILE,
             side => side,
         }
     }

@@ -7,7 +7,7 @@ use glam::Mat4;
 pub use super::drawing::{Primitive, Raster, Shading};
 use super::lighting::Lighting;
 pub use super::stage::Stage;
-pub use super::style::{default_tile, FurStyle, MAX_NEAREST, TILE_SIZES};
+pub use super::style::{FurStyle, DEFAULT_TILE, MAX_NEAREST, TILE_SIZES};
 use crate::scene::Camera;
 
 /// What the fur pass needs to know of the master strands.

@@ -71,8 +71,7 @@ pub fn check_work(
         )));
     }
     if settings.style.raster == Raster::Compute {
-        // The device's kind is not known yet: the smaller default, the larger tile pool.
-        let tile = settings.style.tile_on(true);
+        let tile = settings.style.tile_side();
         let pools = PoolSizes::of(
             &PoolBudget {
                 tile,

@@ -33,12 +33,14 @@ impl Default for PoolBudget {
     }
 }
 
-/// Bytes of one strand vertex, segment, tile (its bin and its stops) and entry, and of
-/// a pixel of the layer.
+/// Bytes of one strand vertex, segment, tile (its bin and its stops), binned entry and
+/// sorted entry (its segment and the mask of the tile's blocks it reaches), and of a
+/// pixel of the layer.
 pub const VERTEX_BYTES: u64 = 32;
 pub const SEGMENT_BYTES: u64 = 8;
 pub const TILE_BYTES: u64 = 32 + 4 * super::order::DEPTH_BINS as u64;
 pub const ENTRY_BYTES: u64 = 4;
+pub const SORTED_ENTRY_BYTES: u64 = 8;
 pub const LAYER_BYTES: u64 = 16;
 
 /// The fewest strand vertices, segments and entries the pools hold whatever the image
@@ -95,7 +97,7 @@ impl PoolSizes {
             segments: capacity.segments * SEGMENT_BYTES,
             tiles: tiles * TILE_BYTES,
             entries: capacity.entries * ENTRY_BYTES,
-            sorted: capacity.entries * ENTRY_BYTES,
+            sorted: capacity.entries * SORTED_ENTRY_BYTES,
             layer: pixels * LAYER_BYTES,
         }
     }
@@ -161,8 +163,8 @@ pub fn table(budget: &PoolBudget) -> String {
     let b = budget;
     out += &format!(
         "\nPer pixel: {} strand vertices of {VERTEX_BYTES} bytes, {} segments of \
-         {SEGMENT_BYTES} bytes, {} entries of {ENTRY_BYTES} bytes (twice: binned and sorted), a layer pixel of \
-         {LAYER_BYTES} bytes; per {}×{} tile {TILE_BYTES} bytes; at least {} vertices, {} \
+         {SEGMENT_BYTES} bytes, {} entries of {ENTRY_BYTES} bytes binned and \
+         {SORTED_ENTRY_BYTES} sorted, a layer pixel of {LAYER_BYTES} bytes; per {}×{} tile {TILE_BYTES} bytes; at least {} vertices, {} \
          segments and {} entries.\n",
         b.vertices_per_pixel,
         b.segments_per_pixel,

@@ -52,7 +52,7 @@ pub const RENDER: Group = Group {
             flag: Flag::Long("tile"),
             label: "tile side (px)",
             help: "With `raster = \"compute\"`: the side of the screen tiles strands are binned \
-                   to, pixels; 0 takes the device's (4 on a CPU driver, 8 on a GPU). A pixel \
+                   to, pixels; 0 takes the default side. A pixel \
                    walks its tile's list: a smaller tile lists fewer segments a pixel, and \
                    lists each segment in more tiles",
             kind: Kind::OneOf(&TILE_CHOICES),

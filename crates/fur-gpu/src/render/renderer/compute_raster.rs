@@ -23,7 +23,7 @@ use crate::gpu::{
     Buffer, DescriptorPool, DescriptorSetLayout, Device, Image, ImageDesc, Pipeline,
     PipelineLayout, Sampler, Specialization, TexelBuffer,
 };
-use fur_core::render::strand_raster::pools::{Demand, PoolBudget, PoolSizes};
+use fur_core::render::strand_raster::pools::{Demand, PoolBudget, PoolSizes, SORTED_ENTRY_BYTES};
 use fur_core::render::FurStyle;
 
 /// What the compute passes counted in a frame (`ComputeCounts` in
@@ -214,7 +214,7 @@ impl ComputeRaster {
 
     /// The tile side `style` asks for on this device, pixels.
     pub fn tile_for(&self, style: &FurStyle) -> u32 {
-        style.tile_on(self.device.info.device_type == vk::PhysicalDeviceType::CPU)
+        style.tile_side()
     }
 
     /// The tile side the pools were last sized for, pixels.
@@ -361,7 +361,12 @@ impl ComputeRaster {
             )?,
             tiles: storage("raster.tiles", sizes.tiles)?,
             entries: texels("raster.entries", sizes.entries, vk::Format::R32_UINT, 4)?,
-            sorted: texels("raster.sorted", sizes.sorted, vk::Format::R32_UINT, 4)?,
+            sorted: texels(
+                "raster.sorted",
+                sizes.sorted,
+                vk::Format::R32G32_UINT,
+                SORTED_ENTRY_BYTES,
+            )?,
             layer: storage("raster.layer", sizes.layer)?,
             composited: Image::new(
                 &self.device,

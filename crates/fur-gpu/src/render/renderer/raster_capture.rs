@@ -124,7 +124,14 @@ fn capture(
     let tiles = tile_words.chunks_exact((TILE_BYTES / 4) as usize);
     let lists = tiles
         .clone()
-        .map(|t| entries[t[2] as usize..][..t[3] as usize].to_vec())
+        // A sorted entry: its segment, then its mask.
+        .map(|t| {
+            entries[2 * t[2] as usize..][..2 * t[3] as usize]
+                .iter()
+                .step_by(2)
+                .copied()
+                .collect()
+        })
         .collect();
     let stops = tiles
         .map(|t| t[8..][..(t[7] as usize).min(DEPTH_BINS as usize)].to_vec())

@@ -43,8 +43,10 @@ layout(set = SET_RASTER, binding = B_BODY_DEPTH) uniform sampler2DMS body_depth;
 layout(set = SET_RASTER, binding = B_BODY_DEPTH) uniform sampler2D body_depth;
 #endif
 
-// Entries a turn of the walk takes (of the per-pixel form's search, tests).
+// Entries a turn of the batched form's walk takes, and of the per-pixel form's search
+// tests (each of a turn's tests is paid by every pixel of a vector, found or not).
 const uint UNROLL = 16u;
+const uint SEARCH_UNROLL = 2u;
 
 // The most turns the per-pixel form's loops take in all, under lavapipe's 65,535 (a
 // test lowers it).
@@ -203,10 +205,10 @@ void main() {
     finish(p, size);
 }
 #else
-// The fragment entry `entry` of the pool leaves in the pixel centred at `centre`, if
-// it is in front of the body there.
-void take(uint entry, vec2 centre, float body) {
-    uvec2 segment = strand_segment(ordered_entry(entry));
+// The fragment segment `s` leaves in the pixel centred at `centre`, if it is in front
+// of the body there.
+void take_segment(uint s, vec2 centre, float body) {
+    uvec2 segment = strand_segment(s);
     StrandVertex va = strand_vertex(segment.x);
     StrandVertex vb = strand_vertex(segment.x + 1u);
     vec2 foot = strand_footprint(centre, va.position.xy, vb.position.xy, va.position.w,
@@ -221,12 +223,13 @@ void take(uint entry, vec2 centre, float body) {
     }
 }
 
-// Whether entry `entry` can leave a fragment in the pixel of the tile whose bit of the
-// entry's mask is `bit`: whether its segment's box meets the pixel's block (the sort
-// pass's block_mask); where it does not, the footprint's area is 0, so `take` would
-// keep nothing.
-bool reaches(uint entry, uint bit) {
-    return ((imageLoad(tile_order, int(entry)).y >> bit) & 1u) != 0u;
+// The segment of entry `entry` if it can leave a fragment in the pixel of the tile
+// whose bit of the entry's mask is `bit`, NO_SEGMENT if not: whether its segment's box
+// meets the pixel's block (the sort pass's block_mask); where it does not, the
+// footprint's area is 0, so `take` would keep nothing.
+uint reaching(uint entry, uint bit) {
+    uvec2 e = imageLoad(tile_order, int(entry)).xy;
+    return ((e.y >> bit) & 1u) != 0u ? e.x : NO_SEGMENT;
 }
 
 void main() {
@@ -248,11 +251,13 @@ void main() {
     while (i < count && !walk.done) {
         // The next entry that can reach the pixel: the rest leave nothing in it.
         bool found = false;
+        uint segment = NO_SEGMENT;
         while (!found && i < count) {
             turns += 1u;
-            [[unroll]] for (uint j = 0u; j < UNROLL; ++j) {
+            [[unroll]] for (uint j = 0u; j < SEARCH_UNROLL; ++j) {
                 if (!found && i < count) {
-                    if (reaches(offset + i, bit)) {
+                    segment = reaching(offset + i, bit);
+                    if (segment != NO_SEGMENT) {
                         found = true;
                     } else {
                         i += 1u;
@@ -283,7 +288,7 @@ void main() {
             }
         }
         if (!walk.done) {
-            take(offset + i, centre, body);
+            take_segment(segment, centre, body);
             i += 1u;
         }
     }

@@ -95,11 +95,11 @@ void main() {
     barrier();
     vec2 corner = vec2(gl_WorkGroupID.xy * TILE);
     for (uint i = lane; i < count; i += GROUP) {
-        uint slot = atomicAdd(cursor[bin_of(offset + i, lo, scale)], 1u);
         uint s = listed_entry(offset + i);
         uvec2 segment = strand_segment(s);
         vec4 a = vertex_position(segment.x);
         vec4 b = vertex_position(segment.x + 1u);
+        uint slot = atomicAdd(cursor[depth_bin(depth_key(a.z, b.z), lo, scale)], 1u);
         uint mask = block_mask(corner, a.xy, b.xy, 0.5 * max(a.w, b.w));
         imageStore(tile_order, int(offset + slot), uvec4(s, mask, 0u, 0u));
     }

@@ -13,7 +13,9 @@ layout(set = SET_RASTER, binding = B_BODY_DEPTH) uniform sampler2DMS body_depth;
 layout(set = SET_RASTER, binding = B_BODY_DEPTH) uniform sampler2D body_depth;
 #endif
 
-shared float farthest[TILE * TILE];
+// The farthest depth of the tile's pixels, as its bits (non-negative floats order as
+// their bits do).
+shared uint farthest;
 
 // The farthest depth of pixel p's samples.
 float pixel_depth(ivec2 p) {
@@ -32,17 +34,16 @@ void main() {
     ivec2 p = ivec2(gl_GlobalInvocationID.xy);
     ivec2 size = ivec2(frame.camera.viewport);
     uint me = gl_LocalInvocationIndex;
-    farthest[me] = all(lessThan(p, size)) ? pixel_depth(p) : 0.0;
-    barrier();
-    for (uint stride = TILE * TILE / 2u; stride > 0u; stride /= 2u) {
-        if (me < stride) {
-            farthest[me] = max(farthest[me], farthest[me + stride]);
-        }
-        barrier();
+    if (me == 0u) {
+        farthest = 0u;
     }
+    barrier();
+    float depth = all(lessThan(p, size)) ? pixel_depth(p) : 0.0;
+    atomicMax(farthest, floatBitsToUint(max(depth, 0.0)));
+    barrier();
     if (me == 0u) {
         uint tile = gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x;
-        tile_bins[tile].body_far = farthest[0];
+        tile_bins[tile].body_far = uintBitsToFloat(farthest);
         tile_bins[tile].count = 0u;
         tile_bins[tile].offset = 0u;
         tile_bins[tile].kept = 0u;

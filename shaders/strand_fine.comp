@@ -244,6 +244,7 @@ void main() {
     uint count = tile_bins[tile].kept;
     uint offset = tile_bins[tile].offset;
     uint bit = mask_bit(gl_LocalInvocationID.xy);
+    uint stop_count = tile_bins[tile].stop_count;
     Walk walk = start_walk(tile, count);
     uint i = 0u;
     // The loops' turns, held under lavapipe's limit (MAX_TURNS).
@@ -271,7 +272,6 @@ void main() {
         turns += 1u;
         if (turns > MAX_TURNS) {
             walk.done = true;
-            atomicAdd(raster_counts.pixels_stopped, 1u);
             break;
         }
         // The stops passed since the last entry taken: the pixel has met nothing since.
@@ -279,18 +279,20 @@ void main() {
             turns += 1u;
             if (seen_transmit < OPAQUE_TRANSMIT) {
                 walk.done = true;
-                atomicAdd(raster_counts.pixels_stopped, 1u);
             } else {
                 walk.next += 1u;
-                walk.stop_at = walk.next < tile_bins[tile].stop_count
-                                   ? tile_bins[tile].stops[walk.next]
-                                   : 0xffffffffu;
+                walk.stop_at = walk.next < stop_count ? tile_bins[tile].stops[walk.next]
+                                                      : 0xffffffffu;
             }
         }
         if (!walk.done) {
             take_segment(segment, centre, body);
             i += 1u;
         }
+    }
+    // Counted once the walk is over (an atomic in the loop is paid on every turn).
+    if (walk.done) {
+        atomicAdd(raster_counts.pixels_stopped, 1u);
     }
     finish(p, size);
 }

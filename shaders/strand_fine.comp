@@ -22,12 +22,12 @@
 //   of a turn (the exact coverage and the sorted insertion) is paid once a fragment,
 //   not once an entry of the tile.
 //
-// Every loop but the walk is unrolled, and the search tests UNROLL entries a turn:
-// lavapipe ends any invocation whose loops have turned 65,535 times in all (Mesa's
-// gallivm loop limiter), which a pixel of a dense tile would otherwise reach; the
-// per-pixel form counts its turns, and a pixel that would pass MAX_TURNS stops there,
-// counted as stopped (it has met thousands of fragments, or searched a list of near a
-// million entries).
+// Every loop but the walk is unrolled, the batched walk takes UNROLL entries a turn and
+// the per-pixel search tests SEARCH_UNROLL: lavapipe ends any invocation whose loops
+// have turned 65,535 times in all (Mesa's gallivm loop limiter), which a pixel of a
+// dense tile would otherwise reach; the per-pixel form counts its turns, and a pixel
+// that would pass MAX_TURNS stops there, counted as stopped (it has met thousands of
+// fragments, or searched a list of over a hundred thousand entries).
 // TILE, NEAREST, DEPTH_SAMPLES, BATCHED, DEPTH_BINS and OPAQUE_TRANSMIT are defined by
 // the renderer.
 #extension GL_EXT_control_flow_attributes : require

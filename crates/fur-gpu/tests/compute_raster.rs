@@ -57,11 +57,12 @@ fn groom() -> GroomParams {
     }
 }
 
-fn render(
+/// A renderer of the blob's fur at `size` for `settings`, and its strands.
+fn blob_renderer(
     device: &Arc<Device>,
     settings: &FrameSettings,
     size: (u32, u32),
-) -> (RgbaImage, FrameReport) {
+) -> (Renderer, StrandTextures) {
     let mesh = Mesh::blob();
     let strands = Strands::grow(&mesh, &groom()).unwrap();
     let textures = StrandTextures::new(device, &strands, settings.head).unwrap();
@@ -69,8 +70,17 @@ fn render(
         width: size.0,
         height: size.1,
     };
-    let mut renderer =
+    let renderer =
         Renderer::new(device, &mesh, &textures, extent, 1, settings.style.samples).unwrap();
+    (renderer, textures)
+}
+
+fn render(
+    device: &Arc<Device>,
+    settings: &FrameSettings,
+    size: (u32, u32),
+) -> (RgbaImage, FrameReport) {
+    let (mut renderer, textures) = blob_renderer(device, settings, size);
     renderer.render(&textures, settings).unwrap()
 }
 
@@ -461,14 +471,7 @@ fn a_pixel_past_the_loop_bound_stops_and_is_counted() {
     let settings = blob_settings(Raster::Compute, 1);
     let draw = |defines: &[(&str, &str)]| {
         fur_gpu::gpu::shader::with_test_defines(defines, || {
-            let mesh = Mesh::blob();
-            let strands = Strands::grow(&mesh, &groom()).unwrap();
-            let textures = StrandTextures::new(&device, &strands, settings.head).unwrap();
-            let extent = vk::Extent2D {
-                width: 96,
-                height: 72,
-            };
-            let mut renderer = Renderer::new(&device, &mesh, &textures, extent, 1, 1).unwrap();
+            let (mut renderer, textures) = blob_renderer(&device, &settings, (96, 72));
             renderer.force_fine_form(FineForm::PerPixel);
             let (image, report) = renderer.render(&textures, &settings).unwrap();
             (image, report.raster.unwrap())

@@ -42,6 +42,9 @@ pub const TILE_BYTES: u64 = 32 + 4 * super::order::DEPTH_BINS as u64;
 pub const ENTRY_BYTES: u64 = 4;
 pub const SORTED_ENTRY_BYTES: u64 = 8;
 pub const LAYER_BYTES: u64 = 16;
+/// Bytes of a texel of the vertex pool (a texel buffer: a vertex is two, its position
+/// then its colour).
+pub const VERTEX_TEXEL_BYTES: u64 = VERTEX_BYTES / 2;
 
 /// The fewest strand vertices, segments and entries the pools hold whatever the image
 /// size: a small image of dense fur has more strands than pixels.
@@ -117,14 +120,19 @@ impl PoolSizes {
         self.vertices + self.segments + self.tiles + self.entries + self.sorted + self.layer
     }
 
-    pub fn largest(&self) -> u64 {
+    /// The largest of the pools that are storage buffers (the tiles, the layer), bytes.
+    pub fn largest_storage(&self) -> u64 {
+        self.tiles.max(self.layer)
+    }
+
+    /// The most texels any of the pools that are texel buffers holds (the vertices,
+    /// the segments, both entry pools).
+    pub fn most_texels(&self) -> u64 {
         [
-            self.vertices,
-            self.segments,
-            self.tiles,
-            self.entries,
-            self.sorted,
-            self.layer,
+            self.vertices / VERTEX_TEXEL_BYTES,
+            self.segments / SEGMENT_BYTES,
+            self.entries / ENTRY_BYTES,
+            self.sorted / SORTED_ENTRY_BYTES,
         ]
         .into_iter()
         .max()
@@ -203,6 +211,7 @@ mod tests {
         let asked = PoolSizes::of(&budget, 16, 16, &demand);
         assert_eq!(asked.vertices, (1 << 26) * VERTEX_BYTES);
         assert_eq!(asked.segments, MIN_SEGMENTS * SEGMENT_BYTES);
+        assert_eq!(asked.most_texels(), 2 << 26);
         assert!(table(&budget).contains("| 4K (3840×2160) |"));
     }
 }

@@ -23,7 +23,10 @@ use crate::gpu::{
     Buffer, DescriptorPool, DescriptorSetLayout, Device, Image, ImageDesc, Pipeline,
     PipelineLayout, Sampler, Specialization, TexelBuffer,
 };
-use fur_core::render::strand_raster::pools::{Demand, PoolBudget, PoolSizes, SORTED_ENTRY_BYTES};
+use fur_core::render::strand_raster::pools::{
+    Demand, PoolBudget, PoolSizes, ENTRY_BYTES, SEGMENT_BYTES, SORTED_ENTRY_BYTES,
+    VERTEX_TEXEL_BYTES,
+};
 use fur_core::render::FurStyle;
 
 /// What the compute passes counted in a frame (`ComputeCounts` in
@@ -306,19 +309,35 @@ impl ComputeRaster {
         let sizes = PoolSizes::of(&self.budget, extent.width, extent.height, &self.demand);
         let pixels = u64::from(extent.width) * u64::from(extent.height);
         let capacity = PoolSizes::capacity(&self.budget, pixels, &self.demand);
-        let limit = u64::from(self.device.info.limits.max_storage_buffer_range);
-        if sizes.largest() > limit {
-            return Err(Error::parameter(format!(
+        let limits = &self.device.info.limits;
+        let (buffer_limit, texel_limit) = (
+            u64::from(limits.max_storage_buffer_range),
+            u64::from(limits.max_texel_buffer_elements),
+        );
+        let gib = |bytes: u64| bytes as f64 / f64::from(1u32 << 30);
+        let refuse = |what: String| {
+            Err(Error::parameter(format!(
                 "the compute rasteriser cannot draw {}×{}: its pools would take {:.1} GiB, \
-                 the largest buffer {:.1} GiB, and {} allows {:.1} GiB a buffer; draw it \
-                 smaller or with --raster hardware",
+                 and {what}; draw it smaller or with --raster hardware",
                 extent.width,
                 extent.height,
-                sizes.total() as f64 / f64::from(1u32 << 30),
-                sizes.largest() as f64 / f64::from(1u32 << 30),
+                gib(sizes.total()),
+            )))
+        };
+        if sizes.largest_storage() > buffer_limit {
+            return refuse(format!(
+                "its largest storage buffer {:.1} GiB where {} allows {:.1} GiB",
+                gib(sizes.largest_storage()),
                 self.device.info.name,
-                limit as f64 / f64::from(1u32 << 30),
-            )));
+                gib(buffer_limit),
+            ));
+        }
+        if sizes.most_texels() > texel_limit {
+            return refuse(format!(
+                "its largest texel buffer {} texels where {} allows {texel_limit}",
+                sizes.most_texels(),
+                self.device.info.name,
+            ));
         }
         // Transfer sources: the tests read them back (`capture`).
         let storage = |name: &str, size: u64| {
@@ -351,16 +370,21 @@ impl ComputeRaster {
                 "raster.vertices",
                 sizes.vertices,
                 vk::Format::R32G32B32A32_SFLOAT,
-                16,
+                VERTEX_TEXEL_BYTES,
             )?,
             segments: texels(
                 "raster.segments",
                 sizes.segments,
                 vk::Format::R32G32_UINT,
-                8,
+                SEGMENT_BYTES,
             )?,
             tiles: storage("raster.tiles", sizes.tiles)?,
-            entries: texels("raster.entries", sizes.entries, vk::Format::R32_UINT, 4)?,
+            entries: texels(
+                "raster.entries",
+                sizes.entries,
+                vk::Format::R32_UINT,
+                ENTRY_BYTES,
+            )?,
             sorted: texels(
                 "raster.sorted",
                 sizes.sorted,

@@ -20,30 +20,34 @@ use crate::error::Result;
 use crate::gpu::{Buffer, DescriptorPool, DescriptorSetLayout, Device, PipelineLayout};
 use crate::strand_textures::StrandTextures;
 use compute_raster::ComputeRaster;
-use density_pass::DensityPass;
 use fur_core::render::uniforms::{FrameSettings, Raster, Stage, StrandShape};
 use fur_core::render::RgbaImage;
 use fur_core::render::{FrameInputs, FrameUniforms, LightView};
 use fur_pass::FurPass;
-use masters_pass::MastersPass;
 use mesh_pass::{BodyTraits, MeshLook, MeshPass};
-use shadow_pass::ShadowPass;
+use registry::{register, FramePass, Phase, Plan};
 
 mod build;
 mod capture;
 mod raster_capture;
 mod raster_steps;
 mod record;
+mod registry;
 mod report;
 
-// The frame's passes: each a module here, built and listed by the renderer
-// (`Renderer::passes`).
+// The renderer's own passes, which the sample count, the frame slots and the capture
+// reach into: the body, the fur and the compute rasteriser's.
 pub mod compute_raster;
-mod density_pass;
 mod fur_pass;
-mod masters_pass;
 mod mesh_pass;
-mod shadow_pass;
+
+// The registered passes: each builds, prepares and places itself (`registry`).
+register! {
+    counter_reset::CounterReset,
+    shadow_pass::ShadowPass,
+    masters_pass::MastersPass,
+    density_pass::DensityPass,
+}
 
 pub use fur_pass::Variant;
 
@@ -86,11 +90,10 @@ pub struct Renderer {
     bounds: (glam::Vec3, f32),
     /// The longest master hair at rest (the light's view holds the fur with it).
     hair_length: f32,
-    shadow_pass: ShadowPass,
     mesh_pass: MeshPass,
     fur_pass: FurPass,
-    masters_pass: MastersPass,
-    density_pass: DensityPass,
+    /// The registered passes (`register!`), in their registration's order.
+    registered: Vec<Box<dyn FramePass>>,
     /// The compute rasteriser's passes (`--raster compute`); its pools are made on
     /// first use.
     compute_raster: ComputeRaster,
@@ -175,19 +178,17 @@ impl Renderer {
                 FurPass::root_pixel_range(settings, centre, radius, self.target.extent.height),
             );
             self.fur_pass.prepare(&self.pipeline_layout, &variants)?;
-        } else if settings.show.draws_masters() {
-            self.masters_pass.prepare(
-                &self.pipeline_layout,
-                self.target.samples,
-                settings.show,
-                settings.arrows.step().is_some(),
-            )?;
-        } else {
-            self.density_pass
-                .prepare(&self.pipeline_layout, self.target.samples)?;
         }
-        if shadows {
-            self.shadow_pass.prepare(&self.pipeline_layout)?;
+        let plan = Plan {
+            settings,
+            shadows,
+            layout: &self.pipeline_layout,
+            samples: self.target.samples,
+        };
+        for pass in &mut self.registered {
+            if pass.wanted(&plan) {
+                pass.prepare(&plan)?;
+            }
         }
         if Self::draws_in_compute(settings) {
             self.compute_raster.prepare(
@@ -256,32 +257,36 @@ impl Renderer {
         self.device.info.limits.max_tessellation_generation_level as f32
     }
 
-    /// The frame's passes, in order: the hair counters' reset when the frame counts,
-    /// the shadow pass when it draws shadows, then the body and the stage the frame
-    /// shows (the fur, or the master hairs alone), which share the target's rendering
-    /// scope. Only what the frame needs is in the list.
+    /// The frame's passes, phase by phase ([`Phase`]): the registered passes the frame
+    /// wants, then the renderer's own: the compute rasteriser's counts reset when it
+    /// draws the strands, the body, and the fur (with the compute rasteriser's passes)
+    /// when the frame shows it. Only what the frame needs is in the list.
     fn passes(&self, settings: &FrameSettings, shadows: bool) -> Vec<&dyn Pass> {
-        let mut passes: Vec<&dyn Pass> = Vec::new();
-        if settings.count_hairs && !settings.show.draws_masters() {
-            passes.push(&record::CounterReset);
-        }
+        let plan = Plan {
+            settings,
+            shadows,
+            layout: &self.pipeline_layout,
+            samples: self.target.samples,
+        };
         let compute = Self::draws_in_compute(settings);
-        if compute {
-            passes.push(self.compute_raster.reset_pass());
-        }
-        if shadows {
-            passes.push(&self.shadow_pass);
-        }
-        passes.push(&self.mesh_pass);
-        if settings.show.draws_fur() {
-            passes.push(&self.fur_pass);
-            if compute {
-                passes.extend(self.compute_raster.draw_passes().map(|p| p as &dyn Pass));
+        let mut passes: Vec<&dyn Pass> = Vec::new();
+        for phase in Phase::ALL {
+            for pass in &self.registered {
+                if pass.phase() == phase && pass.wanted(&plan) {
+                    passes.push(pass.as_pass());
+                }
             }
-        } else if settings.show.draws_masters() {
-            passes.push(&self.masters_pass);
-        } else {
-            passes.push(&self.density_pass);
+            match phase {
+                Phase::Reset if compute => passes.push(self.compute_raster.reset_pass()),
+                Phase::Body => passes.push(&self.mesh_pass),
+                Phase::Stage if settings.show.draws_fur() => {
+                    passes.push(&self.fur_pass);
+                    if compute {
+                        passes.extend(self.compute_raster.draw_passes().map(|p| p as &dyn Pass));
+                    }
+                }
+                _ => {}
+            }
         }
         passes
     }

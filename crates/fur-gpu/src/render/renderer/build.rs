@@ -12,12 +12,10 @@ use super::super::slot::RenderSlot;
 use super::super::target::{RenderTarget, TargetSpec};
 use super::super::texture::GpuTexture;
 use super::compute_raster::ComputeRaster;
-use super::density_pass::DensityPass;
 use super::fur_pass::FurPass;
-use super::masters_pass::MastersPass;
 use super::mesh_pass::{BodyTraits, MeshPass};
-use super::shadow_pass::ShadowPass;
-use super::Renderer;
+use super::registry::Build;
+use super::{registered, Renderer};
 use crate::error::{Error, Result};
 use crate::gpu::{Buffer, DescriptorPool, DescriptorSetLayout, Device, PipelineLayout};
 use crate::strand_textures::StrandTextures;
@@ -199,9 +197,11 @@ impl Renderer {
         let body = BodyTraits { textured, skinned };
         let mesh_pass = MeshPass::new(device, mesh, samples, body)?;
         let fur_pass = FurPass::new(device, vertices_per_strand, samples, body);
-        let shadow_pass = ShadowPass::new(device, vertices_per_strand, skinned);
-        let masters_pass = MastersPass::new(device, &strands.layout);
-        let density_pass = DensityPass::new(device, skinned);
+        let registered = registered(&Build {
+            device,
+            body,
+            strands: &strands.layout,
+        });
         Ok(Self {
             device: device.clone(),
             _set_layouts: (frame_layout, body_layout),
@@ -224,11 +224,9 @@ impl Renderer {
             },
             bounds: mesh.bounds(),
             hair_length: strands.hair_length,
-            shadow_pass,
             mesh_pass,
             fur_pass,
-            masters_pass,
-            density_pass,
+            registered,
             compute_raster,
             target,
             spare: None,

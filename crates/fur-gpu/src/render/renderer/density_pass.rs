@@ -15,9 +15,11 @@ use super::super::pipeline::{
 };
 use super::super::target::{sample_flag, COLOR_FORMAT, DEPTH_FORMAT};
 use super::fur_pass::hair_uses;
+use super::registry::{Build, FramePass, Phase, Plan, Registered};
 use crate::error::Result;
 use crate::frame::Use;
 use crate::gpu::{Device, Pipeline, PipelineLayout, ShaderModule};
+use fur_core::render::Stage;
 
 pub struct DensityPass {
     device: Arc<Device>,
@@ -33,17 +35,8 @@ impl DensityPass {
     /// The pass's name (its debug label).
     pub const NAME: &'static str = "density pass";
 
-    pub fn new(device: &Arc<Device>, skinned: bool) -> Self {
-        Self {
-            device: device.clone(),
-            skinned,
-            counts: device.info.vertex_pipeline_stores,
-            pipelines: Vec::new(),
-        }
-    }
-
     /// Builds the pipeline for a target of `samples` per pixel if it does not exist.
-    pub fn prepare(&mut self, layout: &PipelineLayout, samples: u32) -> Result<()> {
+    fn build_pipeline(&mut self, layout: &PipelineLayout, samples: u32) -> Result<()> {
         if self.pipelines.iter().any(|(s, _)| *s == samples) {
             return Ok(());
         }
@@ -87,6 +80,31 @@ impl DensityPass {
         )?;
         self.pipelines.push((samples, pipeline));
         Ok(())
+    }
+}
+
+impl Registered for DensityPass {
+    fn build(build: &Build<'_>) -> Self {
+        Self {
+            device: build.device.clone(),
+            skinned: build.body.skinned,
+            counts: build.device.info.vertex_pipeline_stores,
+            pipelines: Vec::new(),
+        }
+    }
+}
+
+impl FramePass for DensityPass {
+    fn phase(&self) -> Phase {
+        Phase::Stage
+    }
+
+    fn wanted(&self, plan: &Plan<'_>) -> bool {
+        plan.settings.show == Stage::Density
+    }
+
+    fn prepare(&mut self, plan: &Plan<'_>) -> Result<()> {
+        self.build_pipeline(plan.layout, plan.samples)
     }
 }
 

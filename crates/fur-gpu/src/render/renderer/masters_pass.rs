@@ -14,10 +14,10 @@ use super::super::pipeline::{
     graphics_pipeline, Blend, ColourAttachment, DepthAttachment, GraphicsDesc,
 };
 use super::super::target::{sample_flag, COLOR_FORMAT, DEPTH_FORMAT};
+use super::registry::{Build, FramePass, Phase, Plan, Registered};
 use crate::error::Result;
 use crate::frame::{uses, Resource, Use};
 use crate::gpu::{Access, Device, Pipeline, PipelineLayout, ShaderModule};
-use crate::strand_textures::StrandLayout;
 use fur_core::render::Stage;
 
 pub struct MastersPass {
@@ -44,20 +44,9 @@ impl MastersPass {
     /// The pass's name (its debug label).
     pub const NAME: &'static str = "masters pass";
 
-    /// The pass for the master hairs laid out as `layout`.
-    pub fn new(device: &Arc<Device>, layout: &StrandLayout) -> Self {
-        Self {
-            device: device.clone(),
-            vertices_per_strand: layout.vertices_per_strand,
-            strand_count: layout.strand_count,
-            pipelines: Vec::new(),
-            arrows: Vec::new(),
-        }
-    }
-
     /// Builds the pipelines of view `stage` (with `arrows`) for a target of `samples`
     /// per pixel if they do not exist.
-    pub fn prepare(
+    fn build_pipelines(
         &mut self,
         layout: &PipelineLayout,
         samples: u32,
@@ -149,6 +138,35 @@ impl MastersPass {
     /// Whether `frame` draws the simulation view's arrows.
     fn draws_arrows(frame: &FrameContext<'_>) -> bool {
         frame.settings.show == Stage::Simulation && frame.settings.arrows.step().is_some()
+    }
+}
+
+impl Registered for MastersPass {
+    /// The pass for the renderer's master hairs.
+    fn build(build: &Build<'_>) -> Self {
+        Self {
+            device: build.device.clone(),
+            vertices_per_strand: build.strands.vertices_per_strand,
+            strand_count: build.strands.strand_count,
+            pipelines: Vec::new(),
+            arrows: Vec::new(),
+        }
+    }
+}
+
+impl FramePass for MastersPass {
+    fn phase(&self) -> Phase {
+        Phase::Stage
+    }
+
+    fn wanted(&self, plan: &Plan<'_>) -> bool {
+        plan.settings.show.draws_masters()
+    }
+
+    fn prepare(&mut self, plan: &Plan<'_>) -> Result<()> {
+        let show = plan.settings.show;
+        let arrows = plan.settings.arrows.step().is_some();
+        self.build_pipelines(plan.layout, plan.samples, show, arrows)
     }
 }
 

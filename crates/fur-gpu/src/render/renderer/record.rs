@@ -1,41 +1,10 @@
 //! Recording a frame: its first timestamp, then the shadow, mesh and fur passes into
 //! the target, with timestamps and pipeline statistics around them.
 
-use super::super::graph::{record_frame, Attachments, Event, FrameContext, Pass};
-use super::super::slot::COUNTERS_BYTES;
+use super::super::graph::{record_frame, Attachments, Event, FrameContext};
 use super::*;
-use crate::frame::{uses, Resource, Use};
-use crate::gpu::{Access, Tracker};
-
-/// Zeroes the hair counters' header before the fur pass counts into it. The previous
-/// frame's counts have been read (its fence waited on); a capture behind the header is
-/// written whole by the frame.
-pub(in super::super) struct CounterReset;
-
-impl Pass for CounterReset {
-    fn name(&self) -> &'static str {
-        "counter reset"
-    }
-
-    fn attachments(&self) -> Attachments {
-        Attachments::None
-    }
-
-    fn uses(&self, _frame: &FrameContext<'_>) -> Vec<Use> {
-        vec![uses(Resource::Counters, Access::TransferWrite)]
-    }
-
-    fn record(&self, frame: &FrameContext<'_>, cmd: vk::CommandBuffer) {
-        // SAFETY: recording outside a rendering scope; the counters belong to the slot,
-        // whose previous frame has finished.
-        unsafe {
-            frame
-                .device
-                .raw
-                .cmd_fill_buffer(cmd, frame.slot.counters.raw(), 0, COUNTERS_BYTES, 0)
-        };
-    }
-}
+use crate::frame::Resource;
+use crate::gpu::Tracker;
 
 impl Renderer {
     /// Starts frame slot `slot`'s queries: records the frame's first timestamp. Call

@@ -8,16 +8,14 @@
 //! the map needs the nearest hair, not every hair. The light's view and its uniform
 //! block are the core's ([`fur_core::render::LightView`]).
 
-use std::sync::Arc;
-
 use ash::vk;
 
 use super::super::graph::{Attachments, FrameContext, Pass, View};
 use super::fur_pass::{hair_uses, FurPass, Variant};
 use super::mesh_pass::BodyTraits;
+use super::registry::{Build, FramePass, Phase, Plan, Registered};
 use crate::error::Result;
 use crate::frame::Use;
-use crate::gpu::{Device, PipelineLayout};
 
 /// The fur seen from the light, depth only, into the slot's shadow map. It owns its
 /// pipeline: the fur pipeline's caster form (lines, one sample, no fragment stage).
@@ -29,25 +27,33 @@ impl ShadowPass {
     /// The pass's name (its debug label).
     pub const NAME: &'static str = "shadow pass";
 
-    /// The pass for strands of `vertices_per_strand` vertices on a body that is
-    /// `skinned` or not.
-    pub fn new(device: &Arc<Device>, vertices_per_strand: u32, skinned: bool) -> Self {
+}
+
+impl Registered for ShadowPass {
+    /// The casters of the renderer's strands, on its body (untextured: depth only).
+    fn build(build: &Build<'_>) -> Self {
+        let body = BodyTraits {
+            textured: false,
+            ..build.body
+        };
         Self {
-            casters: FurPass::new(
-                device,
-                vertices_per_strand,
-                1,
-                BodyTraits {
-                    textured: false,
-                    skinned,
-                },
-            ),
+            casters: FurPass::new(build.device, build.strands.vertices_per_strand, 1, body),
         }
+    }
+}
+
+impl FramePass for ShadowPass {
+    fn phase(&self) -> Phase {
+        Phase::Shadow
+    }
+
+    fn wanted(&self, plan: &Plan<'_>) -> bool {
+        plan.shadows
     }
 
     /// Builds its pipeline if it does not exist yet.
-    pub fn prepare(&mut self, layout: &PipelineLayout) -> Result<()> {
-        self.casters.prepare(layout, &[Variant::CASTER])
+    fn prepare(&mut self, plan: &Plan<'_>) -> Result<()> {
+        self.casters.prepare(plan.layout, &[Variant::CASTER])
     }
 }
 

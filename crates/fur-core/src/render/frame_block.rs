@@ -7,6 +7,7 @@
 use glam::{Mat4, Vec2, Vec3, Vec4};
 
 use super::dual_scattering::{cached_table, TABLE_VEC4S};
+use super::std140::{std140_struct, Std140};
 use super::uniforms::{FrameSettings, Primitive, StrandShape};
 use super::{Lighting, LightingModel};
 
@@ -28,148 +29,176 @@ pub const FLAG_NO_COAT: u32 = 1024;
 /// The fraction of the frame's hair density drawn into the shadow map.
 pub const CASTER_DENSITY: f32 = 0.5;
 
-/// The `Frame` uniform block of `shaders/common.glsl` (std140). The `_pad` fields are
-/// where std140 rounds a struct up to 16 bytes; the shaders do not name them.
-#[repr(C)]
-#[derive(Clone, Copy, Debug, bytemuck::Pod, bytemuck::Zeroable)]
-pub struct FrameUniforms {
-    pub camera: CameraBlock,
-    pub lighting: LightingBlock,
-    pub drawing: DrawingBlock,
-    pub strands: StrandsBlock,
-    pub shadow: ShadowBlock,
-    pub fibre: FibreBlock,
+std140_struct! {
+    /// The `Frame` uniform block (std140), declared for the shaders by [`glsl`]. The
+    /// `_pad` fields are where std140 rounds a struct up to 16 bytes; the shaders do
+    /// not see them.
+    pub struct FrameUniforms("Frame") {
+        pub camera: CameraBlock,
+        pub lighting: LightingBlock,
+        pub drawing: DrawingBlock,
+        pub strands: StrandsBlock,
+        pub shadow: ShadowBlock,
+        pub fibre: FibreBlock,
+    }
 }
 
-/// What every pass projects with (`Camera` in GLSL).
-#[repr(C)]
-#[derive(Clone, Copy, Debug, bytemuck::Pod, bytemuck::Zeroable)]
-pub struct CameraBlock {
-    /// World to clip space.
-    pub view_proj: Mat4,
-    /// The head transform H, model to world (the mesh pass's).
-    pub model: Mat4,
-    /// The camera's position, world space.
-    pub eye: Vec3,
-    /// World size of a pixel at distance 1 from the eye.
-    pub pixel_at_unit_distance: f32,
-    /// The target's width and height, pixels.
-    pub viewport: Vec2,
-    pub _pad: [f32; 2],
+std140_struct! {
+    /// What every pass projects with (`Camera` in GLSL).
+    pub struct CameraBlock("Camera") {
+        /// World to clip space.
+        pub view_proj: Mat4,
+        /// The head transform H, model to world (the mesh pass's).
+        pub model: Mat4,
+        /// The camera's position, world space.
+        pub eye: Vec3,
+        /// World size of a pixel at distance 1 from the eye.
+        pub pixel_at_unit_distance: f32,
+        /// The target's width and height, pixels.
+        pub viewport: Vec2,
+        pub _pad: [f32; 2],
+    }
 }
 
-/// The light and the hair's and skin's colours (`Lighting` in GLSL).
-#[repr(C)]
-#[derive(Clone, Copy, Debug, bytemuck::Pod, bytemuck::Zeroable)]
-pub struct LightingBlock {
-    /// Unit vector towards the light.
-    pub direction: Vec3,
-    pub intensity: f32,
-    pub root_color: Vec3,
-    /// Darkening at the root, 0..1.
-    pub root_occlusion: f32,
-    pub tip_color: Vec3,
-    /// Kajiya–Kay's diffuse weight.
-    pub kd: f32,
-    pub skin_color: Vec3,
-    /// Kajiya–Kay's specular weight.
-    pub ks: f32,
-    /// Kajiya–Kay's specular exponent.
-    pub shininess: f32,
-    pub ambient: f32,
-    /// cos and sin of the primary highlight's shift.
-    pub primary_shift: Vec2,
-    /// cos and sin of the secondary highlight's shift.
-    pub secondary_shift: Vec2,
-    pub secondary_shininess: f32,
-    pub secondary_strength: f32,
-    /// [`FLAG_SECONDARY_HIGHLIGHT`] and the `FLAG_NO_*` lobes.
-    pub flags: u32,
-    pub _pad: [u32; 3],
+std140_struct! {
+    /// The light and the hair's and skin's colours (`Lighting` in GLSL).
+    pub struct LightingBlock("Lighting") {
+        /// Unit vector towards the light.
+        pub direction: Vec3,
+        pub intensity: f32,
+        pub root_color: Vec3,
+        /// Darkening at the root, 0..1.
+        pub root_occlusion: f32,
+        pub tip_color: Vec3,
+        /// Kajiya–Kay's diffuse weight.
+        pub kd: f32,
+        pub skin_color: Vec3,
+        /// Kajiya–Kay's specular weight.
+        pub ks: f32,
+        /// Kajiya–Kay's specular exponent.
+        pub shininess: f32,
+        pub ambient: f32,
+        /// cos and sin of the primary highlight's shift.
+        pub primary_shift: Vec2,
+        /// cos and sin of the secondary highlight's shift.
+        pub secondary_shift: Vec2,
+        pub secondary_shininess: f32,
+        pub secondary_strength: f32,
+        /// [`FLAG_SECONDARY_HIGHLIGHT`] and the `FLAG_NO_*` lobes.
+        pub flags: u32,
+        pub _pad: [u32; 3],
+    }
 }
 
-/// How dense, wide and detailed the fur pass draws (`Drawing` in GLSL).
-#[repr(C)]
-#[derive(Clone, Copy, Debug, bytemuck::Pod, bytemuck::Zeroable)]
-pub struct DrawingBlock {
-    /// Hairs per unit area at full density.
-    pub density: f32,
-    /// Closer than this the fur is drawn at full density.
-    pub lod_distance: f32,
-    /// The device's largest tessellation level.
-    pub max_level: f32,
-    /// A triangle is back-facing when cos(normal, view) < −cull_margin.
-    pub cull_margin: f32,
-    /// Hair width at the root, scene units.
-    pub hair_width: f32,
-    pub min_pixel_width: f32,
-    /// Random tip offset of each interpolated hair, scene units.
-    pub jitter: f32,
-    pub length_jitter: f32,
-    /// Hairs at least this many pixels wide at the root are drawn as ribbons.
-    pub ribbon_above_px: f32,
-    /// Vertex LOD tolerance, pixels (0: every vertex).
-    pub vertex_lod_px: f32,
-    /// The texels of the fur's texture (0: none), for its level of detail.
-    pub texels: f32,
-    /// How many times their length the simulation view's arrows are drawn.
-    pub arrow_scale: f32,
-    /// The tessellation level everywhere (0: adaptive).
-    pub fixed_level: u32,
-    /// [`FLAG_CULL`], [`FLAG_THICKNESS_COMPENSATION`], [`FLAG_COUNT`], [`FLAG_THIN_HAIR_AA`].
-    pub flags: u32,
-    pub _pad: [u32; 2],
+std140_struct! {
+    /// How dense, wide and detailed the fur pass draws (`Drawing` in GLSL).
+    pub struct DrawingBlock("Drawing") {
+        /// Hairs per unit area at full density.
+        pub density: f32,
+        /// Closer than this the fur is drawn at full density.
+        pub lod_distance: f32,
+        /// The device's largest tessellation level.
+        pub max_level: f32,
+        /// A triangle is back-facing when cos(normal, view) < −cull_margin.
+        pub cull_margin: f32,
+        /// Hair width at the root, scene units.
+        pub hair_width: f32,
+        pub min_pixel_width: f32,
+        /// Random tip offset of each interpolated hair, scene units.
+        pub jitter: f32,
+        pub length_jitter: f32,
+        /// Hairs at least this many pixels wide at the root are drawn as ribbons.
+        pub ribbon_above_px: f32,
+        /// Vertex LOD tolerance, pixels (0: every vertex).
+        pub vertex_lod_px: f32,
+        /// The texels of the fur's texture (0: none), for its level of detail.
+        pub texels: f32,
+        /// How many times their length the simulation view's arrows are drawn.
+        pub arrow_scale: f32,
+        /// The tessellation level everywhere (0: adaptive).
+        pub fixed_level: u32,
+        /// [`FLAG_CULL`], [`FLAG_THICKNESS_COMPENSATION`], [`FLAG_COUNT`], [`FLAG_THIN_HAIR_AA`].
+        pub flags: u32,
+        pub _pad: [u32; 2],
+    }
 }
 
-/// The master strands' texture (`Strands` in GLSL).
-#[repr(C)]
-#[derive(Clone, Copy, Debug, bytemuck::Pod, bytemuck::Zeroable)]
-pub struct StrandsBlock {
-    pub vertices_per_strand: u32,
-    pub strands_per_row: u32,
-    /// A master hair whose tip is this close to its root is a bald stub (`fur.tesc`).
-    pub stub_length: f32,
-    pub _pad: u32,
+std140_struct! {
+    /// The master strands' texture (`Strands` in GLSL).
+    pub struct StrandsBlock("Strands") {
+        pub vertices_per_strand: u32,
+        pub strands_per_row: u32,
+        /// A master hair whose tip is this close to its root is a bald stub (`fur.tesc`).
+        pub stub_length: f32,
+        pub _pad: u32,
+    }
 }
 
-/// The light's way through the fur (`Shadow` in GLSL).
-#[repr(C)]
-#[derive(Clone, Copy, Debug, bytemuck::Pod, bytemuck::Zeroable)]
-pub struct ShadowBlock {
-    /// World to the shadow map's clip space (orthographic); identity without a map.
-    pub light_view_proj: Mat4,
-    /// The light each hair layer stops.
-    pub opacity: f32,
-    /// Hair layers per scene unit (the coat's estimate, `fur.geom`).
-    pub layers_per_unit: f32,
-    /// Hair layers per unit of the map's depth (0 without a map).
-    pub layers_per_depth: f32,
-    /// The map's depth bias, in its depth units.
-    pub depth_bias: f32,
-    /// Hair layers over the skin (`mesh.frag`): under the Marschner model without a
-    /// shadow map, the coat's mean height at the layer spacing; 0 otherwise.
-    pub skin_layers: f32,
-    pub _pad: [f32; 3],
+std140_struct! {
+    /// The light's way through the fur (`Shadow` in GLSL).
+    pub struct ShadowBlock("Shadow") {
+        /// World to the shadow map's clip space (orthographic); identity without a map.
+        pub light_view_proj: Mat4,
+        /// The light each hair layer stops.
+        pub opacity: f32,
+        /// Hair layers per scene unit (the coat's estimate, `fur.geom`).
+        pub layers_per_unit: f32,
+        /// Hair layers per unit of the map's depth (0 without a map).
+        pub layers_per_depth: f32,
+        /// The map's depth bias, in its depth units.
+        pub depth_bias: f32,
+        /// Hair layers over the skin (`mesh.frag`): under the Marschner model without a
+        /// shadow map, the coat's mean height at the layer spacing; 0 otherwise.
+        pub skin_layers: f32,
+        pub _pad: [f32; 3],
+    }
 }
 
-/// The Marschner model's fibre (`Fibre` in GLSL).
-#[repr(C)]
-#[derive(Clone, Copy, Debug, bytemuck::Pod, bytemuck::Zeroable)]
-pub struct FibreBlock {
-    /// −1 / (2 sd²) of the R lobe's Gaussian ([`super::marschner::shader_terms`]).
-    pub r_exponent: f32,
-    /// 1 / (√(2π) sd) of the R lobe's Gaussian.
-    pub r_norm: f32,
-    /// Reflectance at normal incidence.
-    pub f0: f32,
-    /// 1 / d(β_n) of the colour mapping.
-    pub colour_scale: f32,
-    /// The cuticle's tilt, radians.
-    pub cuticle_tilt: f32,
-    pub _pad: [f32; 3],
-    /// The dual-scattering table ([`super::dual_scattering::table`]) under the
-    /// Marschner model; zeros otherwise.
-    pub table: [Vec4; TABLE_VEC4S],
+std140_struct! {
+    /// The Marschner model's fibre (`Fibre` in GLSL).
+    pub struct FibreBlock("Fibre") {
+        /// −1 / (2 sd²) of the R lobe's Gaussian ([`super::marschner::shader_terms`]).
+        pub r_exponent: f32,
+        /// 1 / (√(2π) sd) of the R lobe's Gaussian.
+        pub r_norm: f32,
+        /// Reflectance at normal incidence.
+        pub f0: f32,
+        /// 1 / d(β_n) of the colour mapping.
+        pub colour_scale: f32,
+        /// The cuticle's tilt, radians.
+        pub cuticle_tilt: f32,
+        pub _pad: [f32; 3],
+        /// The dual-scattering table ([`super::dual_scattering::table`]) under the
+        /// Marschner model, zeros otherwise: node (angle i, colour j) at
+        /// `DS_NODE_VEC4S · (i · DS_COLOUR_NODES + j)`, [a_f, β_f², Ā_b, Δ_b] then
+        /// [σ_b², a_b, α, β²].
+        pub table: [Vec4; TABLE_VEC4S],
+    }
+}
+
+/// The GLSL of the `Frame` block, as `shaders/common.glsl` includes it
+/// (`frame_block.glsl`): each struct's declaration, then the block at the frame set's
+/// uniform binding (`SET_FRAME`, `B_FRAME_UNIFORMS`, defined by the GPU layer).
+pub fn glsl() -> String {
+    let mut text = String::from(
+        "// Made from crates/fur-core/src/render/frame_block.rs: not a file.
+",
+    );
+    for block in [
+        CameraBlock::glsl(),
+        LightingBlock::glsl(),
+        DrawingBlock::glsl(),
+        StrandsBlock::glsl(),
+        ShadowBlock::glsl(),
+        FibreBlock::glsl(),
+    ] {
+        text += &format!("\n{block}");
+    }
+    text += "\nlayout(set = SET_FRAME, binding = B_FRAME_UNIFORMS, std140) uniform Frame {\n";
+    for m in FrameUniforms::members() {
+        text += &format!("    {} {};\n", m.glsl_type, m.name);
+    }
+    text + "} frame;\n"
 }
 
 /// What a frame's block takes besides its settings.

@@ -13,6 +13,7 @@ mod lighting;
 pub mod marschner;
 pub mod presets;
 pub mod stage;
+pub mod std140;
 pub mod strand_raster;
 pub mod style;
 pub mod uniforms;

@@ -12,8 +12,23 @@ use crate::error::{Error, Result, VkContext};
 // build.rs).
 include!(concat!(env!("OUT_DIR"), "/shaders.rs"));
 
+/// The embedded source `name`, or one made from Rust declarations ([`generated`]).
 pub fn source(name: &str) -> Option<&'static str> {
-    SOURCES.iter().find(|(n, _)| *n == name).map(|(_, s)| *s)
+    SOURCES
+        .iter()
+        .find(|(n, _)| *n == name)
+        .map(|(_, s)| *s)
+        .or_else(|| generated(name))
+}
+
+/// The sources made from Rust declarations rather than typed in `shaders/`: the
+/// `Frame` uniform block's structs (`fur_core::render::frame_block::glsl`).
+fn generated(name: &str) -> Option<&'static str> {
+    static FRAME_BLOCK: std::sync::OnceLock<String> = std::sync::OnceLock::new();
+    match name {
+        "frame_block.glsl" => Some(FRAME_BLOCK.get_or_init(fur_core::render::frame_block::glsl)),
+        _ => None,
+    }
 }
 
 fn kind_of(name: &str) -> Result<shaderc::ShaderKind> {

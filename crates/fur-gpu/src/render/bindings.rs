@@ -225,8 +225,6 @@ pub(super) fn write_probe(device: &Device, set: vk::DescriptorSet, probe: &Buffe
 
 #[cfg(test)]
 mod tests {
-    use std::mem::offset_of;
-
     use super::{
         binding_defines, BodyBinding, FrameBinding, RasterBinding, SET_BODY, SET_FRAME, SET_RASTER,
     };
@@ -240,51 +238,31 @@ mod tests {
     /// are not the shaders'.
     fn frame_structs() -> Vec<(&'static str, Vec<(&'static str, usize)>)> {
         use fur_core::render::frame_block::*;
-        macro_rules! fields {
-            ($t:ty: $($f:ident),+) => { vec![$((stringify!($f), offset_of!($t, $f))),+] };
+        use fur_core::render::std140::{Member, Std140};
+        fn of<T: Std140>() -> (&'static str, Vec<(&'static str, usize)>) {
+            let members = T::members().into_iter().filter(|m| !m.is_padding());
+            (
+                T::NAME,
+                members.map(|m: Member| (m.name, m.offset)).collect(),
+            )
         }
         vec![
-            (
-                "Frame",
-                fields!(FrameUniforms: camera, lighting, drawing, strands, shadow, fibre),
-            ),
-            (
-                "Camera",
-                fields!(CameraBlock: view_proj, model, eye, pixel_at_unit_distance, viewport),
-            ),
-            (
-                "Lighting",
-                fields!(LightingBlock: direction, intensity, root_color, root_occlusion,
-                    tip_color, kd, skin_color, ks, shininess, ambient, primary_shift,
-                    secondary_shift, secondary_shininess, secondary_strength, flags),
-            ),
-            (
-                "Drawing",
-                fields!(DrawingBlock: density, lod_distance, max_level, cull_margin,
-                    hair_width, min_pixel_width, jitter, length_jitter, ribbon_above_px,
-                    vertex_lod_px, texels, arrow_scale, fixed_level, flags),
-            ),
-            (
-                "Strands",
-                fields!(StrandsBlock: vertices_per_strand, strands_per_row, stub_length),
-            ),
-            (
-                "Shadow",
-                fields!(ShadowBlock: light_view_proj, opacity, layers_per_unit,
-                    layers_per_depth, depth_bias, skin_layers),
-            ),
-            (
-                "Fibre",
-                fields!(FibreBlock: r_exponent, r_norm, f0, colour_scale, cuticle_tilt, table),
-            ),
+            of::<FrameUniforms>(),
+            of::<CameraBlock>(),
+            of::<LightingBlock>(),
+            of::<DrawingBlock>(),
+            of::<StrandsBlock>(),
+            of::<ShadowBlock>(),
+            of::<FibreBlock>(),
         ]
     }
 
     /// Every render shader, compiled with every option that adds a binding, uses the
     /// bindings of the Rust layout with their types, and lays out the `Frame` block and
     /// each of its structs as `FrameUniforms` is (names, order, offsets); every binding
-    /// of the layout is used.
-    /// Swapping two members in GLSL, or adding a field in Rust only, fails here.
+    /// of the layout is used. The block's GLSL is made from the Rust declarations, so
+    /// what the offsets check is std140's layout against `#[repr(C)]`'s: a `vec3`
+    /// member after a `float` (std140 aligns it to 16 bytes, Rust to 4) fails here.
     #[test]
     fn the_render_shaders_agree_with_the_rust_layouts() {
         let types = |layout: Vec<(ash::vk::DescriptorType, _)>| -> Vec<_> {

@@ -8,14 +8,10 @@ use glam::{Mat4, Vec2, Vec3, Vec4};
 
 use super::dual_scattering::{cached_table, TABLE_VEC4S};
 use super::std140::{std140_struct, Std140};
-use super::uniforms::{FrameSettings, Primitive, StrandShape};
+use super::style::{DrawingBlock, DrawingInputs, FLAG_COUNT};
+use super::uniforms::{FrameSettings, StrandShape};
 use super::{Lighting, LightingModel};
 
-/// The flags of [`DrawingBlock::flags`].
-pub const FLAG_CULL: u32 = 1;
-pub const FLAG_THICKNESS_COMPENSATION: u32 = 2;
-pub const FLAG_COUNT: u32 = 4;
-pub const FLAG_THIN_HAIR_AA: u32 = 16;
 /// The flags of [`LightingBlock::flags`]: the secondary highlight on, and the Marschner
 /// model without its R, TT, TRT or multiple-scattering term, or without the coat's
 /// light ([`super::marschner::Lobes`]).
@@ -87,39 +83,6 @@ std140_struct! {
         /// [`FLAG_SECONDARY_HIGHLIGHT`] and the `FLAG_NO_*` lobes.
         pub flags: u32,
         pub _pad: [u32; 3],
-    }
-}
-
-std140_struct! {
-    /// How dense, wide and detailed the fur pass draws (`Drawing` in GLSL).
-    pub struct DrawingBlock("Drawing") {
-        /// Hairs per unit area at full density.
-        pub density: f32,
-        /// Closer than this the fur is drawn at full density.
-        pub lod_distance: f32,
-        /// The device's largest tessellation level.
-        pub max_level: f32,
-        /// A triangle is back-facing when cos(normal, view) < −cull_margin.
-        pub cull_margin: f32,
-        /// Hair width at the root, scene units.
-        pub hair_width: f32,
-        pub min_pixel_width: f32,
-        /// Random tip offset of each interpolated hair, scene units.
-        pub jitter: f32,
-        pub length_jitter: f32,
-        /// Hairs at least this many pixels wide at the root are drawn as ribbons.
-        pub ribbon_above_px: f32,
-        /// Vertex LOD tolerance, pixels (0: every vertex).
-        pub vertex_lod_px: f32,
-        /// The texels of the fur's texture (0: none), for its level of detail.
-        pub texels: f32,
-        /// How many times their length the simulation view's arrows are drawn.
-        pub arrow_scale: f32,
-        /// The tessellation level everywhere (0: adaptive).
-        pub fixed_level: u32,
-        /// [`FLAG_CULL`], [`FLAG_THICKNESS_COMPENSATION`], [`FLAG_COUNT`], [`FLAG_THIN_HAIR_AA`].
-        pub flags: u32,
-        pub _pad: [u32; 2],
     }
 }
 
@@ -221,17 +184,6 @@ impl FrameUniforms {
         let (w, h) = (width as f32, height as f32);
         let s = &settings.style;
         let l = &settings.lighting;
-        let mut drawing_flags = 0;
-        for (on, flag) in [
-            (s.cull, FLAG_CULL),
-            (s.thickness_compensation, FLAG_THICKNESS_COMPENSATION),
-            (settings.count_hairs, FLAG_COUNT),
-            (s.thin_hair_aa, FLAG_THIN_HAIR_AA),
-        ] {
-            if on {
-                drawing_flags |= flag;
-            }
-        }
         let highlights = &l.highlights;
         let mut lighting_flags = 0;
         if highlights.secondary {
@@ -254,11 +206,6 @@ impl FrameUniforms {
             (0.0, 1.0)
         };
         let (secondary_sin, secondary_cos) = highlights.secondary_shift_deg.to_radians().sin_cos();
-        let ribbon_above_px = match s.primitive {
-            Primitive::Auto => s.ribbon_above_px,
-            Primitive::Lines => f32::MAX,
-            Primitive::Ribbons => 0.0,
-        };
         let layers_per_unit = l.shadows.layers_per_unit(s.density);
         // The map's depth runs over `depth_range` scene units: its layers per unit of
         // depth, and a bias of half a layer and a texel's slope.
@@ -301,23 +248,12 @@ impl FrameUniforms {
                 flags: lighting_flags,
                 _pad: [0; 3],
             },
-            drawing: DrawingBlock {
-                density: s.density,
-                lod_distance: s.lod_distance,
+            drawing: s.drawing(DrawingInputs {
                 max_level: inputs.max_level,
-                cull_margin: s.cull_margin,
-                hair_width: s.hair_width,
-                min_pixel_width: s.min_pixel_width,
-                jitter: s.jitter,
-                length_jitter: s.length_jitter,
-                ribbon_above_px,
-                vertex_lod_px: s.vertex_lod_px,
                 texels: inputs.texels,
                 arrow_scale: settings.arrow_scale,
-                fixed_level: s.fixed_level.min(inputs.max_level as u32),
-                flags: drawing_flags,
-                _pad: [0; 2],
-            },
+                count_hairs: settings.count_hairs,
+            }),
             strands: StrandsBlock {
                 vertices_per_strand: inputs.strands.vertices_per_strand,
                 strands_per_row: inputs.strands.strands_per_row,

@@ -3,6 +3,7 @@
 //! scene's settings take their ranges from these, `scene_file/keys/drawing.rs`).
 
 use super::drawing::{Primitive, Raster, Shading};
+use super::std140::std140_struct;
 use crate::error::{Error, Result};
 use crate::span::Span;
 
@@ -228,5 +229,97 @@ impl FurStyle {
             )));
         }
         Ok(())
+    }
+}
+
+/// The flags of [`DrawingBlock::flags`].
+pub const FLAG_CULL: u32 = 1;
+pub const FLAG_THICKNESS_COMPENSATION: u32 = 2;
+pub const FLAG_COUNT: u32 = 4;
+pub const FLAG_THIN_HAIR_AA: u32 = 16;
+
+std140_struct! {
+    /// How dense, wide and detailed the fur pass draws (`Drawing` in GLSL): the style as
+    /// the shaders read it, each value written once, by [`FurStyle::drawing`].
+    pub struct DrawingBlock("Drawing") {
+        /// Hairs per unit area at full density.
+        pub density: f32,
+        /// Closer than this the fur is drawn at full density.
+        pub lod_distance: f32,
+        /// The device's largest tessellation level.
+        pub max_level: f32,
+        /// A triangle is back-facing when cos(normal, view) < −cull_margin.
+        pub cull_margin: f32,
+        /// Hair width at the root, scene units.
+        pub hair_width: f32,
+        pub min_pixel_width: f32,
+        /// Random tip offset of each interpolated hair, scene units.
+        pub jitter: f32,
+        pub length_jitter: f32,
+        /// Hairs at least this many pixels wide at the root are drawn as ribbons.
+        pub ribbon_above_px: f32,
+        /// Vertex LOD tolerance, pixels (0: every vertex).
+        pub vertex_lod_px: f32,
+        /// The texels of the fur's texture (0: none), for its level of detail.
+        pub texels: f32,
+        /// How many times their length the simulation view's arrows are drawn.
+        pub arrow_scale: f32,
+        /// The tessellation level everywhere (0: adaptive).
+        pub fixed_level: u32,
+        /// [`FLAG_CULL`], [`FLAG_THICKNESS_COMPENSATION`], [`FLAG_COUNT`], [`FLAG_THIN_HAIR_AA`].
+        pub flags: u32,
+        pub _pad: [u32; 2],
+    }
+}
+
+/// What the drawing block takes besides the style.
+#[derive(Clone, Copy, Debug)]
+pub struct DrawingInputs {
+    /// The device's largest tessellation level.
+    pub max_level: f32,
+    /// The texels of the fur's texture (0: none).
+    pub texels: f32,
+    /// How many times their length the simulation view's arrows are drawn.
+    pub arrow_scale: f32,
+    /// Whether the fur pass counts the hairs it draws ([`FLAG_COUNT`]).
+    pub count_hairs: bool,
+}
+
+impl FurStyle {
+    /// This style as the shaders read it (`frame.drawing`).
+    pub fn drawing(&self, inputs: DrawingInputs) -> DrawingBlock {
+        let mut flags = 0;
+        for (on, flag) in [
+            (self.cull, FLAG_CULL),
+            (self.thickness_compensation, FLAG_THICKNESS_COMPENSATION),
+            (inputs.count_hairs, FLAG_COUNT),
+            (self.thin_hair_aa, FLAG_THIN_HAIR_AA),
+        ] {
+            if on {
+                flags |= flag;
+            }
+        }
+        let ribbon_above_px = match self.primitive {
+            Primitive::Auto => self.ribbon_above_px,
+            Primitive::Lines => f32::MAX,
+            Primitive::Ribbons => 0.0,
+        };
+        DrawingBlock {
+            density: self.density,
+            lod_distance: self.lod_distance,
+            max_level: inputs.max_level,
+            cull_margin: self.cull_margin,
+            hair_width: self.hair_width,
+            min_pixel_width: self.min_pixel_width,
+            jitter: self.jitter,
+            length_jitter: self.length_jitter,
+            ribbon_above_px,
+            vertex_lod_px: self.vertex_lod_px,
+            texels: inputs.texels,
+            arrow_scale: inputs.arrow_scale,
+            fixed_level: self.fixed_level.min(inputs.max_level as u32),
+            flags,
+            _pad: [0; 2],
+        }
     }
 }

@@ -32,9 +32,9 @@ pub struct StrandShape {
 pub const STUB_LIMIT: f32 = 2.0 * crate::scene::BALD_FRACTION;
 
 pub use super::frame_block::{
-    FLAG_COUNT, FLAG_CULL, FLAG_NO_COAT, FLAG_NO_MULTIPLE, FLAG_NO_R, FLAG_NO_TRT, FLAG_NO_TT,
-    FLAG_SECONDARY_HIGHLIGHT, FLAG_THICKNESS_COMPENSATION, FLAG_THIN_HAIR_AA,
+    FLAG_NO_COAT, FLAG_NO_MULTIPLE, FLAG_NO_R, FLAG_NO_TRT, FLAG_NO_TT, FLAG_SECONDARY_HIGHLIGHT,
 };
+pub use super::style::{FLAG_COUNT, FLAG_CULL, FLAG_THICKNESS_COMPENSATION, FLAG_THIN_HAIR_AA};
 
 /// An interpolated hair's random tip offset ([`FurStyle::jitter`]) is at most this
 /// fraction of the hair's own reach from root to tip (`fur.geom`), so the short hair of

@@ -250,7 +250,7 @@ mod tests {
             of::<FrameUniforms>(),
             of::<CameraBlock>(),
             of::<LightingBlock>(),
-            of::<DrawingBlock>(),
+            of::<fur_core::render::style::DrawingBlock>(),
             of::<StrandsBlock>(),
             of::<ShadowBlock>(),
             of::<FibreBlock>(),

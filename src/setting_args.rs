@@ -37,7 +37,7 @@ impl SettingArgs {
                 Given::Text(t) => parse(setting.kind, t).map_err(fail)?,
             };
             setting.check(&value).map_err(fail)?;
-            (setting.set)(scene, value);
+            setting.set(scene, value);
         }
         Ok(())
     }

@@ -24,7 +24,7 @@ fn every_setting() -> impl Iterator<Item = (&'static str, &'static Setting)> {
 
 /// A valid value of `setting` other than its default in `scene`.
 fn other_value(setting: &Setting, scene: &Scene) -> Value {
-    let default = (setting.get)(scene);
+    let default = setting.get(scene);
     let value = match (setting.kind, &default) {
         (
             Kind::Number {
@@ -111,13 +111,13 @@ fn every_flag_and_key_sets_the_field_its_definition_reads() {
         for (section, setting) in every_setting() {
             let value = other_value(setting, &defaults);
             let mut expected = defaults.clone();
-            (setting.set)(&mut expected, value.clone());
+            setting.set(&mut expected, value.clone());
             assert_ne!(
                 expected, defaults,
                 "{section}.{}: setting {value:?} changed nothing",
                 setting.key
             );
-            let read = (setting.get)(&expected);
+            let read = setting.get(&expected);
             match (&read, &value) {
                 (Value::Number(a), Value::Number(b)) => {
                     assert!(
@@ -134,8 +134,8 @@ fn every_flag_and_key_sets_the_field_its_definition_reads() {
             for (other_section, other) in every_setting() {
                 if !std::ptr::eq(other, setting) {
                     assert_eq!(
-                        (other.get)(&expected),
-                        (other.get)(&defaults),
+                        other.get(&expected),
+                        other.get(&defaults),
                         "setting {section}.{} moved {other_section}.{}",
                         setting.key,
                         other.key
@@ -228,9 +228,9 @@ fn flags_and_keys_are_unique_and_every_choice_parses() {
         if let Kind::Choice(names) = setting.kind {
             for name in names {
                 let mut scene = Scene::defaults(ModelSpec::Blob);
-                (setting.set)(&mut scene, Value::Text(name.to_string()));
+                setting.set(&mut scene, Value::Text(name.to_string()));
                 assert_eq!(
-                    (setting.get)(&scene),
+                    setting.get(&scene),
                     Value::Text(name.to_string()),
                     "{section}.{}",
                     setting.key

@@ -100,7 +100,7 @@ impl Viewer {
                 continue;
             };
             if let Some(setting) = crate::setting_args::find_setting(name) {
-                (setting.set)(&mut scene, value.clone());
+                setting.set(&mut scene, value.clone());
                 changes.note(setting.effect, &scene);
             }
         }

@@ -22,9 +22,9 @@ pub(super) fn show(ui: &mut egui::Ui, scene: &mut Scene, samples: &[u32]) -> Vec
         egui::CollapsingHeader::new(group.heading).show(ui, |ui| {
             for setting in visible {
                 let allowed = |n: u32| setting.key != "samples" || samples.contains(&n);
-                if let Some(value) = control(ui, setting, (setting.get)(scene), &allowed) {
+                if let Some(value) = control(ui, setting, setting.get(scene), &allowed) {
                     if setting.check(&value).is_ok() {
-                        (setting.set)(scene, value);
+                        setting.set(scene, value);
                         effects.push(setting.effect);
                     }
                 }

@@ -13,6 +13,7 @@ pub mod isolate;
 pub mod render;
 pub mod scene;
 pub mod scene_file;
+pub mod setting;
 pub mod sim;
 pub mod skinning;
 pub mod span;

@@ -5,7 +5,10 @@
 use super::drawing::{Primitive, Raster, Shading};
 use super::std140::std140_struct;
 use crate::error::{Error, Result};
+use crate::setting::{accessor, Accessor, Flag, Kind, Panel, Setting};
 use crate::span::Span;
+
+mod forms;
 
 /// How the fur is generated and drawn. A frame's style ([`super::FrameSettings::style`])
 /// is in scene units; a scene's ([`crate::scene_file::SceneOptions::draw`]) is measured
@@ -139,52 +142,202 @@ impl Default for FurStyle {
     }
 }
 
+/// A setting of the drawing style (`[render]` in a scene file).
+pub type StyleSetting = Setting<Accessor<FurStyle>>;
+
+/// The style's setting of field `$field`, its other parts placeholders that each
+/// definition below overrides.
+macro_rules! field {
+    ($field:ident) => {
+        Setting::reaching(accessor!(FurStyle: $field))
+    };
+}
+
+/// Every setting of the style, in the order `fur settings` and the docs list them:
+/// its key in a scene file's `[render]` section, its flag, its range (from [`spans`]
+/// and the lists above), its help and its panel control.
+pub const SETTINGS: &[StyleSetting] = &[
+    Setting {
+        key: "samples",
+        flag: Flag::Long("samples"),
+        label: "samples per pixel",
+        help: "Samples per pixel: 1 (no MSAA; lines then blend their coverage) or an MSAA \
+               count the device supports (lavapipe: 1 and 4)",
+        kind: Kind::OneOf(&SAMPLE_COUNTS),
+        panel: Panel::Plain,
+        ..field!(samples)
+    },
+    Setting {
+        key: "raster",
+        flag: Flag::Long("raster"),
+        label: "strand rasteriser",
+        help: "What draws the strands the geometry stage makes: `hardware` (the fixed-function \
+               rasteriser: lines or ribbons) or `compute` (compute passes: strands binned to \
+               screen tiles, exact coverage, the nearest fragments of each pixel blended \
+               front to back)",
+        kind: Kind::Choice(&["hardware", "compute"]),
+        panel: Panel::Plain,
+        ..field!(raster)
+    },
+    Setting {
+        key: "nearest",
+        flag: Flag::Long("nearest"),
+        label: "fragments in order",
+        help: "With `raster = \"compute\"`: the fragments each pixel keeps in depth order \
+               and blends front to back; the rest are blended in an order-free tail. More \
+               is closer to the true order, and costs more",
+        kind: Kind::integer(1, MAX_NEAREST),
+        panel: Panel::Plain,
+        ..field!(nearest)
+    },
+    Setting {
+        key: "tile",
+        flag: Flag::Long("tile"),
+        label: "tile side (px)",
+        help: "With `raster = \"compute\"`: the side of the screen tiles strands are binned \
+               to, pixels; 0 takes the default side. A pixel \
+               walks its tile's list: a smaller tile lists fewer segments a pixel, and \
+               lists each segment in more tiles",
+        kind: Kind::OneOf(&TILE_CHOICES),
+        panel: Panel::Plain,
+        ..field!(tile)
+    },
+    Setting {
+        key: "primitive",
+        flag: Flag::Long("primitive"),
+        label: "hair primitive",
+        help: "What each hair is drawn as: `lines` (coverage in alpha), `ribbons` (true \
+               width), or `auto`: ribbons for hairs at least --ribbon-above pixels wide at \
+               the root, lines for the rest",
+        kind: Kind::Choice(&["ribbons", "lines", "auto"]),
+        panel: Panel::Plain,
+        ..field!(primitive)
+    },
+    Setting {
+        key: "ribbon_above",
+        flag: Flag::Long("ribbon-above"),
+        label: "ribbon threshold",
+        help: "Root width from which `auto` draws ribbons",
+        units: "px",
+        kind: Kind::span(spans::PIXELS),
+        panel: Panel::slider(0.0, 8.0),
+        ..field!(ribbon_above_px)
+    },
+    Setting {
+        key: "shading",
+        flag: Flag::Long("shading"),
+        label: "shading rate",
+        help: "Where the lighting runs: `vertex` (per strand vertex, geometry stage) or \
+               `fragment`",
+        kind: Kind::Choice(&["vertex", "fragment"]),
+        panel: Panel::Plain,
+        ..field!(shading)
+    },
+    Setting {
+        key: "vertex_lod",
+        flag: Flag::Long("vertex-lod"),
+        label: "vertex LOD tolerance",
+        help: "Vertex LOD tolerance: a strand vertex is skipped when the segment drawn \
+               instead passes within this distance of it, width included; 0 draws every \
+               vertex",
+        units: "px",
+        kind: Kind::span(spans::PIXELS),
+        panel: Panel::log_slider(0.0, 2.0),
+        ..field!(vertex_lod_px)
+    },
+    Setting {
+        key: "lod_distance",
+        flag: Flag::Long("lod-distance"),
+        label: "full-density distance",
+        help: "Full-density distance: farther away the density falls with the square of \
+               the distance",
+        units: "bounding radii",
+        kind: Kind::span(spans::POSITIVE),
+        panel: Panel::log_slider(0.1, 100.0),
+        ..field!(lod_distance)
+    },
+    Setting {
+        key: "thickness_compensation",
+        flag: Flag::Long("thickness-compensation"),
+        label: "thickness compensation",
+        help: "Widen hairs the density LOD thins out, so coverage is kept",
+        kind: Kind::Bool,
+        panel: Panel::Plain,
+        ..field!(thickness_compensation)
+    },
+    Setting {
+        key: "hair_width",
+        flag: Flag::Long("hair-width"),
+        label: "hair width",
+        help: "Hair width at the root",
+        units: "bounding radii",
+        kind: Kind::span(spans::POSITIVE),
+        panel: Panel::log_slider(1e-4, 0.05),
+        ..field!(hair_width)
+    },
+    Setting {
+        key: "min_pixel_width",
+        flag: Flag::Long("min-pixel-width"),
+        label: "minimum hair width",
+        help: "Hairs are drawn at least this wide; thinner ones cover by their true width \
+               (thin-hair AA)",
+        units: "px",
+        kind: Kind::span(spans::MIN_PIXEL_WIDTH),
+        panel: Panel::slider(0.0, 4.0),
+        ..field!(min_pixel_width)
+    },
+    Setting {
+        key: "jitter",
+        flag: Flag::Long("jitter"),
+        label: "jitter",
+        help: "Random tip offset of each interpolated hair",
+        units: "bounding radii",
+        kind: Kind::span(spans::JITTER),
+        panel: Panel::slider(0.0, 0.2),
+        ..field!(jitter)
+    },
+    Setting {
+        key: "length_jitter",
+        flag: Flag::Long("length-jitter"),
+        label: "length jitter",
+        help: "Random shortening of each interpolated hair, as a fraction of its length",
+        kind: Kind::span(spans::LENGTH_JITTER),
+        panel: Panel::slider(0.0, 1.0),
+        ..field!(length_jitter)
+    },
+    Setting {
+        key: "cull",
+        flag: Flag::Long("cull"),
+        label: "culling",
+        help: "Skip triangles facing away or off screen before tessellating them",
+        kind: Kind::Bool,
+        panel: Panel::Plain,
+        ..field!(cull)
+    },
+    Setting {
+        key: "cull_margin",
+        flag: Flag::Long("cull-margin"),
+        label: "cull margin",
+        help: "How far a triangle may face away before its hairs are culled: culled when \
+               cos(normal, view) < −margin; hairs on triangles just past the silhouette \
+               still show, so 0 loses them and 1 culls by the screen's bounds only",
+        kind: Kind::span(spans::CULL_MARGIN),
+        panel: Panel::slider(0.0, 1.0),
+        ..field!(cull_margin)
+    },
+    Setting {
+        key: "thin_hair_aa",
+        flag: Flag::Long("thin-hair-aa"),
+        label: "thin-hair anti-aliasing",
+        help: "Hairs thinner than the minimum width cover their pixels by their true width \
+               (a dithered sample mask under MSAA, blending at 1 sample)",
+        kind: Kind::Bool,
+        panel: Panel::Plain,
+        ..field!(thin_hair_aa)
+    },
+];
+
 impl FurStyle {
-    /// This style, measured on the model (lengths in bounding radii, density per
-    /// square bounding radius), on a model of bounding radius `radius`: in scene units.
-    pub fn on_model(&self, radius: f32) -> Self {
-        Self {
-            density: self.density / (radius * radius),
-            lod_distance: self.lod_distance * radius,
-            hair_width: self.hair_width * radius,
-            jitter: self.jitter * radius,
-            ..self.clone()
-        }
-    }
-
-    /// The inverse of [`FurStyle::on_model`]: this style, in scene units, measured on a
-    /// model of bounding radius `radius`.
-    pub fn per_radius(&self, radius: f32) -> Self {
-        Self {
-            density: self.density * radius * radius,
-            lod_distance: self.lod_distance / radius,
-            hair_width: self.hair_width / radius,
-            jitter: self.jitter / radius,
-            ..self.clone()
-        }
-    }
-
-    /// This style at reference quality: 4× MSAA ribbons lit per fragment, every strand
-    /// vertex drawn (density, widths, jitter and culling kept).
-    pub fn reference_quality(&self) -> Self {
-        Self {
-            samples: 4,
-            primitive: Primitive::Ribbons,
-            shading: Shading::Fragment,
-            vertex_lod_px: 0.0,
-            ..self.clone()
-        }
-    }
-
-    /// The compute rasteriser's tile side this style draws with, pixels: its own, or
-    /// the default ([`DEFAULT_TILE`]).
-    pub fn tile_side(&self) -> u32 {
-        match self.tile {
-            0 => DEFAULT_TILE,
-            side => side,
-        }
-    }
-
     /// Checks every value against what it accepts ([`spans`], [`TILE_CHOICES`],
     /// [`SAMPLE_COUNTS`], [`MAX_NEAREST`]).
     pub fn validate(&self) -> Result<()> {

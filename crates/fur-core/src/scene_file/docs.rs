@@ -48,7 +48,7 @@ pub fn markdown() -> String {
                 (Value::Vector(v), _) => format!("[{}]", Value::Vector(v)).replace(',', ", "),
                 (v, _) => v.to_string(),
             };
-            let (a, b) = ((s.get)(&blob), (s.get)(&sphere));
+            let (a, b) = (s.get(&blob), s.get(&sphere));
             let default = if a == b {
                 shown(a)
             } else {

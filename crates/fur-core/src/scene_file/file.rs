@@ -126,7 +126,7 @@ impl SceneFile {
                 let at = locate(text, Some(section), setting.key);
                 error(path, at, format!("`{section}.{}`: {m}", setting.key))
             })?;
-            (setting.set)(scene, value.clone());
+            setting.set(scene, value.clone());
         }
         // A groom file the scene file names is found beside the scene file.
         let names_groom = self
@@ -165,7 +165,7 @@ pub(super) fn to_toml(scene: &Scene) -> Result<String> {
     for group in GROUPS {
         let mut section = toml::Table::new();
         for setting in group.settings {
-            let value = match (setting.get)(scene) {
+            let value = match setting.get(scene) {
                 Value::Number(v) => toml::Value::Float(v),
                 Value::Integer(v) => toml::Value::Integer(v.into()),
                 Value::Bool(v) => toml::Value::Boolean(v),

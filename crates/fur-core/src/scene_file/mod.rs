@@ -20,11 +20,11 @@ mod options;
 mod setting;
 mod value;
 
+pub use crate::setting::{list, Effect, FieldValue, Flag, Kind, Panel, Value};
 pub use file::SceneFile;
 pub use keys::GROUPS;
 pub use options::{SceneOptions, FOV_DEG};
-pub use setting::{list, Effect, Flag, Group, Kind, Panel, Setting};
-pub use value::{FieldValue, Value};
+pub use setting::{Access, Group, Setting};
 
 use crate::error::Result;
 use crate::scene::ModelSpec;

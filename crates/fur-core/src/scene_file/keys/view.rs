@@ -2,7 +2,8 @@
 
 use crate::render::style::DENSITY;
 use crate::scene_file::value::field;
-use crate::scene_file::{Effect, FieldValue, Flag, Group, Kind, Panel, Setting, Value};
+use crate::scene_file::{Access, Effect, FieldValue, Flag, Group, Kind, Panel, Setting, Value};
+use crate::setting::Accessor;
 
 pub const IMAGE: Group = Group {
     section: "image",
@@ -191,12 +192,14 @@ pub const GROOM: Group = Group {
             },
             // The scene's density ([`crate::render::FurStyle::density`], per square
             // bounding radius) as a multiple of the default's.
-            get: |s| Value::Number(f64::from(s.options.draw.density) / f64::from(DENSITY)),
-            set: |s, v| {
-                if let Some(scale) = f32::from_value(v) {
-                    s.options.draw.density = scale * DENSITY;
-                }
-            },
+            access: Access::Style(Accessor {
+                get: |s| Value::Number(f64::from(s.density) / f64::from(DENSITY)),
+                set: |s, v| {
+                    if let Some(scale) = f32::from_value(v) {
+                        s.density = scale * DENSITY;
+                    }
+                },
+            }),
             ..field!(options.draw.density)
         },
         Setting {

@@ -1,7 +1,8 @@
-//! The settings' definitions (`src/scene_file/keys/`): every setting's flag and its
-//! scene-file key set the same field its definition reads, to a value that differs
-//! from the default; saved scenes hold every setting; flags and keys are unique; the
-//! docs' table is the one the definitions make.
+//! The settings' definitions (`crates/fur-core/src/scene_file/keys/`, and beside the
+//! fields they set): every setting's flag and its scene-file key set the same field its
+//! definition reads, to a value that differs from the default; saved scenes hold every
+//! setting; flags and keys are unique; the docs' table is the one the definitions
+//! make; a setting a shader reads lives in three code files.
 
 use std::path::{Path, PathBuf};
 
@@ -291,4 +292,48 @@ fn the_cull_margin_keeps_hairs_past_the_silhouette() {
         "{none} < {default} < {all}"
     );
     assert!(all <= uncull, "margin 1 {all} vs culling off {uncull}");
+}
+
+/// The code files under `dir` (Rust and GLSL) whose text holds `word`, relative to the
+/// repository's root, sorted.
+fn code_files_naming(dir: &Path, word: &str, found: &mut Vec<String>) {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let code = ["rs", "glsl", "vert", "tesc", "tese", "geom", "frag", "comp"];
+    for entry in std::fs::read_dir(dir).unwrap() {
+        let path = entry.unwrap().path();
+        if path.is_dir() {
+            code_files_naming(&path, word, found);
+        } else if code
+            .iter()
+            .any(|e| path.extension().is_some_and(|x| x == *e))
+            && std::fs::read_to_string(&path).is_ok_and(|t| t.contains(word))
+        {
+            let relative = path.strip_prefix(root).unwrap();
+            found.push(relative.to_string_lossy().replace('\\', "/"));
+        }
+    }
+    found.sort();
+}
+
+/// `[render] cull_margin`, a setting a shader reads, lives in three code files: its
+/// declaration (the style's field, default and range, its scene key, flag and help,
+/// and its member of the drawing block with the line writing it, all in
+/// `render/style.rs`), its use (`fur.tesc`) and its test (this file). The block's GLSL
+/// and the docs' tables are made from the declaration. A setting spread over more
+/// files again (a block typed twice, a key declared apart from its field) fails here.
+#[test]
+fn a_setting_a_shader_reads_lives_in_three_code_files() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let mut found = Vec::new();
+    for dir in ["crates", "src", "shaders", "tests"] {
+        code_files_naming(&root.join(dir), "cull_margin", &mut found);
+    }
+    assert_eq!(
+        found,
+        [
+            "crates/fur-core/src/render/style.rs",
+            "shaders/fur.tesc",
+            "tests/settings.rs"
+        ]
+    );
 }

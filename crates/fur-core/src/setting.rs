@@ -12,7 +12,7 @@ mod value;
 pub use value::{short, FieldValue, Value};
 
 /// The [`Accessor`] of the field at `$path` of a `$t` (`accessor!(FurStyle:
-/// cull_margin)`): it reads the field as a [`Value`] and writes a value of its type.
+/// hair_width)`): it reads the field as a [`Value`] and writes a value of its type.
 macro_rules! accessor {
     ($t:ty: $($path:ident).+) => {
         $crate::setting::Accessor::<$t> {

@@ -22,6 +22,16 @@ pub const FLAG_NO_TRT: u32 = 256;
 pub const FLAG_NO_MULTIPLE: u32 = 512;
 pub const FLAG_NO_COAT: u32 = 1024;
 
+/// The lighting block's flags by the names the shaders know them by.
+pub const LIGHTING_FLAGS: [(&str, u32); 6] = [
+    ("FLAG_SECONDARY_HIGHLIGHT", FLAG_SECONDARY_HIGHLIGHT),
+    ("FLAG_NO_R", FLAG_NO_R),
+    ("FLAG_NO_TT", FLAG_NO_TT),
+    ("FLAG_NO_TRT", FLAG_NO_TRT),
+    ("FLAG_NO_MULTIPLE", FLAG_NO_MULTIPLE),
+    ("FLAG_NO_COAT", FLAG_NO_COAT),
+];
+
 /// The fraction of the frame's hair density drawn into the shadow map.
 pub const CASTER_DENSITY: f32 = 0.5;
 

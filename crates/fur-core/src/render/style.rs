@@ -391,6 +391,15 @@ pub const FLAG_THICKNESS_COMPENSATION: u32 = 2;
 pub const FLAG_COUNT: u32 = 4;
 pub const FLAG_THIN_HAIR_AA: u32 = 16;
 
+/// The drawing block's flags by the names the shaders know them by (defined for every
+/// render shader, `super::uniforms::shader_defines`).
+pub const DRAWING_FLAGS: [(&str, u32); 4] = [
+    ("FLAG_CULL", FLAG_CULL),
+    ("FLAG_THICKNESS_COMPENSATION", FLAG_THICKNESS_COMPENSATION),
+    ("FLAG_COUNT", FLAG_COUNT),
+    ("FLAG_THIN_HAIR_AA", FLAG_THIN_HAIR_AA),
+];
+
 std140_struct! {
     /// How dense, wide and detailed the fur pass draws (`Drawing` in GLSL): the style as
     /// the shaders read it, each value written once, by [`FurStyle::drawing`].

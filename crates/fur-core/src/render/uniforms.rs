@@ -31,11 +31,6 @@ pub struct StrandShape {
 /// are drawn.
 pub const STUB_LIMIT: f32 = 2.0 * crate::scene::BALD_FRACTION;
 
-pub use super::frame_block::{
-    FLAG_NO_COAT, FLAG_NO_MULTIPLE, FLAG_NO_R, FLAG_NO_TRT, FLAG_NO_TT, FLAG_SECONDARY_HIGHLIGHT,
-};
-pub use super::style::{FLAG_COUNT, FLAG_CULL, FLAG_THICKNESS_COMPENSATION, FLAG_THIN_HAIR_AA};
-
 /// An interpolated hair's random tip offset ([`FurStyle::jitter`]) is at most this
 /// fraction of the hair's own reach from root to tip (`fur.geom`), so the short hair of
 /// a thin part is not scattered into a tuft.
@@ -46,54 +41,44 @@ pub const JITTER_SHARE: f32 = 0.25;
 /// layers counted in front of a point (`MAX_LAYERS`), and the compute rasteriser's
 /// depth bins and opacity to stop at.
 pub fn shader_defines() -> Vec<(&'static str, String)> {
-    [
-        ("FLAG_CULL", FLAG_CULL),
-        ("FLAG_THICKNESS_COMPENSATION", FLAG_THICKNESS_COMPENSATION),
-        ("FLAG_COUNT", FLAG_COUNT),
-        ("FLAG_SECONDARY_HIGHLIGHT", FLAG_SECONDARY_HIGHLIGHT),
-        ("FLAG_THIN_HAIR_AA", FLAG_THIN_HAIR_AA),
-        ("FLAG_NO_R", FLAG_NO_R),
-        ("FLAG_NO_TT", FLAG_NO_TT),
-        ("FLAG_NO_TRT", FLAG_NO_TRT),
-        ("FLAG_NO_MULTIPLE", FLAG_NO_MULTIPLE),
-        ("FLAG_NO_COAT", FLAG_NO_COAT),
-    ]
-    .into_iter()
-    .map(|(name, bit)| (name, format!("{bit}u")))
-    .chain([
-        ("MAX_LAYERS", format!("{:?}", super::marschner::MAX_LAYERS)),
-        (
-            "DS_ANGLE_NODES",
-            super::dual_scattering::ANGLE_NODES.to_string(),
-        ),
-        (
-            "DS_COLOUR_NODES",
-            super::dual_scattering::COLOUR_NODES.to_string(),
-        ),
-        (
-            "DS_NODE_VEC4S",
-            super::dual_scattering::NODE_VEC4S.to_string(),
-        ),
-        (
-            "DEPTH_BINS",
-            super::strand_raster::order::DEPTH_BINS.to_string(),
-        ),
-        (
-            "OPAQUE_TRANSMIT",
-            format!("{:?}", super::strand_raster::order::OPAQUE_TRANSMIT),
-        ),
-        ("JITTER_SHARE", format!("{:?}", JITTER_SHARE)),
-        (
-            "DS_DENSITY_FORWARD",
-            format!("{:?}", super::dual_scattering::DENSITY_FORWARD),
-        ),
-        (
-            "DS_DENSITY_BACKWARD",
-            format!("{:?}", super::dual_scattering::DENSITY_BACKWARD),
-        ),
-    ])
-    .chain(super::stage::stage_defines())
-    .collect()
+    super::style::DRAWING_FLAGS
+        .into_iter()
+        .chain(super::frame_block::LIGHTING_FLAGS)
+        .map(|(name, bit)| (name, format!("{bit}u")))
+        .chain([
+            ("MAX_LAYERS", format!("{:?}", super::marschner::MAX_LAYERS)),
+            (
+                "DS_ANGLE_NODES",
+                super::dual_scattering::ANGLE_NODES.to_string(),
+            ),
+            (
+                "DS_COLOUR_NODES",
+                super::dual_scattering::COLOUR_NODES.to_string(),
+            ),
+            (
+                "DS_NODE_VEC4S",
+                super::dual_scattering::NODE_VEC4S.to_string(),
+            ),
+            (
+                "DEPTH_BINS",
+                super::strand_raster::order::DEPTH_BINS.to_string(),
+            ),
+            (
+                "OPAQUE_TRANSMIT",
+                format!("{:?}", super::strand_raster::order::OPAQUE_TRANSMIT),
+            ),
+            ("JITTER_SHARE", format!("{:?}", JITTER_SHARE)),
+            (
+                "DS_DENSITY_FORWARD",
+                format!("{:?}", super::dual_scattering::DENSITY_FORWARD),
+            ),
+            (
+                "DS_DENSITY_BACKWARD",
+                format!("{:?}", super::dual_scattering::DENSITY_BACKWARD),
+            ),
+        ])
+        .chain(super::stage::stage_defines())
+        .collect()
 }
 
 /// Everything one frame is drawn with.

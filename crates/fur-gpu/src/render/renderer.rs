@@ -47,6 +47,7 @@ register! {
     shadow_pass::ShadowPass,
     masters_pass::MastersPass,
     density_pass::DensityPass,
+    strand_counts_reset::StrandCountsReset,
 }
 
 pub use fur_pass::Variant;
@@ -258,9 +259,9 @@ impl Renderer {
     }
 
     /// The frame's passes, phase by phase ([`Phase`]): the registered passes the frame
-    /// wants, then the renderer's own: the compute rasteriser's counts reset when it
-    /// draws the strands, the body, and the fur (with the compute rasteriser's passes)
-    /// when the frame shows it. Only what the frame needs is in the list.
+    /// wants, then the renderer's own: the body, and the fur (with the compute
+    /// rasteriser's passes) when the frame shows it. Only what the frame needs is in
+    /// the list.
     fn passes(&self, settings: &FrameSettings, shadows: bool) -> Vec<&dyn Pass> {
         let plan = Plan {
             settings,
@@ -277,7 +278,6 @@ impl Renderer {
                 }
             }
             match phase {
-                Phase::Reset if compute => passes.push(self.compute_raster.reset_pass()),
                 Phase::Body => passes.push(&self.mesh_pass),
                 Phase::Stage if settings.show.draws_fur() => {
                     passes.push(&self.fur_pass);

@@ -103,10 +103,19 @@ impl FineForm {
     }
 }
 
-/// What the pipelines are built for: the target's sample count, the fragments a pixel
-/// keeps in order, the fine pass's form, the tile side, and whether the composite
-/// shows the tiles (`--show tiles`).
-type PipelineKey = (u32, u32, FineForm, u32, bool);
+/// What the pipelines are built for.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+struct PipelineKey {
+    /// The target's samples per pixel (the body's depth the passes read).
+    samples: u32,
+    /// The fragments a pixel keeps in order.
+    nearest: u32,
+    form: FineForm,
+    /// The tile side, pixels.
+    tile: u32,
+    /// Whether the composite shows the tiles (`--show tiles`).
+    tiles_view: bool,
+}
 
 /// The compute rasteriser: its pools, its sets (one per frame in flight, each with its
 /// own counts), its pipelines and the steps of the frame.
@@ -271,7 +280,13 @@ impl ComputeRaster {
             self.written.fill(vk::Image::null());
             remade = true;
         }
-        let key = (target.samples, style.nearest, self.form, tile, tiles_view);
+        let key = PipelineKey {
+            samples: target.samples,
+            nearest: style.nearest,
+            form: self.form,
+            tile,
+            tiles_view,
+        };
         if self.pipelines.as_ref().map(|p| p.0) != Some(key) {
             if self.pipelines.is_some() {
                 self.device.wait_idle()?;
@@ -462,18 +477,17 @@ impl ComputeRaster {
         }
     }
 
-    fn build(
-        &self,
-        layout: &PipelineLayout,
-        (samples, nearest, form, tile, tiles_view): PipelineKey,
-    ) -> Result<Vec<(Step, Pipeline)>> {
+    fn build(&self, layout: &PipelineLayout, key: PipelineKey) -> Result<Vec<(Step, Pipeline)>> {
         let mut defines = render_defines();
         defines.extend([
-            ("TILE", tile.to_string()),
-            ("NEAREST", nearest.to_string()),
-            ("DEPTH_SAMPLES", samples.to_string()),
-            ("BATCHED", u32::from(form == FineForm::Batched).to_string()),
-            ("TILES_VIEW", u32::from(tiles_view).to_string()),
+            ("TILE", key.tile.to_string()),
+            ("NEAREST", key.nearest.to_string()),
+            ("DEPTH_SAMPLES", key.samples.to_string()),
+            (
+                "BATCHED",
+                u32::from(key.form == FineForm::Batched).to_string(),
+            ),
+            ("TILES_VIEW", u32::from(key.tiles_view).to_string()),
         ]);
         let kernel = |shader: &str, scatter: bool| {
             let mut d = defines.clone();
@@ -491,12 +505,9 @@ impl ComputeRaster {
         ])
     }
 
-    /// The steps of a frame, in order: the reset before the fur pass, the rest after it.
-    pub(in super::super) fn reset_pass(&self) -> &StepPass {
-        &self.steps[0]
-    }
-
+    /// The steps of a frame after the fur pass, in order (the counts are reset before
+    /// it, by `StrandCountsReset`).
     pub(in super::super) fn draw_passes(&self) -> impl Iterator<Item = &StepPass> {
-        self.steps[1..].iter()
+        self.steps.iter()
     }
 }

@@ -27,7 +27,6 @@ pub const STEP_NAMES: [&str; 8] = [
 /// One step of the compute passes, as the frame's pass list holds it.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub(super) enum Step {
-    Reset,
     Tiles,
     Count,
     Scan,
@@ -52,8 +51,7 @@ pub(in super::super) struct StepPass {
 
 impl Step {
     /// Every step, in the order a frame runs them.
-    pub(super) const ALL: [Step; 10] = [
-        Step::Reset,
+    pub(super) const ALL: [Step; 9] = [
         Step::Tiles,
         Step::Count,
         Step::Scan,
@@ -68,7 +66,7 @@ impl Step {
     /// Its place in [`STEP_NAMES`]: the steps that do work after the geometry stage.
     fn timed(self) -> Option<usize> {
         match self {
-            Step::Reset | Step::HandBack => None,
+            Step::HandBack => None,
             Step::Tiles => Some(0),
             Step::Count => Some(1),
             Step::Scan => Some(2),
@@ -83,10 +81,9 @@ impl Step {
 
 impl Pass for StepPass {
     fn name(&self) -> &'static str {
-        match (self.step, self.step.timed()) {
-            (_, Some(i)) => STEP_NAMES[i],
-            (Step::Reset, None) => "strand counts reset",
-            (_, None) => LAST_NAME,
+        match self.step.timed() {
+            Some(i) => STEP_NAMES[i],
+            None => LAST_NAME,
         }
     }
 
@@ -109,7 +106,6 @@ impl Pass for StepPass {
         use Access as A;
         use Resource as R;
         match self.step {
-            Step::Reset => vec![uses(R::Strands, A::TransferWrite)],
             Step::Tiles => vec![
                 uses(R::Depth, A::ComputeSampled),
                 uses(R::TileBins, A::ComputeWrite),
@@ -149,15 +145,6 @@ impl Pass for StepPass {
 
     fn record(&self, frame: &FrameContext<'_>, cmd: vk::CommandBuffer) {
         let raw = &frame.device.raw;
-        if self.step == Step::Reset {
-            let start = ComputeCounts::start();
-            // SAFETY: recording outside a rendering scope; the counts belong to the slot,
-            // whose previous frame has finished.
-            unsafe {
-                raw.cmd_update_buffer(cmd, frame.raster_counts, 0, bytemuck::bytes_of(&start))
-            };
-            return;
-        }
         match self.step {
             Step::HandBack => return,
             Step::Copy => {

@@ -1,8 +1,11 @@
-//! The `Frame` uniform block every render shader reads (`shaders/common.glsl`): one
-//! std140 struct per purpose (the camera, the lighting, the drawing, the strands, the
-//! shadow, the fibre), every value in a field of its own name, each written once, by
-//! [`FrameUniforms::new`]. The light's view of the fur is a second block of the same
-//! layout ([`LightView::caster_uniforms`]).
+//! The `Frame` uniform block every render shader reads: one std140 struct per purpose
+//! (the camera, the lighting, the drawing, the strands, the shadow, the fibre), every
+//! value in a member of its own name, each written once, by [`FrameUniforms::new`] (the
+//! drawing's by [`FurStyle::drawing`](super::FurStyle::drawing), beside the style).
+//! Each struct is declared here, in Rust, by [`std140_struct!`]; [`glsl`] makes the
+//! shaders' declarations from them (`frame_block.glsl`, which `shaders/common.glsl`
+//! includes). The light's view of the fur is a second block of the same layout
+//! ([`LightView::caster_uniforms`]).
 
 use glam::{Mat4, Vec2, Vec3, Vec4};
 

@@ -29,37 +29,7 @@ use fur_core::render::strand_raster::pools::{
 };
 use fur_core::render::FurStyle;
 
-/// What the compute passes counted in a frame (`ComputeCounts` in
-/// `shaders/strand_raster.glsl`).
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, bytemuck::Pod, bytemuck::Zeroable)]
-pub struct ComputeCounts {
-    pub vertices: u32,
-    pub segments: u32,
-    pub(super) bin_groups: [u32; 3],
-    /// Hairs that found the vertex or segment pool full: not drawn.
-    pub hairs_lost: u32,
-    /// Hairs with a vertex behind the eye: not drawn.
-    pub hairs_clipped: u32,
-    /// (segment, tile) entries listed.
-    pub entries: u32,
-    /// Entries that found the entry pool full: those segments are missing from those tiles.
-    pub entries_lost: u32,
-    /// Fragments blended in a pixel's tail rather than in depth order.
-    pub tail_fragments: u32,
-    /// Pixels that stopped, opaque, before their tile's list ended.
-    pub pixels_stopped: u32,
-}
-
-impl ComputeCounts {
-    /// The counts a frame starts from: nothing, and an indirect dispatch of no groups.
-    pub(super) fn start() -> Self {
-        Self {
-            bin_groups: [0, 1, 1],
-            ..Self::default()
-        }
-    }
-}
+pub use super::strand_counts_reset::ComputeCounts;
 
 /// The pools of one target size.
 pub(super) struct Pools {

@@ -1,16 +1,47 @@
-//! Zeroing the compute rasteriser's counts before the fur pass's geometry stage writes
-//! strands into its pools, in frames that draw their strands in compute: the counts
-//! are also the pools' cursors and the binning's indirect dispatch
-//! ([`super::compute_raster::ComputeCounts::start`]).
+//! What the compute rasteriser counts in a frame ([`ComputeCounts`]), and zeroing the
+//! counts before the fur pass's geometry stage writes strands into its pools, in
+//! frames that draw their strands in compute: the counts are also the pools' cursors
+//! and the binning's indirect dispatch ([`ComputeCounts::start`]).
 
 use ash::vk;
 
 use super::super::graph::{Attachments, FrameContext, Pass};
-use super::compute_raster::ComputeCounts;
 use super::registry::{Build, FramePass, Phase, Plan, Registered};
 use super::Renderer;
 use crate::frame::{uses, Resource, Use};
 use crate::gpu::Access;
+
+/// What the compute passes counted in a frame (`ComputeCounts` in
+/// `shaders/strand_raster.glsl`).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct ComputeCounts {
+    pub vertices: u32,
+    pub segments: u32,
+    pub(super) bin_groups: [u32; 3],
+    /// Hairs that found the vertex or segment pool full: not drawn.
+    pub hairs_lost: u32,
+    /// Hairs with a vertex behind the eye: not drawn.
+    pub hairs_clipped: u32,
+    /// (segment, tile) entries listed.
+    pub entries: u32,
+    /// Entries that found the entry pool full: those segments are missing from those tiles.
+    pub entries_lost: u32,
+    /// Fragments blended in a pixel's tail rather than in depth order.
+    pub tail_fragments: u32,
+    /// Pixels that stopped, opaque, before their tile's list ended.
+    pub pixels_stopped: u32,
+}
+
+impl ComputeCounts {
+    /// The counts a frame starts from: nothing, and an indirect dispatch of no groups.
+    pub(super) fn start() -> Self {
+        Self {
+            bin_groups: [0, 1, 1],
+            ..Self::default()
+        }
+    }
+}
 
 pub struct StrandCountsReset;
 

@@ -12,7 +12,7 @@ use crate::error::{Error, Result, VkContext};
 // build.rs).
 include!(concat!(env!("OUT_DIR"), "/shaders.rs"));
 
-/// The embedded source `name`, or one made from Rust declarations ([`generated`]).
+/// The embedded source `name`, or one made from Rust declarations (`frame_block.glsl`).
 pub fn source(name: &str) -> Option<&'static str> {
     SOURCES
         .iter()

@@ -39,15 +39,30 @@ pub fn linear_to_srgb8(l: f32) -> u8 {
 /// The next mip level of a `width × height` RGBA8 sRGB image: half its size (at least
 /// 1), by [`resample`].
 pub fn half_size(src: &[u8], width: u32, height: u32) -> (Vec<u8>, u32, u32) {
-    let (dw, dh) = ((width / 2).max(1), (height / 2).max(1));
-    (resample(src, (width, height), (dw, dh)), dw, dh)
+    let to = Size {
+        width: (width / 2).max(1),
+        height: (height / 2).max(1),
+    };
+    (
+        resample(src, Size { width, height }, to),
+        to.width,
+        to.height,
+    )
 }
 
-/// A `width × height` RGBA8 sRGB image at `dw × dh` (not larger): a box filter in
+/// An image's width and height, pixels.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Size {
+    pub width: u32,
+    pub height: u32,
+}
+
+/// An RGBA8 sRGB image of size `from` at size `to` (not larger): a box filter in
 /// linear light over the source pixels each new pixel covers, weighted by their
 /// overlap (for a side divided exactly, the plain average of each block; otherwise the
 /// boundary pixels are shared, so none is dropped). Alpha is averaged as stored.
-pub fn resample(src: &[u8], (width, height): (u32, u32), (dw, dh): (u32, u32)) -> Vec<u8> {
+pub fn resample(src: &[u8], from: Size, to: Size) -> Vec<u8> {
+    let (width, height, dw, dh) = (from.width, from.height, to.width, to.height);
     let (xs, ys) = (box_taps(width, dw), box_taps(height, dh));
     let lut = srgb8_lut();
     let mut out = Vec::with_capacity(4 * dw as usize * dh as usize);

@@ -39,7 +39,7 @@ pub(super) fn differences(pairs: &Figures) -> Vec<Option<(f64, f64)>> {
 
 /// Whether a difference is told apart from its noise: ten times it or more (and not
 /// zero: two drawings of the same ꟻLIP against both references are not).
-fn is_resolved((d, noise): (f64, f64)) -> bool {
+fn is_resolved(d: f64, noise: f64) -> bool {
     d != 0.0 && d.abs() >= 10.0 * noise
 }
 
@@ -47,7 +47,10 @@ fn is_resolved((d, noise): (f64, f64)) -> bool {
 pub(super) fn resolved(deltas: &[Option<(f64, f64)>]) -> (usize, usize, f64) {
     let all: Vec<(f64, f64)> = deltas.iter().flatten().copied().collect();
     let worst = all.iter().map(|&(_, n)| n).fold(0.0, f64::max);
-    let told = all.iter().filter(|&&d| is_resolved(d)).count();
+    let told = all
+        .iter()
+        .filter(|&&(d, noise)| is_resolved(d, noise))
+        .count();
     (told, all.len(), worst)
 }
 
@@ -57,7 +60,7 @@ pub(super) fn unresolved_pairs(pairs: &Figures) -> Vec<(usize, usize, f64, f64)>
     for i in 0..pairs.len() {
         for j in i + 1..pairs.len() {
             let (d, noise) = difference(pairs, i, j);
-            if !is_resolved((d, noise)) {
+            if !is_resolved(d, noise) {
                 out.push((i, j, d, noise));
             }
         }
@@ -72,7 +75,7 @@ pub(super) fn delta_cell(delta: Option<(f64, f64)>) -> String {
         None => "–".to_string(),
         Some((d, noise)) => format!(
             "{}{d:+.4} (±{noise:.4})",
-            if is_resolved((d, noise)) { "" } else { "≈ " }
+            if is_resolved(d, noise) { "" } else { "≈ " }
         ),
     }
 }

@@ -68,7 +68,8 @@ impl RgbaImage {
             )));
         }
         let (w, h) = (self.width / factor, self.height / factor);
-        let data = crate::colour::resample(&self.data, (self.width, self.height), (w, h));
+        let size = |width, height| crate::colour::Size { width, height };
+        let data = crate::colour::resample(&self.data, size(self.width, self.height), size(w, h));
         Ok(Self {
             width: w,
             height: h,

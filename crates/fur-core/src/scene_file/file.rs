@@ -28,9 +28,11 @@ impl SceneFile {
     pub fn load(path: &Path) -> Result<(Self, String)> {
         let text =
             crate::files::read_text_bounded(path, crate::files::MAX_SCENE_BYTES, "scene file")
-                .map_err(|e| error(path, (0, 0), format!("cannot read it: {e}")))?;
+                .map_err(|e| error(path, At::default(), format!("cannot read it: {e}")))?;
         let table: toml::Table = toml::from_str(&text).map_err(|e: toml::de::Error| {
-            let at = e.span().map_or((0, 0), |s| line_column(&text, s.start));
+            let at = e
+                .span()
+                .map_or(At::default(), |s| line_column(&text, s.start));
             error(path, at, e.message().trim().to_string())
         })?;
         let file = Self::parse(&table, &text, path)?;
@@ -226,52 +228,67 @@ fn from_toml(kind: Kind, value: &toml::Value) -> std::result::Result<Value, Stri
     }
 }
 
-fn error(path: &Path, (line, column): (usize, usize), message: String) -> Error {
+fn error(path: &Path, at: At, message: String) -> Error {
     Error::SceneFile {
         path: path.to_path_buf(),
-        line,
-        column,
+        line: at.line,
+        column: at.column,
         message,
     }
 }
 
+/// Where in a scene file: 1-based line and column (0, 0: the file as a whole).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+struct At {
+    line: usize,
+    column: usize,
+}
+
 /// 1-based line and column of byte `offset` in `text`.
-fn line_column(text: &str, offset: usize) -> (usize, usize) {
+fn line_column(text: &str, offset: usize) -> At {
     let before = &text[..offset.min(text.len())];
     let line = before.matches('\n').count() + 1;
     let column = before.rsplit('\n').next().map_or(0, |l| l.chars().count()) + 1;
-    (line, column)
+    At { line, column }
 }
 
 /// Where `[section]` is written in `text`, or the start.
-fn header(text: &str, section: &str) -> (usize, usize) {
-    text.lines()
-        .position(|l| {
-            l.trim()
-                .strip_prefix('[')
-                .and_then(|l| l.split(']').next())
-                .is_some_and(|name| name.trim() == section)
-        })
-        .map_or((1, 1), |i| (i + 1, 1))
+fn header(text: &str, section: &str) -> At {
+    let row = text.lines().position(|l| {
+        l.trim()
+            .strip_prefix('[')
+            .and_then(|l| l.split(']').next())
+            .is_some_and(|name| name.trim() == section)
+    });
+    At {
+        line: row.map_or(1, |i| i + 1),
+        column: 1,
+    }
 }
 
 /// Where `key` of `[section]` is written in `text` (line, column), or the section's
 /// header, or the start.
-fn locate(text: &str, section: Option<&str>, key: &str) -> (usize, usize) {
+fn locate(text: &str, section: Option<&str>, key: &str) -> At {
     let mut in_section = section.is_none();
-    let mut found = (1, 1);
+    let mut found = At { line: 1, column: 1 };
     for (i, line) in text.lines().enumerate() {
         let trimmed = line.trim_start();
         if trimmed.starts_with('[') {
             in_section = section.is_some_and(|s| trimmed.trim_end() == format!("[{s}]"));
             if in_section {
-                found = (i + 1, 1);
+                found = At {
+                    line: i + 1,
+                    column: 1,
+                };
             }
             continue;
         }
         let name = trimmed.split(['=', ' ']).next().unwrap_or("");
         if in_section && name == key {
-            return (i + 1, line.len() - trimmed.len() + 1);
+            return At {
+                line: i + 1,
+                column: line.len() - trimmed.len() + 1,
+            };
         }
     }
     found

@@ -24,8 +24,9 @@ fn draw(
     mesh: &Mesh,
     strands: &Strands,
     settings: &FrameSettings,
-    (width, height): (u32, u32),
+    size: impl Into<fur_core::colour::Size>,
 ) -> (RgbaImage, FrameReport, f32) {
+    let fur_core::colour::Size { width, height } = size.into();
     let textures = StrandTextures::new(device, strands, settings.head).unwrap();
     let extent = vk::Extent2D { width, height };
     let mut renderer = Renderer::new(device, mesh, &textures, extent, 1, 1).unwrap();

@@ -19,7 +19,7 @@ struct Frame {
     arrows: Vec<Vec3>,
 }
 
-fn frame(step: Option<SimStep>, frames: usize, (strands, sdf): (&Strands, &Sdf)) -> Frame {
+fn frame(step: Option<SimStep>, frames: usize, strands: &Strands, sdf: &Sdf) -> Frame {
     let device = common::device();
     let params = SimParams {
         substeps: 1,
@@ -81,10 +81,10 @@ fn the_steps_arrows_add_up_to_the_frames_motion() {
     )
     .unwrap();
     let frames = 6;
-    let plain = frame(None, frames, (&strands, &sdf));
+    let plain = frame(None, frames, &strands, &sdf);
     let mut sum = vec![Vec3::ZERO; plain.after.len()];
     for step in SimStep::ALL {
-        let f = frame(Some(step), frames, (&strands, &sdf));
+        let f = frame(Some(step), frames, &strands, &sdf);
         assert_eq!(
             f.after, plain.after,
             "{step:?}: the probe changed the simulation"

@@ -18,7 +18,7 @@ use fur_core::sim::{Sdf, SimParams};
 use fur_core::skinning::{self, Playback, SkinnedBody};
 use fur_gpu::error::Result;
 use fur_gpu::session::{FurSession, SessionSetup};
-use fur_gpu::sim::GpuSim;
+use fur_gpu::sim::{GpuSim, SkinnedMotion};
 use fur_gpu::strand_textures::StrandTextures;
 
 /// Progress ticks: the skinning cost, the walking frame, and each way of collision.
@@ -119,7 +119,10 @@ impl Bench<'_> {
             params,
             1,
             Some(field),
-            Some((body.clone(), playback.clone())),
+            Some(SkinnedMotion {
+                body: body.clone(),
+                playback: playback.clone(),
+            }),
         )?;
         let v = strands.vertices_per_strand as usize;
         let (samples, every) = if self.quick { (2, 15) } else { (6, 5) };
@@ -213,7 +216,10 @@ impl Bench<'_> {
             &[
                 SimRun {
                     params: bare.clone(),
-                    skinned: Some((body.clone(), playback.clone())),
+                    skinned: Some(SkinnedMotion {
+                        body: body.clone(),
+                        playback: playback.clone(),
+                    }),
                     field: None,
                     steps: Some(&[]),
                 },
@@ -332,7 +338,10 @@ impl Bench<'_> {
         // The step without collision first, then each way with it, taking turns.
         let mut runs = vec![SimRun {
             params: bare.clone(),
-            skinned: Some((body.clone(), playback.clone())),
+            skinned: Some(SkinnedMotion {
+                body: body.clone(),
+                playback: playback.clone(),
+            }),
             field: Some(&field),
             steps: None,
         }];
@@ -343,7 +352,10 @@ impl Bench<'_> {
                     skin_blend: Some(way.skin_blend),
                     ..params.clone()
                 },
-                skinned: Some((way_body.clone(), playback.clone())),
+                skinned: Some(SkinnedMotion {
+                    body: way_body.clone(),
+                    playback: playback.clone(),
+                }),
                 field: Some(*field),
                 steps: None,
             });

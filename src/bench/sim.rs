@@ -4,8 +4,6 @@
 use std::fmt::Write as _;
 use std::time::Instant;
 
-use std::sync::Arc;
-
 use glam::{DMat4, DVec3};
 
 use super::metrics::{max_stretch, median, pareto_front, position_error};
@@ -15,7 +13,6 @@ use fur_core::scene::{GroomParams, Mesh, Strands};
 use fur_core::scene_file::Scene;
 use fur_core::scene_file::SceneOptions;
 use fur_core::sim::{CpuSim, Motion, MotionKind, Sdf, SimParams, SimStep};
-use fur_core::skinning::{Playback, SkinnedBody};
 use fur_gpu::error::Result;
 use fur_gpu::sim::GpuSim;
 use fur_gpu::strand_textures::StrandTextures;
@@ -33,7 +30,7 @@ pub(super) fn bench_shake() -> Motion {
 /// One simulation [`Bench::sims_taking_turns_ms`] times.
 pub(super) struct SimRun<'a> {
     pub params: SimParams,
-    pub skinned: Option<(Arc<SkinnedBody>, Playback)>,
+    pub skinned: Option<fur_gpu::sim::SkinnedMotion>,
     pub field: Option<&'a Sdf>,
     pub steps: Option<&'a [SimStep]>,
 }

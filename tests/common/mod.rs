@@ -123,8 +123,9 @@ pub fn render(
     mesh: &Mesh,
     groom: &GroomParams,
     settings: &FrameSettings,
-    (width, height): (u32, u32),
+    size: impl Into<fur_core::colour::Size>,
 ) -> (RgbaImage, Option<FurStatistics>, HairCounts) {
+    let fur_core::colour::Size { width, height } = size.into();
     let strands = Strands::grow(mesh, groom).unwrap();
     let textures = StrandTextures::new(device, &strands, settings.head).unwrap();
     let extent = vk::Extent2D { width, height };

@@ -12,9 +12,10 @@ use super::*;
 /// radius (the hair length plus the jitter) counts, the far side included.
 fn expected_halves(
     camera: &Camera,
-    (width, height): (u32, u32),
+    size: impl Into<fur_core::colour::Size>,
     fur: Option<f32>,
 ) -> Vec<Option<bool>> {
+    let fur_core::colour::Size { width, height } = size.into();
     let inverse = camera
         .view_projection(width as f32 / height as f32)
         .inverse();

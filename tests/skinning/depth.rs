@@ -2,25 +2,51 @@
 
 use super::*;
 
+/// Which of the body's rules the walk's simulation runs.
+#[derive(Clone, Copy, Debug)]
+struct Ways {
+    collision: bool,
+    /// The skin's blend of bones (else the root's bone alone).
+    skin_blend: bool,
+}
+
+const EVERY_RULE: Ways = Ways {
+    collision: true,
+    skin_blend: true,
+};
+
+/// When the walk is measured: `samples` times, `every` frames apart, after the first 30.
+#[derive(Clone, Copy, Debug)]
+struct Sampling {
+    samples: usize,
+    every: usize,
+}
+
 /// Depth of strand vertices inside the posed critter over the second half of a walk
 /// cycle (exact point-to-mesh distances), fractions of the longest hair: (mean, max).
-fn walk_depths(ways: (bool, bool)) -> (f64, f64) {
-    walk_depths_at(ways, (3, 10))
+fn walk_depths(ways: Ways) -> (f64, f64) {
+    walk_depths_at(
+        ways,
+        Sampling {
+            samples: 3,
+            every: 10,
+        },
+    )
 }
 
 /// [`walk_depths_with`] at the product's field resolution for a skinned body.
-fn walk_depths_at(ways: (bool, bool), frames: (usize, usize)) -> (f64, f64) {
+fn walk_depths_at(ways: Ways, frames: Sampling) -> (f64, f64) {
     walk_depths_with(ways, frames, None)
 }
 
-/// [`walk_depths`] sampled `samples` times `every` frames apart after the first 30, the
-/// distance field at `cells` along its longest axis (`None`: the product's resolution
-/// for a skinned body).
-fn walk_depths_with(
-    (collision, skin_blend): (bool, bool),
-    (samples, every): (usize, usize),
-    cells: Option<u32>,
-) -> (f64, f64) {
+/// [`walk_depths`] sampled as `frames` says, the distance field at `cells` along its
+/// longest axis (`None`: the product's resolution for a skinned body).
+fn walk_depths_with(ways: Ways, frames: Sampling, cells: Option<u32>) -> (f64, f64) {
+    let Ways {
+        collision,
+        skin_blend,
+    } = ways;
+    let Sampling { samples, every } = frames;
     let device = common::device();
     let (mesh, rig) = critter();
     let (mut groom, _) = fur_core::scene_file::SceneOptions::default()
@@ -44,7 +70,10 @@ fn walk_depths_with(
         &textures,
         params,
         Some(&field),
-        (body.clone(), playback.clone()),
+        SkinnedMotion {
+            body: body.clone(),
+            playback: playback.clone(),
+        },
     );
     let v = strands.vertices_per_strand as usize;
     let head = |_: f64| DMat4::IDENTITY;
@@ -88,8 +117,11 @@ fn walk_depths_with(
 /// first vertices show).
 #[test]
 fn collision_keeps_the_walking_hair_out_of_the_skin() {
-    let (mean_on, max_on) = walk_depths((true, true));
-    let (mean_off, max_off) = walk_depths((false, false));
+    let (mean_on, max_on) = walk_depths(EVERY_RULE);
+    let (mean_off, max_off) = walk_depths(Ways {
+        collision: false,
+        skin_blend: false,
+    });
     println!(
         "depth inside the skin, fractions of the hair length: with collision mean {mean_on:.2e} \
          max {max_on:.3}; without mean {mean_off:.2e} max {max_off:.3}"
@@ -134,8 +166,11 @@ fn collision_keeps_the_walking_hair_out_of_the_skin() {
 #[test]
 fn each_skinned_collision_rule_keeps_the_walking_hair_out() {
     const TARGET_MAX: f64 = fur::bench::DEPTH_TARGET;
-    let frames = (6, 5);
-    let (_, with) = walk_depths_at((true, true), frames);
+    let frames = Sampling {
+        samples: 6,
+        every: 5,
+    };
+    let (_, with) = walk_depths_at(EVERY_RULE, frames);
     println!("max depth with every rule, fraction of the hair length: {with:.4}");
     assert!(with <= TARGET_MAX, "max depth {with} with every rule");
     let rigid_cells = {
@@ -157,9 +192,9 @@ fn each_skinned_collision_rule_keeps_the_walking_hair_out() {
     };
     let without = |define: Option<&str>, cells: Option<u32>| match define {
         Some(define) => fur_gpu::gpu::shader::with_test_defines(&[(define, "1")], || {
-            walk_depths_with((true, true), frames, cells)
+            walk_depths_with(EVERY_RULE, frames, cells)
         }),
-        None => walk_depths_with((true, true), frames, cells),
+        None => walk_depths_with(EVERY_RULE, frames, cells),
     };
     for (rule, define, cells) in [
         ("the root's bone", Some("FUR_TEST_NO_ROOT_BONE"), None),
@@ -192,8 +227,11 @@ fn the_skins_blend_keeps_hair_out_where_the_skin_bends() {
     // length, README and docs/benchmark.md), not a figure read off one run; what the
     // skin's blend itself adds is the comparison with the root poses below.
     const TARGET_MAX: f64 = fur::bench::DEPTH_TARGET;
-    let (mean_root, max_root) = walk_depths((true, false));
-    let (mean_blend, max_blend) = walk_depths((true, true));
+    let (mean_root, max_root) = walk_depths(Ways {
+        collision: true,
+        skin_blend: false,
+    });
+    let (mean_blend, max_blend) = walk_depths(EVERY_RULE);
     println!(
         "depth inside the skin, fractions of the hair length: root poses mean \
          {mean_root:.2e} max {max_root:.4}; the skin's blend mean {mean_blend:.2e} max {max_blend:.4}"
@@ -257,7 +295,10 @@ fn still_pose_comes_to_rest(params: SimParams) {
             &textures,
             params.clone(),
             Some(&sdf),
-            (body.clone(), playback),
+            SkinnedMotion {
+                body: body.clone(),
+                playback,
+            },
         );
         gpu.run_frames(&mut textures, 300, |_| DMat4::IDENTITY)
             .unwrap();

@@ -16,7 +16,7 @@ use std::sync::Arc;
 use fur_core::scene::{critter, GroomParams, Mesh, Rig, Strands};
 use fur_core::sim::{CpuSim, SimParams};
 use fur_core::skinning::{self, Playback, SkinnedBody};
-use fur_gpu::sim::GpuSim;
+use fur_gpu::sim::{GpuSim, SkinnedMotion};
 use fur_gpu::strand_textures::StrandTextures;
 use glam::{DMat4, Vec3, Vec4};
 
@@ -42,9 +42,9 @@ fn skinned_sim(
     textures: &StrandTextures,
     params: SimParams,
     field: Option<&fur_core::sim::Sdf>,
-    (body, playback): (Arc<SkinnedBody>, Playback),
+    motion: SkinnedMotion,
 ) -> GpuSim {
-    GpuSim::build(device, textures, params, 1, field, Some((body, playback))).unwrap()
+    GpuSim::build(device, textures, params, 1, field, Some(motion)).unwrap()
 }
 
 fn max_error(a: &[Vec3], b: &[Vec3]) -> f32 {
@@ -115,7 +115,10 @@ fn roots_sit_on_the_device_skinned_surface() {
         &textures,
         SimParams::default(),
         None,
-        (body.clone(), playback.clone()),
+        SkinnedMotion {
+            body: body.clone(),
+            playback: playback.clone(),
+        },
     );
     let v = strands.vertices_per_strand as usize;
     for t in [0.0, 0.3, 0.55] {

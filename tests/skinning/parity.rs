@@ -24,14 +24,19 @@ fn gpu_matches_cpu_on_a_walking_body() {
         &textures,
         params.clone(),
         None,
-        (body.clone(), playback.clone()),
+        SkinnedMotion {
+            body: body.clone(),
+            playback: playback.clone(),
+        },
     );
     let poses_at = |t: f64| skinning::cpu::pose(&body, &playback.joint_matrices(&body.rig, t));
     let mut cpu = CpuSim::<f32>::new(&strands, params, DMat4::IDENTITY);
     cpu.place(DMat4::IDENTITY, Some(&poses_at(0.0).roots));
     let no_contact = |_: &CpuSim<f32>, _: usize| false;
     let parity = frame_by_frame(
-        (&mut gpu, &mut textures, &mut cpu),
+        &mut gpu,
+        &mut textures,
+        &mut cpu,
         40,
         &poses_at,
         Body::Skinned { blend: false },
@@ -89,7 +94,9 @@ impl std::fmt::Display for Parity {
 /// at most 1 % of the vertices in contact: a collision step that differs for every
 /// contact fails.
 fn frame_by_frame(
-    (gpu, textures, cpu): (&mut GpuSim, &mut StrandTextures, &mut CpuSim<f32>),
+    gpu: &mut GpuSim,
+    textures: &mut StrandTextures,
+    cpu: &mut CpuSim<f32>,
     frames: usize,
     poses_at: &dyn Fn(f64) -> skinning::cpu::Posed,
     body: Body,
@@ -268,7 +275,10 @@ fn clip_parity(clip: Clip, skin_blend: bool, frames: usize) -> Parity {
         &textures,
         params.clone(),
         Some(&sdf),
-        (body.clone(), playback.clone()),
+        SkinnedMotion {
+            body: body.clone(),
+            playback: playback.clone(),
+        },
     );
     assert_eq!(
         gpu.active_steps()
@@ -314,7 +324,9 @@ fn clip_parity(clip: Clip, skin_blend: bool, frames: usize) -> Parity {
                 .is_some_and(|(d, _)| d < 2.0 * margin)
     };
     let parity = frame_by_frame(
-        (&mut gpu, &mut textures, &mut cpu),
+        &mut gpu,
+        &mut textures,
+        &mut cpu,
         frames,
         &poses_at,
         Body::Skinned { blend: skin_blend },

@@ -44,7 +44,9 @@ fn holding(name: &str, locals: &[fur_core::scene::Transform]) -> fur_core::scene
 /// far gravity moved the hair while settling.
 fn held_pose_motion(
     device: &Arc<fur_gpu::gpu::Device>,
-    (mesh, rig, strands): (&Mesh, &Rig, &Strands),
+    mesh: &Mesh,
+    rig: &Rig,
+    strands: &Strands,
     locals: &[fur_core::scene::Transform],
 ) -> (f32, f32) {
     let mut rig = rig.clone();
@@ -59,7 +61,13 @@ fn held_pose_motion(
         collision: false,
         ..Default::default()
     };
-    let mut gpu = skinned_sim(device, &textures, params, None, (body, playback));
+    let mut gpu = skinned_sim(
+        device,
+        &textures,
+        params,
+        None,
+        SkinnedMotion { body, playback },
+    );
     let head = |_: f64| DMat4::IDENTITY;
     let start = textures.read_positions(textures.current).unwrap();
     gpu.run_frames(&mut textures, 90, head).unwrap();
@@ -84,7 +92,7 @@ fn a_held_pose_leaves_the_hair_at_rest() {
     // pose, in the ride or in the constraints fails it, as does hair still moving.
     let limit = 1e-6 * strands.hair_length();
     for (name, locals) in [("bind", &bind), ("bent", &bent)] {
-        let (moved, sag) = held_pose_motion(&device, (&mesh, &rig, &strands), locals);
+        let (moved, sag) = held_pose_motion(&device, &mesh, &rig, &strands, locals);
         println!("{name} pose: moved {moved:e} a frame after settling (limit {limit:e}); gravity moved it {sag:e}");
         assert!(
             moved <= limit,
@@ -98,7 +106,7 @@ fn a_held_pose_leaves_the_hair_at_rest() {
         );
     }
     let (moved, _) = fur_gpu::gpu::shader::with_test_defines(&[("FUR_TEST_NO_SLEEP", "1")], || {
-        held_pose_motion(&device, (&mesh, &rig, &strands), &bent)
+        held_pose_motion(&device, &mesh, &rig, &strands, &bent)
     });
     println!("without sleep: moved {moved:e} a frame after settling");
     assert!(

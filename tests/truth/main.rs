@@ -37,13 +37,14 @@ fn captured(
     device: &std::sync::Arc<fur_gpu::gpu::Device>,
     mesh: Option<fur_core::scene::Mesh>,
     edit: impl FnOnce(&mut FrameSettings),
-    (width, height): (u32, u32),
+    size: impl Into<fur_core::colour::Size>,
 ) -> (
     RgbaImage,
     fur_gpu::render::CapturedHairs,
     FrameSettings,
     u64,
 ) {
+    let fur_core::colour::Size { width, height } = size.into();
     let scene = Scene::defaults(ModelSpec::Blob);
     let mesh = mesh.unwrap_or_else(|| scene.model.load_body().unwrap().0);
     let (groom, mut settings) = scene.options.resolve(&mesh).unwrap();

@@ -57,6 +57,16 @@ pub struct Size {
     pub height: u32,
 }
 
+/// A size written as `(width, height)`.
+impl From<(u32, u32)> for Size {
+    fn from(pair: (u32, u32)) -> Self {
+        Size {
+            width: pair.0,
+            height: pair.1,
+        }
+    }
+}
+
 /// An RGBA8 sRGB image of size `from` at size `to` (not larger): a box filter in
 /// linear light over the source pixels each new pixel covers, weighted by their
 /// overlap (for a side divided exactly, the plain average of each block; otherwise the

@@ -122,7 +122,10 @@ impl FurSession {
                 rig.validate(mesh.vertex_count())
                     .map_err(|m| Error::parameter(format!("the model's skin: {m}")))?;
                 groom.comb_field = Some(fur_core::skinning::fur_flow(&rig));
-                Some((Arc::new(SkinnedBody::new(&mesh, rig)), playback))
+                Some(crate::sim::SkinnedMotion {
+                    body: Arc::new(SkinnedBody::new(&mesh, rig)),
+                    playback,
+                })
             }
             None => None,
         };

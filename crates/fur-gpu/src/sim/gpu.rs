@@ -38,6 +38,14 @@ use crate::gpu::shader::GROUP_SIZE;
 pub const MAX_VERTICES: u32 = 64;
 /// Substeps whose constants fit in the step buffer: one submission's worth.
 const STEP_CAPACITY: usize = 1024;
+/// A skinned body and the clip it plays: what a simulation on a skinned body follows
+/// ([`GpuSim::build`]).
+#[derive(Clone)]
+pub struct SkinnedMotion {
+    pub body: Arc<SkinnedBody>,
+    pub playback: Playback,
+}
+
 /// A skinned body's part of the simulation: the skinning pass, the body, which clip
 /// plays, and the joint matrices of the substeps not yet recorded.
 pub struct Skinned {
@@ -134,7 +142,7 @@ impl GpuSim {
         params: SimParams,
         frames_in_flight: usize,
         body: Option<&Sdf>,
-        skinned: Option<(Arc<SkinnedBody>, Playback)>,
+        skinned: Option<SkinnedMotion>,
     ) -> Result<Self> {
         let frames_in_flight = frames_in_flight.max(1);
         params.validate()?;
@@ -166,7 +174,7 @@ impl GpuSim {
         let body_field = super::field::upload(device, body)?;
         let blend_wanted = params.blends() && body.is_some();
         let skinned = match skinned {
-            Some((body, playback)) => {
+            Some(SkinnedMotion { body, playback }) => {
                 if body.vertex_count() != textures.layout.strand_count as usize {
                     return Err(Error::parameter(format!(
                         "the skinned body has {} vertices but there are {} strands",

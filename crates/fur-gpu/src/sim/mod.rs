@@ -5,4 +5,4 @@ mod field;
 mod gpu;
 mod kernel;
 
-pub use gpu::{kernel_defines, GpuSim, MAX_VERTICES};
+pub use gpu::{kernel_defines, GpuSim, SkinnedMotion, MAX_VERTICES};

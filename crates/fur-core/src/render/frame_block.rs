@@ -10,7 +10,7 @@
 use glam::{Mat4, Vec2, Vec3, Vec4};
 
 use super::dual_scattering::{cached_table, TABLE_VEC4S};
-use super::std140::{std140_struct, Std140};
+use super::std140::{declared, std140_struct, Declared};
 use super::style::{DrawingBlock, DrawingInputs, FLAG_COUNT};
 use super::uniforms::{FrameSettings, StrandShape};
 use super::{Lighting, LightingModel};
@@ -152,26 +152,37 @@ std140_struct! {
     }
 }
 
+/// The `Frame` block's structs, each as declared: the block itself first, then the
+/// struct of each of its members, in order. The shaders' declarations
+/// ([`glsl`]) and the reflection test both read this one list.
+pub fn structs() -> Vec<Declared> {
+    vec![
+        declared::<FrameUniforms>(),
+        declared::<CameraBlock>(),
+        declared::<LightingBlock>(),
+        declared::<DrawingBlock>(),
+        declared::<StrandsBlock>(),
+        declared::<ShadowBlock>(),
+        declared::<FibreBlock>(),
+    ]
+}
+
 /// The GLSL of the `Frame` block, as `shaders/common.glsl` includes it
-/// (`frame_block.glsl`): each struct's declaration, then the block at the frame set's
+/// (`frame_block.glsl`): each member's struct, then the block at the frame set's
 /// uniform binding (`SET_FRAME`, `B_FRAME_UNIFORMS`, defined by the GPU layer).
 pub fn glsl() -> String {
-    let mut text = String::from(
-        "// Made from crates/fur-core/src/render/frame_block.rs: not a file.
-",
-    );
-    for block in [
-        CameraBlock::glsl(),
-        LightingBlock::glsl(),
-        DrawingBlock::glsl(),
-        StrandsBlock::glsl(),
-        ShadowBlock::glsl(),
-        FibreBlock::glsl(),
-    ] {
-        text += &format!("\n{block}");
+    let mut structs = structs().into_iter();
+    let block = structs.next().expect("the block is first");
+    let mut text =
+        String::from("// Made from crates/fur-core/src/render/frame_block.rs: not a file.\n");
+    for member in structs {
+        text += &format!("\n{}", member.glsl);
     }
-    text += "\nlayout(set = SET_FRAME, binding = B_FRAME_UNIFORMS, std140) uniform Frame {\n";
-    for m in FrameUniforms::members() {
+    text += &format!(
+        "\nlayout(set = SET_FRAME, binding = B_FRAME_UNIFORMS, std140) uniform {} {{\n",
+        block.name
+    );
+    for m in &block.members {
         text += &format!("    {} {};\n", m.glsl_type, m.name);
     }
     text + "} frame;\n"

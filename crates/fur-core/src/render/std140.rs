@@ -58,6 +58,26 @@ impl Member {
     }
 }
 
+/// A declared struct as GLSL and the reflection test see it.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Declared {
+    /// Its GLSL name.
+    pub name: &'static str,
+    /// Its GLSL declaration ([`Std140::glsl`]).
+    pub glsl: String,
+    /// Every member, padding included.
+    pub members: Vec<Member>,
+}
+
+/// `T` as [`Declared`].
+pub fn declared<T: Std140>() -> Declared {
+    Declared {
+        name: T::NAME,
+        glsl: T::glsl(),
+        members: T::members(),
+    }
+}
+
 /// A struct declared by [`std140_struct!`].
 pub trait Std140: GlslType {
     /// Its GLSL name.

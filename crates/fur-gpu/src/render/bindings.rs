@@ -237,24 +237,14 @@ mod tests {
     /// name and its members (name, byte offset); the `_pad` fields, std140's rounding,
     /// are not the shaders'.
     fn frame_structs() -> Vec<(&'static str, Vec<(&'static str, usize)>)> {
-        use fur_core::render::frame_block::*;
-        use fur_core::render::std140::{Member, Std140};
-        fn of<T: Std140>() -> (&'static str, Vec<(&'static str, usize)>) {
-            let members = T::members().into_iter().filter(|m| !m.is_padding());
-            (
-                T::NAME,
-                members.map(|m: Member| (m.name, m.offset)).collect(),
-            )
-        }
-        vec![
-            of::<FrameUniforms>(),
-            of::<CameraBlock>(),
-            of::<LightingBlock>(),
-            of::<fur_core::render::style::DrawingBlock>(),
-            of::<StrandsBlock>(),
-            of::<ShadowBlock>(),
-            of::<FibreBlock>(),
-        ]
+        let unpadded = |members: Vec<fur_core::render::std140::Member>| {
+            let kept = members.into_iter().filter(|m| !m.is_padding());
+            kept.map(|m| (m.name, m.offset)).collect()
+        };
+        fur_core::render::frame_block::structs()
+            .into_iter()
+            .map(|s| (s.name, unpadded(s.members)))
+            .collect()
     }
 
     /// Every render shader, compiled with every option that adds a binding, uses the

@@ -14,7 +14,7 @@ use crate::strand_textures::StrandLayout;
 use fur_core::render::uniforms::FrameSettings;
 
 /// Where a pass goes in the frame, in the order the phases run.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Phase {
     /// Transfer work before anything draws (counter resets).
     Reset,
@@ -42,7 +42,7 @@ pub struct Build<'a> {
 
 /// What a frame is, as the passes decide whether they are in it and prepare for it.
 pub struct Plan<'a> {
-    /// The frame's settings (with shadows on when the shadow view forces them).
+    /// The frame's settings.
     pub settings: &'a FrameSettings,
     /// Whether the frame draws the shadow map.
     pub shadows: bool,

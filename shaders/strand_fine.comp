@@ -4,32 +4,29 @@
 // nearest fragments in depth order, a strand's fragments in the pixel merged into one;
 // the rest are blended in an order-free tail (strand_fine_list.glsl). At each of the
 // tile's stops (where a depth bin ends) a pixel whose fragments let through less than
-// OPAQUE_TRANSMIT stops; in the batched form the tile stops once every pixel has. The
-// fragments are blended front to back into the hair layer: the colour premultiplied by
-// coverage, and the light let through. One workgroup per tile, one invocation per
-// pixel. The twin: render::strand_raster (draw, blend::PixelList), which takes the
-// entries in the same order.
+// OPAQUE_TRANSMIT stops. The fragments are blended front to back into the hair layer:
+// the colour premultiplied by coverage, and the light let through. One workgroup per
+// tile, one invocation per pixel. The twin: render::strand_raster (draw,
+// blend::PixelList), which takes the entries in the same order.
 //
-// Two forms, each the faster measured on its kind of device (docs/compute-raster.md):
-// - BATCHED (GPUs): the workgroup walks the tile's list a batch at a time: each
-//   invocation fetches one entry's segment and its two vertices (two dependent reads)
-//   into shared memory, and every pixel then takes the whole batch from there;
-// - not (CPU drivers): each pixel walks the list itself, with no barriers, which a CPU
-//   driver runs slowly. A CPU driver runs a vector of invocations through every branch
-//   of an `if` (only a loop ends when none of them is left in it), so each pixel first
-//   searches the list, one bit of the entry's mask (strand_sort.comp) an entry, for
-//   the next entry whose segment can reach it, and takes only that one: the dear part
-//   of a turn (the exact coverage and the sorted insertion) is paid once a fragment,
-//   not once an entry of the tile.
+// Each pixel walks the list itself, with no barriers and no shared memory: where the
+// invocations of a vector (a GPU's warp, a CPU driver's SIMD lanes) part ways in an
+// `if`, all of them pay for both sides, and only a loop ends when none of them is left
+// in it. So each pixel first searches the list, one bit of the entry's mask
+// (strand_sort.comp) an entry, for the next entry whose segment can reach it, and takes
+// only that one: the dear part of a turn (the exact coverage and the sorted insertion)
+// is paid once a fragment, not once an entry of the tile. (A form that fetched the list
+// a batch at a time into shared memory for every pixel to take whole was 3.5× slower on
+// an NVIDIA H200 and several times slower on lavapipe: docs/compute-raster.md.)
 //
-// Every loop but the walk is unrolled, the batched walk takes UNROLL entries a turn and
-// the per-pixel search tests SEARCH_UNROLL: lavapipe ends any invocation whose loops
-// have turned 65,535 times in all (Mesa's gallivm loop limiter), which a pixel of a
-// dense tile would otherwise reach; the per-pixel form counts its turns, and a pixel
-// that would pass MAX_TURNS stops there, counted as stopped (it has met thousands of
-// fragments, or searched a list of over a hundred thousand entries).
-// TILE, NEAREST, DEPTH_SAMPLES, BATCHED, DEPTH_BINS and OPAQUE_TRANSMIT are defined by
-// the renderer.
+// Every loop but the walk is unrolled and the search tests SEARCH_UNROLL entries a
+// turn: lavapipe ends any invocation whose loops have turned 65,535 times in all
+// (Mesa's gallivm loop limiter), which a pixel of a dense tile would otherwise reach;
+// so the walk counts its turns, and a pixel that would pass MAX_TURNS stops there,
+// counted as stopped (it has met thousands of fragments, or searched a list of over a
+// hundred thousand entries).
+// TILE, NEAREST, DEPTH_SAMPLES, DEPTH_BINS and OPAQUE_TRANSMIT are defined by the
+// renderer.
 #extension GL_EXT_control_flow_attributes : require
 #include "common.glsl"
 #include "strand_raster.glsl"
@@ -43,12 +40,11 @@ layout(set = SET_RASTER, binding = B_BODY_DEPTH) uniform sampler2DMS body_depth;
 layout(set = SET_RASTER, binding = B_BODY_DEPTH) uniform sampler2D body_depth;
 #endif
 
-// Entries a turn of the batched form's walk takes, and of the per-pixel form's search
-// tests (each of a turn's tests is paid by every pixel of a vector, found or not).
-const uint UNROLL = 16u;
+// Entries a turn of the search tests (each of a turn's tests is paid by every pixel of
+// a vector, found or not).
 const uint SEARCH_UNROLL = 2u;
 
-// The most turns the per-pixel form's loops take in all, under lavapipe's 65,535 (a
+// The most turns the walk's loops take in all, under lavapipe's 65,535 (a
 // test lowers it).
 #ifdef FUR_TEST_MAX_TURNS
 const uint MAX_TURNS = FUR_TEST_MAX_TURNS;
@@ -72,23 +68,6 @@ Walk start_walk(uint tile, uint count) {
     return walk;
 }
 
-// Whether the pixel stops before entry `i` of the list: at a stop, once opaque (and
-// counted). Past a stop it is not at, the walk moves on to the next.
-bool stops_at(inout Walk walk, uint tile, uint i) {
-    if (i != walk.stop_at) {
-        return false;
-    }
-    if (seen_transmit < OPAQUE_TRANSMIT) {
-        walk.done = true;
-        atomicAdd(raster_counts.pixels_stopped, 1u);
-        return true;
-    }
-    walk.next += 1u;
-    walk.stop_at = walk.next < tile_bins[tile].stop_count ? tile_bins[tile].stops[walk.next]
-                                                          : 0xffffffffu;
-    return false;
-}
-
 // The pixel's list blended into the hair layer, and its tail counted.
 void finish(ivec2 p, ivec2 size) {
     hair_layer[p.y * size.x + p.x] = resolve_list();
@@ -109,102 +88,6 @@ float pixel_depth(ivec2 p) {
 #endif
 }
 
-#if BATCHED
-// The entries of a batch: one per invocation.
-const uint BATCH = TILE * TILE;
-
-// The batch: each entry's ends (x, y of both), widths and depths (both ends), colours,
-// and strand.
-shared vec4 batch_ends[BATCH];
-shared vec4 batch_shape[BATCH];
-shared vec4 batch_color_a[BATCH];
-shared vec4 batch_color_b[BATCH];
-shared uint batch_strand[BATCH];
-// The tile's pixels still walking (inside the image and not yet stopped).
-shared uint open_pixels;
-
-// Fetches entry `entry` of the pool into the batch's slot `slot`.
-void fetch(uint entry, uint slot) {
-    uvec2 segment = strand_segment(ordered_entry(entry));
-    StrandVertex va = strand_vertex(segment.x);
-    StrandVertex vb = strand_vertex(segment.x + 1u);
-    batch_ends[slot] = vec4(va.position.xy, vb.position.xy);
-    batch_shape[slot] = vec4(va.position.w, vb.position.w, va.position.z, vb.position.z);
-    batch_color_a[slot] = va.color;
-    batch_color_b[slot] = vb.color;
-    batch_strand[slot] = segment.y;
-}
-
-// The fragment the batch's entry `slot` leaves in the pixel centred at `centre`, if it
-// is in front of the body there.
-void take(uint slot, vec2 centre, float body) {
-    vec4 ends = batch_ends[slot];
-    vec4 shape = batch_shape[slot];
-    vec2 foot = strand_footprint(centre, ends.xy, ends.zw, shape.x, shape.y);
-    if (foot.x <= 0.0) {
-        return;
-    }
-    vec4 c = mix(batch_color_a[slot], batch_color_b[slot], foot.y);
-    float alpha = foot.x * c.a;
-    if (alpha > MIN_ALPHA) {
-        float depth = mix(shape.z, shape.w, foot.y);
-        if (depth < body) {
-            add_fragment(depth, batch_strand[slot], min(alpha, 1.0), c.rgb);
-        }
-    }
-}
-
-void main() {
-    ivec2 p = ivec2(gl_GlobalInvocationID.xy);
-    ivec2 size = ivec2(frame.camera.viewport);
-    // A pixel past the image's edge helps fetch the batches (every invocation reaches
-    // every barrier) and draws nothing.
-    bool inside = all(lessThan(p, size));
-    float body = inside ? pixel_depth(p) : 0.0;
-    vec2 centre = vec2(p) + 0.5;
-    uint tile = gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x;
-    uint count = tile_bins[tile].kept;
-    uint offset = tile_bins[tile].offset;
-    uint lane = gl_LocalInvocationIndex;
-    if (lane == 0u) {
-        ivec2 corner = ivec2(gl_WorkGroupID.xy) * int(TILE);
-        ivec2 span = clamp(size - corner, ivec2(0), ivec2(TILE));
-        open_pixels = uint(span.x * span.y);
-    }
-    Walk walk = start_walk(tile, count);
-    walk.done = !inside;
-    for (uint base = 0u; base < count; base += BATCH) {
-        if (base + lane < count) {
-            fetch(offset + base + lane, lane);
-        }
-        barrier();
-        uint batch = min(BATCH, count - base);
-        if (!walk.done) {
-            for (uint first = 0u; first < batch && !walk.done; first += UNROLL) {
-                [[unroll]] for (uint j = 0u; j < UNROLL; ++j) {
-                    if (first + j < batch && !walk.done) {
-                        if (!stops_at(walk, tile, base + first + j)) {
-                            take(first + j, centre, body);
-                        } else {
-                            atomicAdd(open_pixels, 0xffffffffu);
-                        }
-                    }
-                }
-            }
-        }
-        barrier();
-        // Every pixel of the tile opaque: the rest of the list cannot show. (Read by
-        // all between two barriers, written only after the next.)
-        if (open_pixels == 0u) {
-            break;
-        }
-    }
-    if (!inside) {
-        return;
-    }
-    finish(p, size);
-}
-#else
 // The fragment segment `s` leaves in the pixel centred at `centre`, if it is in front
 // of the body there.
 void take_segment(uint s, vec2 centre, float body) {
@@ -296,4 +179,3 @@ void main() {
     }
     finish(p, size);
 }
-#endif

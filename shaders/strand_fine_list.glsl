@@ -2,8 +2,6 @@
 // (strand_fine.comp): its NEAREST nearest fragments in depth order, a strand's
 // fragments in the pixel merged into one, and the order-free tail the rest are
 // blended into. The twin: render::strand_raster::blend::PixelList.
-// Two forms of `add_fragment`, each the faster measured on its kind of device
-// (docs/compute-raster.md): BATCHED (GPUs) and not (CPU drivers).
 #ifndef STRAND_FINE_LIST_GLSL
 #define STRAND_FINE_LIST_GLSL
 
@@ -32,74 +30,6 @@ void into_tail(float alpha, vec3 color) {
     tail_count += 1u;
 }
 
-#if BATCHED
-// blend::PixelList::add, the batched form's: the list is shifted at an index known
-// only at run time (which a GPU's compiler keeps cheap).
-void add_fragment(float depth, uint strand, float alpha, vec3 color) {
-    seen_transmit *= 1.0 - alpha;
-    int same = -1;
-    [[unroll]] for (uint i = 0u; i < NEAREST; ++i) {
-        if (i < k_count && k_strand[i] == strand) {
-            same = int(i);
-        }
-    }
-    if (same >= 0) {
-        uint at = uint(same);
-        float total = k_alpha[at] + alpha;
-        vec3 merged_color = (k_color[at] * k_alpha[at] + color * alpha) / total;
-        float merged_depth = min(k_depth[at], depth);
-        // Only its depth fell: move it nearer past the ones now behind it.
-        uint to = at;
-        bool moving = true;
-        [[unroll]] for (int j = int(NEAREST) - 1; j >= 1; --j) {
-            if (uint(j) <= at && moving) {
-                if (nearer(merged_depth, strand, k_depth[j - 1], k_strand[j - 1])) {
-                    k_depth[j] = k_depth[j - 1];
-                    k_strand[j] = k_strand[j - 1];
-                    k_alpha[j] = k_alpha[j - 1];
-                    k_color[j] = k_color[j - 1];
-                    to = uint(j - 1);
-                } else {
-                    moving = false;
-                }
-            }
-        }
-        k_depth[to] = merged_depth;
-        k_strand[to] = strand;
-        k_alpha[to] = min(total, 1.0);
-        k_color[to] = merged_color;
-        return;
-    }
-    // The list is sorted: the fragment goes after every one nearer than it.
-    uint at = 0u;
-    [[unroll]] for (uint i = 0u; i < NEAREST; ++i) {
-        if (i < k_count && nearer(k_depth[i], k_strand[i], depth, strand)) {
-            at += 1u;
-        }
-    }
-    if (at >= NEAREST) {
-        into_tail(alpha, color);
-        return;
-    }
-    if (k_count == NEAREST) {
-        into_tail(k_alpha[NEAREST - 1u], k_color[NEAREST - 1u]);
-        k_count -= 1u;
-    }
-    [[unroll]] for (int j = int(NEAREST) - 1; j >= 1; --j) {
-        if (uint(j) <= k_count && uint(j) > at) {
-            k_depth[j] = k_depth[j - 1];
-            k_strand[j] = k_strand[j - 1];
-            k_alpha[j] = k_alpha[j - 1];
-            k_color[j] = k_color[j - 1];
-        }
-    }
-    k_depth[at] = depth;
-    k_strand[at] = strand;
-    k_alpha[at] = alpha;
-    k_color[at] = color;
-    k_count += 1u;
-}
-#else
 // Slot i of the list and slot j swapped.
 #define SWAP_SLOTS(i, j)                                                                   \
     {                                                                                      \
@@ -109,9 +39,9 @@ void add_fragment(float depth, uint strand, float alpha, vec3 color) {
         vec3 c_ = k_color[i]; k_color[i] = k_color[j]; k_color[j] = c_;                    \
     }
 
-// blend::PixelList::add, the per-pixel form's: every index into the list is a
-// constant once the loops are unrolled, so a CPU driver keeps the list in registers
-// (an index known only at run time puts it in memory there).
+// blend::PixelList::add: every index into the list is a constant once the loops are
+// unrolled, so the list stays in registers (an index known only at run time puts it
+// in memory: a GPU's local memory, a CPU driver's stack).
 void add_fragment(float depth, uint strand, float alpha, vec3 color) {
     seen_transmit *= 1.0 - alpha;
     // A strand already in the list: the two shares become one fragment, as near as
@@ -176,7 +106,6 @@ void add_fragment(float depth, uint strand, float alpha, vec3 color) {
         k_count += 1u;
     }
 }
-#endif
 
 // The list blended front to back, the tail behind it: the colour premultiplied by
 // coverage, and the light let through.

@@ -96,10 +96,6 @@ uint listed_entry(uint at) {
 // (block_mask, strand_sort.comp).
 layout(set = SET_RASTER, binding = B_TILE_ORDER, rg32ui) uniform uimageBuffer tile_order;
 
-uint ordered_entry(uint at) {
-    return imageLoad(tile_order, int(at)).x;
-}
-
 #ifdef TILE
 // The mask's grid: MASK_X × MASK_Y blocks of BLOCK_X × BLOCK_Y pixels cover a tile, at
 // most 32 (one pixel a block up to 4×4 tiles).

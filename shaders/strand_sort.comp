@@ -6,8 +6,8 @@
 // pixels may end their walk once opaque. One workgroup per tile. The twin:
 // render::strand_raster::order (sort_by_depth).
 // Each entry is written with the mask of the tile's blocks its segment can reach, which
-// the fine pass's per-pixel form searches by.
-// TILE, DEPTH_BINS and BATCHED are defined by the renderer.
+// the fine pass's pixels search by.
+// TILE and DEPTH_BINS are defined by the renderer.
 #extension GL_EXT_control_flow_attributes : require
 #include "common.glsl"
 #include "strand_raster.glsl"
@@ -100,12 +100,7 @@ void main() {
         vec4 a = vertex_position(segment.x);
         vec4 b = vertex_position(segment.x + 1u);
         uint slot = atomicAdd(cursor[depth_bin(depth_key(a.z, b.z), lo, scale)], 1u);
-#if BATCHED
-        // The batched fine pass reads no masks.
-        uint mask = 0u;
-#else
         uint mask = block_mask(corner, a.xy, b.xy, 0.5 * max(a.w, b.w));
-#endif
         imageStore(tile_order, int(offset + slot), uvec4(s, mask, 0u, 0u));
     }
 }

@@ -7,7 +7,7 @@ use ash::vk;
 use fur_core::render::{FrameSettings, FurStyle, Raster, RgbaImage, MAX_NEAREST, TILE_SIZES};
 use fur_core::scene::{Camera, GroomParams, Mesh, Strands};
 use fur_gpu::gpu::Device;
-use fur_gpu::render::{FineForm, FrameReport, Renderer};
+use fur_gpu::render::{FrameReport, Renderer};
 use fur_gpu::strand_textures::StrandTextures;
 
 fn device() -> Arc<Device> {
@@ -131,35 +131,27 @@ fn the_compute_backend_draws_the_hardware_backends_hairs() {
 /// fused arithmetic differ from the CPU's by up to 3·10⁻⁴ here), but for at most one
 /// pixel in a thousand, within 10⁻², where two fragments nearer to each other than that
 /// rounding sort either way (two of 6,912 with 8 or 16 kept in order, none with 2 or 4).
-/// Both forms of the fine pass (batched for GPUs, per pixel for CPU drivers), with lists
-/// of 2 (most fragments in the tail), the default and the most fragments in order, on
-/// the device's tiles; and the smallest and largest tile sides.
+/// With lists of 2 (most fragments in the tail), the default and the most fragments in
+/// order, on the device's tiles; and the smallest and largest tile sides and 4×4 (a
+/// pixel a bit of the entries' masks up to 4×4, blocks of 2×4 at 16×16).
 /// Seen failing against the fine pass walking a dense tile's list in one loop (lavapipe
 /// ends an invocation's loops after 65,535 turns: whole tiles drawn empty).
 #[test]
 fn the_gpu_draws_what_its_cpu_twin_draws() {
     let default = FurStyle::default().nearest;
-    for (form, nearest, tile) in [
-        (FineForm::Batched, 2, 0),
-        (FineForm::PerPixel, 2, 0),
-        (FineForm::Batched, default, 0),
-        (FineForm::PerPixel, default, 0),
-        (FineForm::Batched, MAX_NEAREST, 0),
-        (FineForm::PerPixel, MAX_NEAREST, 0),
-        (FineForm::Batched, default, TILE_SIZES[0]),
-        // A pixel a bit of the per-pixel form's masks (4×4), and blocks of 2×4 (16×16).
-        (FineForm::PerPixel, default, 4),
-        (
-            FineForm::PerPixel,
-            default,
-            TILE_SIZES[TILE_SIZES.len() - 1],
-        ),
+    for (nearest, tile) in [
+        (2, 0),
+        (default, 0),
+        (MAX_NEAREST, 0),
+        (default, TILE_SIZES[0]),
+        (default, 4),
+        (default, TILE_SIZES[TILE_SIZES.len() - 1]),
     ] {
-        draws_what_its_twin_draws(form, nearest, tile);
+        draws_what_its_twin_draws(nearest, tile);
     }
 }
 
-fn draws_what_its_twin_draws(form: FineForm, nearest: u32, tile: u32) {
+fn draws_what_its_twin_draws(nearest: u32, tile: u32) {
     use fur_core::render::strand_raster::{bin, draw, Backdrop, RasterBudget};
     let device = device();
     let size = (96, 72);
@@ -174,7 +166,6 @@ fn draws_what_its_twin_draws(form: FineForm, nearest: u32, tile: u32) {
         height: size.1,
     };
     let mut renderer = Renderer::new(&device, &mesh, &textures, extent, 1, 1).unwrap();
-    renderer.force_fine_form(form);
     renderer.render(&textures, &settings).unwrap();
     let capture = renderer.capture_raster(0).unwrap();
     assert!(
@@ -255,7 +246,7 @@ fn draws_what_its_twin_draws(form: FineForm, nearest: u32, tile: u32) {
     // Fragments nearer to each other than the two's rounding may sort either way.
     assert!(
         off <= capture.layer.len() / 1000 && worst.0 < 1e-2,
-        "{form:?}, {nearest} in order, tile {}: {off} pixels off by 1e-3 or more; the worst, ({x}, {y}): \
+        "{nearest} in order, tile {}: {off} pixels off by 1e-3 or more; the worst, ({x}, {y}): \
          {:?} on the GPU, {:?} + {} transmitted in the twin",
         capture.tile,
         capture.layer[worst.1],
@@ -460,7 +451,7 @@ fn sequence(
         .collect()
 }
 
-/// The per-pixel form's walk stays under lavapipe's loop limit by counting its turns: a
+/// The fine pass's walk stays under lavapipe's loop limit by counting its turns: a
 /// pixel that would take more stops, counted with the pixels that stopped. With the
 /// bound lowered to a few turns (`FUR_TEST_MAX_TURNS`), the frame still finishes,
 /// validation-clean, many more pixels stop, and the image changes (what those pixels
@@ -472,7 +463,6 @@ fn a_pixel_past_the_loop_bound_stops_and_is_counted() {
     let draw = |defines: &[(&str, &str)]| {
         fur_gpu::gpu::shader::with_test_defines(defines, || {
             let (mut renderer, textures) = blob_renderer(&device, &settings, (96, 72));
-            renderer.force_fine_form(FineForm::PerPixel);
             let (image, report) = renderer.render(&textures, &settings).unwrap();
             (image, report.raster.unwrap())
         })

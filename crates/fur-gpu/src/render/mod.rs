@@ -11,7 +11,7 @@ mod texture;
 
 #[cfg(test)]
 pub(crate) use bindings::render_defines;
-pub use renderer::compute_raster::{ComputeCounts, FineForm};
+pub use renderer::compute_raster::ComputeCounts;
 pub use renderer::{
     CapturedHairs, FrameReport, HairCounts, RasterCapture, Renderer, BACKGROUND, MAX_CAPTURE_BYTES,
     STEP_NAMES,

@@ -50,29 +50,6 @@ pub(super) struct Pools {
     composited: Image,
 }
 
-/// The fine pass's two forms (`shaders/strand_fine.comp`), each the faster measured on
-/// its kind of device (docs/compute-raster.md); both draw the same image.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum FineForm {
-    /// The tile's list fetched a batch at a time into shared memory, each pixel's
-    /// fragments shifted at run-time indices: GPUs.
-    Batched,
-    /// Each pixel reads the list itself, its fragments at constant indices: CPU drivers,
-    /// which run barriers slowly and keep only constant-indexed arrays in registers.
-    PerPixel,
-}
-
-impl FineForm {
-    /// The form for a device of type `kind`.
-    pub fn for_device(kind: vk::PhysicalDeviceType) -> Self {
-        if kind == vk::PhysicalDeviceType::CPU {
-            Self::PerPixel
-        } else {
-            Self::Batched
-        }
-    }
-}
-
 /// What the pipelines are built for.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 struct PipelineKey {
@@ -80,7 +57,6 @@ struct PipelineKey {
     samples: u32,
     /// The fragments a pixel keeps in order.
     nearest: u32,
-    form: FineForm,
     /// The tile side, pixels.
     tile: u32,
     /// Whether the composite shows the tiles (`--show tiles`).
@@ -104,8 +80,6 @@ pub struct ComputeRaster {
     demand: Demand,
     /// The pipelines, and what they were built for.
     pipelines: Option<(PipelineKey, Vec<(Step, Pipeline)>)>,
-    /// The fine pass's form: the device's, unless forced.
-    pub(super) form: FineForm,
     steps: Vec<StepPass>,
 }
 
@@ -161,7 +135,6 @@ impl ComputeRaster {
             pools: None,
             demand: Demand::default(),
             pipelines: None,
-            form: FineForm::for_device(device.info.device_type),
             steps: Vec::new(),
         })
     }
@@ -253,7 +226,6 @@ impl ComputeRaster {
         let key = PipelineKey {
             samples: target.samples,
             nearest: style.nearest,
-            form: self.form,
             tile,
             tiles_view,
         };
@@ -453,10 +425,6 @@ impl ComputeRaster {
             ("TILE", key.tile.to_string()),
             ("NEAREST", key.nearest.to_string()),
             ("DEPTH_SAMPLES", key.samples.to_string()),
-            (
-                "BATCHED",
-                u32::from(key.form == FineForm::Batched).to_string(),
-            ),
             ("TILES_VIEW", u32::from(key.tiles_view).to_string()),
         ]);
         let kernel = |shader: &str, scatter: bool| {

@@ -46,13 +46,6 @@ impl Renderer {
         self.compute_raster.pools = None;
     }
 
-    /// Draws later frames' compute fine pass in `form` rather than the device's, so
-    /// that both forms can be checked on one device; for tests.
-    #[doc(hidden)]
-    pub fn force_fine_form(&mut self, form: super::compute_raster::FineForm) {
-        self.compute_raster.form = form;
-    }
-
     /// Reads back the compute rasteriser's last frame (one sample per pixel only: a
     /// multisampled depth cannot be copied out). Waits for the device; for tests.
     #[doc(hidden)]

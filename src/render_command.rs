@@ -49,7 +49,9 @@ pub(super) fn render(args: &RenderArgs) -> anyhow::Result<()> {
     } = open(args, simulate)?;
     let masters = session.strands.count();
     if simulate {
-        render_sequence(args, &frames_dir, &mut session)?;
+        let cpu_driver = device.info().device_type == ash::vk::PhysicalDeviceType::CPU;
+        let ladder = fur_core::render::budget::Ladder::for_device(cpu_driver);
+        render_sequence(args, &frames_dir, &mut session, ladder)?;
     } else {
         let start = Instant::now();
         let (image, report) = session
@@ -239,9 +241,14 @@ pub(super) fn open(args: &RenderArgs, simulate: bool) -> anyhow::Result<Opened> 
     })
 }
 
-/// Simulates and renders `args.frames` frames into PNGs; ends with the median frame
-/// time of the warm frames.
-fn render_sequence(args: &RenderArgs, dir: &Path, session: &mut FurSession) -> anyhow::Result<()> {
+/// Simulates and renders `args.frames` frames into PNGs, under `args.budget_ms` along
+/// `ladder` if set; ends with the median frame time of the warm frames.
+fn render_sequence(
+    args: &RenderArgs,
+    dir: &Path,
+    session: &mut FurSession,
+    ladder: fur_core::render::budget::Ladder,
+) -> anyhow::Result<()> {
     let bar = indicatif::ProgressBar::new(u64::from(args.frames)).with_style(
         indicatif::ProgressStyle::with_template(
             "{bar:40} {pos}/{len} frames {elapsed} (eta {eta}) {msg}",
@@ -249,7 +256,9 @@ fn render_sequence(args: &RenderArgs, dir: &Path, session: &mut FurSession) -> a
         .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
     );
     let mut frame_ms = Vec::new();
-    let mut budget = args.budget_ms.map(fur_core::render::budget::Budget::new);
+    let mut budget = args
+        .budget_ms
+        .map(|ms| fur_core::render::budget::Budget::on(ladder, ms));
     let base = session.settings.style.clone();
     let points = flow_points(session);
     for frame in 0..args.frames {
@@ -264,11 +273,11 @@ fn render_sequence(args: &RenderArgs, dir: &Path, session: &mut FurSession) -> a
                 bar.suspend(|| {
                     eprintln!(
                         "frame {frame}: quality rung {rung} ({})",
-                        fur_core::render::budget::LADDER[rung].name
+                        ladder.rung(rung).name
                     )
                 });
             }
-            session.settings.style = fur_core::render::budget::LADDER[rung].apply(&base);
+            session.settings.style = ladder.rung(rung).apply(&base);
         }
         // The first frame (a warm-up frame, not timed) counts what it draws.
         session.settings.count_hairs = frame == 0;
@@ -308,7 +317,7 @@ fn render_sequence(args: &RenderArgs, dir: &Path, session: &mut FurSession) -> a
         fur::bench::metrics::median(warm)
     );
     if let Some(budget) = &budget {
-        let rung = &fur_core::render::budget::LADDER[budget.rung];
+        let rung = budget.ladder.rung(budget.rung);
         println!(
             "budget {:.1} ms: the last frame was drawn at quality rung {} ({}){}",
             budget.target_ms,

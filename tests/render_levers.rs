@@ -330,26 +330,39 @@ fn the_hair_count_follows_the_density_formula_at_every_scale() {
     common::assert_clean(&device);
 }
 
-/// Every rung of the budget's quality ladder changes the drawing: its style differs
-/// from the rung above's, its image differs, and the rungs that thin the work draw
-/// less of it (vertex LOD fewer segments, density LOD fewer hairs) while the rest draw
-/// the same hairs. A rung that forgot its setting would draw the rung above's image
-/// exactly (the drawing is deterministic): seen failing with rung 4's vertex LOD set
-/// back to rung 3's.
+/// Every rung of each quality ladder (a CPU driver's and a GPU's, both drawn here)
+/// changes the drawing: its style differs from the rung above's, its image differs,
+/// and the rungs that thin the work draw less of it (vertex LOD fewer segments, density
+/// LOD fewer hairs) while the rest draw the same hairs. A rung that forgot its setting
+/// would draw the rung above's image exactly (the drawing is deterministic): seen
+/// failing with rung 4's vertex LOD set back to rung 3's.
 #[test]
 fn every_rung_of_the_ladder_draws_differently() {
-    use fur_core::render::budget::LADDER;
+    use fur_core::render::budget::Ladder;
     let device = common::device();
     let mesh = ModelSpec::Blob.load().unwrap();
     let (groom, settings) = SceneOptions::default().resolve(&mesh).unwrap();
+    for ladder in [Ladder::FIXED, Ladder::COMPUTE] {
+        rungs_draw_differently(&device, &mesh, &groom, &settings, ladder.rungs);
+    }
+    common::assert_clean(&device);
+}
+
+fn rungs_draw_differently(
+    device: &std::sync::Arc<fur_gpu::gpu::Device>,
+    mesh: &Mesh,
+    groom: &GroomParams,
+    settings: &FrameSettings,
+    ladder: &[fur_core::render::budget::Rung],
+) {
     let mut last: Option<(FurStyle, RgbaImage, u64, u64)> = None;
-    for (r, rung) in LADDER.iter().enumerate() {
+    for (r, rung) in ladder.iter().enumerate() {
         let style = rung.apply(&settings.style);
         let drawn = FrameSettings {
             style: style.clone(),
             ..settings.clone()
         };
-        let (image, _, counts) = common::render(&device, &mesh, &groom, &drawn, (96, 54));
+        let (image, _, counts) = common::render(device, mesh, groom, &drawn, (96, 54));
         println!(
             "rung {r} ({}): {} hairs, {} segments",
             rung.name, counts.hairs, counts.segments
@@ -367,13 +380,13 @@ fn every_rung_of_the_ladder_draws_differently() {
                 "rung {r} ({}) draws the rung above's image",
                 rung.name
             );
-            if rung.vertex_lod_px > LADDER[r - 1].vertex_lod_px {
+            if rung.vertex_lod_px > ladder[r - 1].vertex_lod_px {
                 assert!(
                     counts.segments < *segments,
                     "rung {r}: vertex LOD drew no fewer segments"
                 );
             }
-            if rung.density_lod < LADDER[r - 1].density_lod {
+            if rung.density_lod < ladder[r - 1].density_lod {
                 assert!(
                     counts.hairs < *hairs,
                     "rung {r}: density LOD drew no fewer hairs"
@@ -384,7 +397,6 @@ fn every_rung_of_the_ladder_draws_differently() {
         }
         last = Some((style, image, counts.hairs, counts.segments));
     }
-    common::assert_clean(&device);
 }
 
 #[test]

@@ -1,6 +1,7 @@
-//! The quality ladder the frame-time budget steps along (`render::budget::LADDER`):
-//! every rung's frame time and image error (ꟻLIP against a supersampled reference) on
-//! both scenes, and whether each rung costs less and errs more than the one above.
+//! The quality ladder the frame-time budget steps along on the device measured
+//! (`render::budget::Ladder`): every rung's frame time and image error (ꟻLIP against a
+//! supersampled reference) on both scenes, and whether each rung costs less and errs
+//! more than the one above.
 
 use std::fmt::Write as _;
 
@@ -8,11 +9,12 @@ use super::metrics::flip;
 use super::plot::{Plot, Series, PALETTE};
 use super::quality::Shot;
 use super::Bench;
-use fur_core::render::budget::LADDER;
+use fur_core::render::budget::{COMPUTE_LADDER, LADDER};
 use fur_gpu::error::Result;
 
+/// Progress ticks: each scene's reference and rungs (the longer ladder's).
 pub(super) fn tasks(scenes: usize) -> u64 {
-    scenes as u64 * (1 + LADDER.len() as u64)
+    scenes as u64 * (1 + LADDER.len().max(COMPUTE_LADDER.len()) as u64)
 }
 
 impl Bench<'_> {
@@ -35,6 +37,7 @@ impl Bench<'_> {
              costs less and errs more than the one above.\n",
             extent.width, extent.height
         );
+        let ladder = self.device_ladder();
         let mut series = Vec::new();
         // Per rung, its ꟻLIP on the first scene (the one the orbit runs on).
         let mut first_errors = Vec::new();
@@ -48,7 +51,7 @@ impl Bench<'_> {
                 "### {scene}\n\n| rung | drawing | frame ms | ꟻLIP | ordered |\n| --- | --- | --- | --- | --- |"
             );
             let mut points: Vec<(f64, f64)> = Vec::new();
-            for (r, rung) in LADDER.iter().enumerate() {
+            for (r, rung) in ladder.rungs.iter().enumerate() {
                 let style = rung.apply(&shot.settings.style);
                 let drawn = shot.draw(&style, self.frames())?;
                 let error = flip(&reference, &drawn.image);

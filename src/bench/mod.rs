@@ -355,6 +355,12 @@ impl Bench<'_> {
         });
     }
 
+    /// The quality ladder of the device measured (`render::budget::Ladder`).
+    fn device_ladder(&self) -> fur_core::render::budget::Ladder {
+        let cpu_driver = self.device.info.device_type == vk::PhysicalDeviceType::CPU;
+        fur_core::render::budget::Ladder::for_device(cpu_driver)
+    }
+
     /// The image size of the frame and quality measurements.
     fn frame_extent(&self) -> vk::Extent2D {
         if let Some((width, height)) = self.size {

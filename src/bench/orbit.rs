@@ -10,7 +10,7 @@ use std::time::Instant;
 
 use super::metrics::median;
 use super::Bench;
-use fur_core::render::budget::{Budget, LADDER};
+use fur_core::render::budget::Budget;
 use fur_gpu::error::Result;
 
 /// The budget the benchmark holds: 10 frames a second.
@@ -24,14 +24,14 @@ impl Bench<'_> {
         };
         let mut session = self.session(&scene, &scene.scene.options.draw)?;
         let base = session.settings.style.clone();
-        let mut budget = Budget::new(TARGET_MS);
+        let mut budget = Budget::on(self.device_ladder(), TARGET_MS);
         let (moving, still) = if self.quick { (30, 20) } else { (120, 40) };
         // (rung, wall ms) of every orbiting frame.
         let mut frames: Vec<(usize, f64)> = Vec::new();
         for _ in 0..moving {
             fur_core::interrupt::check()?;
             session.settings.camera.yaw_deg += 3.0;
-            session.settings.style = LADDER[budget.rung].apply(&base);
+            session.settings.style = budget.ladder.rung(budget.rung).apply(&base);
             let rung = budget.rung;
             let start = Instant::now();
             self.device
@@ -54,7 +54,7 @@ impl Bench<'_> {
         let (mut chosen_s, mut back_s) = (f64::NAN, f64::NAN);
         for _ in 0..still {
             fur_core::interrupt::check()?;
-            session.settings.style = LADDER[budget.rung].apply(&base);
+            session.settings.style = budget.ladder.rung(budget.rung).apply(&base);
             let rung = budget.rung;
             if rung == 0 && chosen_s.is_nan() {
                 chosen_s = elapsed;
@@ -100,7 +100,7 @@ impl Bench<'_> {
              that, the controller chose the default {chosen_s:.2} s after the last input and \
              the default frame was done {back_s:.2} s after it (target: within 2 s).\n",
             scene.name,
-            LADDER[settled_rung].name,
+            budget.ladder.rung(settled_rung).name,
             settled.len(),
         );
         Ok(())

@@ -140,7 +140,7 @@ pub fn run(options: ViewerOptions) -> Result<()> {
                     if let Some(e) = e {
                         println!(
                             "measured: rung {r} ({}) ꟻLIP {e:.4} against the default drawing at a still view",
-                            fur_core::render::budget::LADDER[r].name
+                            v.quality.ladder.rung(r).name
                         );
                     }
                 }
@@ -240,6 +240,8 @@ struct Controls {
 /// Live numbers for the HUD.
 #[derive(Clone, Debug, Default)]
 pub(crate) struct Hud {
+    /// The rungs of the device's quality ladder.
+    pub ladder: &'static [fur_core::render::budget::Rung],
     pub frame_ms: f64,
     /// GPU time of the whole frame, simulation included (timestamps).
     pub gpu_frame_ms: f64,

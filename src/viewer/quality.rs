@@ -3,12 +3,14 @@
 //! is drawn at; drawing choices made in the panel are the base every rung starts from.
 
 use super::Viewer;
-use fur_core::render::budget::{Budget, LADDER};
+use fur_core::render::budget::{Budget, Ladder};
 use fur_core::render::{FurStyle, Raster};
 use fur_gpu::error::Result;
 
 /// The frame-time budget and the styles it steers between.
 pub(super) struct Quality {
+    /// The rungs the budget steps along and a rung can be pinned to: the device's.
+    pub ladder: Ladder,
     /// None: `--target-fps 0`, always the scene's drawing.
     pub budget: Option<Budget>,
     /// The drawing the scene (and the panel) asks for: rung 0.
@@ -29,17 +31,19 @@ pub(super) struct Quality {
 }
 
 impl Quality {
-    /// A budget holding `target_fps` (0: none), starting from the drawing `style`.
-    pub fn new(target_fps: f64, style: &FurStyle) -> Self {
+    /// A budget holding `target_fps` (0: none) over `ladder`, starting from the drawing
+    /// `style`.
+    pub fn new(target_fps: f64, style: &FurStyle, ladder: Ladder) -> Self {
         Self {
-            budget: (target_fps > 0.0).then(|| Budget::new(1000.0 / target_fps)),
+            ladder,
+            budget: (target_fps > 0.0).then(|| Budget::on(ladder, 1000.0 / target_fps)),
             base: style.clone(),
             applied: style.clone(),
             input_seen: false,
             log: Vec::new(),
             still_s: 0.0,
             moving_rung: 0,
-            errors: vec![None; LADDER.len()],
+            errors: vec![None; ladder.len()],
         }
     }
 }
@@ -98,7 +102,7 @@ impl Viewer {
         if rung != self.hud.rung {
             self.quality.log.push((self.scripted.frame_index, rung));
         }
-        let style = LADDER[rung].apply(&self.quality.base);
+        let style = self.quality.ladder.rung(rung).apply(&self.quality.base);
         self.session.settings.style = style.clone();
         self.quality.applied = style;
         self.hud.rung = rung;
@@ -128,7 +132,7 @@ impl Viewer {
         // The rung in use is drawn last, so the renderer is left as the next frame
         // needs it (a change of sample count between the two is one switch, not two).
         let mut draw = |rung: usize| {
-            self.session.settings.style = LADDER[rung].apply(&self.quality.base);
+            self.session.settings.style = self.quality.ladder.rung(rung).apply(&self.quality.base);
             self.session.render().map(|(image, _)| image)
         };
         let (reference, drawn) = if self.hud.rung == r {

@@ -1,10 +1,12 @@
 //! The panel's quality line: the ladder rung in use, the budget, and a rung to pin.
 
 use super::Hud;
-use fur_core::render::budget::LADDER;
 
 pub(super) fn show(ui: &mut egui::Ui, hud: &Hud, pin: &mut Option<usize>) {
-    let rung = &LADDER[hud.rung.min(LADDER.len() - 1)];
+    let ladder = hud.ladder;
+    let Some(rung) = ladder.get(hud.rung.min(ladder.len().saturating_sub(1))) else {
+        return;
+    };
     let budget = if hud.target_fps > 0.0 {
         format!("budget {:.0} fps", hud.target_fps)
     } else {
@@ -14,7 +16,7 @@ pub(super) fn show(ui: &mut egui::Ui, hud: &Hud, pin: &mut Option<usize>) {
         "quality: {} (rung {} of {}), {budget}",
         rung.name,
         hud.rung,
-        LADDER.len() - 1
+        ladder.len() - 1
     ));
     ui.label(match hud.rung_error {
         Some(e) if hud.rung > 0 => format!("ꟻLIP {e:.4} against the default drawing"),
@@ -27,12 +29,16 @@ pub(super) fn show(ui: &mut egui::Ui, hud: &Hud, pin: &mut Option<usize>) {
             "even the cheapest drawing misses the budget",
         );
     }
-    let label = |p: Option<usize>| p.map_or("auto".to_string(), |r| LADDER[r].name.to_string());
+    let label = |p: Option<usize>| {
+        p.map_or("auto".to_string(), |r| {
+            ladder.get(r).map_or("auto", |rung| rung.name).to_string()
+        })
+    };
     egui::ComboBox::from_label("pin quality")
         .selected_text(label(*pin))
         .show_ui(ui, |ui| {
             ui.selectable_value(pin, None, "auto");
-            for (r, rung) in LADDER.iter().enumerate() {
+            for (r, rung) in ladder.iter().enumerate() {
                 ui.selectable_value(pin, Some(r), rung.name);
             }
         });

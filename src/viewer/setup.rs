@@ -58,7 +58,9 @@ impl Viewer {
             ..Default::default()
         };
         let masters = session.strands.count();
-        let quality = Quality::new(options.target_fps, &session.settings.style);
+        let cpu_driver = device.info.device_type == ash::vk::PhysicalDeviceType::CPU;
+        let ladder = fur_core::render::budget::Ladder::for_device(cpu_driver);
+        let quality = Quality::new(options.target_fps, &session.settings.style, ladder);
         let binning = device.info.name.contains("llvmpipe");
         let scene_texture = mesh.texture.clone();
         let texture_available = scene_texture.is_some();
@@ -74,6 +76,7 @@ impl Viewer {
             scene: options.scene.clone(),
             controls,
             hud: Hud {
+                ladder: ladder.rungs,
                 masters,
                 texture_available,
                 target_fps: options.target_fps,

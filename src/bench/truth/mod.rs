@@ -203,8 +203,9 @@ impl Bench<'_> {
         let noise_rmse = rmse_linear(&truth, &second)?;
         let single = trace(0, Some(2))?;
         (self.progress)(&format!("{scene}: single scattering"));
+        let ladder = self.device_ladder();
         let mut measured = Vec::new();
-        for (r, rung) in LADDER.iter().enumerate() {
+        for (r, rung) in ladder.rungs.iter().enumerate() {
             let style = rung.apply(&shot.settings.style);
             let drawn = shot.draw(&style, self.frames())?;
             let (f, e) = errors(&drawn.image, &truth)?;
@@ -267,7 +268,7 @@ impl Bench<'_> {
             self.row("truth", scene.to_string(), metric, value, "0..1");
         }
         self.truth_terms(scene, shot, &own, &truth)?;
-        Ok(measured[..LADDER.len()]
+        Ok(measured[..ladder.len()]
             .iter()
             .map(|m| (m.frame_ms, m.flip))
             .collect())

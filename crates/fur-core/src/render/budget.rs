@@ -18,7 +18,7 @@
 //! input comes again it returns to the rung it was moving at, so a person moving the
 //! fur sees it move without stepping down the ladder again.
 
-use super::{FurStyle, Primitive};
+use super::{FurStyle, Primitive, Raster};
 
 /// One rung: how the fur is drawn, relative to the scene's own style.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -31,59 +31,128 @@ pub struct Rung {
     /// Multiplies the full-density distance (below 1 the density LOD starts closer; the
     /// hairs it thins out are widened, so coverage is kept).
     pub density_lod: f32,
+    /// The strand rasteriser the rung draws with; `None` keeps the scene's.
+    pub raster: Option<Raster>,
 }
 
-/// The ladder, most accurate first: 4× MSAA ribbons (the default), 4× lines, 1-sample
-/// ribbons, 1-sample blended lines, then coarser vertex and density LOD.
+/// The first rung of every ladder: the scene's own drawing.
+const DEFAULT: Rung = Rung {
+    name: "default",
+    samples: 4,
+    primitive: Primitive::Ribbons,
+    vertex_lod_px: 0.05,
+    density_lod: 1.0,
+    raster: None,
+};
+
+/// A rung at `samples` per pixel with `primitive` (with the scene's rasteriser: the
+/// fixed-function one unless the scene draws in compute), the default vertex LOD and
+/// density.
+const fn msaa(name: &'static str, samples: u32, primitive: Primitive) -> Rung {
+    Rung {
+        name,
+        samples,
+        primitive,
+        raster: None,
+        ..DEFAULT
+    }
+}
+
+/// A rung drawn by the compute rasteriser with the vertex LOD `vertex_lod_px` and the
+/// density distance scaled by `density_lod`.
+const fn compute(name: &'static str, vertex_lod_px: f32, density_lod: f32) -> Rung {
+    Rung {
+        name,
+        vertex_lod_px,
+        density_lod,
+        raster: Some(Raster::Compute),
+        ..DEFAULT
+    }
+}
+
+/// The ladder of CPU drivers, most accurate first: 4× MSAA ribbons (the default), 4×
+/// lines, 1-sample ribbons, 1-sample blended lines, then coarser vertex and density LOD,
+/// all through the fixed-function rasteriser (on lavapipe the compute rasteriser costs
+/// more than the default: `fur bench --only raster`).
 pub const LADDER: [Rung; 6] = [
+    DEFAULT,
+    msaa("4x lines", 4, Primitive::Lines),
+    msaa("1x ribbons", 1, Primitive::Ribbons),
+    msaa("1x lines", 1, Primitive::Lines),
     Rung {
-        name: "default",
-        samples: 4,
-        primitive: Primitive::Ribbons,
-        vertex_lod_px: 0.05,
-        density_lod: 1.0,
-    },
-    Rung {
-        name: "4x lines",
-        samples: 4,
-        primitive: Primitive::Lines,
-        vertex_lod_px: 0.05,
-        density_lod: 1.0,
-    },
-    Rung {
-        name: "1x ribbons",
-        samples: 1,
-        primitive: Primitive::Ribbons,
-        vertex_lod_px: 0.05,
-        density_lod: 1.0,
-    },
-    Rung {
-        name: "1x lines",
-        samples: 1,
-        primitive: Primitive::Lines,
-        vertex_lod_px: 0.05,
-        density_lod: 1.0,
-    },
-    Rung {
-        name: "1x lines, vertex LOD 0.5 px",
-        samples: 1,
-        primitive: Primitive::Lines,
         vertex_lod_px: 0.5,
-        density_lod: 1.0,
+        ..msaa("1x lines, vertex LOD 0.5 px", 1, Primitive::Lines)
     },
     Rung {
-        name: "1x lines, quarter density distance",
-        samples: 1,
-        primitive: Primitive::Lines,
         vertex_lod_px: 0.5,
         density_lod: 0.25,
+        ..msaa("1x lines, quarter density distance", 1, Primitive::Lines)
     },
 ];
+
+/// The ladder of GPUs: below 4× lines the strands are drawn in compute, which on a GPU
+/// costs less than any fixed-function rung and errs less than the 1-sample ones
+/// (docs/gpu.md), then coarser vertex and density LOD.
+pub const COMPUTE_LADDER: [Rung; 5] = [
+    DEFAULT,
+    msaa("4x lines", 4, Primitive::Lines),
+    compute("compute strands", 0.05, 1.0),
+    compute("compute strands, vertex LOD 0.5 px", 0.5, 1.0),
+    compute("compute strands, quarter density distance", 0.5, 0.25),
+];
+
+/// A ladder: its rungs, most accurate first, and a first guess of each rung's cost
+/// relative to the first (a starting point, read once off the ladder's measurement on
+/// its kind of device, refined as soon as a rung is drawn; only their order matters
+/// before that: `a_bad_first_guess_is_corrected`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Ladder {
+    pub rungs: &'static [Rung],
+    guesses: &'static [f64],
+}
+
+impl Ladder {
+    /// [`LADDER`], guessed from lavapipe's measurement.
+    pub const FIXED: Self = Self {
+        rungs: &LADDER,
+        guesses: &[1.0, 0.57, 0.4, 0.27, 0.19, 0.09],
+    };
+    /// [`COMPUTE_LADDER`], guessed from an NVIDIA H200's.
+    pub const COMPUTE: Self = Self {
+        rungs: &COMPUTE_LADDER,
+        guesses: &[1.0, 0.61, 0.4, 0.3, 0.15],
+    };
+
+    /// The ladder of a device: [`Ladder::FIXED`] on a CPU driver, where the compute
+    /// rasteriser is the dearer, [`Ladder::COMPUTE`] on a GPU.
+    pub fn for_device(cpu_driver: bool) -> Self {
+        if cpu_driver {
+            Self::FIXED
+        } else {
+            Self::COMPUTE
+        }
+    }
+
+    /// Rung `r`, or the cheapest past the end.
+    pub fn rung(&self, r: usize) -> &'static Rung {
+        &self.rungs[r.min(self.rungs.len() - 1)]
+    }
+
+    /// The number of rungs.
+    pub fn len(&self) -> usize {
+        self.rungs.len()
+    }
+
+    /// Never: every ladder has its default rung.
+    pub fn is_empty(&self) -> bool {
+        self.rungs.is_empty()
+    }
+}
 
 impl Rung {
     /// `style` drawn at this rung; rung 0 leaves `style` exactly as it is.
     pub fn apply(&self, style: &FurStyle) -> FurStyle {
-        if *self == LADDER[0] {
+        if *self == DEFAULT {
             return style.clone();
         }
         FurStyle {
@@ -92,14 +161,17 @@ impl Rung {
             vertex_lod_px: self.vertex_lod_px.max(style.vertex_lod_px),
             lod_distance: style.lod_distance * self.density_lod,
             thickness_compensation: true,
+            raster: self.raster.unwrap_or(style.raster),
             ..style.clone()
         }
     }
 }
 
-/// A frame-time budget over [`LADDER`].
+/// A frame-time budget over a [`Ladder`].
 #[derive(Clone, Debug)]
 pub struct Budget {
+    /// The rungs it steps along.
+    pub ladder: Ladder,
     /// Milliseconds a frame may take.
     pub target_ms: f64,
     /// The rung in use.
@@ -149,19 +221,21 @@ impl Budget {
     /// a third off (the fake device of the tests: 0.27 guessed, 0.2 there).
     const PROBE: f64 = 1.3;
 
-    /// A budget of `target_ms` per frame starting at the default rung.
+    /// A budget of `target_ms` per frame over [`Ladder::FIXED`], starting at the
+    /// default rung.
     pub fn new(target_ms: f64) -> Self {
-        // First guesses of each rung's cost relative to the default (a starting point,
-        // read once off the ladder's measurement on a CPU driver), refined as soon as a
-        // rung is drawn; only their order matters before that
-        // (`a_bad_first_guess_is_corrected`).
-        let ratio = vec![1.0, 0.57, 0.4, 0.27, 0.19, 0.09];
+        Self::on(Ladder::FIXED, target_ms)
+    }
+
+    /// A budget of `target_ms` per frame over `ladder`, starting at the default rung.
+    pub fn on(ladder: Ladder, target_ms: f64) -> Self {
         Self {
+            ladder,
             target_ms,
             rung: 0,
             pinned: None,
-            observed: vec![None; LADDER.len()],
-            ratio,
+            observed: vec![None; ladder.len()],
+            ratio: ladder.guesses.to_vec(),
             frames_since_change: 0,
             idle_s: 0.0,
             moving_rung: None,
@@ -169,7 +243,7 @@ impl Budget {
             descending: true,
             probed: false,
             first_frames: 0,
-            cold_seen: vec![false; LADDER.len()],
+            cold_seen: vec![false; ladder.len()],
         }
     }
 
@@ -179,7 +253,7 @@ impl Budget {
         if let Some(ms) = self.observed[r] {
             return Some(ms);
         }
-        let (near, ms) = (0..LADDER.len())
+        let (near, ms) = (0..self.ladder.len())
             .filter_map(|k| self.observed[k].map(|ms| (k, ms)))
             .min_by_key(|(k, _)| k.abs_diff(r))?;
         Some(ms * self.ratio[r] / self.ratio[near])
@@ -217,7 +291,7 @@ impl Budget {
             self.idle_s += dt_s.max(0.0);
         }
         if let Some(p) = self.pinned {
-            return self.set(p.min(LADDER.len() - 1));
+            return self.set(p.min(self.ladder.len() - 1));
         }
         if self.target_ms <= 0.0 {
             return self.set(0);
@@ -247,7 +321,7 @@ impl Budget {
         }
         let current = self.observed[r].unwrap_or(frame_ms);
         if current > self.target_ms * Self::OVER {
-            if r + 1 < LADDER.len() {
+            if r + 1 < self.ladder.len() {
                 return self.set(r + 1);
             }
             self.missed = true;
@@ -281,7 +355,7 @@ impl Budget {
         }
         let current = self.observed[r].unwrap_or(frame_ms);
         if current > self.target_ms * Self::OVER {
-            let last = LADDER.len() - 1;
+            let last = self.ladder.len() - 1;
             if r == last {
                 self.missed = true;
                 self.descending = false;

@@ -206,18 +206,21 @@ fn each_rung_sets_its_own_settings_and_keeps_the_scenes_cheaper_ones() {
         thickness_compensation: false,
         ..FurStyle::default()
     };
-    assert_eq!(LADDER[0].apply(&scene), scene);
-    for rung in &LADDER[1..] {
-        let drawn = rung.apply(&scene);
-        let expected = FurStyle {
-            samples: rung.samples,
-            primitive: rung.primitive,
-            vertex_lod_px: rung.vertex_lod_px,
-            lod_distance: 10.0 * rung.density_lod,
-            thickness_compensation: true,
-            ..scene.clone()
-        };
-        assert_eq!(drawn, expected, "{}", rung.name);
+    for ladder in [Ladder::FIXED, Ladder::COMPUTE] {
+        assert_eq!(ladder.rungs[0].apply(&scene), scene);
+        for rung in &ladder.rungs[1..] {
+            let drawn = rung.apply(&scene);
+            let expected = FurStyle {
+                samples: rung.samples,
+                primitive: rung.primitive,
+                vertex_lod_px: rung.vertex_lod_px,
+                lod_distance: 10.0 * rung.density_lod,
+                thickness_compensation: true,
+                raster: rung.raster.unwrap_or(scene.raster),
+                ..scene.clone()
+            };
+            assert_eq!(drawn, expected, "{}", rung.name);
+        }
     }
     // A scene already cheaper than a rung keeps its own MSAA and vertex LOD.
     let cheap = FurStyle {
@@ -227,6 +230,51 @@ fn each_rung_sets_its_own_settings_and_keeps_the_scenes_cheaper_ones() {
     };
     let drawn = LADDER[1].apply(&cheap);
     assert_eq!((drawn.samples, drawn.vertex_lod_px), (1, 2.0));
+}
+
+/// A GPU's ladder draws in compute below 4× lines, and a CPU driver's never: the rungs
+/// above keep the scene's rasteriser (a scene drawn in compute stays so), the rungs
+/// below draw in compute whatever the scene's, each cheaper rung thinning the work
+/// further. Every ladder guesses a cost for each of its rungs, each cheaper than the
+/// one above (the controller's first descent trusts their order). Seen failing with the
+/// compute ladder's guesses one short (the controller then indexes past them) and with
+/// its rungs' rasteriser left to the scene's.
+#[test]
+fn a_gpus_ladder_draws_in_compute_below_four_x_lines() {
+    assert_eq!(Ladder::for_device(true), Ladder::FIXED);
+    assert_eq!(Ladder::for_device(false), Ladder::COMPUTE);
+    for scene_raster in [Raster::Hardware, Raster::Compute] {
+        let scene = FurStyle {
+            raster: scene_raster,
+            ..FurStyle::default()
+        };
+        for (r, rung) in COMPUTE_LADDER.iter().enumerate() {
+            let expected = if r < 2 { scene_raster } else { Raster::Compute };
+            assert_eq!(rung.apply(&scene).raster, expected, "{}", rung.name);
+        }
+        for rung in &LADDER {
+            assert_eq!(rung.apply(&scene).raster, scene_raster, "{}", rung.name);
+        }
+    }
+    for ladder in [Ladder::FIXED, Ladder::COMPUTE] {
+        assert_eq!(ladder.guesses.len(), ladder.len());
+        assert_eq!(ladder.guesses[0], 1.0);
+        assert!(ladder.guesses.windows(2).all(|w| w[1] < w[0]));
+    }
+    for w in COMPUTE_LADDER[2..].windows(2) {
+        let thinner =
+            w[1].vertex_lod_px > w[0].vertex_lod_px || w[1].density_lod < w[0].density_lod;
+        assert!(thinner, "{} thins nothing", w[1].name);
+    }
+    // The controller over it: the most accurate rung that fits, and back.
+    let costs = [12.5, 8.5, 5.5, 4.5, 3.0];
+    let mut b = Budget::on(Ladder::COMPUTE, 6.0);
+    let rungs = run(&mut b, &costs, 200, true, 0.0);
+    assert_eq!(*rungs.last().unwrap(), 2, "{rungs:?}");
+    assert_eq!(b.ladder.rung(b.rung).raster, Some(Raster::Compute));
+    let mut b = Budget::on(Ladder::COMPUTE, 1.0);
+    run(&mut b, &costs, 200, true, 0.0);
+    assert_eq!((b.rung, b.missed), (COMPUTE_LADDER.len() - 1, true));
 }
 
 /// After the first descent, the controller holds a rung within `OVER` of the budget,

@@ -49,8 +49,8 @@ pub(super) fn render(args: &RenderArgs) -> anyhow::Result<()> {
     } = open(args, simulate)?;
     let masters = session.strands.count();
     if simulate {
-        let cpu_driver = device.info().device_type == ash::vk::PhysicalDeviceType::CPU;
-        let ladder = fur_core::render::budget::Ladder::for_device(cpu_driver);
+        let ladder =
+            fur_core::render::budget::Ladder::for_device(device.info().prefers_compute_strands());
         render_sequence(args, &frames_dir, &mut session, ladder)?;
     } else {
         let start = Instant::now();

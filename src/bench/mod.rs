@@ -357,8 +357,7 @@ impl Bench<'_> {
 
     /// The quality ladder of the device measured (`render::budget::Ladder`).
     fn device_ladder(&self) -> fur_core::render::budget::Ladder {
-        let cpu_driver = self.device.info.device_type == vk::PhysicalDeviceType::CPU;
-        fur_core::render::budget::Ladder::for_device(cpu_driver)
+        fur_core::render::budget::Ladder::for_device(self.device.info.prefers_compute_strands())
     }
 
     /// The image size of the frame and quality measurements.

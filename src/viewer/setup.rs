@@ -58,8 +58,8 @@ impl Viewer {
             ..Default::default()
         };
         let masters = session.strands.count();
-        let cpu_driver = device.info.device_type == ash::vk::PhysicalDeviceType::CPU;
-        let ladder = fur_core::render::budget::Ladder::for_device(cpu_driver);
+        let ladder =
+            fur_core::render::budget::Ladder::for_device(device.info.prefers_compute_strands());
         let quality = Quality::new(options.target_fps, &session.settings.style, ladder);
         let binning = device.info.name.contains("llvmpipe");
         let scene_texture = mesh.texture.clone();

@@ -123,13 +123,14 @@ impl Ladder {
         guesses: &[1.0, 0.61, 0.4, 0.3, 0.15],
     };
 
-    /// The ladder of a device: [`Ladder::FIXED`] on a CPU driver, where the compute
-    /// rasteriser is the dearer, [`Ladder::COMPUTE`] on a GPU.
-    pub fn for_device(cpu_driver: bool) -> Self {
-        if cpu_driver {
-            Self::FIXED
-        } else {
+    /// The ladder of a device: [`Ladder::COMPUTE`] where strands drawn in compute are
+    /// the better trade (a GPU that can draw them), [`Ladder::FIXED`] elsewhere (a CPU
+    /// driver, where the compute passes cost more than the default).
+    pub fn for_device(compute_strands: bool) -> Self {
+        if compute_strands {
             Self::COMPUTE
+        } else {
+            Self::FIXED
         }
     }
 

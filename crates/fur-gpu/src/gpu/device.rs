@@ -32,6 +32,15 @@ pub struct DeviceInfo {
     pub vertex_pipeline_stores: bool,
 }
 
+impl DeviceInfo {
+    /// Whether strands drawn in compute are the better trade here: a GPU (on a CPU
+    /// driver the compute passes cost more than the fixed-function rasteriser, `fur
+    /// bench --only raster`) whose geometry stage can write them out.
+    pub fn prefers_compute_strands(&self) -> bool {
+        self.device_type != vk::PhysicalDeviceType::CPU && self.vertex_pipeline_stores
+    }
+}
+
 /// The logical device. Shared through `Arc` by every resource created from it.
 pub struct Device {
     pub instance: Arc<Instance>,

@@ -151,6 +151,7 @@ impl Renderer {
     /// writes its uniforms. Call before recording the frame, once the slot's previous
     /// frame has finished; a change of sample count needs the device idle.
     pub fn update(&mut self, slot: usize, settings: &FrameSettings) -> Result<()> {
+        Self::check_device(&self.device.info, settings)?;
         if settings.style.samples != self.target.samples {
             self.set_samples(settings.style.samples)?;
         }

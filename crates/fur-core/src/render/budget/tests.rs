@@ -241,8 +241,8 @@ fn each_rung_sets_its_own_settings_and_keeps_the_scenes_cheaper_ones() {
 /// its rungs' rasteriser left to the scene's.
 #[test]
 fn a_gpus_ladder_draws_in_compute_below_four_x_lines() {
-    assert_eq!(Ladder::for_device(true), Ladder::FIXED);
-    assert_eq!(Ladder::for_device(false), Ladder::COMPUTE);
+    assert_eq!(Ladder::for_device(false), Ladder::FIXED);
+    assert_eq!(Ladder::for_device(true), Ladder::COMPUTE);
     for scene_raster in [Raster::Hardware, Raster::Compute] {
         let scene = FurStyle {
             raster: scene_raster,

@@ -3,8 +3,9 @@
 
 use super::super::graph::{record_frame, Attachments, Event, FrameContext};
 use super::*;
+use crate::error::Error;
 use crate::frame::Resource;
-use crate::gpu::Tracker;
+use crate::gpu::{DeviceInfo, Tracker};
 
 impl Renderer {
     /// Starts frame slot `slot`'s queries: records the frame's first timestamp. Call
@@ -105,6 +106,20 @@ impl Renderer {
             && settings.show.draws_fur()
     }
 
+    /// Refuses a frame of `settings` that a device of `info` cannot draw: strands in
+    /// compute where its geometry stage cannot write them out.
+    pub(super) fn check_device(info: &DeviceInfo, settings: &FrameSettings) -> Result<()> {
+        if Self::draws_in_compute(settings) && !info.vertex_pipeline_stores {
+            return Err(Error::parameter(format!(
+                "the compute rasteriser needs a device whose geometry stage can write storage \
+                 buffers (vertexPipelineStoresAndAtomics), which {} lacks; draw with --raster \
+                 hardware",
+                info.name
+            )));
+        }
+        Ok(())
+    }
+
     /// Renders one frame of the strands' current state and returns the image.
     pub fn render(
         &mut self,
@@ -139,5 +154,52 @@ impl Renderer {
                 return Ok((self.target.pixels(), report));
             }
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use fur_core::render::Raster;
+
+    fn info(device_type: vk::PhysicalDeviceType, stores: bool) -> DeviceInfo {
+        DeviceInfo {
+            name: "a test device".into(),
+            driver: String::new(),
+            device_type,
+            limits: vk::PhysicalDeviceLimits::default(),
+            timestamp_period: 1.0,
+            timestamps: true,
+            pipeline_statistics: false,
+            vertex_pipeline_stores: stores,
+        }
+    }
+
+    /// A device whose geometry stage cannot write storage buffers is refused strands
+    /// in compute, by name and naming the feature (and draws them with the
+    /// fixed-function rasteriser); it is never offered the compute ladder, nor is a
+    /// CPU driver. Seen failing with `prefers_compute_strands` ignoring the feature.
+    #[test]
+    fn a_device_that_cannot_write_strands_is_refused_compute_by_name() {
+        let gpu = vk::PhysicalDeviceType::DISCRETE_GPU;
+        let compute = FrameSettings {
+            style: fur_core::render::FurStyle {
+                raster: Raster::Compute,
+                ..Default::default()
+            },
+            ..Default::default()
+        };
+        let error = Renderer::check_device(&info(gpu, false), &compute).unwrap_err();
+        assert!(error.is_parameter());
+        let message = error.to_string();
+        assert!(
+            message.contains("vertexPipelineStoresAndAtomics") && message.contains("a test device"),
+            "{message}"
+        );
+        assert!(Renderer::check_device(&info(gpu, true), &compute).is_ok());
+        assert!(Renderer::check_device(&info(gpu, false), &FrameSettings::default()).is_ok());
+        assert!(info(gpu, true).prefers_compute_strands());
+        assert!(!info(gpu, false).prefers_compute_strands());
+        assert!(!info(vk::PhysicalDeviceType::CPU, true).prefers_compute_strands());
     }
 }

@@ -16,8 +16,8 @@
 // (strand_sort.comp) an entry, for the next entry whose segment can reach it, and takes
 // only that one: the dear part of a turn (the exact coverage and the sorted insertion)
 // is paid once a fragment, not once an entry of the tile. (A form that fetched the list
-// a batch at a time into shared memory for every pixel to take whole was 3.5× slower on
-// an NVIDIA H200 and several times slower on lavapipe: docs/compute-raster.md.)
+// a batch at a time into shared memory for every pixel to take whole was up to 3.5×
+// slower on an NVIDIA H200 (the blob's frame) and several times slower on lavapipe: docs/compute-raster.md.)
 //
 // Every loop but the walk is unrolled and the search tests SEARCH_UNROLL entries a
 // turn: lavapipe ends any invocation whose loops have turned 65,535 times in all
@@ -109,7 +109,7 @@ void take_segment(uint s, vec2 centre, float body) {
 // The segment of entry `entry` if it can leave a fragment in the pixel of the tile
 // whose bit of the entry's mask is `bit`, NO_SEGMENT if not: whether its segment's box
 // meets the pixel's block (the sort pass's block_mask); where it does not, the
-// footprint's area is 0, so `take` would keep nothing.
+// footprint's area is 0, so `take_segment` would keep nothing.
 uint reaching(uint entry, uint bit) {
     uvec2 e = imageLoad(tile_order, int(entry)).xy;
     return ((e.y >> bit) & 1u) != 0u ? e.x : NO_SEGMENT;

@@ -49,8 +49,7 @@ pub(super) fn render(args: &RenderArgs) -> anyhow::Result<()> {
     } = open(args, simulate)?;
     let masters = session.strands.count();
     if simulate {
-        let ladder =
-            fur_core::render::budget::Ladder::for_device(device.info().prefers_compute_strands());
+        let ladder = device.info().ladder();
         render_sequence(args, &frames_dir, &mut session, ladder)?;
     } else {
         let start = Instant::now();
@@ -317,7 +316,7 @@ fn render_sequence(
         fur::bench::metrics::median(warm)
     );
     if let Some(budget) = &budget {
-        let rung = budget.ladder.rung(budget.rung);
+        let rung = budget.ladder().rung(budget.rung);
         println!(
             "budget {:.1} ms: the last frame was drawn at quality rung {} ({}){}",
             budget.target_ms,

@@ -430,14 +430,14 @@ fn last_rung(stdout: &str) -> usize {
     after.split_whitespace().next().unwrap().parse().unwrap()
 }
 
-/// An unreachable budget (a microsecond a frame) takes the sequence down the ladder to
-/// its cheapest rung within three warm frames, printing each change, and says the
-/// budget is still missed; a
-/// generous one (ten seconds a frame) never leaves the default drawing. A budget that
-/// did nothing passes neither.
+/// An unreachable budget (a microsecond a frame) takes the sequence down the device's
+/// ladder to its cheapest rung within three warm frames, printing each change, and says
+/// the budget is still missed; a generous one (ten seconds a frame) never leaves the
+/// default drawing. A budget that did nothing passes neither.
 #[test]
 fn a_budget_steps_a_sequence_down_the_ladder_and_prints_the_rungs() {
-    let rungs = fur_core::render::budget::LADDER.len();
+    let device = fur_gpu::gpu::headless(false).expect("a device");
+    let rungs = device.info().ladder().len();
     let (stdout, stderr) = sequence("tight", "64", "0.001");
     let steps: Vec<&str> = stderr
         .lines()

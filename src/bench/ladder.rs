@@ -9,20 +9,21 @@ use super::metrics::flip;
 use super::plot::{Plot, Series, PALETTE};
 use super::quality::Shot;
 use super::Bench;
-use fur_core::render::budget::{COMPUTE_LADDER, LADDER};
+use fur_core::render::budget::MOST_RUNGS;
 use fur_gpu::error::Result;
 
 /// Progress ticks: each scene's reference and rungs (the longer ladder's).
 pub(super) fn tasks(scenes: usize) -> u64 {
-    scenes as u64 * (1 + LADDER.len().max(COMPUTE_LADDER.len()) as u64)
+    scenes as u64 * (1 + MOST_RUNGS as u64)
 }
 
 impl Bench<'_> {
     pub(super) fn ladder(&mut self) -> Result<()> {
         // The ladder's order is a property of the image size it is drawn at, so even the
         // quick suite measures it at 1280×720 (the viewer's default window): at 640×360
-        // and below, one-sample drawings alias so much that thinning the hair out (rung
-        // 5) reads closer to the reference than rungs 2 to 4 (measured).
+        // and below, one-sample drawings alias so much that thinning the hair out (the
+        // density-LOD rung) reads closer to the reference than the 1× rungs above it
+        // (measured).
         let extent = ash::vk::Extent2D {
             width: 1280,
             height: 720,

@@ -357,7 +357,7 @@ impl Bench<'_> {
 
     /// The quality ladder of the device measured (`render::budget::Ladder`).
     fn device_ladder(&self) -> fur_core::render::budget::Ladder {
-        fur_core::render::budget::Ladder::for_device(self.device.info.prefers_compute_strands())
+        self.device.info.ladder()
     }
 
     /// The image size of the frame and quality measurements.

@@ -31,7 +31,7 @@ impl Bench<'_> {
         for _ in 0..moving {
             fur_core::interrupt::check()?;
             session.settings.camera.yaw_deg += 3.0;
-            session.settings.style = budget.ladder.rung(budget.rung).apply(&base);
+            session.settings.style = budget.ladder().rung(budget.rung).apply(&base);
             let rung = budget.rung;
             let start = Instant::now();
             self.device
@@ -54,7 +54,7 @@ impl Bench<'_> {
         let (mut chosen_s, mut back_s) = (f64::NAN, f64::NAN);
         for _ in 0..still {
             fur_core::interrupt::check()?;
-            session.settings.style = budget.ladder.rung(budget.rung).apply(&base);
+            session.settings.style = budget.ladder().rung(budget.rung).apply(&base);
             let rung = budget.rung;
             if rung == 0 && chosen_s.is_nan() {
                 chosen_s = elapsed;
@@ -100,7 +100,7 @@ impl Bench<'_> {
              that, the controller chose the default {chosen_s:.2} s after the last input and \
              the default frame was done {back_s:.2} s after it (target: within 2 s).\n",
             scene.name,
-            budget.ladder.rung(settled_rung).name,
+            budget.ladder().rung(settled_rung).name,
             settled.len(),
         );
         Ok(())

@@ -49,16 +49,20 @@ impl Quality {
 }
 
 impl Viewer {
-    /// On a CPU driver the strands are drawn by the fixed-function rasteriser whatever
-    /// the scene or the panel asks: Mesa 22.3's lavapipe crashes drawing the window (the
-    /// image onto the swapchain, the panel) after a simulated frame drew its strands in
-    /// compute; the tiles view, which needs the compute passes, shows the lit frame.
-    /// Said once; `fur render` and `fur bench` draw in compute there.
+    /// On a CPU driver, and on a device whose geometry stage cannot write storage
+    /// buffers, the strands are drawn by the fixed-function rasteriser whatever the scene
+    /// or the panel asks: Mesa 22.3's lavapipe crashes drawing the window (the image onto
+    /// the swapchain, the panel) after a simulated frame drew its strands in compute, and
+    /// the other device cannot write them out; the tiles view, which needs the compute
+    /// passes, shows the lit frame. Said once; on a CPU driver `fur render` and `fur
+    /// bench` draw in compute.
     pub(super) fn hold_raster(&mut self) {
         let settings = &mut self.session.settings;
         let tiles = settings.show.needs_compute();
+        let info = self.device.info();
+        let cpu_driver = info.device_type == ash::vk::PhysicalDeviceType::CPU;
         if (settings.style.raster != Raster::Compute && !tiles)
-            || self.device.info().device_type != ash::vk::PhysicalDeviceType::CPU
+            || (!cpu_driver && info.vertex_pipeline_stores)
         {
             return;
         }
@@ -67,12 +71,17 @@ impl Viewer {
             settings.show = fur_core::render::Stage::Lit;
         }
         if !std::mem::replace(&mut self.raster_held, true) {
+            let why = if cpu_driver {
+                "a CPU driver: Mesa's lavapipe crashes drawing the window after the compute \
+                 strand passes; fur render and fur bench draw them in compute"
+            } else {
+                "its geometry stage cannot write storage buffers \
+                 (vertexPipelineStoresAndAtomics)"
+            };
             eprintln!(
                 "warning: the viewer draws the strands with the fixed-function rasteriser on \
-                 {} (a CPU driver: Mesa's lavapipe crashes drawing the window after the \
-                 compute strand passes), and shows the lit frame for the tiles view; fur \
-                 render and fur bench draw them in compute",
-                self.device.info().name
+                 {} ({why}), and shows the lit frame for the tiles view",
+                info.name
             );
         }
     }
@@ -97,7 +106,10 @@ impl Viewer {
                 budget.observe(dt * 1e3, dt, input)
             }
             Some(budget) => budget.rung,
-            None => self.controls.quality_pin.unwrap_or(0),
+            None => self
+                .controls
+                .quality_pin
+                .map_or(0, |r| r.min(self.quality.ladder.len() - 1)),
         };
         if rung != self.hud.rung {
             self.quality.log.push((self.scripted.frame_index, rung));

@@ -58,8 +58,7 @@ impl Viewer {
             ..Default::default()
         };
         let masters = session.strands.count();
-        let ladder =
-            fur_core::render::budget::Ladder::for_device(device.info.prefers_compute_strands());
+        let ladder = device.info.ladder();
         let quality = Quality::new(options.target_fps, &session.settings.style, ladder);
         let binning = device.info.name.contains("llvmpipe");
         let scene_texture = mesh.texture.clone();

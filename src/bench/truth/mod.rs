@@ -30,7 +30,7 @@ use super::Bench;
 use crate::export::compare::{errors, rmse_linear, to_srgb8};
 use crate::export::reference::{read_pfm, LinearImage, Reference, TraceOptions, SCRIPT};
 use crate::export::{write_usda, FrameExport};
-use fur_core::render::budget::LADDER;
+use fur_core::render::budget::MOST_RUNGS;
 use fur_core::render::marschner::Lobes;
 use fur_core::render::{flip, LightingModel, Raster, RgbaImage};
 use fur_core::scene::ModelSpec;
@@ -58,7 +58,7 @@ const WALK_FRAMES_QUICK: u32 = 4;
 /// critter, or one scene file's) its references, rungs, looks, attribution and terms.
 pub(super) fn tasks(scenes: usize) -> u64 {
     let terms = Lobes::each_dropped().len() as u64;
-    scenes as u64 * (3 + LADDER.len() as u64 + LOOKS as u64 + 1 + terms) + COLOURS * (2 + terms)
+    scenes as u64 * (3 + MOST_RUNGS as u64 + LOOKS as u64 + 1 + terms) + COLOURS * (2 + terms)
 }
 
 /// Where a run's references come from and go.
@@ -341,8 +341,9 @@ impl Bench<'_> {
 
 /// The scene's look with one thing switched: the lighting model (alone, and with
 /// shadows), shadows, the secondary highlight, thin-hair AA, the strand rasteriser. Sample counts and lines
-/// against ribbons are the ladder's rungs (rung 1: 4× lines, rung 2: 1× ribbons,
-/// rung 3: 1× lines), not drawn again here.
+/// against ribbons are the rungs of a CPU driver's ladder (rung 1: 4× lines, rung 2: 1×
+/// ribbons, rung 3: 1× lines), not drawn again here; a GPU's ladder has 4× lines and
+/// the compute strands.
 fn looks(own: &Look) -> Vec<(String, Look)> {
     let with = |edit: &dyn Fn(&mut Look)| {
         let mut look = own.clone();

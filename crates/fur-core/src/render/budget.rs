@@ -90,9 +90,10 @@ pub const LADDER: [Rung; 6] = [
     },
 ];
 
-/// The ladder of GPUs: below 4× lines the strands are drawn in compute, which on a GPU
-/// costs less than any fixed-function rung and errs less than the 1-sample ones
-/// (docs/gpu.md), then coarser vertex and density LOD.
+/// The ladder of GPUs: below 4× lines the strands are drawn in compute, then with
+/// coarser vertex and density LOD. On the one GPU measured (an NVIDIA H200,
+/// docs/gpu.md) the compute frame erred less than every 1-sample rung and cost less
+/// than all of them but the one that thins the hair out.
 pub const COMPUTE_LADDER: [Rung; 5] = [
     DEFAULT,
     msaa("4x lines", 4, Primitive::Lines),
@@ -117,7 +118,8 @@ impl Ladder {
         rungs: &LADDER,
         guesses: &[1.0, 0.57, 0.4, 0.27, 0.19, 0.09],
     };
-    /// [`COMPUTE_LADDER`], guessed from an NVIDIA H200's.
+    /// [`COMPUTE_LADDER`]: 4× lines' and the compute strands' read off an NVIDIA H200's
+    /// run (its ladder and quality tables), the LOD rungs' guessed below them.
     pub const COMPUTE: Self = Self {
         rungs: &COMPUTE_LADDER,
         guesses: &[1.0, 0.61, 0.4, 0.3, 0.15],
@@ -168,11 +170,18 @@ impl Rung {
     }
 }
 
+/// The most rungs a ladder has (progress counts).
+pub const MOST_RUNGS: usize = if LADDER.len() > COMPUTE_LADDER.len() {
+    LADDER.len()
+} else {
+    COMPUTE_LADDER.len()
+};
+
 /// A frame-time budget over a [`Ladder`].
 #[derive(Clone, Debug)]
 pub struct Budget {
-    /// The rungs it steps along.
-    pub ladder: Ladder,
+    /// The rungs it steps along (its per-rung state is sized from them).
+    ladder: Ladder,
     /// Milliseconds a frame may take.
     pub target_ms: f64,
     /// The rung in use.
@@ -226,6 +235,11 @@ impl Budget {
     /// default rung.
     pub fn new(target_ms: f64) -> Self {
         Self::on(Ladder::FIXED, target_ms)
+    }
+
+    /// The rungs it steps along.
+    pub fn ladder(&self) -> Ladder {
+        self.ladder
     }
 
     /// A budget of `target_ms` per frame over `ladder`, starting at the default rung.

@@ -39,6 +39,11 @@ impl DeviceInfo {
     pub fn prefers_compute_strands(&self) -> bool {
         self.device_type != vk::PhysicalDeviceType::CPU && self.vertex_pipeline_stores
     }
+
+    /// The quality ladder of this device (`Ladder::for_device`).
+    pub fn ladder(&self) -> fur_core::render::budget::Ladder {
+        fur_core::render::budget::Ladder::for_device(self.prefers_compute_strands())
+    }
 }
 
 /// The logical device. Shared through `Arc` by every resource created from it.

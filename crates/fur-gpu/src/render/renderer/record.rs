@@ -111,9 +111,10 @@ impl Renderer {
     pub(super) fn check_device(info: &DeviceInfo, settings: &FrameSettings) -> Result<()> {
         if Self::draws_in_compute(settings) && !info.vertex_pipeline_stores {
             return Err(Error::parameter(format!(
-                "the compute rasteriser needs a device whose geometry stage can write storage \
-                 buffers (vertexPipelineStoresAndAtomics), which {} lacks; draw with --raster \
-                 hardware",
+                "the compute rasteriser (--raster compute, and the tiles view) needs a device \
+                 whose geometry stage can write storage buffers \
+                 (vertexPipelineStoresAndAtomics), which {} lacks; draw with --raster \
+                 hardware and another view",
                 info.name
             )));
         }

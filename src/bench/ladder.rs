@@ -38,7 +38,7 @@ impl Bench<'_> {
              costs less and errs more than the one above.\n",
             extent.width, extent.height
         );
-        let ladder = self.device_ladder();
+        let ladder = self.device.info.ladder();
         let mut series = Vec::new();
         // Per rung, its ꟻLIP on the first scene (the one the orbit runs on).
         let mut first_errors = Vec::new();

@@ -355,11 +355,6 @@ impl Bench<'_> {
         });
     }
 
-    /// The quality ladder of the device measured (`render::budget::Ladder`).
-    fn device_ladder(&self) -> fur_core::render::budget::Ladder {
-        self.device.info.ladder()
-    }
-
     /// The image size of the frame and quality measurements.
     fn frame_extent(&self) -> vk::Extent2D {
         if let Some((width, height)) = self.size {

@@ -203,7 +203,7 @@ impl Bench<'_> {
         let noise_rmse = rmse_linear(&truth, &second)?;
         let single = trace(0, Some(2))?;
         (self.progress)(&format!("{scene}: single scattering"));
-        let ladder = self.device_ladder();
+        let ladder = self.device.info.ladder();
         let mut measured = Vec::new();
         for (r, rung) in ladder.rungs.iter().enumerate() {
             let style = rung.apply(&shot.settings.style);

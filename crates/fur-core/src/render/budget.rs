@@ -125,17 +125,6 @@ impl Ladder {
         guesses: &[1.0, 0.61, 0.4, 0.3, 0.15],
     };
 
-    /// The ladder of a device: [`Ladder::COMPUTE`] where strands drawn in compute are
-    /// the better trade (a GPU that can draw them), [`Ladder::FIXED`] elsewhere (a CPU
-    /// driver, where the compute passes cost more than the default).
-    pub fn for_device(compute_strands: bool) -> Self {
-        if compute_strands {
-            Self::COMPUTE
-        } else {
-            Self::FIXED
-        }
-    }
-
     /// Rung `r`, or the cheapest past the end.
     pub fn rung(&self, r: usize) -> &'static Rung {
         &self.rungs[r.min(self.rungs.len() - 1)]
@@ -232,8 +221,9 @@ impl Budget {
     const PROBE: f64 = 1.3;
 
     /// A budget of `target_ms` per frame over [`Ladder::FIXED`], starting at the
-    /// default rung.
-    pub fn new(target_ms: f64) -> Self {
+    /// default rung (the tests' fake device).
+    #[cfg(test)]
+    fn new(target_ms: f64) -> Self {
         Self::on(Ladder::FIXED, target_ms)
     }
 

@@ -40,9 +40,15 @@ impl DeviceInfo {
         self.device_type != vk::PhysicalDeviceType::CPU && self.vertex_pipeline_stores
     }
 
-    /// The quality ladder of this device (`Ladder::for_device`).
+    /// The quality ladder of this device: the one that draws in compute where that is
+    /// the better trade, else the fixed-function one.
     pub fn ladder(&self) -> fur_core::render::budget::Ladder {
-        fur_core::render::budget::Ladder::for_device(self.prefers_compute_strands())
+        use fur_core::render::budget::Ladder;
+        if self.prefers_compute_strands() {
+            Ladder::COMPUTE
+        } else {
+            Ladder::FIXED
+        }
     }
 }
 

@@ -232,7 +232,8 @@ fn each_rung_sets_its_own_settings_and_keeps_the_scenes_cheaper_ones() {
     assert_eq!((drawn.samples, drawn.vertex_lod_px), (1, 2.0));
 }
 
-/// A GPU's ladder draws in compute below 4× lines, and a CPU driver's never: the rungs
+/// The compute ladder (a GPU's, `DeviceInfo::ladder`) draws in compute below 4× lines,
+/// and the fixed one (a CPU driver's) never: the rungs
 /// above keep the scene's rasteriser (a scene drawn in compute stays so), the rungs
 /// below draw in compute whatever the scene's, each cheaper rung thinning the work
 /// further. Every ladder guesses a cost for each of its rungs, each cheaper than the
@@ -241,8 +242,6 @@ fn each_rung_sets_its_own_settings_and_keeps_the_scenes_cheaper_ones() {
 /// its rungs' rasteriser left to the scene's.
 #[test]
 fn a_gpus_ladder_draws_in_compute_below_four_x_lines() {
-    assert_eq!(Ladder::for_device(false), Ladder::FIXED);
-    assert_eq!(Ladder::for_device(true), Ladder::COMPUTE);
     for scene_raster in [Raster::Hardware, Raster::Compute] {
         let scene = FurStyle {
             raster: scene_raster,

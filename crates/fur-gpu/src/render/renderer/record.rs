@@ -161,6 +161,7 @@ impl Renderer {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use fur_core::render::budget::Ladder;
     use fur_core::render::Raster;
 
     fn info(device_type: vk::PhysicalDeviceType, stores: bool) -> DeviceInfo {
@@ -179,7 +180,8 @@ mod tests {
     /// A device whose geometry stage cannot write storage buffers is refused strands
     /// in compute, by name and naming the feature (and draws them with the
     /// fixed-function rasteriser); it is never offered the compute ladder, nor is a
-    /// CPU driver. Seen failing with `prefers_compute_strands` ignoring the feature.
+    /// CPU driver, and a GPU that can is. Seen failing with `prefers_compute_strands`
+    /// ignoring the feature.
     #[test]
     fn a_device_that_cannot_write_strands_is_refused_compute_by_name() {
         let gpu = vk::PhysicalDeviceType::DISCRETE_GPU;
@@ -202,5 +204,11 @@ mod tests {
         assert!(info(gpu, true).prefers_compute_strands());
         assert!(!info(gpu, false).prefers_compute_strands());
         assert!(!info(vk::PhysicalDeviceType::CPU, true).prefers_compute_strands());
+        assert_eq!(info(gpu, true).ladder(), Ladder::COMPUTE);
+        assert_eq!(info(gpu, false).ladder(), Ladder::FIXED);
+        assert_eq!(
+            info(vk::PhysicalDeviceType::CPU, true).ladder(),
+            Ladder::FIXED
+        );
     }
 }

@@ -12,19 +12,19 @@
 // Each pixel walks the list itself, with no barriers and no shared memory: where the
 // invocations of a vector (a GPU's warp, a CPU driver's SIMD lanes) part ways in an
 // `if`, all of them pay for both sides, and only a loop ends when none of them is left
-// in it. So each pixel first searches the list, one bit of the entry's mask
-// (strand_sort.comp) an entry, for the next entry whose segment can reach it, and takes
-// only that one: the dear part of a turn (the exact coverage and the sorted insertion)
-// is paid once a fragment, not once an entry of the tile. (A form that fetched the list
-// a batch at a time into shared memory for every pixel to take whole was up to 3.5×
-// slower on an NVIDIA H200 (the blob's frame) and several times slower on lavapipe: docs/compute-raster.md.)
+// in it. So each pixel first searches the list for the next entry whose segment can
+// reach it, and takes only that one: the dear part of a turn (the exact coverage and
+// the sorted insertion) is paid once a fragment, not once an entry of the tile. The
+// search reads its block's row (strand_sort.comp): one read skips ROW_RUN entries that
+// cannot reach it. (A form that fetched the list a batch at a time into shared memory
+// for every pixel to take whole was up to 3.5× slower on an NVIDIA H200 (the blob's
+// frame) and several times slower on lavapipe: docs/compute-raster.md.)
 //
-// Every loop but the walk is unrolled and the search tests SEARCH_UNROLL entries a
-// turn: lavapipe ends any invocation whose loops have turned 65,535 times in all
-// (Mesa's gallivm loop limiter), which a pixel of a dense tile would otherwise reach;
-// so the walk counts its turns, and a pixel that would pass MAX_TURNS stops there,
-// counted as stopped (it has met thousands of fragments, or searched a list of over a
-// hundred thousand entries).
+// Every loop but the walk is unrolled: lavapipe ends any invocation whose loops have
+// turned 65,535 times in all (Mesa's gallivm loop limiter), which a pixel of a dense
+// tile could otherwise reach; so the walk counts its turns, and a pixel that would
+// pass MAX_TURNS stops there, counted as stopped (it has met thousands of fragments,
+// or searched a list of over a million entries).
 // TILE, NEAREST, DEPTH_SAMPLES, DEPTH_BINS and OPAQUE_TRANSMIT are defined by the
 // renderer.
 #extension GL_EXT_control_flow_attributes : require
@@ -39,10 +39,6 @@ layout(set = SET_RASTER, binding = B_BODY_DEPTH) uniform sampler2DMS body_depth;
 #else
 layout(set = SET_RASTER, binding = B_BODY_DEPTH) uniform sampler2D body_depth;
 #endif
-
-// Entries a turn of the search tests (each of a turn's tests is paid by every pixel of
-// a vector, found or not).
-const uint SEARCH_UNROLL = 2u;
 
 // The most turns the walk's loops take in all, under lavapipe's 65,535 (a
 // test lowers it).
@@ -106,15 +102,6 @@ void take_segment(uint s, vec2 centre, float body) {
     }
 }
 
-// The segment of entry `entry` if it can leave a fragment in the pixel of the tile
-// whose bit of the entry's mask is `bit`, NO_SEGMENT if not: whether its segment's box
-// meets the pixel's block (the sort pass's block_mask); where it does not, the
-// footprint's area is 0, so `take_segment` would keep nothing.
-uint reaching(uint entry, uint bit) {
-    uvec2 e = imageLoad(tile_order, int(entry)).xy;
-    return ((e.y >> bit) & 1u) != 0u ? e.x : NO_SEGMENT;
-}
-
 void main() {
     ivec2 p = ivec2(gl_GlobalInvocationID.xy);
     ivec2 size = ivec2(frame.camera.viewport);
@@ -135,18 +122,19 @@ void main() {
     while (i < count && !walk.done) {
         // The next entry that can reach the pixel: the rest leave nothing in it.
         bool found = false;
-        uint segment = NO_SEGMENT;
         while (!found && i < count) {
             turns += 1u;
-            [[unroll]] for (uint j = 0u; j < SEARCH_UNROLL; ++j) {
-                if (!found && i < count) {
-                    segment = reaching(offset + i, bit);
-                    if (segment != NO_SEGMENT) {
-                        found = true;
-                    } else {
-                        i += 1u;
-                    }
-                }
+            // In a whole run, the pixel's block's row from entry i on; past the whole
+            // runs, entry i's own mask, the pixel's bit of it. One read either way.
+            uint run = i / ROW_RUN * ROW_RUN;
+            bool in_rows = run + ROW_RUN <= count;
+            uint word = imageLoad(tile_order, int(offset + (in_rows ? run + bit : i))).y;
+            uint reach = in_rows ? word >> (i - run) : (word >> bit) & 1u;
+            if (reach != 0u) {
+                i += uint(findLSB(reach));
+                found = true;
+            } else {
+                i = in_rows ? run + ROW_RUN : i + 1u;
             }
         }
         if (!found) {
@@ -169,7 +157,7 @@ void main() {
             }
         }
         if (!walk.done) {
-            take_segment(segment, centre, body);
+            take_segment(imageLoad(tile_order, int(offset + i)).x, centre, body);
             i += 1u;
         }
     }

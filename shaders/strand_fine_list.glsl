@@ -30,81 +30,68 @@ void into_tail(float alpha, vec3 color) {
     tail_count += 1u;
 }
 
-// Slot i of the list and slot j swapped.
-#define SWAP_SLOTS(i, j)                                                                   \
-    {                                                                                      \
-        float d_ = k_depth[i]; k_depth[i] = k_depth[j]; k_depth[j] = d_;                   \
-        uint s_ = k_strand[i]; k_strand[i] = k_strand[j]; k_strand[j] = s_;                \
-        float a_ = k_alpha[i]; k_alpha[i] = k_alpha[j]; k_alpha[j] = a_;                   \
-        vec3 c_ = k_color[i]; k_color[i] = k_color[j]; k_color[j] = c_;                    \
-    }
-
-// blend::PixelList::add: every index into the list is a constant once the loops are
-// unrolled, so the list stays in registers (an index known only at run time puts it
-// in memory: a GPU's local memory, a CPU driver's stack).
+// blend::PixelList::add, in one pass over the list with every index a constant once
+// the loops are unrolled, so the list stays in registers (an index known only at run
+// time puts it in memory: a GPU's local memory, a CPU driver's stack), and with no
+// work on one side of an `if` only (a CPU driver pays for both sides of every `if`).
+// A strand already in the list becomes one fragment with the new share, as near as
+// the nearer, and moves nearer past the fragments now behind it; a new strand is
+// placed after the fragments nearer than it, and what falls off a full list's end
+// joins the tail.
 void add_fragment(float depth, uint strand, float alpha, vec3 color) {
     seen_transmit *= 1.0 - alpha;
-    // A strand already in the list: the two shares become one fragment, as near as
-    // the nearer, which then moves nearer past the ones now behind it.
-    bool merged = false;
+    // The slot holding the same strand (NEAREST if none), and its share.
+    uint same = NEAREST;
+    float same_depth = depth;
+    float same_alpha = 0.0;
+    vec3 same_color = vec3(0.0);
     [[unroll]] for (uint i = 0u; i < NEAREST; ++i) {
-        if (i < k_count && k_strand[i] == strand) {
-            float total = k_alpha[i] + alpha;
-            k_color[i] = (k_color[i] * k_alpha[i] + color * alpha) / total;
-            k_alpha[i] = min(total, 1.0);
-            k_depth[i] = min(k_depth[i], depth);
-            merged = true;
-        }
+        bool hit = i < k_count && k_strand[i] == strand;
+        same = hit ? i : same;
+        same_depth = hit ? k_depth[i] : same_depth;
+        same_alpha = hit ? k_alpha[i] : same_alpha;
+        same_color = hit ? k_color[i] : same_color;
     }
-    if (merged) {
-        [[unroll]] for (int j = int(NEAREST) - 1; j >= 1; --j) {
-            if (uint(j) < k_count &&
-                nearer(k_depth[j], k_strand[j], k_depth[j - 1], k_strand[j - 1])) {
-                SWAP_SLOTS(j, j - 1)
-            }
-        }
-        return;
-    }
-    // Behind a full list: straight to the tail.
-    if (k_count == NEAREST &&
-        !nearer(depth, strand, k_depth[NEAREST - 1u], k_strand[NEAREST - 1u])) {
-        into_tail(alpha, color);
-        return;
-    }
-    // Carried down the sorted list: at each slot the nearer of the two stays, the
-    // other goes on; what comes out of a full list's end joins the tail.
-    float cd = depth;
-    uint cs = strand;
-    float ca = alpha;
-    vec3 cc = color;
+    // The fragment the list takes: the new one, or the two shares as one.
+    float total = same_alpha + alpha;
+    float g_depth = min(same_depth, depth);
+    float g_alpha = min(total, 1.0);
+    vec3 g_color = (same_color * same_alpha + color * alpha) / total;
+    // Where it goes: after every other fragment nearer than it (a merged fragment only
+    // moves nearer, so never past its own slot).
+    uint at = 0u;
     [[unroll]] for (uint i = 0u; i < NEAREST; ++i) {
-        if (i < k_count) {
-            if (nearer(cd, cs, k_depth[i], k_strand[i])) {
-                float d = k_depth[i];
-                uint s = k_strand[i];
-                float a = k_alpha[i];
-                vec3 c = k_color[i];
-                k_depth[i] = cd;
-                k_strand[i] = cs;
-                k_alpha[i] = ca;
-                k_color[i] = cc;
-                cd = d;
-                cs = s;
-                ca = a;
-                cc = c;
-            }
-        } else if (i == k_count) {
-            k_depth[i] = cd;
-            k_strand[i] = cs;
-            k_alpha[i] = ca;
-            k_color[i] = cc;
+        at += (i < k_count && i != same && nearer(k_depth[i], k_strand[i], g_depth, strand))
+            ? 1u : 0u;
+    }
+    // The slots from `at` to `end` move one further: up to the merged slot, which the
+    // move overwrites, or to the list's end; off a full list's end, its last fragment
+    // (or the new one, behind them all) joins the tail.
+    bool merged = same < NEAREST;
+    uint end = merged ? same : k_count;
+    bool spill = !merged && k_count == NEAREST;
+    bool last_out = at < NEAREST;
+    float out_alpha = last_out ? k_alpha[NEAREST - 1u] : g_alpha;
+    vec3 out_color = last_out ? k_color[NEAREST - 1u] : g_color;
+    [[unroll]] for (int j = int(NEAREST) - 1; j >= 0; --j) {
+        uint i = uint(j);
+        bool moves = i > at && i <= end;
+        bool takes = i == at;
+        if (j > 0) {
+            k_depth[i] = moves ? k_depth[i - 1u] : k_depth[i];
+            k_strand[i] = moves ? k_strand[i - 1u] : k_strand[i];
+            k_alpha[i] = moves ? k_alpha[i - 1u] : k_alpha[i];
+            k_color[i] = moves ? k_color[i - 1u] : k_color[i];
         }
+        k_depth[i] = takes ? g_depth : k_depth[i];
+        k_strand[i] = takes ? strand : k_strand[i];
+        k_alpha[i] = takes ? g_alpha : k_alpha[i];
+        k_color[i] = takes ? g_color : k_color[i];
     }
-    if (k_count == NEAREST) {
-        into_tail(ca, cc);
-    } else {
-        k_count += 1u;
+    if (spill) {
+        into_tail(out_alpha, out_color);
     }
+    k_count += !merged && !spill ? 1u : 0u;
 }
 
 // The list blended front to back, the tail behind it: the colour premultiplied by

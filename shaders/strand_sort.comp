@@ -5,10 +5,13 @@
 // with the end of each bin that holds an entry: the stops where the fine pass's
 // pixels may end their walk once opaque. One workgroup per tile. The twin:
 // render::strand_raster::order (sort_by_depth).
-// Each entry is written with the mask of the tile's blocks its segment can reach, which
-// the fine pass's pixels search by.
+// Each entry is written with the mask of the tile's blocks its segment can reach; then
+// each whole run of ROW_RUN entries has its masks turned into the blocks' rows (a bit an
+// entry: strand_raster.glsl), which the fine pass's pixels search by, ROW_RUN entries a
+// read.
 // TILE and DEPTH_BINS are defined by the renderer.
 #extension GL_EXT_control_flow_attributes : require
+#define ORDER_COHERENT
 #include "common.glsl"
 #include "strand_raster.glsl"
 
@@ -18,6 +21,11 @@ layout(local_size_x = GROUP) in;
 
 // Per bin: its count, then where its next entry goes.
 shared uint cursor[DEPTH_BINS];
+
+// The entries the workgroup turns into rows at a time (whole runs), and each
+// invocation's share of them.
+const uint BATCH = GROUP < ROW_RUN ? ROW_RUN : GROUP;
+const uint PER_LANE = BATCH / GROUP;
 
 // The blocks of the tile whose corner is `corner` (pixels) that the segment a–b, its
 // box widened by half its larger width `half_w` on either side, meets: a bit per block
@@ -68,6 +76,10 @@ void main() {
     uint lane = gl_LocalInvocationIndex;
     uint count = tile_bins[tile].kept;
     uint offset = tile_bins[tile].offset;
+    // An empty tile has nothing to sort (the tiles pass left it no stops).
+    if (count == 0u) {
+        return;
+    }
     float lo = uintBitsToFloat(tile_bins[tile].near_lo);
     float scale = bin_scale(lo, uintBitsToFloat(tile_bins[tile].near_hi));
     for (uint b = lane; b < DEPTH_BINS; b += GROUP) {
@@ -102,5 +114,41 @@ void main() {
         uint slot = atomicAdd(cursor[depth_bin(depth_key(a.z, b.z), lo, scale)], 1u);
         uint mask = block_mask(corner, a.xy, b.xy, 0.5 * max(a.w, b.w));
         imageStore(tile_order, int(offset + slot), uvec4(s, mask, 0u, 0u));
+    }
+    // The whole runs' masks turned into rows, a batch at a time: each invocation builds
+    // its words of the batch (the word at a run's place b: block b's row) from the
+    // run's masks, read from the pool, and writes them in place once every invocation
+    // has read its own (shared memory and its atomics cost a CPU driver a turn per
+    // invocation; a texel read is one gather). The run left over keeps its masks.
+    memoryBarrierImage();
+    barrier();
+    uint whole = count / ROW_RUN * ROW_RUN;
+    for (uint base = 0u; base < whole; base += BATCH) {
+        uint segments[PER_LANE];
+        uint rows[PER_LANE];
+        [[unroll]] for (uint k = 0u; k < PER_LANE; ++k) {
+            uint place = base + lane + k * GROUP;
+            uint run = place / ROW_RUN * ROW_RUN;
+            uint block = place - run;
+            uint row = 0u;
+            if (place < whole) {
+                segments[k] = imageLoad(tile_order, int(offset + place)).x;
+                [[unroll]] for (uint j = 0u; j < ROW_RUN; ++j) {
+                    uint mask = imageLoad(tile_order, int(offset + run + j)).y;
+                    row |= ((mask >> block) & 1u) << j;
+                }
+            }
+            rows[k] = row;
+        }
+        memoryBarrierImage();
+        barrier();
+        [[unroll]] for (uint k = 0u; k < PER_LANE; ++k) {
+            uint place = base + lane + k * GROUP;
+            if (place < whole) {
+                imageStore(tile_order, int(offset + place), uvec4(segments[k], rows[k], 0u, 0u));
+            }
+        }
+        memoryBarrierImage();
+        barrier();
     }
 }

@@ -34,7 +34,7 @@ impl Default for PoolBudget {
 }
 
 /// Bytes of one strand vertex, segment, tile (its bin and its stops), binned entry and
-/// sorted entry (its segment and the mask of the tile's blocks it reaches), and of a
+/// sorted entry (its segment and a word of the block masks: a row, or its own mask), and of a
 /// pixel of the layer.
 pub const VERTEX_BYTES: u64 = 32;
 pub const SEGMENT_BYTES: u64 = 8;

@@ -117,7 +117,7 @@ fn capture(
     let tiles = tile_words.chunks_exact((TILE_BYTES / 4) as usize);
     let lists = tiles
         .clone()
-        // A sorted entry: its segment, then its mask.
+        // A sorted entry: its segment, then a word of the block masks.
         .map(|t| {
             entries[2 * t[2] as usize..][..2 * t[3] as usize]
                 .iter()

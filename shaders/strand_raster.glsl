@@ -96,15 +96,13 @@ uint listed_entry(uint at) {
 // reach (block_mask, strand_sort.comp): in each whole run of ROW_RUN entries from the
 // list's start, the word at the run's place `b` is block b's row (bit j: the run's
 // entry j reaches block b); in the run left over at the end, each entry's own mask.
-// The sort pass reads back what it wrote (ORDER_COHERENT).
+// The sort pass reads back what it wrote (ORDER_COHERENT). ROW_RUN is defined by the
+// renderer (render::strand_raster::order::ROW_RUN).
 #ifdef ORDER_COHERENT
 layout(set = SET_RASTER, binding = B_TILE_ORDER, rg32ui) coherent uniform uimageBuffer tile_order;
 #else
 layout(set = SET_RASTER, binding = B_TILE_ORDER, rg32ui) uniform uimageBuffer tile_order;
 #endif
-
-// Entries a row of the sorted list's masks holds (a bit each).
-const uint ROW_RUN = 32u;
 
 #ifdef TILE
 // The mask's grid: MASK_X × MASK_Y blocks of BLOCK_X × BLOCK_Y pixels cover a tile, at

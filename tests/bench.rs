@@ -171,6 +171,11 @@ fn quick_bench_writes_every_expected_measurement() {
     }
     // The two strand rasterisers on both scenes: every figure, each compute step, the
     // pools' counts, and the same hair drawn by both.
+    let on_cpu = fur_gpu::gpu::headless(false)
+        .expect("a device")
+        .info()
+        .device_type
+        == ash::vk::PhysicalDeviceType::CPU;
     for scene in ["blob", "sphere"] {
         for raster in ["hardware", "compute"] {
             let case = format!("{scene}, {raster}");
@@ -191,6 +196,23 @@ fn quick_bench_writes_every_expected_measurement() {
         for step in fur_gpu::render::STEP_NAMES {
             let step = step.trim_start_matches("strand ");
             expect("raster_steps", &format!("{scene}, {step}"), "gpu_ms");
+            // A CPU driver's steps are also measured by leaving each out.
+            if on_cpu {
+                expect(
+                    "raster_steps_left_out",
+                    &format!("{scene}, {step}"),
+                    "wall_ms",
+                );
+            }
+        }
+        if on_cpu {
+            for part in ["the rest", "frame"] {
+                expect(
+                    "raster_steps_left_out",
+                    &format!("{scene}, {part}"),
+                    "wall_ms",
+                );
+            }
         }
         let count = |metric: &str| value("raster_counts", scene, metric);
         assert!(

@@ -4,7 +4,8 @@
 //! each pixel blended front to back). For each scene: the simulated frame's wall-clock
 //! and GPU time and the fur's GPU time; each still frame's ꟻLIP and RMSE against the
 //! supersampled reference, and between the two; the compute passes step by step
-//! (timestamps); and what their pools counted.
+//! (timestamps, and on a CPU driver each step left out in turn); and what their pools
+//! counted.
 
 use std::fmt::Write as _;
 use std::time::Instant;
@@ -24,9 +25,10 @@ const NEAREST_SWEEP: [u32; 2] = [4, MAX_NEAREST];
 /// The tile sides the compute rows also measure, beside the device's.
 const TILE_SWEEP: [u32; 3] = [4, 8, 16];
 
-/// Progress ticks per scene: the reference, then each row (at most).
+/// Progress ticks per scene: the reference, then each row, then the steps left out
+/// (at most).
 pub(super) fn tasks(scenes: usize) -> u64 {
-    (3 + NEAREST_SWEEP.len() as u64 + TILE_SWEEP.len() as u64) * scenes as u64
+    (4 + NEAREST_SWEEP.len() as u64 + TILE_SWEEP.len() as u64) * scenes as u64
 }
 
 /// One rasteriser's measurements on one scene.
@@ -74,6 +76,7 @@ impl Bench<'_> {
             factor * factor * 4
         );
         let mut all = Vec::new();
+        let mut alone = Vec::new();
         for scene in self.scenes.clone() {
             let shot = Shot::new(self.device, &scene.scene, extent)?;
             let reference = shot.reference(factor)?;
@@ -107,7 +110,7 @@ impl Bench<'_> {
                 };
                 // Only its image is used: one frame.
                 let still = shot.draw(&shot.style(&draw), Frames::STILL)?;
-                let mut m = self.simulated(&scene, &draw, Frames { warm, measured })?;
+                let mut m = self.simulated(&scene, &draw, Frames { warm, measured }, None)?;
                 m.name = name.clone();
                 m.flip = flip(&reference, &still.image);
                 m.rmse = rmse(&reference, &still.image);
@@ -145,9 +148,70 @@ impl Bench<'_> {
             );
             let _ = writeln!(self.md, "| {name} | between | | | | | | {between:.4} | |");
             all.push((name.clone(), scene_tile, rows.swap_remove(1)));
+            // A CPU driver's timestamps misattribute (lavapipe bins): each step is
+            // measured by leaving it out instead.
+            if self.device.info().device_type == ash::vk::PhysicalDeviceType::CPU {
+                let draw = FurStyle {
+                    raster: Raster::Compute,
+                    ..scene.scene.options.draw.clone()
+                };
+                let walls = (0..=STEP_NAMES.len())
+                    .map(|kept| {
+                        self.simulated(&scene, &draw, Frames { warm, measured }, Some(kept))
+                            .map(|m| m.wall)
+                    })
+                    .collect::<Result<Vec<f64>>>()?;
+                (self.progress)(&format!("{name}, compute steps left out"));
+                alone.push((name.clone(), walls));
+            }
         }
         self.raster_steps(&all);
+        self.raster_steps_left_out(&alone);
         Ok(())
+    }
+
+    /// On a CPU driver, the compute steps measured by leaving them out: `alone` holds
+    /// each scene's name and its frame's wall-clock median with the first k steps kept,
+    /// for k from none to all.
+    fn raster_steps_left_out(&mut self, alone: &[(String, Vec<f64>)]) {
+        if alone.is_empty() {
+            return;
+        }
+        let short = |step: &str| step.trim_start_matches("strand ").to_string();
+        let header: Vec<String> = std::iter::once("the rest".to_string())
+            .chain(STEP_NAMES.iter().map(|s| short(s)))
+            .chain(std::iter::once("frame".to_string()))
+            .collect();
+        let _ = writeln!(
+            self.md,
+            "The compute frame step by step on this CPU driver, whose timestamps between \
+             passes misattribute: simulated frames (wall-clock ms, medians as above) with \
+             the steps from each one on left out (recorded without their work), each \
+             step's cost the frame with it less the frame without it (so noise can make \
+             one negative); *the rest*: the frame with every step left out (the \
+             simulation, the mesh pass and the geometry stage writing the strands).\n\n\
+             | scene | {} |\n| --- |{}",
+            header.join(" | "),
+            " --- |".repeat(header.len())
+        );
+        for (name, walls) in alone {
+            let costs: Vec<f64> = std::iter::once(walls[0])
+                .chain(walls.windows(2).map(|w| w[1] - w[0]))
+                .chain(walls.last().copied())
+                .collect();
+            for (step, ms) in header.iter().zip(&costs) {
+                self.row(
+                    "raster_steps_left_out",
+                    format!("{name}, {step}"),
+                    "wall_ms",
+                    *ms,
+                    "ms",
+                );
+            }
+            let cells: Vec<String> = costs.iter().map(|ms| format!("{ms:.1}")).collect();
+            let _ = writeln!(self.md, "| {name} | {} |", cells.join(" | "));
+        }
+        self.md.push('\n');
     }
 
     /// The compute passes' tables: each step's GPU time, then what the pools counted;
@@ -232,14 +296,17 @@ impl Bench<'_> {
         self.md.push('\n');
     }
 
-    /// Simulated frames of `scene` drawn with `draw`: medians, counts and steps.
+    /// Simulated frames of `scene` drawn with `draw`: medians, counts and steps; with
+    /// `kept`, the compute steps from that one on left out.
     fn simulated(
         &self,
         scene: &BenchScene,
         draw: &FurStyle,
         Frames { warm, measured }: Frames,
+        kept: Option<usize>,
     ) -> Result<Measured> {
         let mut session = self.session(scene, draw)?;
+        session.renderer.leave_out_raster_steps(kept);
         let (mut wall, mut gpu, mut fur) = (Vec::new(), Vec::new(), Vec::new());
         let mut steps: Vec<Vec<f64>> = Vec::new();
         let mut names = Vec::new();

@@ -46,8 +46,13 @@ pub fn stated() -> Vec<(&'static str, Vec<String>)> {
         .to_string(),
     );
     // The depth bins and the opacity a pixel stops at.
-    use fur_core::render::strand_raster::order::{DEPTH_BINS, OPAQUE_TRANSMIT};
+    use fur_core::render::strand_raster::order::{DEPTH_BINS, OPAQUE_TRANSMIT, ROW_RUN};
     raster.push(format!("is cut into {DEPTH_BINS} equal depth bins"));
+    // The runs of entries whose masks become rows.
+    raster.push(format!("turns each whole run of {ROW_RUN} entries' masks"));
+    raster.push(format!("reads one word for {ROW_RUN} entries"));
+    raster.push(format!("it skips all {ROW_RUN} at once"));
+    raster.push(format!("search skips a run of {ROW_RUN} entries a turn"));
     raster.push(format!(
         "let through less than 1/{} of the light",
         (1.0 / OPAQUE_TRANSMIT).round()

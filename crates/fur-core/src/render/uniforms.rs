@@ -63,6 +63,7 @@ pub fn shader_defines() -> Vec<(&'static str, String)> {
                 "DEPTH_BINS",
                 super::strand_raster::order::DEPTH_BINS.to_string(),
             ),
+            ("ROW_RUN", super::strand_raster::order::ROW_RUN.to_string()),
             (
                 "OPAQUE_TRANSMIT",
                 format!("{:?}", super::strand_raster::order::OPAQUE_TRANSMIT),

@@ -34,8 +34,9 @@ pub struct DeviceInfo {
 
 impl DeviceInfo {
     /// Whether strands drawn in compute are the better trade here: a GPU (on a CPU
-    /// driver the compute passes cost more than the fixed-function rasteriser, `fur
-    /// bench --only raster`) whose geometry stage can write them out.
+    /// driver the compute passes cost less than the fixed-function rasteriser on the
+    /// blob but err more by ꟻLIP, and cost more on the original's sphere, `fur bench
+    /// --only raster`) whose geometry stage can write them out.
     pub fn prefers_compute_strands(&self) -> bool {
         self.device_type != vk::PhysicalDeviceType::CPU && self.vertex_pipeline_stores
     }

@@ -14,6 +14,11 @@
 /// The depth bins a tile's list is sorted into.
 pub const DEPTH_BINS: u32 = 32;
 
+/// The entries of a tile's sorted list whose block masks the sort pass turns into one
+/// row a block (a bit an entry: a word), so that the fine pass's search reads one word
+/// for that many entries (strand_raster.glsl). It changes no image.
+pub const ROW_RUN: u32 = 32;
+
 /// A pixel whose fragments so far let through less light than this stops at the next
 /// bin's end: under half of an 8-bit step of what lies behind can still show.
 pub const OPAQUE_TRANSMIT: f32 = 1.0 / 512.0;

@@ -81,6 +81,9 @@ pub struct ComputeRaster {
     /// The pipelines, and what they were built for.
     pipelines: Option<(PipelineKey, Vec<(Step, Pipeline)>)>,
     steps: Vec<StepPass>,
+    /// The steps of [`STEP_NAMES`](super::STEP_NAMES) from this place on are left out
+    /// of the frame (`Renderer::leave_out_raster_steps`).
+    pub(super) kept: usize,
 }
 
 impl ComputeRaster {
@@ -136,6 +139,7 @@ impl ComputeRaster {
             demand: Demand::default(),
             pipelines: None,
             steps: Vec::new(),
+            kept: usize::MAX,
         })
     }
 
@@ -257,6 +261,7 @@ impl ComputeRaster {
                 grid,
                 composited: pools.composited.raw(),
                 extent,
+                left_out: step.timed().is_some_and(|i| i >= self.kept),
             })
             .collect();
         Ok(())
@@ -441,6 +446,11 @@ impl ComputeRaster {
             (Step::Fine, kernel("strand_fine.comp", false)?),
             (Step::Composite, kernel("strand_composite.comp", false)?),
         ])
+    }
+
+    /// The steps remade at the next frame (which steps are left out changed).
+    pub(super) fn remake_steps(&mut self) {
+        self.steps.clear();
     }
 
     /// The steps of a frame after the fur pass, in order (the counts are reset before

@@ -46,6 +46,20 @@ impl Renderer {
         self.compute_raster.pools = None;
     }
 
+    /// Leaves the compute steps from `STEP_NAMES[kept]` on out of later frames: each is
+    /// recorded without its work (its barriers stay), and the image is then not the
+    /// frame's. For `fur bench` on a driver whose timestamps between passes misattribute
+    /// (lavapipe bins): a step's cost is the frame's with it less the frame's without.
+    /// `None` keeps every step.
+    #[doc(hidden)]
+    pub fn leave_out_raster_steps(&mut self, kept: Option<usize>) {
+        let kept = kept.unwrap_or(usize::MAX);
+        if self.compute_raster.kept != kept {
+            self.compute_raster.kept = kept;
+            self.compute_raster.remake_steps();
+        }
+    }
+
     /// Reads back the compute rasteriser's last frame (one sample per pixel only: a
     /// multisampled depth cannot be copied out). Waits for the device; for tests.
     #[doc(hidden)]

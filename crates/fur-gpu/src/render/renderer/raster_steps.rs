@@ -47,6 +47,9 @@ pub(in super::super) struct StepPass {
     /// The composited image and the target's extent, for the copy.
     pub(super) composited: vk::Image,
     pub(super) extent: vk::Extent2D,
+    /// Recorded without its work (its barriers stay): for measuring what a step costs
+    /// by leaving it out (`Renderer::leave_out_raster_steps`).
+    pub(super) left_out: bool,
 }
 
 impl Step {
@@ -64,7 +67,7 @@ impl Step {
     ];
 
     /// Its place in [`STEP_NAMES`]: the steps that do work after the geometry stage.
-    fn timed(self) -> Option<usize> {
+    pub(super) fn timed(self) -> Option<usize> {
         match self {
             Step::HandBack => None,
             Step::Tiles => Some(0),
@@ -145,6 +148,9 @@ impl Pass for StepPass {
 
     fn record(&self, frame: &FrameContext<'_>, cmd: vk::CommandBuffer) {
         let raw = &frame.device.raw;
+        if self.left_out {
+            return;
+        }
         match self.step {
             Step::HandBack => return,
             Step::Copy => {

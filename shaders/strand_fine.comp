@@ -25,8 +25,8 @@
 // tile could otherwise reach; so the walk counts its turns, and a pixel that would
 // pass MAX_TURNS stops there, counted as stopped (it has met thousands of fragments,
 // or searched a list of over a million entries).
-// TILE, NEAREST, DEPTH_SAMPLES, DEPTH_BINS and OPAQUE_TRANSMIT are defined by the
-// renderer.
+// TILE, NEAREST, DEPTH_SAMPLES, DEPTH_BINS, ROW_RUN and OPAQUE_TRANSMIT are defined
+// by the renderer.
 #extension GL_EXT_control_flow_attributes : require
 #include "common.glsl"
 #include "strand_raster.glsl"

@@ -9,7 +9,7 @@
 // each whole run of ROW_RUN entries has its masks turned into the blocks' rows (a bit an
 // entry: strand_raster.glsl), which the fine pass's pixels search by, ROW_RUN entries a
 // read.
-// TILE and DEPTH_BINS are defined by the renderer.
+// TILE, DEPTH_BINS and ROW_RUN are defined by the renderer.
 #extension GL_EXT_control_flow_attributes : require
 #define ORDER_COHERENT
 #include "common.glsl"
@@ -148,7 +148,7 @@ void main() {
                 imageStore(tile_order, int(offset + place), uvec4(segments[k], rows[k], 0u, 0u));
             }
         }
-        memoryBarrierImage();
-        barrier();
+        // No barrier here: the next batch reads only its own entries, which no
+        // invocation has written yet.
     }
 }

@@ -174,8 +174,7 @@ fn quick_bench_writes_every_expected_measurement() {
     let on_cpu = fur_gpu::gpu::headless(false)
         .expect("a device")
         .info()
-        .device_type
-        == ash::vk::PhysicalDeviceType::CPU;
+        .is_cpu();
     for scene in ["blob", "sphere"] {
         for raster in ["hardware", "compute"] {
             let case = format!("{scene}, {raster}");

@@ -147,20 +147,24 @@ impl Bench<'_> {
                 "0..1",
             );
             let _ = writeln!(self.md, "| {name} | between | | | | | | {between:.4} | |");
-            all.push((name.clone(), scene_tile, rows.swap_remove(1)));
+            let compute = rows.swap_remove(1);
+            let whole = compute.wall;
+            all.push((name.clone(), scene_tile, compute));
             // A CPU driver's timestamps misattribute (lavapipe bins): each step is
-            // measured by leaving it out instead.
-            if self.device.info().device_type == ash::vk::PhysicalDeviceType::CPU {
+            // measured by leaving it out too, the frame with every step being the
+            // compute row's.
+            if self.device.info().is_cpu() {
                 let draw = FurStyle {
                     raster: Raster::Compute,
                     ..scene.scene.options.draw.clone()
                 };
-                let walls = (0..=STEP_NAMES.len())
+                let mut walls = (0..STEP_NAMES.len())
                     .map(|kept| {
                         self.simulated(&scene, &draw, Frames { warm, measured }, Some(kept))
                             .map(|m| m.wall)
                     })
                     .collect::<Result<Vec<f64>>>()?;
+                walls.push(whole);
                 (self.progress)(&format!("{name}, compute steps left out"));
                 alone.push((name.clone(), walls));
             }

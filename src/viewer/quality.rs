@@ -60,7 +60,7 @@ impl Viewer {
         let settings = &mut self.session.settings;
         let tiles = settings.show.needs_compute();
         let info = self.device.info();
-        let cpu_driver = info.device_type == ash::vk::PhysicalDeviceType::CPU;
+        let cpu_driver = info.is_cpu();
         if (settings.style.raster != Raster::Compute && !tiles)
             || (!cpu_driver && info.vertex_pipeline_stores)
         {

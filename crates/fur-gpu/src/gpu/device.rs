@@ -33,12 +33,19 @@ pub struct DeviceInfo {
 }
 
 impl DeviceInfo {
+    /// Whether the device is a CPU driver (lavapipe): it runs shaders a vector of
+    /// invocations at a time and bins its draws, so its timestamps between passes
+    /// misattribute.
+    pub fn is_cpu(&self) -> bool {
+        self.device_type == vk::PhysicalDeviceType::CPU
+    }
+
     /// Whether strands drawn in compute are the better trade here: a GPU (on a CPU
     /// driver the compute passes cost less than the fixed-function rasteriser on the
     /// blob but err more by ꟻLIP, and cost more on the original's sphere, `fur bench
     /// --only raster`) whose geometry stage can write them out.
     pub fn prefers_compute_strands(&self) -> bool {
-        self.device_type != vk::PhysicalDeviceType::CPU && self.vertex_pipeline_stores
+        !self.is_cpu() && self.vertex_pipeline_stores
     }
 
     /// The quality ladder of this device: the one that draws in compute where that is

@@ -1,6 +1,7 @@
 //! What the compute rasteriser drew in the last frame, read back for the tests that
 //! compare it with its CPU twin: the strands on the screen, the body's depth, and the
-//! hair layer.
+//! hair layer; and the hooks the tests and the bench change it by (the pools' budget,
+//! the steps left out).
 
 use ash::vk;
 use gpu_allocator::MemoryLocation;

@@ -85,7 +85,9 @@ float pixel_depth(ivec2 p) {
 }
 
 // The fragment segment `s` leaves in the pixel centred at `centre`, if it is in front
-// of the body there.
+// of the body there. Its colour is held to [0, 1] first, as the fixed-function
+// rasteriser's 8-bit target holds each sample's: a highlight brighter than white covers
+// its share of the pixel with white.
 void take_segment(uint s, vec2 centre, float body) {
     uvec2 segment = strand_segment(s);
     StrandVertex va = strand_vertex(segment.x);
@@ -97,7 +99,7 @@ void take_segment(uint s, vec2 centre, float body) {
     if (alpha > MIN_ALPHA) {
         float depth = mix(va.position.z, vb.position.z, foot.y);
         if (depth < body) {
-            add_fragment(depth, segment.y, min(alpha, 1.0), c.rgb);
+            add_fragment(depth, segment.y, min(alpha, 1.0), clamp(c.rgb, 0.0, 1.0));
         }
     }
 }

@@ -135,7 +135,9 @@ fn the_compute_backend_draws_the_hardware_backends_hairs() {
 /// order, on the device's tiles; and the smallest and largest tile sides and 4×4 (a
 /// pixel a bit of the entries' masks up to 4×4, blocks of 2×4 at 16×16).
 /// Seen failing against the fine pass walking a dense tile's list in one loop (lavapipe
-/// ends an invocation's loops after 65,535 turns: whole tiles drawn empty).
+/// ends an invocation's loops after 65,535 turns: whole tiles drawn empty), and against
+/// the fine pass blending the lit colour unclamped where the twin holds it to white
+/// (the lit blob's highlights are brighter than white).
 #[test]
 fn the_gpu_draws_what_its_cpu_twin_draws() {
     let default = FurStyle::default().nearest;
@@ -173,6 +175,17 @@ fn draws_what_its_twin_draws(nearest: u32, tile: u32) {
         "{} segments",
         capture.segments.len()
     );
+    // Highlights brighter than white, which both must hold to white.
+    let bright = capture
+        .segments
+        .iter()
+        .filter(|s| s.a.color.iter().any(|c| *c > 1.0))
+        .count();
+    eprintln!(
+        "{bright} of {} segments brighter than white",
+        capture.segments.len()
+    );
+    assert!(bright > 100, "{bright} segments brighter than white");
     let budget = RasterBudget {
         tile: capture.tile,
         nearest: nearest as usize,

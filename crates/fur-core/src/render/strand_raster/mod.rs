@@ -53,7 +53,10 @@ pub struct Segment {
 }
 
 impl Segment {
-    /// The segment's fragment in the pixel centred at `centre`, if it leaves one.
+    /// The segment's fragment in the pixel centred at `centre`, if it leaves one. Its
+    /// colour is held to the displayable range first, as the fixed-function
+    /// rasteriser's 8-bit target holds each sample's: a highlight brighter than white
+    /// that covers half a pixel makes it half white, not white.
     pub fn fragment(&self, centre: [f32; 2]) -> Option<Fragment> {
         let (a, b) = (&self.a, &self.b);
         let foot = coverage::footprint(centre, a.position, b.position, a.width, b.width);
@@ -64,7 +67,7 @@ impl Segment {
             depth: mix(a.depth, b.depth),
             strand: self.strand,
             alpha: alpha.min(1.0),
-            color: [0, 1, 2].map(|c| mix(a.color[c], b.color[c])),
+            color: [0, 1, 2].map(|c| mix(a.color[c], b.color[c]).clamp(0.0, 1.0)),
         })
     }
 

@@ -412,3 +412,28 @@ fn extreme_segments_are_bounded_and_harmless() {
         }
     }
 }
+
+/// A highlight brighter than white covers its share of a pixel with white, as each
+/// sample of the fixed-function rasteriser's 8-bit target does: a hair three times
+/// white, a third of a pixel wide, across black leaves its pixels a third white.
+/// Seen failing against blending the lit colour unclamped (every pixel the hair
+/// crosses white: the compute backend's highlights 0.07 too red against the
+/// supersampled reference on the blob, its ꟻLIP 0.0199 where clamped is 0.0121).
+#[test]
+fn a_colour_brighter_than_white_covers_its_share_with_white() {
+    let size = 16;
+    let (w, bright) = (1.0 / 3.0, [3.0, 2.0, 0.5]);
+    let hair = segment([0.0, 8.5], [16.0, 8.5], 1.0, w, bright, 0);
+    let backdrop = Backdrop::clear(size, size, [0.0; 3]);
+    let drawn = rasterize(&[hair], &backdrop, &budget(8)).color;
+    for x in 2..14 {
+        let c = drawn[(8 * size + x) as usize];
+        let expected = [w, w, 0.5 * w];
+        for ch in 0..3 {
+            assert!(
+                (c[ch] - expected[ch]).abs() < 1e-4,
+                "pixel ({x}, 8): {c:?}, not {expected:?}"
+            );
+        }
+    }
+}

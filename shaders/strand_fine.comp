@@ -2,7 +2,7 @@
 // Strands in compute, pass 6: each pixel of a tile walks the tile's list, sorted front
 // to back by depth bin, takes each segment's exact coverage and keeps its NEAREST
 // nearest fragments in depth order, a strand's fragments in the pixel merged into one;
-// the rest are blended in an order-free tail (strand_fine_list.glsl). At each of the
+// the rest are blended behind them as they come (strand_fine_list.glsl). At each of the
 // tile's stops (where a depth bin ends) a pixel whose fragments let through less than
 // OPAQUE_TRANSMIT stops. The fragments are blended front to back into the hair layer:
 // the colour premultiplied by coverage, and the light let through. One workgroup per

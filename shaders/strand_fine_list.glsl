@@ -1,7 +1,8 @@
 // Strands in compute: one pixel's list of fragments in the fine pass
 // (strand_fine.comp): its NEAREST nearest fragments in depth order, a strand's
-// fragments in the pixel merged into one, and the order-free tail the rest are
-// blended into. The twin: render::strand_raster::blend::PixelList.
+// fragments in the pixel merged into one, and the tail the rest are blended into, each
+// under those before it (the walk brings them front to back by depth bins). The twin:
+// render::strand_raster::blend::PixelList.
 #ifndef STRAND_FINE_LIST_GLSL
 #define STRAND_FINE_LIST_GLSL
 
@@ -10,8 +11,7 @@ uint k_strand[NEAREST];
 float k_alpha[NEAREST];
 vec3 k_color[NEAREST];
 uint k_count = 0u;
-vec3 tail_weighted = vec3(0.0);
-float tail_alpha_sum = 0.0;
+vec3 tail_color = vec3(0.0);
 float tail_transparency = 1.0;
 uint tail_count = 0u;
 // The light every fragment met lets through, each as a layer of its own
@@ -23,9 +23,9 @@ bool nearer(float d, uint s, float e, uint t) {
     return d < e || (d == e && s < t);
 }
 
+// Blends a fragment into the tail, under what the tail holds.
 void into_tail(float alpha, vec3 color) {
-    tail_weighted += color * alpha;
-    tail_alpha_sum += alpha;
+    tail_color += tail_transparency * alpha * color;
     tail_transparency *= 1.0 - alpha;
     tail_count += 1u;
 }
@@ -105,10 +105,8 @@ vec4 resolve_list() {
             transmit *= 1.0 - k_alpha[i];
         }
     }
-    if (tail_alpha_sum > 0.0) {
-        color += transmit * (1.0 - tail_transparency) * tail_weighted / tail_alpha_sum;
-        transmit *= tail_transparency;
-    }
+    color += transmit * tail_color;
+    transmit *= tail_transparency;
     return vec4(color, transmit);
 }
 

@@ -62,8 +62,9 @@ pub struct FurStyle {
     /// What draws the strands.
     pub raster: Raster,
     /// With `Raster::Compute`: the fragments each pixel keeps in depth order (1 to
-    /// [`MAX_NEAREST`]); the rest are blended in an order-free tail. More is closer to
-    /// the true order and costs more (`fur bench --only raster` measures the trade).
+    /// [`MAX_NEAREST`]); the rest are blended behind them as they come, nearly front to
+    /// back. More is closer to the true order and costs more (`fur bench --only
+    /// raster` measures the trade).
     pub nearest: u32,
     /// With `Raster::Compute`: the side of the screen tiles the strands are binned to,
     /// pixels (one of [`TILE_SIZES`]), or 0 for the default ([`DEFAULT_TILE`]).
@@ -184,8 +185,8 @@ pub const SETTINGS: &[StyleSetting] = &[
         flag: Flag::Long("nearest"),
         label: "fragments in order",
         help: "With `raster = \"compute\"`: the fragments each pixel keeps in depth order \
-               and blends front to back; the rest are blended in an order-free tail. More \
-               is closer to the true order, and costs more",
+               and blends front to back; the rest are blended behind them as they come, \
+               nearly front to back. More is closer to the true order, and costs more",
         kind: Kind::integer(1, MAX_NEAREST),
         panel: Panel::Plain,
         ..field!(nearest)

@@ -77,6 +77,9 @@ fn quick_bench_writes_every_expected_measurement() {
         for scene in ["blob", "sphere", "critter-walking", "groom-drawn"] {
             expect("truth", scene, "own_flip");
             expect("truth", scene, "noise_flip");
+            // What the reference cost (this run path-traced it: the folder is new).
+            let seconds = value("truth", scene, "reference_seconds");
+            assert!(seconds > 0.0, "{scene}: a reference traced in {seconds} s");
             // The seed's spread is measured drawing by drawing: never below zero, and
             // under the reference's own noise (a figure moves less than the image).
             let spread = value("truth", scene, "seed_spread_flip");

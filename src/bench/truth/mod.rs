@@ -28,7 +28,7 @@ use super::plot::{Plot, Series, PALETTE};
 use super::quality::{Look, Shot};
 use super::Bench;
 use crate::export::compare::{errors, rmse_linear, to_srgb8};
-use crate::export::reference::{read_pfm, LinearImage, Reference, TraceOptions, SCRIPT};
+use crate::export::reference::{LinearImage, Reference};
 use crate::export::{write_usda, FrameExport};
 use fur_core::render::budget::MOST_RUNGS;
 use fur_core::render::marschner::Lobes;
@@ -37,11 +37,13 @@ use fur_core::scene::ModelSpec;
 use fur_core::scene_file::Scene;
 use fur_gpu::error::Result;
 
+mod cache;
 mod colours;
 mod groom;
 mod noise;
 mod terms;
 
+use cache::{cached_trace, trace_seconds};
 use noise::{delta_cell, differences, noise_sentence, resolved, seed_spread, unresolved_pairs};
 
 /// The looks switched one at a time, each against the scene's own drawing.
@@ -201,6 +203,22 @@ impl Bench<'_> {
         (self.progress)(&format!("{scene}: noise"));
         let noise_flip = flip(&to_srgb8(&truth), &to_srgb8(&second));
         let noise_rmse = rmse_linear(&truth, &second)?;
+        let cost = trace_seconds(&usda, &text, t.spp, 0, None);
+        if let Some(seconds) = cost {
+            self.row(
+                "truth",
+                scene.to_string(),
+                "reference_seconds",
+                seconds,
+                "s",
+            );
+        }
+        let cost = cost.map_or(String::new(), |s| {
+            format!(
+                " One reference ({} samples a pixel) took {s:.0} s to path-trace here.",
+                t.spp
+            )
+        });
         let single = trace(0, Some(2))?;
         (self.progress)(&format!("{scene}: single scattering"));
         let ladder = self.device.info.ladder();
@@ -243,7 +261,7 @@ impl Bench<'_> {
         let (own_flip, own_rmse) = errors(&own_image, &truth)?;
         let (own_single, _) = errors(&own_image, &single)?;
         (self.progress)(&format!("{scene}: attribution"));
-        self.truth_table(scene, &measured, noise_flip, noise_rmse);
+        self.truth_table(scene, &measured, noise_flip, noise_rmse, &cost);
         let share = |changed: f64| percent(100.0 * (own_flip - changed) / own_flip);
         let _ = writeln!(
             self.md,
@@ -274,12 +292,15 @@ impl Bench<'_> {
             .collect())
     }
 
+    /// The scene's table: the references' noise and `cost` (a sentence, or nothing),
+    /// then every drawing against the first reference.
     fn truth_table(
         &mut self,
         scene: &str,
         measured: &[Measured],
         noise_flip: f64,
         noise_rmse: f64,
+        cost: &str,
     ) {
         let pairs: Vec<(f64, f64)> = measured.iter().map(|m| (m.flip, m.flip_second)).collect();
         let names: Vec<String> = measured.iter().map(|m| m.name.clone()).collect();
@@ -287,7 +308,7 @@ impl Bench<'_> {
         let deltas = differences(&pairs);
         let _ = writeln!(
             self.md,
-            "### {scene}\n\nReference noise: ꟻLIP {:.4}, RMSE {:.4}. {}\n\n| drawing | \
+            "### {scene}\n\nReference noise: ꟻLIP {:.4}, RMSE {:.4}.{cost} {}\n\n| drawing | \
              frame ms | ꟻLIP | Δ ꟻLIP (noise) | RMSE |\n| --- | --- | --- | --- | --- |",
             noise_flip,
             noise_rmse,
@@ -413,39 +434,6 @@ fn export(shot: &Shot, look: &Look, usda: &Path) -> Result<(RgbaImage, PathBuf, 
     Ok((image, usda.to_path_buf(), text))
 }
 
-/// The reference of `usda` (whose text is `text`) at `spp` samples, seed `seed` and at
-/// most `depth` bounces, path-traced unless a file of the same hash is there.
-fn cached_trace(
-    reference: &Reference,
-    usda: &Path,
-    text: &str,
-    spp: u32,
-    seed: u32,
-    depth: Option<u32>,
-) -> Result<LinearImage> {
-    let key = fnv64(&[
-        text.as_bytes(),
-        SCRIPT.as_bytes(),
-        format!("{spp} {seed} {depth:?}").as_bytes(),
-    ]);
-    let dir = usda.parent().map_or(PathBuf::from("."), Path::to_path_buf);
-    let pfm = dir.join(format!("reference-{key:016x}.pfm"));
-    if !pfm.is_file() {
-        let options = TraceOptions {
-            spp,
-            seed,
-            ..Default::default()
-        };
-        let depth_arg = depth.map(|d| d.to_string());
-        let extra: Vec<&str> = depth_arg
-            .as_deref()
-            .map(|d| vec!["--max-depth", d])
-            .unwrap_or_default();
-        reference.trace(usda, &pfm, &options, &extra)?;
-    }
-    read_pfm(&pfm)
-}
-
 /// A signed percentage to the nearest whole one ("+3 %", "−12 %", "0 %").
 fn percent(x: f64) -> String {
     let rounded = x.round();
@@ -454,16 +442,4 @@ fn percent(x: f64) -> String {
     } else {
         format!("{rounded:+.0} %")
     }
-}
-
-/// FNV-1a, 64 bits, over the parts in order.
-fn fnv64(parts: &[&[u8]]) -> u64 {
-    let mut h: u64 = 0xcbf2_9ce4_8422_2325;
-    for part in parts {
-        for &b in *part {
-            h ^= u64::from(b);
-            h = h.wrapping_mul(0x0000_0100_0000_01b3);
-        }
-    }
-    h
 }

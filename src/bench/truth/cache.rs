@@ -1,0 +1,123 @@
+//! The truth section's references, path-traced once: each is kept in the output folder
+//! under a hash of the export, the renderer script, the sample count, the seed and the
+//! bounce limit, beside the seconds it took to path-trace (what a reference costs), so
+//! a rerun path-traces nothing it has.
+
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use crate::export::reference::{read_pfm, LinearImage, Reference, TraceOptions, SCRIPT};
+use fur_gpu::error::Result;
+
+/// The longest cost file read back (a number and a newline).
+const COST_FILE_LIMIT: u64 = 64;
+
+/// The reference of `usda` (whose text is `text`) at `spp` samples, seed `seed` and at
+/// most `depth` bounces, path-traced unless a file of the same hash is there.
+pub(super) fn cached_trace(
+    reference: &Reference,
+    usda: &Path,
+    text: &str,
+    spp: u32,
+    seed: u32,
+    depth: Option<u32>,
+) -> Result<LinearImage> {
+    let stem = stem(usda, text, spp, seed, depth);
+    let pfm = stem.with_extension("pfm");
+    if !pfm.is_file() {
+        let options = TraceOptions {
+            spp,
+            seed,
+            ..Default::default()
+        };
+        let depth_arg = depth.map(|d| d.to_string());
+        let extra: Vec<&str> = depth_arg
+            .as_deref()
+            .map(|d| vec!["--max-depth", d])
+            .unwrap_or_default();
+        let start = Instant::now();
+        reference.trace(usda, &pfm, &options, &extra)?;
+        let seconds = format!("{:.1}\n", start.elapsed().as_secs_f64());
+        fur_core::files::write_output(
+            &stem.with_extension("seconds"),
+            seconds.as_bytes(),
+            "write the reference's cost to",
+        )?;
+    }
+    read_pfm(&pfm)
+}
+
+/// The seconds the reference [`cached_trace`] keeps for these arguments took to
+/// path-trace, if it was path-traced with its cost kept.
+pub(super) fn trace_seconds(
+    usda: &Path,
+    text: &str,
+    spp: u32,
+    seed: u32,
+    depth: Option<u32>,
+) -> Option<f64> {
+    let path = stem(usda, text, spp, seed, depth).with_extension("seconds");
+    let text = fur_core::files::read_text_bounded(&path, COST_FILE_LIMIT, "a cost").ok()?;
+    text.trim()
+        .parse::<f64>()
+        .ok()
+        .filter(|s| s.is_finite() && *s >= 0.0)
+}
+
+/// The path of the reference's files without their extension.
+fn stem(usda: &Path, text: &str, spp: u32, seed: u32, depth: Option<u32>) -> PathBuf {
+    let key = fnv64(&[
+        text.as_bytes(),
+        SCRIPT.as_bytes(),
+        format!("{spp} {seed} {depth:?}").as_bytes(),
+    ]);
+    let dir = usda.parent().map_or(PathBuf::from("."), Path::to_path_buf);
+    dir.join(format!("reference-{key:016x}"))
+}
+
+/// FNV-1a, 64 bits, over the parts in order.
+fn fnv64(parts: &[&[u8]]) -> u64 {
+    let mut h: u64 = 0xcbf2_9ce4_8422_2325;
+    for part in parts {
+        for &b in *part {
+            h ^= u64::from(b);
+            h = h.wrapping_mul(0x0000_0100_0000_01b3);
+        }
+    }
+    h
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A reference's cost is read back from its file; a missing, empty, negative or
+    /// non-numeric one reads as unknown. Seen failing against parsing the file whole
+    /// (its newline made every kept cost unknown).
+    #[test]
+    fn a_kept_cost_reads_back_and_a_bad_one_is_unknown() {
+        let dir = std::env::temp_dir().join(format!("fur-trace-cost-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let usda = dir.join("frame.usda");
+        let cost = stem(&usda, "frame", 16, 0, None).with_extension("seconds");
+        assert_eq!(trace_seconds(&usda, "frame", 16, 0, None), None);
+        for (written, read) in [
+            ("83.2\n", Some(83.2)),
+            ("", None),
+            ("-1\n", None),
+            ("NaN\n", None),
+            ("fast\n", None),
+        ] {
+            std::fs::write(&cost, written).unwrap();
+            assert_eq!(
+                trace_seconds(&usda, "frame", 16, 0, None),
+                read,
+                "{written:?}"
+            );
+        }
+        // Another seed is another reference.
+        std::fs::write(&cost, "83.2\n").unwrap();
+        assert_eq!(trace_seconds(&usda, "frame", 16, 1, None), None);
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+}

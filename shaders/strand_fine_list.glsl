@@ -1,7 +1,7 @@
 // Strands in compute: one pixel's list of fragments in the fine pass
 // (strand_fine.comp): its NEAREST nearest fragments in depth order, a strand's
-// fragments in the pixel merged into one, and the tail the rest are blended into, each
-// under those before it (the walk brings them front to back by depth bins). The twin:
+// fragments in the pixel merged into one, and the tail the rest are blended into
+// (into_tail; the walk brings them front to back by depth bins). The twin:
 // render::strand_raster::blend::PixelList.
 #ifndef STRAND_FINE_LIST_GLSL
 #define STRAND_FINE_LIST_GLSL
@@ -23,9 +23,12 @@ bool nearer(float d, uint s, float e, uint t) {
     return d < e || (d == e && s < t);
 }
 
-// Blends a fragment into the tail, under what the tail holds.
-void into_tail(float alpha, vec3 color) {
-    tail_color += tail_transparency * alpha * color;
+// Blends a fragment into the tail: in front of what it holds if it was pushed out of
+// the sorted fragments (every fragment in the tail came in behind them all, and they
+// only get nearer), else behind.
+void into_tail(float alpha, vec3 color, bool in_front) {
+    vec3 own = alpha * color;
+    tail_color = in_front ? own + (1.0 - alpha) * tail_color : tail_color + tail_transparency * own;
     tail_transparency *= 1.0 - alpha;
     tail_count += 1u;
 }
@@ -89,7 +92,7 @@ void add_fragment(float depth, uint strand, float alpha, vec3 color) {
         k_color[i] = takes ? g_color : k_color[i];
     }
     if (spill) {
-        into_tail(out_alpha, out_color);
+        into_tail(out_alpha, out_color, last_out);
     }
     k_count += !merged && !spill ? 1u : 0u;
 }

@@ -255,7 +255,7 @@ impl Bench<'_> {
             self.md,
             "\nWhat the compute passes counted on the last frame: strand vertices and \
              segments written, (segment, tile) entries binned and their mean over the \
-             scene's tiles (side in pixels), fragments blended out of depth order (a pixel's tail), pixels \
+             scene's tiles (side in pixels), fragments blended past a pixel's nearest (its tail), pixels \
              that stopped walking their tile's list once opaque (of the image's {pixels}), and what \
              found a pool full (hairs not drawn, entries missing).\n\n\
              | scene | vertices | segments | entries | tile | per tile | tail fragments | \

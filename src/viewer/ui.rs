@@ -162,10 +162,11 @@ impl PanelState {
 }
 
 /// The HUD's line for a frame drawn by the compute rasteriser: what it binned and
-/// blended out of order, and what found a pool full (then true: the line is a warning).
+/// blended past each pixel's nearest, and what found a pool full (then true: the line
+/// is a warning).
 fn raster_line(c: &fur_gpu::render::ComputeCounts) -> (String, bool) {
     let mut line = format!(
-        "drawn in compute: {} tile entries, {} fragments blended out of depth order, {} \
+        "drawn in compute: {} tile entries, {} fragments blended past the nearest, {} \
          pixels opaque before their tile's list ended",
         c.entries, c.tail_fragments, c.pixels_stopped
     );

@@ -126,7 +126,7 @@ fn the_compute_backend_draws_the_hardware_backends_hairs() {
 /// The GPU's binning and hair layer against the CPU twin's, on the very segments the
 /// geometry stage wrote over the very depth the mesh pass left: every tile lists the
 /// same segments, and drawing the GPU's lists (in the GPU's order, which the tail's
-/// merging depends on) gives each pixel's colour and transmittance to float rounding
+/// blending and merging depend on) gives each pixel's colour and transmittance to float rounding
 /// over the hundreds of fragments of a dense pixel: within 10⁻³ (the GPU's division and
 /// fused arithmetic differ from the CPU's by up to 3·10⁻⁴ here), but for at most one
 /// pixel in a thousand, within 10⁻², where two fragments nearer to each other than that

@@ -1,9 +1,10 @@
 //! How far the path tracer's own noise moves the truth tables' figures. Each drawing is
 //! measured against two references of different seeds. A figure moves by its drawing's
 //! change between them (the seed's spread); a difference between two drawings moves
-//! far less, because the references' noise is common to both drawings and cancels in
-//! the difference but where the two drawings differ. A difference is told apart when
-//! it is ten times its own move or more.
+//! by the change of the two drawings' difference, which the references' noise leaves
+//! alone where the two drawings agree (it is common to both and cancels) and moves
+//! where they differ. A difference is told apart when it is ten times its own move or
+//! more.
 
 /// Each drawing's ꟻLIP against the first and the second reference.
 pub(super) type Figures = [(f64, f64)];
@@ -91,9 +92,9 @@ pub(super) fn noise_sentence(pairs: &Figures, names: &[String], base: &str) -> S
     let apart = unresolved_pairs(pairs);
     let mut sentence = format!(
         "every ꟻLIP moves by at most {spread:.4} against a second reference (another \
-         seed), a difference between two drawings far less, the noise being common to \
-         both: each drawing's difference from {base} (Δ) moves by at most {worst:.4}, \
-         the noise in brackets, and {told} of the {all} are ten times their noise or \
+         seed); a difference between two drawings moves only where they differ, the \
+         noise being common to both: each drawing's difference from {base} (Δ) moves \
+         by at most {worst:.4}, the noise in brackets, and {told} of the {all} are ten times their noise or \
          more; of all {pair_count} pairs of drawings, {} are.",
         pair_count - apart.len()
     );

@@ -1,10 +1,12 @@
 //! One pixel's strand fragments, blended front to back.
 //!
-//! The nearest `K` fragments are kept in depth order; a fragment pushed out of them
-//! joins the tail, which is blended behind them, each fragment under those before it,
-//! in the order they arrive. A pixel walks its tile's list front to back by depth bins
-//! ([`super::order`]), so the tail arrives nearly in depth order: only fragments of one
-//! bin come in any order. (Blended as the coverage-weighted mean instead, as if in no
+//! The nearest `K` fragments are kept in depth order; the rest join the tail, which is
+//! blended behind them: a fragment that comes in behind all of them under what the
+//! tail holds, one pushed out of them in front of it (it is nearer than every fragment
+//! in the tail, since those came in behind the sorted ones, which only get nearer). A
+//! pixel walks its tile's list front to back by depth bins ([`super::order`]), so the
+//! tail comes nearly in depth order: only fragments of one bin come in any order, and
+//! fragments arriving front to back or back to front blend exactly. (Blended as the coverage-weighted mean instead, as if in no
 //! order, the deep fragments of a dense coat weigh as much as the ones in front of them,
 //! and the tail darkens the pixel.) The nearest `K` do not depend on the order
 //! fragments arrive in, but for one case: a strand whose fragment was pushed into the
@@ -86,18 +88,26 @@ impl PixelList {
             .position(|f| fragment.nearer_than(f))
             .unwrap_or(self.nearest.len());
         if at >= k {
-            self.blend_into_tail(fragment);
+            self.blend_into_tail(fragment, false);
             return;
         }
         self.nearest.insert(at, fragment);
         if self.nearest.len() > k {
             let farthest = self.nearest.pop().expect("more than k > 0 fragments");
-            self.blend_into_tail(farthest);
+            self.blend_into_tail(farthest, true);
         }
     }
 
-    fn blend_into_tail(&mut self, fragment: Fragment) {
-        self.tail_color += self.tail_transparency * fragment.alpha * Vec3::from(fragment.color);
+    /// Blends `fragment` into the tail: in front of what it holds if it was pushed out
+    /// of the sorted fragments (every fragment in the tail came in behind all of them,
+    /// and the sorted ones only get nearer), else behind.
+    fn blend_into_tail(&mut self, fragment: Fragment, in_front: bool) {
+        let own = fragment.alpha * Vec3::from(fragment.color);
+        self.tail_color = if in_front {
+            own + (1.0 - fragment.alpha) * self.tail_color
+        } else {
+            self.tail_color + self.tail_transparency * own
+        };
         self.tail_transparency *= 1.0 - fragment.alpha;
         self.tail_count += 1;
     }
@@ -167,22 +177,34 @@ mod tests {
 
     proptest! {
         /// Fragments of different strands arriving front to back (as a pixel's walk of
-        /// its depth bins brings them) blend exactly as front to back, however few the
-        /// list keeps in order.
-        /// Seen failing against the tail as the coverage-weighted mean.
+        /// its depth bins brings them), or back to front (every one pushing the
+        /// farthest kept out into the tail), blend exactly as front to back, however
+        /// few the list keeps in order.
+        /// Seen failing against the tail as the coverage-weighted mean, and against
+        /// blending a fragment pushed out of the sorted ones behind the tail (back to
+        /// front, more than one more than the list keeps).
         #[test]
-        fn fragments_arriving_front_to_back_blend_exactly_whatever_k(
+        fn fragments_arriving_in_depth_order_blend_exactly_whatever_k(
             layers in prop::collection::vec((0.0f32..1.0, prop::array::uniform3(0.0f32..1.0)), 1..24),
             k in 1usize..10,
+            back_to_front: bool,
         ) {
-            let mut list = PixelList::new();
+            // Layer i at depth i, blended exactly front to back.
             let (mut exact, mut transmit) = ([0.0f32; 3], 1.0f32);
-            for (i, (alpha, color)) in layers.iter().enumerate() {
-                list.add(fragment(i as f32, i as u32, *alpha, *color), k);
+            for (alpha, color) in &layers {
                 for c in 0..3 {
                     exact[c] += transmit * alpha * color[c];
                 }
                 transmit *= 1.0 - alpha;
+            }
+            let mut order: Vec<usize> = (0..layers.len()).collect();
+            if back_to_front {
+                order.reverse();
+            }
+            let mut list = PixelList::new();
+            for i in order {
+                let (alpha, color) = layers[i];
+                list.add(fragment(i as f32, i as u32, alpha, color), k);
             }
             let drawn = list.resolve([0.25, 0.5, 0.75]);
             for c in 0..3 {

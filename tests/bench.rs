@@ -189,11 +189,25 @@ fn quick_bench_writes_every_expected_measurement() {
         assert_eq!(hairs("hardware"), hairs("compute"), "{scene}: hairs drawn");
         assert!(hairs("compute") > 0.0, "{scene}: no hair drawn");
         expect("raster", &format!("{scene}, between"), "flip");
-        // More fragments kept in depth order: closer to the supersampled reference.
+        // The tiny frames put far more fragments in a pixel than it keeps in order:
+        // every compute drawing errs less than the fixed-function one against the
+        // supersampled reference, and keeping 4 or 16 in order moves its error by
+        // under a fifth (the tail blended in the order it comes). Seen failing against
+        // the tail as the mean of its fragments (the blob's compute frames 1.6–3.0× the
+        // fixed-function frame's ꟻLIP, 4 in order 1.8× 16).
         let error = |case: &str| value("raster", &format!("{scene}, {case}"), "flip");
+        let fixed = error("hardware");
+        for case in ["compute", "compute, 4 in order", "compute, 16 in order"] {
+            assert!(
+                error(case) < fixed,
+                "{scene}: {case} ꟻLIP {} against the fixed-function {fixed}",
+                error(case)
+            );
+        }
+        let (four, sixteen) = (error("compute, 4 in order"), error("compute, 16 in order"));
         assert!(
-            error("compute, 16 in order") < error("compute, 4 in order"),
-            "{scene}: 16 fragments in order err no less than 4"
+            (four - sixteen).abs() < 0.2 * four.min(sixteen),
+            "{scene}: 4 in order ꟻLIP {four}, 16 in order {sixteen}"
         );
         for step in fur_gpu::render::STEP_NAMES {
             let step = step.trim_start_matches("strand ");

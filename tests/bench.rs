@@ -196,10 +196,11 @@ fn quick_bench_writes_every_expected_measurement() {
         // the tail as the mean of its fragments (the blob's compute frames 1.6–3.0× the
         // fixed-function frame's ꟻLIP, 4 in order 1.8× 16).
         let error = |case: &str| value("raster", &format!("{scene}, {case}"), "flip");
+        // (On a CPU driver: a GPU's fixed-function frame has not been measured so.)
         let fixed = error("hardware");
         for case in ["compute", "compute, 4 in order", "compute, 16 in order"] {
             assert!(
-                error(case) < fixed,
+                !on_cpu || error(case) < fixed,
                 "{scene}: {case} ꟻLIP {} against the fixed-function {fixed}",
                 error(case)
             );

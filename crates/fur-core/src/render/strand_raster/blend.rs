@@ -6,9 +6,9 @@
 //! in the tail, since those came in behind the sorted ones, which only get nearer). A
 //! pixel walks its tile's list front to back by depth bins ([`super::order`]), so the
 //! tail comes nearly in depth order: only fragments of one bin come in any order, and
-//! fragments arriving front to back or back to front blend exactly. (Blended as the coverage-weighted mean instead, as if in no
-//! order, the deep fragments of a dense coat weigh as much as the ones in front of them,
-//! and the tail darkens the pixel.) The nearest `K` do not depend on the order
+//! fragments arriving front to back or back to front blend exactly. (Blended as the
+//! coverage-weighted mean instead, as if in no order, the deep fragments of a dense
+//! coat weigh as much as the ones in front of them, and the tail darkens the pixel.) The nearest `K` do not depend on the order
 //! fragments arrive in, but for one case: a strand whose fragment was pushed into the
 //! tail and which leaves another in the pixel later is two fragments there, not one.
 //! Two fragments of one strand are one fragment: a strand crossing a pixel in two
@@ -42,7 +42,7 @@ impl Fragment {
 #[derive(Clone, Debug, Default)]
 pub struct PixelList {
     nearest: Vec<Fragment>,
-    /// The tail's colour, premultiplied, each fragment under those before it.
+    /// The tail's colour, premultiplied (see [`PixelList::blend_into_tail`]).
     tail_color: Vec3,
     tail_transparency: f32,
     tail_count: u32,

@@ -12,6 +12,14 @@ use fur_gpu::error::Result;
 /// The longest cost file read back (a number and a newline).
 const COST_FILE_LIMIT: u64 = 64;
 
+/// A reference and what it cost.
+pub(super) struct Traced {
+    pub image: LinearImage,
+    /// Seconds it took to path-trace, if known (a reference kept from before costs
+    /// were kept has none).
+    pub seconds: Option<f64>,
+}
+
 /// The reference of `usda` (whose text is `text`) at `spp` samples, seed `seed` and at
 /// most `depth` bounces, path-traced unless a file of the same hash is there.
 pub(super) fn cached_trace(
@@ -21,9 +29,10 @@ pub(super) fn cached_trace(
     spp: u32,
     seed: u32,
     depth: Option<u32>,
-) -> Result<LinearImage> {
+) -> Result<Traced> {
     let stem = stem(usda, text, spp, seed, depth);
     let pfm = stem.with_extension("pfm");
+    let cost = stem.with_extension("seconds");
     if !pfm.is_file() {
         let options = TraceOptions {
             spp,
@@ -38,26 +47,17 @@ pub(super) fn cached_trace(
         let start = Instant::now();
         reference.trace(usda, &pfm, &options, &extra)?;
         let seconds = format!("{:.1}\n", start.elapsed().as_secs_f64());
-        fur_core::files::write_output(
-            &stem.with_extension("seconds"),
-            seconds.as_bytes(),
-            "write the reference's cost to",
-        )?;
+        fur_core::files::write_output(&cost, seconds.as_bytes(), "write the reference's cost to")?;
     }
-    read_pfm(&pfm)
+    Ok(Traced {
+        image: read_pfm(&pfm)?,
+        seconds: kept_seconds(&cost),
+    })
 }
 
-/// The seconds the reference [`cached_trace`] keeps for these arguments took to
-/// path-trace, if it was path-traced with its cost kept.
-pub(super) fn trace_seconds(
-    usda: &Path,
-    text: &str,
-    spp: u32,
-    seed: u32,
-    depth: Option<u32>,
-) -> Option<f64> {
-    let path = stem(usda, text, spp, seed, depth).with_extension("seconds");
-    let text = fur_core::files::read_text_bounded(&path, COST_FILE_LIMIT, "a cost").ok()?;
+/// The seconds a reference's cost file `path` holds, if it holds a sound figure.
+fn kept_seconds(path: &Path) -> Option<f64> {
+    let text = fur_core::files::read_text_bounded(path, COST_FILE_LIMIT, "a cost").ok()?;
     text.trim()
         .parse::<f64>()
         .ok()
@@ -92,15 +92,16 @@ mod tests {
     use super::*;
 
     /// A reference's cost is read back from its file; a missing, empty, negative or
-    /// non-numeric one reads as unknown. Seen failing against parsing the file whole
-    /// (its newline made every kept cost unknown).
+    /// non-numeric one reads as unknown, and another seed is another reference's file.
+    /// Seen failing against parsing the file whole (its newline made every kept cost
+    /// unknown).
     #[test]
     fn a_kept_cost_reads_back_and_a_bad_one_is_unknown() {
         let dir = std::env::temp_dir().join(format!("fur-trace-cost-{}", std::process::id()));
         std::fs::create_dir_all(&dir).unwrap();
         let usda = dir.join("frame.usda");
         let cost = stem(&usda, "frame", 16, 0, None).with_extension("seconds");
-        assert_eq!(trace_seconds(&usda, "frame", 16, 0, None), None);
+        assert_eq!(kept_seconds(&cost), None);
         for (written, read) in [
             ("83.2\n", Some(83.2)),
             ("", None),
@@ -109,15 +110,12 @@ mod tests {
             ("fast\n", None),
         ] {
             std::fs::write(&cost, written).unwrap();
-            assert_eq!(
-                trace_seconds(&usda, "frame", 16, 0, None),
-                read,
-                "{written:?}"
-            );
+            assert_eq!(kept_seconds(&cost), read, "{written:?}");
         }
-        // Another seed is another reference.
-        std::fs::write(&cost, "83.2\n").unwrap();
-        assert_eq!(trace_seconds(&usda, "frame", 16, 1, None), None);
+        assert_ne!(
+            cost,
+            stem(&usda, "frame", 16, 1, None).with_extension("seconds")
+        );
         std::fs::remove_dir_all(&dir).unwrap();
     }
 }

@@ -58,8 +58,8 @@ impl Bench<'_> {
             let own = shot.look(&shot.settings.style);
             let name = format!("{}-{variant}", base.name);
             let (_, usda, text) = export(&shot, &own, &dir.join(format!("{name}.usda")))?;
-            let truth = cached_trace(reference, &usda, &text, spp, 0, None)?;
-            let second = cached_trace(reference, &usda, &text, spp, 1, None)?;
+            let truth = cached_trace(reference, &usda, &text, spp, 0, None)?.image;
+            let second = cached_trace(reference, &usda, &text, spp, 1, None)?.image;
             let noise = flip(&to_srgb8(&truth), &to_srgb8(&second));
             (self.progress)(&format!("{name}: references"));
             to_srgb8(&truth).write_png(&dir.join(format!("{name}-reference.png")))?;

@@ -43,7 +43,7 @@ mod groom;
 mod noise;
 mod terms;
 
-use cache::{cached_trace, trace_seconds};
+use cache::cached_trace;
 use noise::{delta_cell, differences, noise_sentence, resolved, seed_spread, unresolved_pairs};
 
 /// The looks switched one at a time, each against the scene's own drawing.
@@ -195,15 +195,16 @@ impl Bench<'_> {
         let (own_image, usda, text) = export(shot, &own, &t.dir.join(format!("{scene}.usda")))?;
         (self.progress)(&format!("{scene}: exported"));
         let trace = |seed: u32, depth: Option<u32>| -> Result<LinearImage> {
-            cached_trace(t.reference, &usda, &text, t.spp, seed, depth)
+            Ok(cached_trace(t.reference, &usda, &text, t.spp, seed, depth)?.image)
         };
-        let truth = trace(0, None)?;
+        let first = cached_trace(t.reference, &usda, &text, t.spp, 0, None)?;
+        let truth = first.image;
         (self.progress)(&format!("{scene}: reference"));
         let second = trace(1, None)?;
         (self.progress)(&format!("{scene}: noise"));
         let noise_flip = flip(&to_srgb8(&truth), &to_srgb8(&second));
         let noise_rmse = rmse_linear(&truth, &second)?;
-        let cost = trace_seconds(&usda, &text, t.spp, 0, None);
+        let cost = first.seconds;
         if let Some(seconds) = cost {
             self.row(
                 "truth",

@@ -40,10 +40,11 @@ impl DeviceInfo {
         self.device_type == vk::PhysicalDeviceType::CPU
     }
 
-    /// Whether strands drawn in compute are the better trade here: a GPU (on a CPU
-    /// driver the compute passes cost less than the fixed-function rasteriser on the
-    /// blob but err more by ꟻLIP, and cost more on the original's sphere, `fur bench
-    /// --only raster`) whose geometry stage can write them out.
+    /// Whether strands drawn in compute are the quality ladder's better rung here: a
+    /// GPU whose geometry stage can write them out. On a CPU driver (`fur bench --only
+    /// raster`) the compute frame errs less but costs about four fifths of the
+    /// fixed-function default's on the blob, more on the original's sphere, and far
+    /// more than the fixed ladder's cheaper rungs (4× lines).
     pub fn prefers_compute_strands(&self) -> bool {
         !self.is_cpu() && self.vertex_pipeline_stores
     }

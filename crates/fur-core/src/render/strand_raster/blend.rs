@@ -8,9 +8,10 @@
 //! tail comes nearly in depth order: only fragments of one bin come in any order, and
 //! fragments arriving front to back or back to front blend exactly. (Blended as the
 //! coverage-weighted mean instead, as if in no order, the deep fragments of a dense
-//! coat weigh as much as the ones in front of them, and the tail darkens the pixel.) The nearest `K` do not depend on the order
-//! fragments arrive in, but for one case: a strand whose fragment was pushed into the
-//! tail and which leaves another in the pixel later is two fragments there, not one.
+//! coat weigh as much as the ones in front of them, and the tail darkens the pixel.)
+//! The nearest `K` do not depend on the order fragments arrive in, but for one case: a
+//! strand whose fragment was pushed into the tail and which leaves another in the
+//! pixel later is two fragments there, not one.
 //! Two fragments of one strand are one fragment: a strand crossing a pixel in two
 //! segments covers it by the sum of their shares (the shares split the pixel where the
 //! segments meet), not as two layers, which would leave a darker dot at every joint.

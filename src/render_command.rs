@@ -49,7 +49,7 @@ pub(super) fn render(args: &RenderArgs) -> anyhow::Result<()> {
     } = open(args, simulate)?;
     let masters = session.strands.count();
     if simulate {
-        let ladder = device.info().ladder();
+        let ladder = device.info().ladder(session.settings.style.raster);
         render_sequence(args, &frames_dir, &mut session, ladder)?;
     } else {
         let start = Instant::now();

@@ -245,11 +245,12 @@ fn quick_bench_writes_every_expected_measurement() {
     // The quality ladder: every rung measured on both scenes, and its image error
     // ordered (each rung errs more than the one above; cost is the benchmark's to
     // measure, not a test's).
-    // The device's ladder: the one the binary steps along on the device it chooses.
+    // The device's ladder: the one the binary steps along on the device it chooses,
+    // for the default drawing (both scenes draw with it).
     let ladder = fur_gpu::gpu::headless(false)
         .expect("a device")
         .info()
-        .ladder();
+        .ladder(fur_core::render::FurStyle::default().raster);
     for scene in ["blob", "sphere"] {
         let mut last = -1.0f64;
         for (r, rung) in ladder.rungs.iter().enumerate() {

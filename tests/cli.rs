@@ -437,7 +437,10 @@ fn last_rung(stdout: &str) -> usize {
 #[test]
 fn a_budget_steps_a_sequence_down_the_ladder_and_prints_the_rungs() {
     let device = fur_gpu::gpu::headless(false).expect("a device");
-    let rungs = device.info().ladder().len();
+    let rungs = device
+        .info()
+        .ladder(fur_core::render::FurStyle::default().raster)
+        .len();
     let (stdout, stderr) = sequence("tight", "64", "0.001");
     let steps: Vec<&str> = stderr
         .lines()

@@ -113,11 +113,12 @@ variant() { # name, what it changes (scene text appended, or a sed edit)
 part_bounds() {
     variant base ""
     variant samples1 $'[render]\nsamples = 1'
-    variant lines $'[render]\nprimitive = "lines"'
+    variant hardware $'[render]\nraster = "hardware"'
+    variant lines $'[render]\nraster = "hardware"\nprimitive = "lines"'
     variant quarter 's/^density_scale = 12.0.*/density_scale = 3.0/'
     variant bare 's/^density_scale = 12.0.*/density_scale = 0.001/'
     variant nocull $'[render]\ncull = false'
-    for v in base samples1 lines quarter bare nocull; do
+    for v in base samples1 hardware lines quarter bare nocull; do
         bench "goal-$v" "${goal[@]}" --scene "$out/scenes/$v.toml" "$@"
     done
     bench goal-half --only frame --width 960 --height 540 --scene "$out/scenes/base.toml" "$@"

@@ -67,9 +67,10 @@ report() {
     echo "| --- | --- | --- | --- | --- | --- |"
     local base=""
     local rows=(
-        "base|none: 4× MSAA ribbons at 1920×1080"
+        "base|none: the default drawing (strands in compute) at 1920×1080"
         "samples1|\`samples = 1\` (no MSAA)"
-        "lines|\`primitive = \"lines\"\`"
+        "hardware|\`raster = \"hardware\"\` (4× MSAA ribbons)"
+        "lines|\`raster = \"hardware\"\`, \`primitive = \"lines\"\`"
         "quarter|\`density_scale = 3\` (a quarter of the density)"
         "bare|\`density_scale = 0.001\` (almost no hairs: the fixed cost)"
         "nocull|\`cull = false\`"

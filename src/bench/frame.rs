@@ -102,8 +102,9 @@ impl Bench<'_> {
              of {measured} frames after {warm} warm-up frames; wall clock from submission to fence \
              (simulation, both passes, resolve, copy to the host), and GPU time from timestamps. \
              *Default*: this release's drawing settings; *reference quality*: 4× MSAA ribbons lit \
-             per fragment, every strand vertex (the settings before this release); *strands drawn in \
-             compute*: the default's strands drawn by the compute passes (`--raster compute`). The original \
+             per fragment, every strand vertex; *fixed-function strands*: the default's strands drawn \
+             by the fixed-function rasteriser as 4× MSAA ribbons (`--raster hardware`, the default \
+             before strands were drawn in compute). The original \
              OpenGL demo took ~{ORIGINAL_FRAME_MS:.0} ms (1,345–1,641) a frame on its sphere scene \
              on this machine kind at 1280×720{}.\n\n\
              | scene | drawing | hairs drawn | segments | wall ms | GPU ms | × the original's frame rate |\n\
@@ -125,9 +126,9 @@ impl Bench<'_> {
                     scene.scene.options.draw.reference_quality(),
                 ),
                 (
-                    "strands drawn in compute",
+                    "fixed-function strands",
                     FurStyle {
-                        raster: fur_core::render::Raster::Compute,
+                        raster: fur_core::render::Raster::Hardware,
                         ..scene.scene.options.draw.clone()
                     },
                 ),

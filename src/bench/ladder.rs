@@ -38,7 +38,6 @@ impl Bench<'_> {
              costs less and errs more than the one above.\n",
             extent.width, extent.height
         );
-        let ladder = self.device.info.ladder();
         let mut series = Vec::new();
         // Per rung, its ꟻLIP on the first scene (the one the orbit runs on).
         let mut first_errors = Vec::new();
@@ -47,6 +46,7 @@ impl Bench<'_> {
             let shot = Shot::new(self.device, &bench_scene.scene, extent)?;
             let reference = shot.reference(factor)?;
             (self.progress)(&format!("{scene} ladder reference"));
+            let ladder = self.device.info.ladder(shot.settings.style.raster);
             let _ = writeln!(
                 self.md,
                 "### {scene}\n\n| rung | drawing | frame ms | ꟻLIP | ordered |\n| --- | --- | --- | --- | --- |"

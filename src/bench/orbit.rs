@@ -24,7 +24,7 @@ impl Bench<'_> {
         };
         let mut session = self.session(&scene, &scene.scene.options.draw)?;
         let base = session.settings.style.clone();
-        let mut budget = Budget::on(self.device.info.ladder(), TARGET_MS);
+        let mut budget = Budget::on(self.device.info.ladder(base.raster), TARGET_MS);
         let (moving, still) = if self.quick { (30, 20) } else { (120, 40) };
         // (rung, wall ms) of every orbiting frame.
         let mut frames: Vec<(usize, f64)> = Vec::new();

@@ -25,24 +25,22 @@ fn cases(quick: bool) -> Vec<Case> {
         draw,
         density: 1.0,
     };
+    // The default's strands through the fixed-function rasteriser, at `samples` per
+    // pixel as `primitive` with the vertex LOD `lod`.
     let with = |samples: u32, primitive: Primitive, lod: f32| FurStyle {
         samples,
         primitive,
         vertex_lod_px: lod,
+        raster: Raster::Hardware,
         ..default.clone()
     };
     let lod = default.vertex_lod_px;
-    // The same strands drawn by the compute passes (docs/compute-raster.md).
-    let compute = FurStyle {
-        raster: Raster::Compute,
-        ..default.clone()
-    };
     if quick {
         return vec![
             case("reference quality", default.reference_quality()),
             case("default", default.clone()),
+            case("4x ribbons", with(4, Primitive::Ribbons, lod)),
             case("1x lines", with(1, Primitive::Lines, lod)),
-            case("compute strands", compute),
         ];
     }
     vec![
@@ -55,8 +53,15 @@ fn cases(quick: bool) -> Vec<Case> {
             with(4, Primitive::Ribbons, 0.0),
         ),
         case(
-            &format!("default: 4x ribbons, vertex lighting, vertex LOD {lod} px"),
+            &format!(
+                "default: compute strands, {} fragments in order, tiles of the device's side",
+                default.nearest
+            ),
             default.clone(),
+        ),
+        case(
+            &format!("4x ribbons, vertex lighting, vertex LOD {lod} px"),
+            with(4, Primitive::Ribbons, lod),
         ),
         case(
             &format!("4x ribbons, fragment lighting, vertex LOD {lod} px"),
@@ -80,13 +85,6 @@ fn cases(quick: bool) -> Vec<Case> {
         case(
             "4x lines (coverage as samples)",
             with(4, Primitive::Lines, lod),
-        ),
-        case(
-            &format!(
-                "compute strands: {} fragments in order, tiles of the device's side",
-                compute.nearest
-            ),
-            compute.clone(),
         ),
         case("1x ribbons", with(1, Primitive::Ribbons, lod)),
         case(

@@ -58,7 +58,7 @@ impl Viewer {
             ..Default::default()
         };
         let masters = session.strands.count();
-        let ladder = device.info.ladder();
+        let ladder = device.info.ladder(session.settings.style.raster);
         let quality = Quality::new(options.target_fps, &session.settings.style, ladder);
         let binning = device.info.name.contains("llvmpipe");
         let scene_texture = mesh.texture.clone();

@@ -222,7 +222,7 @@ impl Bench<'_> {
         });
         let single = trace(0, Some(2))?;
         (self.progress)(&format!("{scene}: single scattering"));
-        let ladder = self.device.info.ladder();
+        let ladder = self.device.info.ladder(shot.settings.style.raster);
         let mut measured = Vec::new();
         for (r, rung) in ladder.rungs.iter().enumerate() {
             let style = rung.apply(&shot.settings.style);

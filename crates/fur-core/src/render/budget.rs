@@ -45,15 +45,14 @@ const DEFAULT: Rung = Rung {
     raster: None,
 };
 
-/// A rung at `samples` per pixel with `primitive` (with the scene's rasteriser: the
-/// fixed-function one unless the scene draws in compute), the default vertex LOD and
-/// density.
+/// A rung at `samples` per pixel with `primitive` through the fixed-function
+/// rasteriser, the default vertex LOD and density.
 const fn msaa(name: &'static str, samples: u32, primitive: Primitive) -> Rung {
     Rung {
         name,
         samples,
         primitive,
-        raster: None,
+        raster: Some(Raster::Hardware),
         ..DEFAULT
     }
 }
@@ -70,10 +69,11 @@ const fn compute(name: &'static str, vertex_lod_px: f32, density_lod: f32) -> Ru
     }
 }
 
-/// The ladder of CPU drivers, most accurate first: 4× MSAA ribbons (the default), 4×
-/// lines, 1-sample ribbons, 1-sample blended lines, then coarser vertex and density LOD,
-/// all through the fixed-function rasteriser (on lavapipe the compute rasteriser costs
-/// more than the default: `fur bench --only raster`).
+/// The ladder of CPU drivers, most accurate first: the scene's own drawing (in compute
+/// unless the scene asks for the fixed-function rasteriser), then 4× lines, 1-sample
+/// ribbons, 1-sample blended lines and coarser vertex and density LOD, all through the
+/// fixed-function rasteriser, each cheaper on lavapipe than the rung above (`fur bench
+/// --only ladder` measures whether they are).
 pub const LADDER: [Rung; 6] = [
     DEFAULT,
     msaa("4x lines", 4, Primitive::Lines),
@@ -90,14 +90,23 @@ pub const LADDER: [Rung; 6] = [
     },
 ];
 
-/// The ladder of GPUs: below 4× lines the strands are drawn in compute, then with
-/// coarser vertex and density LOD. On the one GPU measured (an NVIDIA H200,
-/// docs/gpu.md) the compute frame erred less than every 1-sample rung and cost less
-/// than all of them but the one that thins the hair out.
+/// The ladder of GPUs for a scene drawn by the fixed-function rasteriser: 4× lines,
+/// then the strands drawn in compute, then with coarser vertex and density LOD. On the
+/// one GPU measured (an NVIDIA H200, docs/gpu.md) the compute frame erred less than
+/// every 1-sample rung and cost less than all of them but the one that thins the hair
+/// out.
 pub const COMPUTE_LADDER: [Rung; 5] = [
     DEFAULT,
     msaa("4x lines", 4, Primitive::Lines),
     compute("compute strands", 0.05, 1.0),
+    compute("compute strands, vertex LOD 0.5 px", 0.5, 1.0),
+    compute("compute strands, quarter density distance", 0.5, 0.25),
+];
+
+/// The ladder of GPUs for a scene drawn in compute (the default): the compute strands
+/// with coarser vertex and density LOD (the fixed-function rungs cost more there).
+pub const IN_COMPUTE_LADDER: [Rung; 3] = [
+    DEFAULT,
     compute("compute strands, vertex LOD 0.5 px", 0.5, 1.0),
     compute("compute strands, quarter density distance", 0.5, 0.25),
 ];
@@ -123,6 +132,12 @@ impl Ladder {
     pub const COMPUTE: Self = Self {
         rungs: &COMPUTE_LADDER,
         guesses: &[1.0, 0.61, 0.4, 0.3, 0.15],
+    };
+    /// [`IN_COMPUTE_LADDER`]: [`Ladder::COMPUTE`]'s guesses for its LOD rungs, against
+    /// its compute strands.
+    pub const IN_COMPUTE: Self = Self {
+        rungs: &IN_COMPUTE_LADDER,
+        guesses: &[1.0, 0.75, 0.375],
     };
 
     /// Rung `r`, or the cheapest past the end.

@@ -136,7 +136,7 @@ impl Default for FurStyle {
             thickness_compensation: true,
             thin_hair_aa: true,
             samples: 4,
-            raster: Raster::Hardware,
+            raster: Raster::Compute,
             nearest: 8,
             tile: 0,
         }
@@ -172,10 +172,12 @@ pub const SETTINGS: &[StyleSetting] = &[
         key: "raster",
         flag: Flag::Long("raster"),
         label: "strand rasteriser",
-        help: "What draws the strands the geometry stage makes: `hardware` (the fixed-function \
-               rasteriser: lines or ribbons) or `compute` (compute passes: strands binned to \
-               screen tiles, exact coverage, the nearest fragments of each pixel blended \
-               front to back)",
+        help: "What draws the strands the geometry stage makes: `compute` (compute passes: \
+               strands binned to screen tiles, exact coverage, the nearest fragments of each \
+               pixel blended front to back; the geometry stage lights each strand per \
+               vertex, so `samples` sets only the body's MSAA, and `primitive` and `shading` \
+               do not apply) or `hardware` (the fixed-function rasteriser: lines or ribbons, \
+               at `samples` per pixel)",
         kind: Kind::Choice(&["hardware", "compute"]),
         panel: Panel::Plain,
         ..field!(raster)

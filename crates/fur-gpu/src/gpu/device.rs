@@ -40,23 +40,25 @@ impl DeviceInfo {
         self.device_type == vk::PhysicalDeviceType::CPU
     }
 
-    /// Whether strands drawn in compute are the quality ladder's better rung here: a
+    /// Whether strands drawn in compute are the quality ladder's cheaper rungs here: a
     /// GPU whose geometry stage can write them out. On a CPU driver (`fur bench --only
-    /// raster`) the compute frame errs less but costs about four fifths of the
-    /// fixed-function default's on the blob, more on the original's sphere, and far
-    /// more than the fixed ladder's cheaper rungs (4× lines).
+    /// raster`, `--only ladder`) the compute frame errs less and costs less than the
+    /// fixed-function 4× MSAA ribbons on the blob, but more than the fixed ladder's
+    /// cheaper rungs (4× lines and below).
     pub fn prefers_compute_strands(&self) -> bool {
         !self.is_cpu() && self.vertex_pipeline_stores
     }
 
-    /// The quality ladder of this device: the one that draws in compute where that is
-    /// the better trade, else the fixed-function one.
-    pub fn ladder(&self) -> fur_core::render::budget::Ladder {
+    /// The quality ladder of this device for a scene drawn by `scene`: on a device that
+    /// prefers compute strands, their LOD rungs (below 4× lines where the scene asks
+    /// for the fixed-function rasteriser), else the fixed-function one.
+    pub fn ladder(&self, scene: fur_core::render::Raster) -> fur_core::render::budget::Ladder {
         use fur_core::render::budget::Ladder;
-        if self.prefers_compute_strands() {
-            Ladder::COMPUTE
-        } else {
-            Ladder::FIXED
+        use fur_core::render::Raster;
+        match (self.prefers_compute_strands(), scene) {
+            (false, _) => Ladder::FIXED,
+            (true, Raster::Hardware) => Ladder::COMPUTE,
+            (true, Raster::Compute) => Ladder::IN_COMPUTE,
         }
     }
 }

@@ -232,14 +232,17 @@ fn each_rung_sets_its_own_settings_and_keeps_the_scenes_cheaper_ones() {
     assert_eq!((drawn.samples, drawn.vertex_lod_px), (1, 2.0));
 }
 
-/// The compute ladder (a GPU's, `DeviceInfo::ladder`) draws in compute below 4× lines,
-/// and the fixed one (a CPU driver's) never: the rungs
-/// above keep the scene's rasteriser (a scene drawn in compute stays so), the rungs
-/// below draw in compute whatever the scene's, each cheaper rung thinning the work
-/// further. Every ladder guesses a cost for each of its rungs, each cheaper than the
-/// one above (the controller's first descent trusts their order). Seen failing with the
-/// compute ladder's guesses one short (the controller then indexes past them) and with
-/// its rungs' rasteriser left to the scene's.
+/// The compute ladder (a GPU's for a scene drawn by the fixed-function rasteriser,
+/// `DeviceInfo::ladder`) draws in compute below 4× lines, the one for a scene drawn in
+/// compute (the default) only in compute, and the fixed one (a CPU driver's) through the
+/// fixed-function rasteriser below its first rung: rung 0 keeps the scene's rasteriser
+/// (a scene drawn in compute stays so), every other rung names its own, and each
+/// cheaper compute rung thins the work further. Every ladder guesses a cost for each of
+/// its rungs, each cheaper than the one above (the controller's first descent trusts
+/// their order). Seen failing with the compute ladder's guesses one short (the
+/// controller then indexes past them), with its rungs' rasteriser left to the scene's,
+/// and with the fixed ladder's lower rungs left to the scene's (a scene in compute then
+/// drew its "1x lines" in compute).
 #[test]
 fn a_gpus_ladder_draws_in_compute_below_four_x_lines() {
     for scene_raster in [Raster::Hardware, Raster::Compute] {
@@ -248,23 +251,45 @@ fn a_gpus_ladder_draws_in_compute_below_four_x_lines() {
             ..FurStyle::default()
         };
         for (r, rung) in COMPUTE_LADDER.iter().enumerate() {
-            let expected = if r < 2 { scene_raster } else { Raster::Compute };
+            let expected = match r {
+                0 => scene_raster,
+                1 => Raster::Hardware,
+                _ => Raster::Compute,
+            };
             assert_eq!(rung.apply(&scene).raster, expected, "{}", rung.name);
         }
-        for rung in &LADDER {
-            assert_eq!(rung.apply(&scene).raster, scene_raster, "{}", rung.name);
+        for (r, rung) in IN_COMPUTE_LADDER.iter().enumerate() {
+            let expected = if r == 0 {
+                scene_raster
+            } else {
+                Raster::Compute
+            };
+            assert_eq!(rung.apply(&scene).raster, expected, "{}", rung.name);
+        }
+        for (r, rung) in LADDER.iter().enumerate() {
+            let expected = if r == 0 {
+                scene_raster
+            } else {
+                Raster::Hardware
+            };
+            assert_eq!(rung.apply(&scene).raster, expected, "{}", rung.name);
         }
     }
-    for ladder in [Ladder::FIXED, Ladder::COMPUTE] {
+    for ladder in [Ladder::FIXED, Ladder::COMPUTE, Ladder::IN_COMPUTE] {
         assert_eq!(ladder.guesses.len(), ladder.len());
         assert_eq!(ladder.guesses[0], 1.0);
         assert!(ladder.guesses.windows(2).all(|w| w[1] < w[0]));
     }
-    for w in COMPUTE_LADDER[2..].windows(2) {
+    for w in COMPUTE_LADDER[2..]
+        .windows(2)
+        .chain(IN_COMPUTE_LADDER[1..].windows(2))
+    {
         let thinner =
             w[1].vertex_lod_px > w[0].vertex_lod_px || w[1].density_lod < w[0].density_lod;
         assert!(thinner, "{} thins nothing", w[1].name);
     }
+    // The first compute rung below a scene drawn in compute thins it.
+    assert!(IN_COMPUTE_LADDER[1].vertex_lod_px > FurStyle::default().vertex_lod_px);
     // The controller over it: the most accurate rung that fits, and back.
     let costs = [12.5, 8.5, 5.5, 4.5, 3.0];
     let mut b = Budget::on(Ladder::COMPUTE, 6.0);

@@ -2,7 +2,7 @@
 //! quality, and the tile side it draws with.
 
 use super::{FurStyle, DEFAULT_TILE};
-use crate::render::drawing::{Primitive, Shading};
+use crate::render::drawing::{Primitive, Raster, Shading};
 
 impl FurStyle {
     /// This style, measured on the model (lengths in bounding radii, density per
@@ -29,10 +29,12 @@ impl FurStyle {
         }
     }
 
-    /// This style at reference quality: 4× MSAA ribbons lit per fragment, every strand
-    /// vertex drawn (density, widths, jitter and culling kept).
+    /// This style at reference quality: 4× MSAA ribbons through the fixed-function
+    /// rasteriser, lit per fragment, every strand vertex drawn (density, widths, jitter
+    /// and culling kept): the drawing every other is measured against.
     pub fn reference_quality(&self) -> Self {
         Self {
+            raster: Raster::Hardware,
             samples: 4,
             primitive: Primitive::Ribbons,
             shading: Shading::Fragment,

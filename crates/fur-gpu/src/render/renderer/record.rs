@@ -111,10 +111,10 @@ impl Renderer {
     pub(super) fn check_device(info: &DeviceInfo, settings: &FrameSettings) -> Result<()> {
         if Self::draws_in_compute(settings) && !info.vertex_pipeline_stores {
             return Err(Error::parameter(format!(
-                "the compute rasteriser (--raster compute, and the tiles view) needs a device \
-                 whose geometry stage can write storage buffers \
+                "the compute rasteriser (the default, --raster compute, and the tiles view) \
+                 needs a device whose geometry stage can write storage buffers \
                  (vertexPipelineStoresAndAtomics), which {} lacks; draw with --raster \
-                 hardware and another view",
+                 hardware (raster = \"hardware\" in the scene file) and another view",
                 info.name
             )));
         }
@@ -178,10 +178,11 @@ mod tests {
     }
 
     /// A device whose geometry stage cannot write storage buffers is refused strands
-    /// in compute, by name and naming the feature (and draws them with the
-    /// fixed-function rasteriser); it is never offered the compute ladder, nor is a
-    /// CPU driver, and a GPU that can is. Seen failing with `prefers_compute_strands`
-    /// ignoring the feature.
+    /// in compute (the default), by name and naming the feature and the way out (it
+    /// draws them with the fixed-function rasteriser); it is never offered the compute
+    /// ladders, nor is a CPU driver, and a GPU that can is, the one that suits the
+    /// scene's rasteriser. Seen failing with `prefers_compute_strands` ignoring the
+    /// feature.
     #[test]
     fn a_device_that_cannot_write_strands_is_refused_compute_by_name() {
         let gpu = vk::PhysicalDeviceType::DISCRETE_GPU;
@@ -196,19 +197,31 @@ mod tests {
         assert!(error.is_parameter());
         let message = error.to_string();
         assert!(
-            message.contains("vertexPipelineStoresAndAtomics") && message.contains("a test device"),
+            message.contains("vertexPipelineStoresAndAtomics")
+                && message.contains("a test device")
+                && message.contains("--raster hardware"),
             "{message}"
         );
         assert!(Renderer::check_device(&info(gpu, true), &compute).is_ok());
-        assert!(Renderer::check_device(&info(gpu, false), &FrameSettings::default()).is_ok());
+        let default_error = Renderer::check_device(&info(gpu, false), &FrameSettings::default());
+        assert!(default_error.is_err(), "the default draws in compute");
+        let hardware = FrameSettings {
+            style: fur_core::render::FurStyle {
+                raster: Raster::Hardware,
+                ..Default::default()
+            },
+            ..Default::default()
+        };
+        assert!(Renderer::check_device(&info(gpu, false), &hardware).is_ok());
         assert!(info(gpu, true).prefers_compute_strands());
         assert!(!info(gpu, false).prefers_compute_strands());
         assert!(!info(vk::PhysicalDeviceType::CPU, true).prefers_compute_strands());
-        assert_eq!(info(gpu, true).ladder(), Ladder::COMPUTE);
-        assert_eq!(info(gpu, false).ladder(), Ladder::FIXED);
-        assert_eq!(
-            info(vk::PhysicalDeviceType::CPU, true).ladder(),
-            Ladder::FIXED
-        );
+        for scene in [Raster::Hardware, Raster::Compute] {
+            assert_eq!(info(gpu, false).ladder(scene), Ladder::FIXED);
+            let cpu = info(vk::PhysicalDeviceType::CPU, true);
+            assert_eq!(cpu.ladder(scene), Ladder::FIXED);
+        }
+        assert_eq!(info(gpu, true).ladder(Raster::Hardware), Ladder::COMPUTE);
+        assert_eq!(info(gpu, true).ladder(Raster::Compute), Ladder::IN_COMPUTE);
     }
 }

@@ -6,11 +6,32 @@
 // written into the tile's list (SCATTER 1). One
 // invocation per segment (or every so-many-th), dispatched indirectly by the count the
 // geometry stage left.
-// TILE, SCATTER are defined by the renderer.
+// On a CPU driver the scatter is one workgroup (SERIAL_SCATTER), dispatched once: its
+// invocations run in one fixed order on one thread, so each tile lists its segments in
+// the same order every frame and every run, and the image is the same bytes (workgroups
+// on several threads append to a tile's list in whatever order they reach it, and the
+// order within a depth bin decides how a pixel's tail blends). Its invocations each
+// take every 1024th segment and count their loops' turns: one that would pass lavapipe's
+// limit (MAX_TURNS) stops, and the sort pass counts the entries it left unwritten as
+// lost (they never took a slot).
+// TILE, SCATTER, SERIAL_SCATTER are defined by the renderer.
 #include "common.glsl"
 #include "strand_raster.glsl"
 
+#if SCATTER && SERIAL_SCATTER
+layout(local_size_x = 1024) in;
+#else
 layout(local_size_x = GROUP_SIZE) in;
+#endif
+
+// The loops' turns, held under lavapipe's 65,535 (the one-workgroup scatter's
+// invocations each walk a share of the segments; a test lowers it).
+#ifdef FUR_TEST_BIN_TURNS
+const uint MAX_TURNS = FUR_TEST_BIN_TURNS;
+#else
+const uint MAX_TURNS = 60000u;
+#endif
+uint turns = 0u;
 
 void bin_segment(uint s) {
     uvec2 segment = strand_segment(s);
@@ -40,6 +61,7 @@ void bin_segment(uint s) {
         return;
     }
     for (uint row = uint(first_row); row <= uint(last_row); ++row) {
+        turns += 1u;
         float lo = float(row) * size - radius;
         float hi = float(row + 1u) * size + radius;
         float x0;
@@ -60,6 +82,14 @@ void bin_segment(uint s) {
             continue;
         }
         for (uint column = uint(first_col); column <= uint(last_col); ++column) {
+            turns += 1u;
+#if SCATTER
+            // (The count pass walks every pair: what the scatter leaves unwritten is
+            // counted against it.)
+            if (turns > MAX_TURNS) {
+                return;
+            }
+#endif
             uint tile = row * columns + column;
             if (near >= tile_bins[tile].body_far) {
                 continue;
@@ -80,8 +110,10 @@ void bin_segment(uint s) {
 
 void main() {
     uint segments = min(raster_counts.segments, segment_room());
-    uint stride = gl_NumWorkGroups.x * GROUP_SIZE;
-    for (uint s = gl_GlobalInvocationID.x; s < segments; s += stride) {
+    uint stride = gl_NumWorkGroups.x * gl_WorkGroupSize.x;
+    for (uint s = gl_GlobalInvocationID.x; s < segments && (SCATTER == 0 || turns <= MAX_TURNS);
+         s += stride) {
+        turns += 1u;
         bin_segment(s);
     }
 }

@@ -74,8 +74,18 @@ uint bin_of(uint at, float lo, float scale) {
 void main() {
     uint tile = gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x;
     uint lane = gl_LocalInvocationIndex;
-    uint count = tile_bins[tile].kept;
+    // The entries the scatter wrote: the first `kept` slots, unless one of its
+    // invocations stopped at lavapipe's loop limit (strand_bin.comp) before taking
+    // some; those are counted lost and the list ends where the written ones do.
+    uint kept = tile_bins[tile].kept;
+    uint count = min(kept, tile_bins[tile].cursor);
     uint offset = tile_bins[tile].offset;
+    barrier();
+    if (lane == 0u && count < kept) {
+        tile_bins[tile].kept = count;
+        atomicAdd(raster_counts.entries_lost, kept - count);
+        atomicAdd(raster_counts.entries, 0u - (kept - count));
+    }
     // An empty tile has nothing to sort (the tiles pass left it no stops).
     if (count == 0u) {
         return;

@@ -9,12 +9,13 @@
 mod common;
 
 use ash::vk;
-use fur_core::render::{FrameSettings, FurStyle, Lighting, Primitive, Shading, Shadows};
+use fur_core::render::{FrameSettings, FurStyle, Lighting, Primitive, Raster, Shading, Shadows};
 use fur_core::scene::{Camera, GroomParams, Mesh, Strands};
 use fur_gpu::render::Renderer;
 use fur_gpu::strand_textures::StrandTextures;
 
-/// The drawings whose frames are compared: each primitive, shading and sample count, the
+/// The drawings whose frames are compared: the default (strands drawn in compute), and
+/// through the fixed-function rasteriser each primitive, shading and sample count, the
 /// vertex LOD, thin-hair AA, shadows and the supersampled reference's settings.
 fn drawings() -> Vec<(&'static str, FrameSettings)> {
     let base = FrameSettings {
@@ -28,9 +29,13 @@ fn drawings() -> Vec<(&'static str, FrameSettings)> {
         style,
         ..base.clone()
     };
-    let style = base.style.clone();
+    let style = FurStyle {
+        raster: Raster::Hardware,
+        ..base.style.clone()
+    };
     vec![
-        ("default", base.clone()),
+        ("default, in compute", base.clone()),
+        ("4x ribbons", with(style.clone())),
         (
             "1x lines",
             with(FurStyle {
@@ -59,7 +64,7 @@ fn drawings() -> Vec<(&'static str, FrameSettings)> {
             }),
         ),
         (
-            "Marschner, per vertex",
+            "Marschner, in compute (per vertex)",
             FrameSettings {
                 lighting: Lighting {
                     model: fur_core::render::LightingModel::Marschner,
@@ -83,6 +88,19 @@ fn drawings() -> Vec<(&'static str, FrameSettings)> {
             },
         ),
         (
+            "shadows, in compute",
+            FrameSettings {
+                lighting: Lighting {
+                    shadows: Shadows {
+                        enabled: true,
+                        ..Shadows::default()
+                    },
+                    ..Lighting::default()
+                },
+                ..base.clone()
+            },
+        ),
+        (
             "shadows",
             FrameSettings {
                 lighting: Lighting {
@@ -92,6 +110,7 @@ fn drawings() -> Vec<(&'static str, FrameSettings)> {
                     },
                     ..Lighting::default()
                 },
+                style: style.clone(),
                 ..base.clone()
             },
         ),

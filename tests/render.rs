@@ -106,9 +106,13 @@ fn every_interpolated_hair_is_generated_and_drawn_exactly_once() {
             },
             ..Default::default()
         };
+        // The fixed-function rasteriser: the primitives the geometry stage emits are
+        // counted too (the compute passes draw the same hairs and segments:
+        // `the_compute_backend_draws_the_hardware_backends_hairs`).
         settings.style = FurStyle {
             fixed_level: n as u32,
             cull: false,
+            raster: fur_core::render::Raster::Hardware,
             ..FurStyle::default()
         };
         let groom = GroomParams {

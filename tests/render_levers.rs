@@ -36,6 +36,10 @@ fn sparse_settings(root: Vec3, tip: Vec3) -> FrameSettings {
             cull: false,
             hair_width: 0.004,
             min_pixel_width: 0.75,
+            // Each end where the fixed-function rasteriser's sample lands: the levers
+            // measured here are the geometry stage's, and the compute passes' exact
+            // coverage spreads an end's colour over the pixels around it.
+            raster: fur_core::render::Raster::Hardware,
             ..FurStyle::default()
         },
         draw_mesh: false,

@@ -57,8 +57,8 @@ impl Bench<'_> {
         let _ = writeln!(
             self.md,
             "## The two strand rasterisers ({}×{})\n\n*Hardware*: the geometry stage's \
-             strands drawn by the fixed-function rasteriser (the default); *compute*: the same \
-             strands drawn by compute passes (`--raster compute`), each pixel keeping the \
+             strands drawn by the fixed-function rasteriser (`--raster hardware`); *compute*: the \
+             same strands drawn by compute passes (the default), each pixel keeping the \
              scene's number of fragments in depth order (`nearest`), then {} and {}, and \
              binned to tiles of the device's side ({tile}×{tile} px), then the other sides \
              of {:?}. All with the scene's other settings. Simulated frames as in the frame-time table (median of {measured} after \

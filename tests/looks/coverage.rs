@@ -55,15 +55,21 @@ fn thin_hairs_cover_their_pixels_by_their_width_and_hold_still() {
         let (mesh, groom, settings) = flat_hairs(hair_px, style, yaw);
         common::render(&device, &mesh, &groom, &settings, (TARGET, TARGET)).0
     };
+    // Thin-hair AA is the fixed-function rasteriser's (the compute passes' coverage is
+    // exact whatever the width: held to the same steadiness below).
+    let fixed = FurStyle {
+        raster: fur_core::render::Raster::Hardware,
+        ..FurStyle::default()
+    };
     let aa = FurStyle {
         thin_hair_aa: true,
         min_pixel_width: 1.0,
-        ..FurStyle::default()
+        ..fixed.clone()
     };
     let off = FurStyle {
         thin_hair_aa: false,
         min_pixel_width: 1.0,
-        ..FurStyle::default()
+        ..fixed.clone()
     };
     // Coverage follows the true width, whatever width the hair is drawn at.
     let (thin, thick) = (draw(0.2, aa.clone(), 0.0), draw(0.4, aa.clone(), 0.0));
@@ -95,7 +101,7 @@ fn thin_hairs_cover_their_pixels_by_their_width_and_hold_still() {
     let naive = FurStyle {
         thin_hair_aa: false,
         min_pixel_width: 0.0,
-        ..FurStyle::default()
+        ..fixed
     };
     let flicker = |style: &FurStyle| {
         let frames: Vec<RgbaImage> = (0..6)
@@ -129,6 +135,17 @@ fn thin_hairs_cover_their_pixels_by_their_width_and_hold_still() {
     assert!(
         aa_change < 0.6 * naive_change,
         "AA hairs flicker {aa_change}, true-width hairs {naive_change}"
+    );
+    // The strands drawn in compute (the default) hold as still as the AA hairs.
+    let (compute_change, compute_spread, _) = flicker(&FurStyle {
+        raster: fur_core::render::Raster::Compute,
+        ..FurStyle::default()
+    });
+    eprintln!("compute: {compute_change:.3} (± {compute_spread:.3})");
+    assert!(
+        compute_spread < 0.03 && compute_change < 0.6 * naive_change,
+        "compute strands flicker {compute_change} (ink ± {compute_spread}), true-width \
+         hairs {naive_change}"
     );
     common::assert_clean(&device);
 }

@@ -46,8 +46,13 @@ fn mean_luma(image: &RgbaImage) -> f32 {
 #[test]
 fn shadows_darken_with_depth_into_the_fur_and_shade_the_skin() {
     let device = common::device();
+    // The shadow map's depth as the fixed-function rasteriser shows it, each sample the
+    // nearest hair: the compute passes blend the hairs behind the nearest too, which
+    // narrows the two sides' difference (0.66 against 0.75 there); their shadows are
+    // measured against the path-traced truth (`fur bench --only truth`).
     let draw = |light: Vec3, shadows: bool, draw_fur: bool| {
-        let (mesh, groom, settings) = tuft(light, shadows, draw_fur);
+        let (mesh, groom, mut settings) = tuft(light, shadows, draw_fur);
+        settings.style.raster = fur_core::render::Raster::Hardware;
         common::render(&device, &mesh, &groom, &settings, (96, 96)).0
     };
     // Light behind the tuft: the side the camera sees lies under all of it.

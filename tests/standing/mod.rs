@@ -4,7 +4,7 @@
 
 use fur_core::colour::srgb8_to_linear as linear;
 use fur_core::render::marschner::Lobes;
-use fur_core::render::{Fibre, FrameSettings, FurStyle, Lighting, LightingModel, Shading};
+use fur_core::render::{Fibre, FrameSettings, FurStyle, Lighting, LightingModel, Raster, Shading};
 use fur_core::scene::Camera;
 use glam::Vec3;
 
@@ -152,9 +152,13 @@ pub fn render_standing(
             ..Default::default()
         },
         draw_mesh: false,
+        // Lit per fragment through the fixed-function rasteriser: the model's terms are
+        // measured along the hair, finer than its vertices (the compute strands are lit
+        // per vertex).
         style: FurStyle {
             jitter: 0.0,
             shading: Shading::Fragment,
+            raster: Raster::Hardware,
             length_jitter: if spacing.is_some() {
                 0.0
             } else {

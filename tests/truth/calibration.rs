@@ -115,13 +115,18 @@ fn calibration_thick_straight_strands_cover_the_same_pixels() {
     let Some(reference) = common::reference() else {
         return;
     };
+    // The export's conventions (camera, widths, ends) held against the fixed-function
+    // drawing, whose 4× MSAA edges the comparison was calibrated on: the compute
+    // passes' drawing covers a few more edge pixels (65 mismatched against 121 on the
+    // edge, over the half this allows), and is measured against the path tracer by
+    // `fur bench --only truth`.
     let dir = scratch("strands");
     let scene = dir.join("strands.toml");
     std::fs::write(
         &scene,
         "[groom]\ndensity_scale = 0.02\ncomb = 0.0\ncurl = 0.0\n\
          [render]\nhair_width = 0.03\nthin_hair_aa = false\njitter = 0.0\nlength_jitter = 0.0\n\
-         samples = 4\n[light]\nambient = 0.0\n",
+         samples = 4\nraster = \"hardware\"\n[light]\nambient = 0.0\n",
     )
     .unwrap();
     let (usda, stdout) = export(

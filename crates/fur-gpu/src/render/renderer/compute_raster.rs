@@ -432,9 +432,13 @@ impl ComputeRaster {
             ("DEPTH_SAMPLES", key.samples.to_string()),
             ("TILES_VIEW", u32::from(key.tiles_view).to_string()),
         ]);
+        // A CPU driver scatters in one workgroup, so every frame lists each tile's
+        // segments in the same order (strand_bin.comp).
+        let serial = self.device.info.is_cpu();
         let kernel = |shader: &str, scatter: bool| {
             let mut d = defines.clone();
             d.push(("SCATTER", u32::from(scatter).to_string()));
+            d.push(("SERIAL_SCATTER", u32::from(serial).to_string()));
             Pipeline::compute(&self.device, shader, &d, layout, &Specialization::new(&[]))
         };
         Ok(vec![

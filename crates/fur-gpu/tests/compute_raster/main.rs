@@ -10,6 +10,8 @@ use fur_gpu::gpu::Device;
 use fur_gpu::render::{FrameReport, Renderer};
 use fur_gpu::strand_textures::StrandTextures;
 
+mod bounds;
+
 fn device() -> Arc<Device> {
     let device = fur_gpu::gpu::headless(true).expect("a Vulkan device with the validation layer");
     assert!(device.instance().has_debug_messenger());
@@ -462,34 +464,4 @@ fn sequence(
             (image, timings.render.counts.unwrap())
         })
         .collect()
-}
-
-/// The fine pass's walk stays under lavapipe's loop limit by counting its turns: a
-/// pixel that would take more stops, counted with the pixels that stopped. With the
-/// bound lowered to a few turns (`FUR_TEST_MAX_TURNS`), the frame still finishes,
-/// validation-clean, many more pixels stop, and the image changes (what those pixels
-/// did not meet); a guard that did not stop the walk, or stopped it uncounted, fails.
-#[test]
-fn a_pixel_past_the_loop_bound_stops_and_is_counted() {
-    let device = device();
-    let settings = blob_settings(Raster::Compute, 1);
-    let draw = |defines: &[(&str, &str)]| {
-        fur_gpu::gpu::shader::with_test_defines(defines, || {
-            let (mut renderer, textures) = blob_renderer(&device, &settings, (96, 72));
-            let (image, report) = renderer.render(&textures, &settings).unwrap();
-            (image, report.raster.unwrap())
-        })
-    };
-    let (whole, whole_counts) = draw(&[]);
-    let (cut, cut_counts) = draw(&[("FUR_TEST_MAX_TURNS", "4u")]);
-    eprintln!("{whole_counts:?}\n{cut_counts:?}");
-    assert!(
-        cut_counts.pixels_stopped > whole_counts.pixels_stopped + 500,
-        "{whole_counts:?}\n{cut_counts:?}"
-    );
-    assert_ne!(
-        whole.data, cut.data,
-        "the stopped pixels' fragments were drawn"
-    );
-    assert_clean(&device);
 }

@@ -1,0 +1,84 @@
+//! The compute passes' loops under lavapipe's loop limit: each counts its turns and
+//! stops, counted, before the driver would end it.
+
+use super::{assert_clean, blob_renderer, blob_settings, device};
+use fur_core::render::Raster;
+
+/// The fine pass's walk stays under lavapipe's loop limit by counting its turns: a
+/// pixel that would take more stops, counted with the pixels that stopped. With the
+/// bound lowered to a few turns (`FUR_TEST_MAX_TURNS`), the frame still finishes,
+/// validation-clean, many more pixels stop, and the image changes (what those pixels
+/// did not meet); a guard that did not stop the walk, or stopped it uncounted, fails.
+#[test]
+fn a_pixel_past_the_loop_bound_stops_and_is_counted() {
+    let device = device();
+    let settings = blob_settings(Raster::Compute, 1);
+    let draw = |defines: &[(&str, &str)]| {
+        fur_gpu::gpu::shader::with_test_defines(defines, || {
+            let (mut renderer, textures) = blob_renderer(&device, &settings, (96, 72));
+            let (image, report) = renderer.render(&textures, &settings).unwrap();
+            (image, report.raster.unwrap())
+        })
+    };
+    let (whole, whole_counts) = draw(&[]);
+    let (cut, cut_counts) = draw(&[("FUR_TEST_MAX_TURNS", "4u")]);
+    eprintln!("{whole_counts:?}\n{cut_counts:?}");
+    assert!(
+        cut_counts.pixels_stopped > whole_counts.pixels_stopped + 500,
+        "{whole_counts:?}\n{cut_counts:?}"
+    );
+    assert_ne!(
+        whole.data, cut.data,
+        "the stopped pixels' fragments were drawn"
+    );
+    assert_clean(&device);
+}
+
+/// On a CPU driver the scatter is one workgroup (the same list order every run), whose
+/// invocations each walk many segments, so each counts its turns under lavapipe's loop
+/// limit. With the bound lowered to a few turns (`FUR_TEST_BIN_TURNS`), the frame
+/// finishes validation-clean, the entries the stopped invocations never wrote are
+/// counted lost, and the lists end where the written entries do: the entries kept and
+/// lost add up to the whole frame's entries, and the image loses hair. Seen failing
+/// with the sort taking each tile's whole count (nothing counted lost, and stale
+/// entries drawn).
+#[test]
+fn a_scatter_past_the_loop_bound_stops_and_counts_what_it_left() {
+    let device = device();
+    if !device.info().is_cpu() {
+        return;
+    }
+    let settings = blob_settings(Raster::Compute, 1);
+    let draw = |defines: &[(&str, &str)]| {
+        fur_gpu::gpu::shader::with_test_defines(defines, || {
+            let (mut renderer, textures) = blob_renderer(&device, &settings, (96, 72));
+            let (image, report) = renderer.render(&textures, &settings).unwrap();
+            (image, report.raster.unwrap())
+        })
+    };
+    let (whole, whole_counts) = draw(&[]);
+    let (cut, cut_counts) = draw(&[("FUR_TEST_BIN_TURNS", "6u")]);
+    eprintln!("{whole_counts:?}\n{cut_counts:?}");
+    assert_eq!(whole_counts.entries_lost, 0, "{whole_counts:?}");
+    assert!(cut_counts.entries_lost > 0, "{cut_counts:?}");
+    assert!(cut_counts.entries > 0, "{cut_counts:?}");
+    assert_eq!(
+        cut_counts.entries + cut_counts.entries_lost,
+        whole_counts.entries,
+        "{whole_counts:?}\n{cut_counts:?}"
+    );
+    let covered = |image: &fur_core::render::RgbaImage| {
+        let background = image.pixel(0, 0);
+        (0..image.height)
+            .flat_map(|y| (0..image.width).map(move |x| (x, y)))
+            .filter(|&(x, y)| image.pixel(x, y) != background)
+            .count()
+    };
+    assert!(
+        covered(&cut) < covered(&whole),
+        "the lost entries were drawn: {} pixels against {}",
+        covered(&cut),
+        covered(&whole)
+    );
+    assert_clean(&device);
+}

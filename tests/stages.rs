@@ -164,10 +164,15 @@ fn standing_hairs_lit(
     let (mesh, groom) = common::standing_hairs_scene();
     let settings = FrameSettings {
         camera,
+        // Opaque ribbons at one sample through the fixed-function rasteriser: each pixel
+        // holds one hair's colour, which the views' tests read back exactly (the compute
+        // passes' exact coverage blends the hairs a pixel holds; the tiles view draws in
+        // compute whatever this says).
         style: FurStyle {
             primitive: Primitive::Ribbons,
             thin_hair_aa: false,
             samples: 1,
+            raster: fur_core::render::Raster::Hardware,
             ..style
         },
         lighting,

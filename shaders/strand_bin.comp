@@ -6,15 +6,17 @@
 // written into the tile's list (SCATTER 1). One
 // invocation per segment (or every so-many-th), dispatched indirectly by the count the
 // geometry stage left.
-// On a CPU driver the scatter is one workgroup (SERIAL_SCATTER), dispatched once: its
-// invocations run in one fixed order on one thread, so each tile lists its segments in
-// the same order every frame and every run, and the image is the same bytes (workgroups
-// on several threads append to a tile's list in whatever order they reach it, and the
-// order within a depth bin decides how a pixel's tail blends). Its invocations each
-// take every 1024th segment and count their loops' turns: one that would pass lavapipe's
-// limit (MAX_TURNS) stops, and the sort pass counts the entries it left unwritten as
-// lost (they never took a slot).
-// TILE, SCATTER, SERIAL_SCATTER are defined by the renderer.
+// On a CPU driver (SERIAL_SCATTER) the scatter is SCATTER_BANDS workgroups, one for each
+// band of tile rows, each walking every segment and appending only to its band's tiles:
+// a workgroup's invocations run in one fixed order on one thread, and no two workgroups
+// append to one tile, so each tile lists its segments in the same order every frame and
+// every run, and the image is the same bytes (workgroups that share a tile append to
+// its list in whatever order their threads reach it, and the order within a depth bin
+// decides how a pixel's tail blends). Each band reads every segment again, so more
+// bands cost more reads. Its invocations each take every 1024th segment and count
+// their loops' turns: one that would pass lavapipe's limit (MAX_TURNS) stops, and the
+// sort pass counts the entries it left unwritten as lost (they never took a slot).
+// TILE, SCATTER, SERIAL_SCATTER, SCATTER_BANDS are defined by the renderer.
 #include "common.glsl"
 #include "strand_raster.glsl"
 
@@ -24,7 +26,7 @@ layout(local_size_x = 1024) in;
 layout(local_size_x = GROUP_SIZE) in;
 #endif
 
-// The loops' turns, held under lavapipe's 65,535 (the one-workgroup scatter's
+// The loops' turns, held under lavapipe's 65,535 (the banded scatter's
 // invocations each walk a share of the segments; a test lowers it).
 #ifdef FUR_TEST_BIN_TURNS
 const uint MAX_TURNS = FUR_TEST_BIN_TURNS;
@@ -57,6 +59,12 @@ void bin_segment(uint s) {
     }
     float first_row = max(floor(y_lo / size), 0.0);
     float last_row = min(floor(y_hi / size), float(rows) - 1.0);
+#if SCATTER && SERIAL_SCATTER
+    // This workgroup's band of tile rows: it alone appends to their tiles.
+    uint band_rows = (rows + SCATTER_BANDS - 1u) / SCATTER_BANDS;
+    first_row = max(first_row, float(gl_WorkGroupID.x * band_rows));
+    last_row = min(last_row, float((gl_WorkGroupID.x + 1u) * band_rows) - 1.0);
+#endif
     if (first_row > last_row) {
         return;
     }
@@ -110,9 +118,15 @@ void bin_segment(uint s) {
 
 void main() {
     uint segments = min(raster_counts.segments, segment_room());
+#if SCATTER && SERIAL_SCATTER
+    // Every segment, in each band's workgroup.
+    uint first = gl_LocalInvocationID.x;
+    uint stride = gl_WorkGroupSize.x;
+#else
+    uint first = gl_GlobalInvocationID.x;
     uint stride = gl_NumWorkGroups.x * gl_WorkGroupSize.x;
-    for (uint s = gl_GlobalInvocationID.x; s < segments && (SCATTER == 0 || turns <= MAX_TURNS);
-         s += stride) {
+#endif
+    for (uint s = first; s < segments && (SCATTER == 0 || turns <= MAX_TURNS); s += stride) {
         turns += 1u;
         bin_segment(s);
     }

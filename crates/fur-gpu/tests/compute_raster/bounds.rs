@@ -34,8 +34,8 @@ fn a_pixel_past_the_loop_bound_stops_and_is_counted() {
     assert_clean(&device);
 }
 
-/// On a CPU driver the scatter is one workgroup (the same list order every run), whose
-/// invocations each walk many segments, so each counts its turns under lavapipe's loop
+/// On a CPU driver the scatter is a workgroup for each band of tile rows (the same list
+/// order every run), whose invocations each walk many segments, so each counts its turns under lavapipe's loop
 /// limit. With the bound lowered to a few turns (`FUR_TEST_BIN_TURNS`), the frame
 /// finishes validation-clean, the entries the stopped invocations never wrote are
 /// counted lost, and the lists end where the written entries do: the entries kept and

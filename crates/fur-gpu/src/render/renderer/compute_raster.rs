@@ -31,6 +31,10 @@ use fur_core::render::FurStyle;
 
 pub use super::strand_counts_reset::ComputeCounts;
 
+/// The bands of tile rows a CPU driver scatters in, a workgroup each (strand_bin.comp):
+/// each reads every segment, so two suit lavapipe on two cores.
+pub(super) const SCATTER_BANDS: u32 = 2;
+
 /// The pools of one target size.
 pub(super) struct Pools {
     extent: vk::Extent2D,
@@ -432,13 +436,14 @@ impl ComputeRaster {
             ("DEPTH_SAMPLES", key.samples.to_string()),
             ("TILES_VIEW", u32::from(key.tiles_view).to_string()),
         ]);
-        // A CPU driver scatters in one workgroup, so every frame lists each tile's
-        // segments in the same order (strand_bin.comp).
+        // A CPU driver scatters in a workgroup for each band of tile rows, so every
+        // frame lists each tile's segments in the same order (strand_bin.comp).
         let serial = self.device.info.is_cpu();
         let kernel = |shader: &str, scatter: bool| {
             let mut d = defines.clone();
             d.push(("SCATTER", u32::from(scatter).to_string()));
             d.push(("SERIAL_SCATTER", u32::from(serial).to_string()));
+            d.push(("SCATTER_BANDS", format!("{SCATTER_BANDS}u")));
             Pipeline::compute(&self.device, shader, &d, layout, &Specialization::new(&[]))
         };
         Ok(vec![

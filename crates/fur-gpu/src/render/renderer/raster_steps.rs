@@ -190,9 +190,11 @@ impl Pass for StepPass {
                     raw.cmd_dispatch(cmd, self.grid.0, self.grid.1, 1)
                 }
                 Step::Scan => raw.cmd_dispatch(cmd, 1, 1, 1),
-                // One workgroup on a CPU driver: the same order every run
-                // (strand_bin.comp, SERIAL_SCATTER).
-                Step::Scatter if frame.device.info.is_cpu() => raw.cmd_dispatch(cmd, 1, 1, 1),
+                // A workgroup for each band of tile rows on a CPU driver: the same order
+                // every run (strand_bin.comp, SERIAL_SCATTER).
+                Step::Scatter if frame.device.info.is_cpu() => {
+                    raw.cmd_dispatch(cmd, super::compute_raster::SCATTER_BANDS, 1, 1)
+                }
                 _ => raw.cmd_dispatch_indirect(
                     cmd,
                     frame.raster_counts,

@@ -1,6 +1,6 @@
 //! What looking costs: each stage view of the default blob, simulated (its shake and
 //! wind) and drawn every frame, against the lit frame. The views are for study, not
-//! for speed; this measures what each costs against the lit frame.
+//! for speed; this measures that each stays within twice the lit frame.
 
 use std::fmt::Write as _;
 

@@ -33,6 +33,17 @@ fn drawings() -> Vec<(&'static str, FrameSettings)> {
         raster: Raster::Hardware,
         ..base.style.clone()
     };
+    let shadowed = |style: FurStyle| FrameSettings {
+        lighting: Lighting {
+            shadows: Shadows {
+                enabled: true,
+                ..Shadows::default()
+            },
+            ..Lighting::default()
+        },
+        style,
+        ..base.clone()
+    };
     vec![
         ("default, in compute", base.clone()),
         ("4x ribbons", with(style.clone())),
@@ -87,33 +98,8 @@ fn drawings() -> Vec<(&'static str, FrameSettings)> {
                 ..base.clone()
             },
         ),
-        (
-            "shadows, in compute",
-            FrameSettings {
-                lighting: Lighting {
-                    shadows: Shadows {
-                        enabled: true,
-                        ..Shadows::default()
-                    },
-                    ..Lighting::default()
-                },
-                ..base.clone()
-            },
-        ),
-        (
-            "shadows",
-            FrameSettings {
-                lighting: Lighting {
-                    shadows: Shadows {
-                        enabled: true,
-                        ..Shadows::default()
-                    },
-                    ..Lighting::default()
-                },
-                style: style.clone(),
-                ..base.clone()
-            },
-        ),
+        ("shadows, in compute", shadowed(base.style.clone())),
+        ("shadows", shadowed(style.clone())),
     ]
 }
 

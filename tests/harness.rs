@@ -1,7 +1,7 @@
 //! Tests of the checks every GPU test and the binary lean on: the test device hears the
 //! validation layer, a validation error fails `common::assert_clean`, and a leaked
 //! buffer fails `fur_gpu::gpu::shut_down`, what `fur render` and `fur bench` run at exit
-//! (their errors end the process with a failure, which `tests/cli.rs`'s
+//! (their errors end the process with a failure, which `tests/cli/`'s
 //! `nothing_is_left_alive_at_exit` asserts against).
 
 mod common;

@@ -1,8 +1,23 @@
 //! The compute passes' loops under lavapipe's loop limit: each counts its turns and
 //! stops, counted, before the driver would end it.
 
+use std::sync::Arc;
+
 use super::{assert_clean, blob_renderer, blob_settings, device};
-use fur_core::render::Raster;
+use fur_core::render::{Raster, RgbaImage};
+use fur_gpu::gpu::Device;
+use fur_gpu::render::ComputeCounts;
+
+/// The blob drawn in compute at 96×72 with the shaders compiled with `defines`, and what
+/// the passes counted.
+fn blob_in_compute(device: &Arc<Device>, defines: &[(&str, &str)]) -> (RgbaImage, ComputeCounts) {
+    let settings = blob_settings(Raster::Compute, 1);
+    fur_gpu::gpu::shader::with_test_defines(defines, || {
+        let (mut renderer, textures) = blob_renderer(device, &settings, (96, 72));
+        let (image, report) = renderer.render(&textures, &settings).unwrap();
+        (image, report.raster.unwrap())
+    })
+}
 
 /// The fine pass's walk stays under lavapipe's loop limit by counting its turns: a
 /// pixel that would take more stops, counted with the pixels that stopped. With the
@@ -12,14 +27,7 @@ use fur_core::render::Raster;
 #[test]
 fn a_pixel_past_the_loop_bound_stops_and_is_counted() {
     let device = device();
-    let settings = blob_settings(Raster::Compute, 1);
-    let draw = |defines: &[(&str, &str)]| {
-        fur_gpu::gpu::shader::with_test_defines(defines, || {
-            let (mut renderer, textures) = blob_renderer(&device, &settings, (96, 72));
-            let (image, report) = renderer.render(&textures, &settings).unwrap();
-            (image, report.raster.unwrap())
-        })
-    };
+    let draw = |defines: &[(&str, &str)]| blob_in_compute(&device, defines);
     let (whole, whole_counts) = draw(&[]);
     let (cut, cut_counts) = draw(&[("FUR_TEST_MAX_TURNS", "4u")]);
     eprintln!("{whole_counts:?}\n{cut_counts:?}");
@@ -48,14 +56,7 @@ fn a_scatter_past_the_loop_bound_stops_and_counts_what_it_left() {
     if !device.info().is_cpu() {
         return;
     }
-    let settings = blob_settings(Raster::Compute, 1);
-    let draw = |defines: &[(&str, &str)]| {
-        fur_gpu::gpu::shader::with_test_defines(defines, || {
-            let (mut renderer, textures) = blob_renderer(&device, &settings, (96, 72));
-            let (image, report) = renderer.render(&textures, &settings).unwrap();
-            (image, report.raster.unwrap())
-        })
-    };
+    let draw = |defines: &[(&str, &str)]| blob_in_compute(&device, defines);
     let (whole, whole_counts) = draw(&[]);
     let (cut, cut_counts) = draw(&[("FUR_TEST_BIN_TURNS", "6u")]);
     eprintln!("{whole_counts:?}\n{cut_counts:?}");

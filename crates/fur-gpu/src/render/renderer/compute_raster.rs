@@ -33,7 +33,15 @@ pub use super::strand_counts_reset::ComputeCounts;
 
 /// The bands of tile rows a CPU driver scatters in, a workgroup each (strand_bin.comp):
 /// each reads every segment, so two suit lavapipe on two cores.
-pub(super) const SCATTER_BANDS: u32 = 2;
+const SCATTER_BANDS: u32 = 2;
+
+/// The workgroups the scatter runs as on a device of `info`: on a CPU driver one for
+/// each band of tile rows, so every frame lists each tile's segments in the same order
+/// (strand_bin.comp, SERIAL_SCATTER); elsewhere as many as the segments ask (None: the
+/// indirect dispatch the geometry stage leaves).
+pub(super) fn scatter_bands(info: &crate::gpu::DeviceInfo) -> Option<u32> {
+    info.is_cpu().then_some(SCATTER_BANDS)
+}
 
 /// The pools of one target size.
 pub(super) struct Pools {
@@ -436,14 +444,12 @@ impl ComputeRaster {
             ("DEPTH_SAMPLES", key.samples.to_string()),
             ("TILES_VIEW", u32::from(key.tiles_view).to_string()),
         ]);
-        // A CPU driver scatters in a workgroup for each band of tile rows, so every
-        // frame lists each tile's segments in the same order (strand_bin.comp).
-        let serial = self.device.info.is_cpu();
+        let bands = scatter_bands(&self.device.info);
         let kernel = |shader: &str, scatter: bool| {
             let mut d = defines.clone();
             d.push(("SCATTER", u32::from(scatter).to_string()));
-            d.push(("SERIAL_SCATTER", u32::from(serial).to_string()));
-            d.push(("SCATTER_BANDS", format!("{SCATTER_BANDS}u")));
+            d.push(("SERIAL_SCATTER", u32::from(bands.is_some()).to_string()));
+            d.push(("SCATTER_BANDS", format!("{}u", bands.unwrap_or(1))));
             Pipeline::compute(&self.device, shader, &d, layout, &Specialization::new(&[]))
         };
         Ok(vec![

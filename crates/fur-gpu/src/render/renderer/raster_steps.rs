@@ -4,7 +4,7 @@
 use ash::vk;
 
 use super::super::graph::{Attachments, FrameContext, Pass};
-use super::compute_raster::ComputeCounts;
+use super::compute_raster::{scatter_bands, ComputeCounts};
 use crate::frame::{uses, Resource, Use};
 use crate::gpu::{whole_image_copy, Access};
 
@@ -185,16 +185,12 @@ impl Pass for StepPass {
         // the counts buffer (the indirect arguments at `bin_groups`) outlive the frame.
         unsafe {
             raw.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, self.pipeline);
-            match self.step {
-                Step::Tiles | Step::Sort | Step::Fine | Step::Composite => {
+            match (self.step, scatter_bands(&frame.device.info)) {
+                (Step::Tiles | Step::Sort | Step::Fine | Step::Composite, _) => {
                     raw.cmd_dispatch(cmd, self.grid.0, self.grid.1, 1)
                 }
-                Step::Scan => raw.cmd_dispatch(cmd, 1, 1, 1),
-                // A workgroup for each band of tile rows on a CPU driver: the same order
-                // every run (strand_bin.comp, SERIAL_SCATTER).
-                Step::Scatter if frame.device.info.is_cpu() => {
-                    raw.cmd_dispatch(cmd, super::compute_raster::SCATTER_BANDS, 1, 1)
-                }
+                (Step::Scan, _) => raw.cmd_dispatch(cmd, 1, 1, 1),
+                (Step::Scatter, Some(bands)) => raw.cmd_dispatch(cmd, bands, 1, 1),
                 _ => raw.cmd_dispatch_indirect(
                     cmd,
                     frame.raster_counts,

@@ -27,14 +27,24 @@
 // (blended from its triangle's corners by the evaluation stage) is its base colour.
 // SHADOW_CASTER: the light's view of the fur for the shadow map, positions only.
 // MARSCHNER: the fibre model instead of Kajiya–Kay (per vertex, its radiance).
-// COMPUTE_RASTER: the strand is not emitted but written, lit per vertex, into the
-// strand buffers the compute passes draw from (strand_raster.glsl), with the
-// rasteriser discarded; its hairs and segments are counted as the emitted ones are.
+// COMPUTE_RASTER: the strand is not emitted but written into the strand buffers the
+// compute passes draw from (strand_raster.glsl), with the rasteriser discarded; its
+// hairs and segments are counted as the emitted ones are. Under the Marschner model
+// (DEFERRED_SHADING) each vertex of the lit frame goes with what lights it (its
+// tangent, base colour and coat) and a compute pass lights it (strand_shade.comp: a
+// CPU driver runs the geometry stage on one thread and a compute pass on all, and the
+// model is costly); Kajiya–Kay's few operations a vertex cost less here than the
+// pass's reading and writing of each vertex, and a stage view's colours are made here.
 // STRAND_VERTICES, LINES, VERTEX_SHADING, TEXTURED, SHADOWS, SHADOW_CASTER, MARSCHNER,
 // COUNT_HAIRS and COMPUTE_RASTER are defined by the renderer.
 #include "shading.glsl"
 #if COMPUTE_RASTER
 #include "strand_raster.glsl"
+#endif
+#if COMPUTE_RASTER && STAGE_VIEW == 0 && MARSCHNER && !defined(FUR_TEST_LIGHT_IN_GEOMETRY)
+#define DEFERRED_SHADING 1
+#else
+#define DEFERRED_SHADING 0
 #endif
 
 layout(points) in;
@@ -170,7 +180,7 @@ void find_coat(uvec3 h) {
 #if !SHADOW_CASTER && VERTEX_SHADING
 vec4 lit_along;                // the lit vertex, computed once for both ribbon sides
 #endif
-#if MARSCHNER && !SHADOW_CASTER && !VERTEX_SHADING
+#if MARSCHNER && !SHADOW_CASTER && (!VERTEX_SHADING || DEFERRED_SHADING)
 vec2 vertex_coat;              // the vertex's coat_layers, computed once for both sides
 #endif
 #if STAGE_VIEW != 0 && STAGE_VIEW != STAGE_SHADOW
@@ -212,24 +222,31 @@ void write_outputs(uint k, vec3 t) {
 #if COMPUTE_RASTER
 float TW[STRAND_VERTICES];            // the hair's true width at each
 vec4 kept_position[STRAND_VERTICES];  // x, y (pixels), depth (NDC z), width (pixels)
-vec3 kept_color[STRAND_VERTICES];
+vec4 kept_color[STRAND_VERTICES];   // lit: its world position and place along the hair
+#if DEFERRED_SHADING
+uvec4 kept_shading[STRAND_VERTICES];
+#endif
 uint kept_count = 0u;
 bool behind_eye = false;
 
-// Keeps vertex k, lit (lit_along), as the compute passes draw it: on the screen, its
-// width in pixels (its true width with thin-hair anti-aliasing, the drawn width
-// otherwise; coverage does the rest), its final colour.
-void keep_vertex(uint k) {
+// Keeps vertex k (tangent t) as the compute passes draw it: on the screen, its width
+// in pixels (its true width with thin-hair anti-aliasing, the drawn width otherwise;
+// coverage does the rest), and what the lighting pass lights it by, or in a stage
+// view its colour (lit_along).
+void keep_vertex(uint k, vec3 t) {
     vec4 clip = frame.camera.view_proj * vec4(P[k], 1.0);
     behind_eye = behind_eye || clip.w <= 1e-6;
     vec3 ndc = clip.xyz / max(clip.w, 1e-6);
     vec2 pixel = (ndc.xy * 0.5 + 0.5) * frame.camera.viewport;
     bool thin_hair_aa = (frame.drawing.flags & FLAG_THIN_HAIR_AA) != 0u;
     float width = (thin_hair_aa ? TW[k] : W[k]) / S[k];
-#if STAGE_VIEW != 0 || MARSCHNER
-    vec3 color = lit_along.xyz;
+#if DEFERRED_SHADING
+    vec4 color = vec4(P[k], along(k));
+    kept_shading[kept_count] = pack_shading(t, hair_base(along(k), root_texel()), vertex_coat);
+#elif STAGE_VIEW != 0 || MARSCHNER
+    vec4 color = vec4(lit_along.xyz, 1.0);
 #else
-    vec3 color = hair_color(lit_along.xyz, along(k), root_texel());
+    vec4 color = vec4(hair_color(lit_along.xyz, along(k), root_texel()), 1.0);
 #endif
     kept_position[kept_count] = vec4(pixel, ndc.z, width);
     kept_color[kept_count] = color;
@@ -258,7 +275,10 @@ void write_strand() {
     }
     for (uint i = 0u; i < kept_count; ++i) {
         imageStore(strand_vertices, int(2u * (first + i)), kept_position[i]);
-        imageStore(strand_vertices, int(2u * (first + i) + 1u), vec4(kept_color[i], 1.0));
+        imageStore(strand_vertices, int(2u * (first + i) + 1u), kept_color[i]);
+#if DEFERRED_SHADING
+        imageStore(strand_shading, int(first + i), kept_shading[i]);
+#endif
     }
     for (uint i = 0u; i < segments; ++i) {
         imageStore(strand_segments, int(first_segment + i), uvec4(first + i, first, 0u, 0u));
@@ -271,7 +291,9 @@ void write_strand() {
 #endif
 
 void emit_vertex(uint k, vec3 t) {
-#if STAGE_VIEW == STAGE_SHADOW && MARSCHNER
+#if DEFERRED_SHADING
+    vertex_coat = coat_layers(k);
+#elif STAGE_VIEW == STAGE_SHADOW && MARSCHNER
     // The Marschner model's light through the fibres, in their colour.
     lit_along = vec4(light_through_fibres(t, P[k], hair_base(along(k), root_texel()), coat_layers(k)),
                      along(k));
@@ -287,7 +309,7 @@ void emit_vertex(uint k, vec3 t) {
     vertex_coat = coat_layers(k);
 #endif
 #if COMPUTE_RASTER
-    keep_vertex(k);
+    keep_vertex(k, t);
 #elif LINES
     write_outputs(k, t);
     gl_Position = frame.camera.view_proj * vec4(P[k], 1.0);

@@ -39,6 +39,35 @@ layout(set = SET_RASTER, binding = B_RASTER_COUNTS, std430) buffer RasterCounts 
 // Per vertex, two texels: its position, then its colour.
 layout(set = SET_RASTER, binding = B_STRAND_VERTICES, rgba32f) uniform imageBuffer strand_vertices;
 
+// Per vertex of a lit frame, what the lighting pass (strand_shade.comp) lights it by:
+// its tangent (octahedral, two snorm16), its base colour and the coat's hair layers
+// towards the light and above it (half floats); the vertex's colour texel holds its
+// world position and its place along the hair until that pass writes its colour.
+layout(set = SET_RASTER, binding = B_STRAND_SHADING, rgba32ui) uniform uimageBuffer strand_shading;
+
+// A unit vector as a point of the octahedron unfolded onto [-1, 1]² (and back).
+vec2 octahedral(vec3 n) {
+    n /= abs(n.x) + abs(n.y) + abs(n.z);
+    vec2 p = n.xy;
+    if (n.z < 0.0) {
+        p = (1.0 - abs(n.yx)) * vec2(n.x >= 0.0 ? 1.0 : -1.0, n.y >= 0.0 ? 1.0 : -1.0);
+    }
+    return p;
+}
+
+vec3 from_octahedral(vec2 p) {
+    vec3 n = vec3(p, 1.0 - abs(p.x) - abs(p.y));
+    float f = max(-n.z, 0.0);
+    n.x += n.x >= 0.0 ? -f : f;
+    n.y += n.y >= 0.0 ? -f : f;
+    return normalize(n);
+}
+
+uvec4 pack_shading(vec3 tangent, vec3 base, vec2 coat) {
+    return uvec4(packSnorm2x16(octahedral(tangent)), packHalf2x16(base.rg),
+                 packHalf2x16(vec2(base.b, coat.x)), packHalf2x16(vec2(coat.y, 0.0)));
+}
+
 // Per segment: its first vertex (the second follows it) and its strand.
 layout(set = SET_RASTER, binding = B_STRAND_SEGMENTS, rg32ui) uniform uimageBuffer strand_segments;
 

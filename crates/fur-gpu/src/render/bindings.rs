@@ -28,6 +28,11 @@ const SHADING_STAGES: vk::ShaderStageFlags = vk::ShaderStageFlags::from_raw(
     vk::ShaderStageFlags::GEOMETRY.as_raw() | vk::ShaderStageFlags::FRAGMENT.as_raw(),
 );
 
+/// The stages that light hairs, the compute rasteriser's lighting pass among them.
+const LIGHTING_STAGES: vk::ShaderStageFlags = vk::ShaderStageFlags::from_raw(
+    SHADING_STAGES.as_raw() | vk::ShaderStageFlags::COMPUTE.as_raw(),
+);
+
 bindings!(
     /// Set 0: one per frame in flight, per position image and per view (the camera's
     /// and the light's).
@@ -41,7 +46,7 @@ bindings!(
         Counters = ("B_HAIR_COUNTERS", STORAGE_BUFFER, vk::ShaderStageFlags::from_raw(
             vk::ShaderStageFlags::TESSELLATION_CONTROL.as_raw() | vk::ShaderStageFlags::GEOMETRY.as_raw())),
         /// The shadow map (read by the frames with shadows).
-        ShadowMap = ("B_SHADOW_MAP", COMBINED_IMAGE_SAMPLER, SHADING_STAGES),
+        ShadowMap = ("B_SHADOW_MAP", COMBINED_IMAGE_SAMPLER, LIGHTING_STAGES),
         /// The simulation kernel's arrows (the simulation view).
         Probe = ("B_PROBE", STORAGE_BUFFER, vk::ShaderStageFlags::VERTEX),
     }
@@ -82,6 +87,8 @@ bindings!(
         Counts = ("B_RASTER_COUNTS", STORAGE_BUFFER, RASTER_STAGES),
         /// The strands' vertices on the screen.
         Vertices = ("B_STRAND_VERTICES", STORAGE_TEXEL_BUFFER, RASTER_STAGES),
+        /// What lights each vertex of a lit frame (the lighting pass's input).
+        Shading = ("B_STRAND_SHADING", STORAGE_TEXEL_BUFFER, RASTER_STAGES),
         /// The segments: first vertex and strand.
         Segments = ("B_STRAND_SEGMENTS", STORAGE_TEXEL_BUFFER, RASTER_STAGES),
         /// Per tile: the body's depth and the tile's list in the entry pool.

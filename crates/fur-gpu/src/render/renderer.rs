@@ -22,7 +22,7 @@ use crate::strand_textures::StrandTextures;
 use compute_raster::ComputeRaster;
 use fur_core::render::uniforms::{FrameSettings, Raster, Stage, StrandShape};
 use fur_core::render::RgbaImage;
-use fur_core::render::{FrameInputs, FrameUniforms, LightView};
+use fur_core::render::{FrameInputs, FrameUniforms, LightView, LightingModel};
 use fur_pass::FurPass;
 use mesh_pass::{BodyTraits, MeshLook, MeshPass};
 use registry::{register, FramePass, Phase, Plan};
@@ -30,6 +30,7 @@ use registry::{register, FramePass, Phase, Plan};
 mod build;
 mod capture;
 mod raster_capture;
+mod raster_pools;
 mod raster_steps;
 mod record;
 mod registry;
@@ -54,6 +55,7 @@ pub use fur_pass::Variant;
 
 pub use capture::{CapturedHairs, MAX_CAPTURE_BYTES};
 pub use raster_capture::RasterCapture;
+use raster_steps::StrandLighting;
 pub use raster_steps::STEP_NAMES;
 pub use report::{FrameReport, HairCounts};
 
@@ -193,12 +195,18 @@ impl Renderer {
             }
         }
         if Self::draws_in_compute(settings) {
+            // The lit frame's strands under the Marschner model are lit by a compute
+            // pass; the geometry stage colours the others.
+            let lighting = variants
+                .iter()
+                .find(|v| v.compute && v.view == 0 && v.model == LightingModel::Marschner)
+                .map(|v| StrandLighting { shadows: v.shadows });
             self.compute_raster.prepare(
                 &self.target,
                 &self.pipeline_layout,
                 slot,
                 &settings.style,
-                settings.show == Stage::Tiles,
+                (settings.show == Stage::Tiles, lighting),
             )?;
         }
         self.mesh_pass.prepare(

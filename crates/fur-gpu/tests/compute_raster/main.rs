@@ -11,6 +11,7 @@ use fur_gpu::render::{FrameReport, Renderer};
 use fur_gpu::strand_textures::StrandTextures;
 
 mod bounds;
+mod lighting;
 
 fn device() -> Arc<Device> {
     let device = fur_gpu::gpu::headless(true).expect("a Vulkan device with the validation layer");

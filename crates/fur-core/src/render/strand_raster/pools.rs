@@ -37,6 +37,10 @@ impl Default for PoolBudget {
 /// sorted entry (its segment and a word of the block masks: a row, or its own mask), and of a
 /// pixel of the layer.
 pub const VERTEX_BYTES: u64 = 32;
+/// Bytes of what lights a strand vertex under the Marschner model (its tangent, base
+/// colour and coat, packed: one texel), beside the vertex; a frame under Kajiya–Kay
+/// or in a stage view has its vertices coloured and takes none.
+pub const SHADING_BYTES: u64 = 16;
 pub const SEGMENT_BYTES: u64 = 8;
 pub const TILE_BYTES: u64 = 32 + 4 * super::order::DEPTH_BINS as u64;
 pub const ENTRY_BYTES: u64 = 4;
@@ -80,6 +84,8 @@ impl Demand {
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct PoolSizes {
     pub vertices: u64,
+    /// What lights each vertex (the lighting pass's input, under the Marschner model).
+    pub shading: u64,
     pub segments: u64,
     pub tiles: u64,
     /// The entries, binned; and again, each tile's list sorted by depth.
@@ -97,6 +103,7 @@ impl PoolSizes {
         let capacity = Self::capacity(budget, pixels, demand);
         Self {
             vertices: capacity.vertices * VERTEX_BYTES,
+            shading: capacity.vertices * SHADING_BYTES,
             segments: capacity.segments * SEGMENT_BYTES,
             tiles: tiles * TILE_BYTES,
             entries: capacity.entries * ENTRY_BYTES,
@@ -117,7 +124,13 @@ impl PoolSizes {
     }
 
     pub fn total(&self) -> u64 {
-        self.vertices + self.segments + self.tiles + self.entries + self.sorted + self.layer
+        self.vertices
+            + self.shading
+            + self.segments
+            + self.tiles
+            + self.entries
+            + self.sorted
+            + self.layer
     }
 
     /// The largest of the pools that are storage buffers (the tiles, the layer), bytes.
@@ -126,10 +139,11 @@ impl PoolSizes {
     }
 
     /// The most texels any of the pools that are texel buffers holds (the vertices,
-    /// the segments, both entry pools).
+    /// what lights them, the segments, both entry pools).
     pub fn most_texels(&self) -> u64 {
         [
             self.vertices / VERTEX_TEXEL_BYTES,
+            self.shading / SHADING_BYTES,
             self.segments / SEGMENT_BYTES,
             self.entries / ENTRY_BYTES,
             self.sorted / SORTED_ENTRY_BYTES,
@@ -152,14 +166,15 @@ pub const TABLED_SIZES: [(&str, u32, u32); 3] = [
 pub fn table(budget: &PoolBudget) -> String {
     use crate::error::size_text;
     let mut out = String::from(
-        "| image | strand vertices | segments | tiles | entries | sorted entries | hair layer | all |\n\
-         | --- | --- | --- | --- | --- | --- | --- | --- |\n",
+        "| image | strand vertices | their lighting (Marschner) | segments | tiles | entries | sorted entries | hair layer | all |\n\
+         | --- | --- | --- | --- | --- | --- | --- | --- | --- |\n",
     );
     for (name, width, height) in TABLED_SIZES {
         let s = PoolSizes::of(budget, width, height, &Demand::default());
         out += &format!(
-            "| {name} ({width}×{height}) | {} | {} | {} | {} | {} | {} | {} |\n",
+            "| {name} ({width}×{height}) | {} | {} | {} | {} | {} | {} | {} | {} |\n",
             size_text(s.vertices),
+            size_text(s.shading),
             size_text(s.segments),
             size_text(s.tiles),
             size_text(s.entries),
@@ -170,7 +185,8 @@ pub fn table(budget: &PoolBudget) -> String {
     }
     let b = budget;
     out += &format!(
-        "\nPer pixel: {} strand vertices of {VERTEX_BYTES} bytes, {} segments of \
+        "\nPer pixel: {} strand vertices of {VERTEX_BYTES} bytes (and {SHADING_BYTES} of what \
+         lights each under the Marschner model), {} segments of \
          {SEGMENT_BYTES} bytes, {} entries of {ENTRY_BYTES} bytes binned and \
          {SORTED_ENTRY_BYTES} sorted, a layer pixel of {LAYER_BYTES} bytes; per {}×{} tile {TILE_BYTES} bytes; at least {} vertices, {} \
          segments and {} entries.\n",

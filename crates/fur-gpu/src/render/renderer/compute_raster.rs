@@ -1,6 +1,6 @@
 //! Strands drawn in compute (`--raster compute`): the fur pass's geometry stage writes
-//! each strand, lit per vertex, into buffers and emits nothing; then
-//! compute passes find each tile's farthest body depth, count the segments per tile,
+//! each strand into buffers and emits nothing; then compute passes light its vertices
+//! (in the lit frame), find each tile's farthest body depth, count the segments per tile,
 //! place each tile's list in one pool, list the segments, sort each list front to back
 //! into depth bins, and draw each tile's pixels with exact coverage and their nearest
 //! fragments blended front to back, each stopping once opaque; a last pass
@@ -17,16 +17,14 @@ use gpu_allocator::MemoryLocation;
 
 use super::super::bindings::{render_defines, RasterBinding};
 use super::super::target::RenderTarget;
-use super::raster_steps::{Step, StepPass};
-use crate::error::{Error, Result};
+use super::raster_pools::Pools;
+use super::raster_steps::{Step, StepPass, StrandLighting};
+use crate::error::Result;
 use crate::gpu::{
-    Buffer, DescriptorPool, DescriptorSetLayout, Device, Image, ImageDesc, Pipeline,
-    PipelineLayout, Sampler, Specialization, TexelBuffer,
+    Buffer, DescriptorPool, DescriptorSetLayout, Device, Pipeline, PipelineLayout, Sampler,
+    Specialization,
 };
-use fur_core::render::strand_raster::pools::{
-    Demand, PoolBudget, PoolSizes, ENTRY_BYTES, SEGMENT_BYTES, SORTED_ENTRY_BYTES,
-    VERTEX_TEXEL_BYTES,
-};
+use fur_core::render::strand_raster::pools::{Demand, PoolBudget};
 use fur_core::render::FurStyle;
 
 pub use super::strand_counts_reset::ComputeCounts;
@@ -43,25 +41,6 @@ pub(super) fn scatter_bands(info: &crate::gpu::DeviceInfo) -> Option<u32> {
     info.is_cpu().then_some(SCATTER_BANDS)
 }
 
-/// The pools of one target size.
-pub(super) struct Pools {
-    extent: vk::Extent2D,
-    capacity: Demand,
-    pub(super) columns: u32,
-    pub(super) rows: u32,
-    /// The vertices, the segments and the entries are texel buffers
-    /// (`shaders/strand_raster.glsl` says why).
-    pub(super) vertices: TexelBuffer,
-    pub(super) segments: TexelBuffer,
-    pub(super) tiles: Buffer,
-    pub(super) entries: TexelBuffer,
-    /// The entries again, each tile's list sorted front to back by depth bin.
-    pub(super) sorted: TexelBuffer,
-    pub(super) layer: Buffer,
-    /// The hair over the target, sRGB-encoded, copied onto the target.
-    composited: Image,
-}
-
 /// What the pipelines are built for.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 struct PipelineKey {
@@ -73,6 +52,9 @@ struct PipelineKey {
     tile: u32,
     /// Whether the composite shows the tiles (`--show tiles`).
     tiles_view: bool,
+    /// How the lighting pass lights the strands (None: the stage views colour them in
+    /// the geometry stage).
+    lighting: Option<StrandLighting>,
 }
 
 /// The compute rasteriser: its pools, its sets (one per frame in flight, each with its
@@ -194,17 +176,18 @@ impl ComputeRaster {
     }
 
     /// Sizes the pools for `target` and `style`'s tiles and builds the pipelines for its
-    /// sample count and `style`'s fragments a pixel, unless they are; points frame slot
-    /// `slot`'s set at them; the composite shows the tiles instead of the hair when
-    /// `tiles_view`. The slot's last frame has finished; a new size or new pipelines
-    /// need the device idle (other slots' frames may still use the old).
+    /// sample count, `style`'s fragments a pixel and the strands' `lighting` (none in a
+    /// stage view), unless they are; points frame slot `slot`'s set at them; the
+    /// composite shows the tiles instead of the hair when `tiles_view`. The slot's last
+    /// frame has finished; a new size or new pipelines need the device idle (other
+    /// slots' frames may still use the old).
     pub fn prepare(
         &mut self,
         target: &RenderTarget,
         layout: &PipelineLayout,
         slot: usize,
         style: &FurStyle,
-        tiles_view: bool,
+        (tiles_view, lighting): (bool, Option<StrandLighting>),
     ) -> Result<()> {
         let extent = target.extent;
         let tile = self.tile_for(style);
@@ -232,10 +215,17 @@ impl ComputeRaster {
         }
         // The steps hold the pools' and pipelines' handles: remade when those are.
         let mut remade = self.steps.is_empty();
-        if outgrown || retiled || self.pools.as_ref().map(|p| p.extent) != Some(extent) {
+        let lit = lighting.is_some();
+        let fits = |p: &Pools| p.extent == extent && p.lit == lit;
+        if outgrown || retiled || !self.pools.as_ref().is_some_and(fits) {
             // Other slots' frames may still read the old pools.
             self.device.wait_idle()?;
-            self.pools = Some(self.make_pools(extent)?);
+            self.pools = Some(Pools::new(
+                &self.device,
+                (&self.budget, &self.demand),
+                extent,
+                lit,
+            )?);
             self.written.fill(vk::Image::null());
             remade = true;
         }
@@ -244,6 +234,7 @@ impl ComputeRaster {
             nearest: style.nearest,
             tile,
             tiles_view,
+            lighting,
         };
         if self.pipelines.as_ref().map(|p| p.0) != Some(key) {
             if self.pipelines.is_some() {
@@ -279,107 +270,6 @@ impl ComputeRaster {
         Ok(())
     }
 
-    fn make_pools(&self, extent: vk::Extent2D) -> Result<Pools> {
-        let sizes = PoolSizes::of(&self.budget, extent.width, extent.height, &self.demand);
-        let pixels = u64::from(extent.width) * u64::from(extent.height);
-        let capacity = PoolSizes::capacity(&self.budget, pixels, &self.demand);
-        let limits = &self.device.info.limits;
-        let (buffer_limit, texel_limit) = (
-            u64::from(limits.max_storage_buffer_range),
-            u64::from(limits.max_texel_buffer_elements),
-        );
-        let gib = |bytes: u64| bytes as f64 / f64::from(1u32 << 30);
-        let refuse = |what: String| {
-            Err(Error::parameter(format!(
-                "the compute rasteriser cannot draw {}×{}: its pools would take {:.1} GiB, \
-                 and {what}; draw it smaller or with --raster hardware",
-                extent.width,
-                extent.height,
-                gib(sizes.total()),
-            )))
-        };
-        if sizes.largest_storage() > buffer_limit {
-            return refuse(format!(
-                "its largest storage buffer {:.1} GiB where {} allows {:.1} GiB",
-                gib(sizes.largest_storage()),
-                self.device.info.name,
-                gib(buffer_limit),
-            ));
-        }
-        if sizes.most_texels() > texel_limit {
-            return refuse(format!(
-                "its largest texel buffer {} texels where {} allows {texel_limit}",
-                sizes.most_texels(),
-                self.device.info.name,
-            ));
-        }
-        // Transfer sources: the tests read them back (`capture`).
-        let storage = |name: &str, size: u64| {
-            Buffer::new(
-                &self.device,
-                name,
-                size,
-                vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::TRANSFER_SRC,
-                MemoryLocation::GpuOnly,
-            )
-        };
-        // Read in the passes' loops through texel views (`strand_raster.glsl`).
-        let texels = |name: &str, size: u64, format: vk::Format, bytes: u64| {
-            TexelBuffer::with_usage(
-                &self.device,
-                name,
-                size / bytes,
-                format,
-                bytes,
-                vk::BufferUsageFlags::TRANSFER_SRC,
-                MemoryLocation::GpuOnly,
-            )
-        };
-        Ok(Pools {
-            extent,
-            capacity,
-            columns: extent.width.div_ceil(self.budget.tile),
-            rows: extent.height.div_ceil(self.budget.tile),
-            vertices: texels(
-                "raster.vertices",
-                sizes.vertices,
-                vk::Format::R32G32B32A32_SFLOAT,
-                VERTEX_TEXEL_BYTES,
-            )?,
-            segments: texels(
-                "raster.segments",
-                sizes.segments,
-                vk::Format::R32G32_UINT,
-                SEGMENT_BYTES,
-            )?,
-            tiles: storage("raster.tiles", sizes.tiles)?,
-            entries: texels(
-                "raster.entries",
-                sizes.entries,
-                vk::Format::R32_UINT,
-                ENTRY_BYTES,
-            )?,
-            sorted: texels(
-                "raster.sorted",
-                sizes.sorted,
-                vk::Format::R32G32_UINT,
-                SORTED_ENTRY_BYTES,
-            )?,
-            layer: storage("raster.layer", sizes.layer)?,
-            composited: Image::new(
-                &self.device,
-                "raster.composited",
-                ImageDesc {
-                    extent,
-                    format: vk::Format::R8G8B8A8_UNORM,
-                    usage: vk::ImageUsageFlags::STORAGE | vk::ImageUsageFlags::TRANSFER_SRC,
-                    samples: vk::SampleCountFlags::TYPE_1,
-                    aspect: vk::ImageAspectFlags::COLOR,
-                },
-            )?,
-        })
-    }
-
     fn write_set(&self, target: &RenderTarget, slot: usize) {
         let pools = self.pools.as_ref().expect("sized before");
         let info = |b: &Buffer| {
@@ -388,8 +278,9 @@ impl ComputeRaster {
                 .range(vk::WHOLE_SIZE)]
         };
         let (tiles, layer) = (info(&pools.tiles), info(&pools.layer));
-        let (vertices, segments, entries, sorted) = (
+        let (vertices, shading, segments, entries, sorted) = (
             [pools.vertices.view()],
+            [pools.shading.view()],
             [pools.segments.view()],
             [pools.entries.view()],
             [pools.sorted.view()],
@@ -412,6 +303,9 @@ impl ComputeRaster {
                 RasterBinding::Vertices
                     .write(*set)
                     .texel_buffer_view(&vertices),
+                RasterBinding::Shading
+                    .write(*set)
+                    .texel_buffer_view(&shading),
                 RasterBinding::Segments
                     .write(*set)
                     .texel_buffer_view(&segments),
@@ -452,7 +346,20 @@ impl ComputeRaster {
             d.push(("SCATTER_BANDS", format!("{}u", bands.unwrap_or(1))));
             Pipeline::compute(&self.device, shader, &d, layout, &Specialization::new(&[]))
         };
-        Ok(vec![
+        let mut kernels = Vec::new();
+        if let Some(lighting) = key.lighting {
+            let mut d = defines.clone();
+            d.extend(lighting.defines());
+            let shade = Pipeline::compute(
+                &self.device,
+                "strand_shade.comp",
+                &d,
+                layout,
+                &Specialization::new(&[]),
+            )?;
+            kernels.push((Step::Shade, shade));
+        }
+        kernels.extend([
             (Step::Tiles, kernel("strand_tiles.comp", false)?),
             (Step::Count, kernel("strand_bin.comp", false)?),
             (Step::Scan, kernel("strand_scan.comp", false)?),
@@ -460,7 +367,8 @@ impl ComputeRaster {
             (Step::Sort, kernel("strand_sort.comp", false)?),
             (Step::Fine, kernel("strand_fine.comp", false)?),
             (Step::Composite, kernel("strand_composite.comp", false)?),
-        ])
+        ]);
+        Ok(kernels)
     }
 
     /// The steps remade at the next frame (which steps are left out changed).

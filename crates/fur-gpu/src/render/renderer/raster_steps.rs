@@ -13,7 +13,8 @@ pub const LAST_NAME: &str = "strand target hand-back";
 
 /// The compute steps that do work after the geometry stage, in the order they run:
 /// each is timed from the previous one's end (`FrameReport::raster_steps_ms`).
-pub const STEP_NAMES: [&str; 8] = [
+pub const STEP_NAMES: [&str; 9] = [
+    "strand lighting",
     "strand tiles",
     "strand bin count",
     "strand bin scan",
@@ -24,9 +25,32 @@ pub const STEP_NAMES: [&str; 8] = [
     "strand composite copy",
 ];
 
+/// The lighting pass (`strand_shade.comp`): the lit frame's strands under the Marschner
+/// model, lit in compute (`shaders/fur.geom` says why), through the shadow map with
+/// `shadows`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct StrandLighting {
+    pub shadows: bool,
+}
+
+impl StrandLighting {
+    /// The lighting pass's defines.
+    pub(super) fn defines(self) -> [(&'static str, String); 3] {
+        let flag = |on: bool| u32::from(on).to_string();
+        [
+            ("SHADOWS", flag(self.shadows)),
+            ("TEXTURED", flag(false)),
+            ("STAGE_VIEW", "0".to_string()),
+        ]
+    }
+}
+
 /// One step of the compute passes, as the frame's pass list holds it.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub(super) enum Step {
+    /// The strand vertices lit under the Marschner model (otherwise the geometry
+    /// stage colours them, and the step does no work).
+    Shade,
     Tiles,
     Count,
     Scan,
@@ -54,7 +78,8 @@ pub(in super::super) struct StepPass {
 
 impl Step {
     /// Every step, in the order a frame runs them.
-    pub(super) const ALL: [Step; 9] = [
+    pub(super) const ALL: [Step; 10] = [
+        Step::Shade,
         Step::Tiles,
         Step::Count,
         Step::Scan,
@@ -70,14 +95,15 @@ impl Step {
     pub(super) fn timed(self) -> Option<usize> {
         match self {
             Step::HandBack => None,
-            Step::Tiles => Some(0),
-            Step::Count => Some(1),
-            Step::Scan => Some(2),
-            Step::Scatter => Some(3),
-            Step::Sort => Some(4),
-            Step::Fine => Some(5),
-            Step::Composite => Some(6),
-            Step::Copy => Some(7),
+            Step::Shade => Some(0),
+            Step::Tiles => Some(1),
+            Step::Count => Some(2),
+            Step::Scan => Some(3),
+            Step::Scatter => Some(4),
+            Step::Sort => Some(5),
+            Step::Fine => Some(6),
+            Step::Composite => Some(7),
+            Step::Copy => Some(8),
         }
     }
 }
@@ -105,10 +131,22 @@ impl Pass for StepPass {
         }
     }
 
-    fn uses(&self, _frame: &FrameContext<'_>) -> Vec<Use> {
+    fn uses(&self, frame: &FrameContext<'_>) -> Vec<Use> {
         use Access as A;
         use Resource as R;
         match self.step {
+            // Nothing to light: the geometry stage coloured the strands.
+            Step::Shade if self.pipeline == vk::Pipeline::null() => Vec::new(),
+            Step::Shade => {
+                let mut list = vec![
+                    uses(R::Strands, A::ComputeWrite),
+                    uses(R::Strands, A::IndirectRead),
+                ];
+                if frame.slot.shadows {
+                    list.push(uses(R::ShadowMap, A::ComputeSampled));
+                }
+                list
+            }
             Step::Tiles => vec![
                 uses(R::Depth, A::ComputeSampled),
                 uses(R::TileBins, A::ComputeWrite),
@@ -148,7 +186,8 @@ impl Pass for StepPass {
 
     fn record(&self, frame: &FrameContext<'_>, cmd: vk::CommandBuffer) {
         let raw = &frame.device.raw;
-        if self.left_out {
+        let unlit = self.step == Step::Shade && self.pipeline == vk::Pipeline::null();
+        if self.left_out || unlit {
             return;
         }
         match self.step {

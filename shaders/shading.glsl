@@ -1,6 +1,7 @@
 // Kajiya–Kay lighting with Scheuermann's two shifted highlights, self-shadowing and a
 // root-to-tip colour ramp. The lighting terms are evaluated per strand vertex in the
-// geometry stage or per fragment; the colour ramp always per fragment, so that it stays
+// geometry stage (or, for strands drawn in compute under the Marschner model, in
+// strand_shade.comp) or per fragment; the colour ramp always per fragment, so that it stays
 // exact however few vertices a hair is drawn with.
 //   diffuse  = Kd · sin(t, l)
 //   lobe(β)  = cos(θl + β − θe)^p = ((t·l) cos β − sin(t,l) sin β)(t·e)

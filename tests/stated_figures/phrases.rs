@@ -45,6 +45,11 @@ pub fn stated() -> Vec<(&'static str, Vec<String>)> {
         })
         .to_string(),
     );
+    // What lights a vertex under the Marschner model, beside it.
+    raster.push(format!(
+        "{} bytes beside it",
+        fur_core::render::strand_raster::pools::SHADING_BYTES
+    ));
     // The depth bins and the opacity a pixel stops at.
     use fur_core::render::strand_raster::order::{DEPTH_BINS, OPAQUE_TRANSMIT, ROW_RUN};
     raster.push(format!("is cut into {DEPTH_BINS} equal depth bins"));

@@ -83,3 +83,48 @@ fn a_scatter_past_the_loop_bound_stops_and_counts_what_it_left() {
     );
     assert_clean(&device);
 }
+
+/// A frame slot's first frame sizes the pools by what the slot asked for before it:
+/// nothing, whatever its counts' memory held. Host-visible buffers of the counts' size
+/// filled with ones and freed come first, so the counts may take their memory; a second
+/// slot prepared after the first slot's frame (as the viewer's second frame in flight
+/// is) then keeps the pools. Seen failing without the counts zeroed when made: the
+/// second slot's stale words asked for pools of 193.8 GiB, and they were refused.
+#[test]
+fn a_slots_first_frame_asks_the_pools_for_nothing() {
+    use ash::vk;
+    use gpu_allocator::MemoryLocation;
+    let device = device();
+    let size = std::mem::size_of::<ComputeCounts>() as u64;
+    let stale: Vec<fur_gpu::gpu::Buffer> = (0..256)
+        .map(|i| {
+            let mut b = fur_gpu::gpu::Buffer::new(
+                &device,
+                &format!("stale[{i}]"),
+                size,
+                vk::BufferUsageFlags::STORAGE_BUFFER,
+                MemoryLocation::GpuToCpu,
+            )
+            .unwrap();
+            b.write(0, &vec![0xff; size as usize]);
+            b
+        })
+        .collect();
+    drop(stale);
+    let settings = blob_settings(Raster::Compute, 1);
+    let mesh = fur_core::scene::Mesh::blob();
+    let strands = fur_core::scene::Strands::grow(&mesh, &super::groom()).unwrap();
+    let textures =
+        fur_gpu::strand_textures::StrandTextures::new(&device, &strands, settings.head).unwrap();
+    let extent = vk::Extent2D {
+        width: 96,
+        height: 72,
+    };
+    let mut renderer =
+        fur_gpu::render::Renderer::new(&device, &mesh, &textures, extent, 2, 1).unwrap();
+    renderer.render(&textures, &settings).unwrap();
+    if let Err(e) = renderer.update(1, &settings) {
+        panic!("the second slot's first frame: {e}");
+    }
+    assert_clean(&device);
+}

@@ -98,7 +98,7 @@ impl ComputeRaster {
         let sets = pool.allocate(&layout, slots)?;
         let counts = (0..slots)
             .map(|slot| {
-                Buffer::new(
+                let mut counts = Buffer::new(
                     device,
                     &format!("raster.counts[{slot}]"),
                     std::mem::size_of::<ComputeCounts>() as u64,
@@ -106,7 +106,12 @@ impl ComputeRaster {
                         | vk::BufferUsageFlags::INDIRECT_BUFFER
                         | vk::BufferUsageFlags::TRANSFER_DST,
                     MemoryLocation::GpuToCpu,
-                )
+                )?;
+                // `prepare` reads what the slot's last frame asked the pools for before
+                // its first frame: nothing, not what the memory held before (another
+                // buffer's words, which once asked for four billion vertices).
+                counts.write(0, bytemuck::bytes_of(&ComputeCounts::default()));
+                Ok(counts)
             })
             .collect::<Result<Vec<_>>>()?;
         let sampler = Sampler::new(

@@ -222,7 +222,7 @@ void write_outputs(uint k, vec3 t) {
 #if COMPUTE_RASTER
 float TW[STRAND_VERTICES];            // the hair's true width at each
 vec4 kept_position[STRAND_VERTICES];  // x, y (pixels), depth (NDC z), width (pixels)
-vec4 kept_color[STRAND_VERTICES];   // lit: its world position and place along the hair
+vec4 kept_color[STRAND_VERTICES];     // its colour; deferred: world position, place along
 #if DEFERRED_SHADING
 uvec4 kept_shading[STRAND_VERTICES];
 #endif

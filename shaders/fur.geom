@@ -30,11 +30,10 @@
 // COMPUTE_RASTER: the strand is not emitted but written into the strand buffers the
 // compute passes draw from (strand_raster.glsl), with the rasteriser discarded; its
 // hairs and segments are counted as the emitted ones are. Under the Marschner model
-// (DEFERRED_SHADING) each vertex of the lit frame goes with what lights it (its
-// tangent, base colour and coat) and a compute pass lights it (strand_shade.comp: a
-// CPU driver runs the geometry stage on one thread and a compute pass on all, and the
-// model is costly); Kajiya–Kay's few operations a vertex cost less here than the
-// pass's reading and writing of each vertex, and a stage view's colours are made here.
+// (DEFERRED_SHADING) a lit vertex goes with what lights it (tangent, base colour, coat)
+// and a compute pass lights it (strand_shade.comp: a CPU driver runs this stage on one
+// thread, a compute pass on all); Kajiya–Kay costs less here than a pass's reading
+// and writing of each vertex, and a stage view's colours are made here.
 // STRAND_VERTICES, LINES, VERTEX_SHADING, TEXTURED, SHADOWS, SHADOW_CASTER, MARSCHNER,
 // COUNT_HAIRS and COMPUTE_RASTER are defined by the renderer.
 #include "shading.glsl"
@@ -265,7 +264,12 @@ void write_strand() {
     uint segments = kept_count - 1u;
     uint first_segment = atomicAdd(raster_counts.segments, segments);
     uint room = segment_room();
-    if (first + kept_count > vertex_room() || first_segment + segments > room) {
+#if DEFERRED_SHADING
+    bool full = first + kept_count > min(vertex_room(), shading_room());
+#else
+    bool full = first + kept_count > vertex_room();
+#endif
+    if (full || first_segment + segments > room) {
         atomicAdd(raster_counts.hairs_lost, 1u);
         // Its segments that fit are marked as none, so that the bin passes skip them.
         for (uint i = 0u; i < segments && first_segment + i < room; ++i) {

@@ -14,7 +14,8 @@
 // buffer holds (NDC z), width in pixels; its lit colour (linear) and opacity.
 struct StrandVertex {
     vec4 position;      // x, y (pixels), depth, width (pixels)
-    vec4 color;         // rgb, alpha
+    vec4 color;         // rgb, alpha (before the lighting pass under the Marschner
+                        // model: world position, place along the hair)
 };
 
 // What the passes counted, and the bin pass's indirect dispatch. The host reads it
@@ -74,6 +75,11 @@ layout(set = SET_RASTER, binding = B_STRAND_SEGMENTS, rg32ui) uniform uimageBuff
 // The vertices the pool holds.
 uint vertex_room() {
     return uint(imageSize(strand_vertices)) / 2u;
+}
+
+// The vertices the lighting pass's input holds (one texel when the frame has none).
+uint shading_room() {
+    return uint(imageSize(strand_shading));
 }
 
 uint segment_room() {

@@ -74,7 +74,10 @@ impl Resource {
             Resource::Probe => (false, State::after(&[ComputeWrite, HairStagesRead])),
             // Read by the host after the previous submission's fence: nothing to wait for.
             Resource::Counters => (false, State::after(&[])),
-            Resource::ShadowMap => (true, State::discarded_after(&[ShadingSampled])),
+            Resource::ShadowMap => (
+                true,
+                State::discarded_after(&[ShadingSampled, ComputeSampled]),
+            ),
             Resource::Depth => (
                 true,
                 State::discarded_after(&[DepthAttachment, ComputeSampled]),

@@ -176,8 +176,9 @@ pub const SETTINGS: &[StyleSetting] = &[
                strands binned to screen tiles, exact coverage, the nearest fragments of each \
                pixel blended front to back; each strand is lit per vertex, by the geometry \
                stage or, under the Marschner model, by a compute pass, so `samples` sets \
-               only the body's MSAA, and `primitive` and `shading` do not apply) or `hardware` (the fixed-function rasteriser: lines or ribbons, \
-               at `samples` per pixel)",
+               only the body's MSAA, and `primitive` and `shading` do not apply) or \
+               `hardware` (the fixed-function rasteriser: lines or ribbons, at `samples` \
+               per pixel)",
         kind: Kind::Choice(&["hardware", "compute"]),
         panel: Panel::Plain,
         ..field!(raster)

@@ -4,7 +4,7 @@ use ash::vk;
 
 use crate::error::{Error, Result};
 use fur_core::render::strand_raster::pools::{Demand, PoolBudget, PoolSizes};
-use fur_core::render::{FrameSettings, Raster};
+use fur_core::render::{FrameSettings, LightingModel, Raster};
 use fur_core::scene::{GroomParams, Mesh};
 
 /// Strand vertices (master hairs × their vertices) a scene may have: 8 M take 512 MiB
@@ -72,7 +72,7 @@ pub fn check_work(
     }
     if settings.style.raster == Raster::Compute {
         let tile = settings.style.tile_side();
-        let pools = PoolSizes::of(
+        let sizes = PoolSizes::of(
             &PoolBudget {
                 tile,
                 ..PoolBudget::default()
@@ -80,8 +80,13 @@ pub fn check_work(
             extent.width,
             extent.height,
             &Demand::default(),
-        )
-        .total();
+        );
+        // What lights each vertex takes its pool under the Marschner model only.
+        let pools = if settings.lighting.model == LightingModel::Marschner {
+            sizes.total()
+        } else {
+            sizes.total() - sizes.shading
+        };
         if pools > MAX_TARGET_BYTES {
             return Err(Error::parameter(format!(
                 "the compute rasteriser's pools for a {}×{} image need {:.1} GiB, over the \

@@ -69,3 +69,50 @@ fn the_lighting_pass_lights_each_vertex_as_the_geometry_stage_would() {
     }
     assert_clean(&device);
 }
+
+/// One renderer switching between the lighting models, as the viewer's panel does,
+/// draws each frame as a renderer made for it does: the pools make room for what
+/// lights each vertex when the Marschner model comes in, and the lighting pass comes
+/// and goes with it. Seen failing with the pools kept when the model changes: the
+/// Marschner frame after Kajiya–Kay's was not the fresh renderer's.
+#[test]
+fn switching_the_lighting_model_draws_each_frame_as_a_new_renderer_does() {
+    let device = device();
+    let mesh = Mesh::blob();
+    let strands = Strands::grow(&mesh, &groom()).unwrap();
+    let settings = |model: LightingModel| {
+        let mut s = blob_settings(Raster::Compute, 1);
+        s.lighting.model = model;
+        s
+    };
+    let textures =
+        StrandTextures::new(&device, &strands, settings(LightingModel::Marschner).head).unwrap();
+    let extent = vk::Extent2D {
+        width: 96,
+        height: 72,
+    };
+    let fresh = |model: LightingModel| {
+        let mut renderer = Renderer::new(&device, &mesh, &textures, extent, 1, 1).unwrap();
+        renderer.render(&textures, &settings(model)).unwrap().0
+    };
+    let (kajiya_kay, marschner) = (
+        fresh(LightingModel::KajiyaKay),
+        fresh(LightingModel::Marschner),
+    );
+    assert_ne!(kajiya_kay.data, marschner.data);
+    let mut renderer = Renderer::new(&device, &mesh, &textures, extent, 1, 1).unwrap();
+    for model in [
+        LightingModel::KajiyaKay,
+        LightingModel::Marschner,
+        LightingModel::KajiyaKay,
+        LightingModel::Marschner,
+    ] {
+        let (image, _) = renderer.render(&textures, &settings(model)).unwrap();
+        let expected = match model {
+            LightingModel::KajiyaKay => &kajiya_kay,
+            LightingModel::Marschner => &marschner,
+        };
+        assert!(image.data == expected.data, "{model:?} after a switch");
+    }
+    assert_clean(&device);
+}

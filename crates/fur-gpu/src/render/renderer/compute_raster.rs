@@ -1,6 +1,6 @@
 //! Strands drawn in compute (`--raster compute`): the fur pass's geometry stage writes
 //! each strand into buffers and emits nothing; then compute passes light its vertices
-//! (in the lit frame), find each tile's farthest body depth, count the segments per tile,
+//! (under the Marschner model), find each tile's farthest body depth, count the segments per tile,
 //! place each tile's list in one pool, list the segments, sort each list front to back
 //! into depth bins, and draw each tile's pixels with exact coverage and their nearest
 //! fragments blended front to back, each stopping once opaque; a last pass
@@ -52,8 +52,8 @@ struct PipelineKey {
     tile: u32,
     /// Whether the composite shows the tiles (`--show tiles`).
     tiles_view: bool,
-    /// How the lighting pass lights the strands (None: the stage views colour them in
-    /// the geometry stage).
+    /// How the lighting pass lights the strands (None: the geometry stage colours them,
+    /// under Kajiya–Kay and in the stage views).
     lighting: Option<StrandLighting>,
 }
 
@@ -181,8 +181,8 @@ impl ComputeRaster {
     }
 
     /// Sizes the pools for `target` and `style`'s tiles and builds the pipelines for its
-    /// sample count, `style`'s fragments a pixel and the strands' `lighting` (none in a
-    /// stage view), unless they are; points frame slot `slot`'s set at them; the
+    /// sample count, `style`'s fragments a pixel and the strands' `lighting` (none where
+    /// the geometry stage colours them), unless they are; points frame slot `slot`'s set at them; the
     /// composite shows the tiles instead of the hair when `tiles_view`. The slot's last
     /// frame has finished; a new size or new pipelines need the device idle (other
     /// slots' frames may still use the old).

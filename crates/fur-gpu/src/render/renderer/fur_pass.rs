@@ -38,7 +38,8 @@ pub struct Variant {
     /// The stage view it draws (`Stage::code`: 0 lit).
     pub view: u32,
     /// Writes the strands for the compute passes instead of drawing them
-    /// (`--raster compute`): lit per vertex, nothing emitted.
+    /// (`--raster compute`): lit per vertex (under the Marschner model by the compute
+    /// lighting pass), nothing emitted.
     pub compute: bool,
 }
 

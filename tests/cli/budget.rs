@@ -1,30 +1,26 @@
 //! The frame-time budget of a sequence (`fur render --frames N --budget-ms X`): it steps
 //! down the device's ladder and says so, and impossible budgets are refused.
 
-use super::{assert_fails_cleanly, fur, scratch};
+use super::{assert_fails_cleanly, fur, scratch, SMALL};
 
 /// A small validated sequence of `frames` under a budget of `ms`; its standard output
 /// and error.
 fn sequence(name: &str, frames: &str, ms: &str) -> (String, String) {
     let dir = scratch(&format!("budget_{name}"));
     let out = fur(&[
-        "render",
-        "--validate",
-        "--frames",
-        frames,
-        "--budget-ms",
-        ms,
-        "--width",
-        "96",
-        "--height",
-        "64",
-        "--density-scale",
-        "0.2",
-        "--segments",
-        "6",
-        "--out-dir",
-        dir.to_str().unwrap(),
-    ]);
+        &[
+            "render",
+            "--validate",
+            "--frames",
+            frames,
+            "--budget-ms",
+            ms,
+            "--out-dir",
+            dir.to_str().unwrap(),
+        ],
+        SMALL.as_slice(),
+    ]
+    .concat());
     let stdout = String::from_utf8_lossy(&out.stdout).into_owned();
     let stderr = String::from_utf8_lossy(&out.stderr).into_owned();
     assert!(out.status.success(), "fur failed:\n{stderr}");

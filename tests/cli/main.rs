@@ -14,6 +14,18 @@ fn fur(args: &[&str]) -> Output {
         .expect("the fur binary runs")
 }
 
+/// A small, quick drawing of the blob: the sequences' size, density and segments.
+const SMALL: [&str; 8] = [
+    "--width",
+    "96",
+    "--height",
+    "64",
+    "--density-scale",
+    "0.2",
+    "--segments",
+    "6",
+];
+
 fn scratch(name: &str) -> PathBuf {
     let dir = Path::new(env!("CARGO_TARGET_TMPDIR"))
         .join("cli")
@@ -114,25 +126,21 @@ fn impossible_parameters_are_clear_errors() {
 fn a_simulated_sequence_moves_and_is_validated() {
     let dir = scratch("sequence");
     let out = fur(&[
-        "render",
-        "--validate",
-        "--frames",
-        "4",
-        "--motion",
-        "shake",
-        "--rate",
-        "3",
-        "--out-dir",
-        dir.to_str().unwrap(),
-        "--width",
-        "96",
-        "--height",
-        "64",
-        "--density-scale",
-        "0.2",
-        "--segments",
-        "6",
-    ]);
+        &[
+            "render",
+            "--validate",
+            "--frames",
+            "4",
+            "--motion",
+            "shake",
+            "--rate",
+            "3",
+            "--out-dir",
+            dir.to_str().unwrap(),
+        ],
+        SMALL.as_slice(),
+    ]
+    .concat());
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert!(out.status.success(), "fur failed:\n{stderr}");
     // The run ends with the median of its warm frames.

@@ -72,7 +72,7 @@ pub fn check_work(
     }
     if settings.style.raster == Raster::Compute {
         let tile = settings.style.tile_side();
-        let sizes = PoolSizes::of(
+        let pools = PoolSizes::of(
             &PoolBudget {
                 tile,
                 ..PoolBudget::default()
@@ -80,13 +80,9 @@ pub fn check_work(
             extent.width,
             extent.height,
             &Demand::default(),
-        );
-        // What lights each vertex takes its pool under the Marschner model only.
-        let pools = if settings.lighting.model == LightingModel::Marschner {
-            sizes.total()
-        } else {
-            sizes.total() - sizes.shading
-        };
+        )
+        .lit(settings.lighting.model == LightingModel::Marschner)
+        .total();
         if pools > MAX_TARGET_BYTES {
             return Err(Error::parameter(format!(
                 "the compute rasteriser's pools for a {}×{} image need {:.1} GiB, over the \

@@ -123,6 +123,15 @@ impl PoolSizes {
         .max(*demand)
     }
 
+    /// The sizes with what lights each vertex taken only when `lit` (a frame under the
+    /// Marschner model); one texel otherwise, the pool being bound either way.
+    pub fn lit(self, lit: bool) -> Self {
+        Self {
+            shading: if lit { self.shading } else { SHADING_BYTES },
+            ..self
+        }
+    }
+
     pub fn total(&self) -> u64 {
         self.vertices
             + self.shading
@@ -229,5 +238,10 @@ mod tests {
         assert_eq!(asked.segments, MIN_SEGMENTS * SEGMENT_BYTES);
         assert_eq!(asked.most_texels(), 2 << 26);
         assert!(table(&budget).contains("| 4K (3840×2160) |"));
+        // Unlit (Kajiya–Kay, a stage view): the lighting pool is one texel.
+        let unlit = big.lit(false);
+        assert_eq!(unlit.shading, SHADING_BYTES);
+        assert_eq!(big.total() - unlit.total(), big.shading - SHADING_BYTES);
+        assert_eq!(big.lit(true), big);
     }
 }

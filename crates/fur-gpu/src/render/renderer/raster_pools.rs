@@ -48,10 +48,7 @@ impl Pools {
         extent: vk::Extent2D,
         lit: bool,
     ) -> Result<Self> {
-        let mut sizes = PoolSizes::of(budget, extent.width, extent.height, demand);
-        if !lit {
-            sizes.shading = SHADING_BYTES;
-        }
+        let sizes = PoolSizes::of(budget, extent.width, extent.height, demand).lit(lit);
         let pixels = u64::from(extent.width) * u64::from(extent.height);
         let capacity = PoolSizes::capacity(budget, pixels, demand);
         let limits = &device.info.limits;

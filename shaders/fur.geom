@@ -30,10 +30,11 @@
 // COMPUTE_RASTER: the strand is not emitted but written into the strand buffers the
 // compute passes draw from (strand_raster.glsl), with the rasteriser discarded; its
 // hairs and segments are counted as the emitted ones are. Under the Marschner model
-// (DEFERRED_SHADING) a lit vertex goes with what lights it (tangent, base colour, coat)
-// and a compute pass lights it (strand_shade.comp: a CPU driver runs this stage on one
-// thread, a compute pass on all); Kajiya–Kay costs less here than a pass's reading
-// and writing of each vertex, and a stage view's colours are made here.
+// (DEFERRED_SHADING) a vertex's colour texel holds what lights it (tangent, base
+// colour, coat: pack_shading) and a compute pass lights it (strand_shade.comp: a CPU
+// driver runs this stage on one thread, a compute pass on all); Kajiya–Kay costs less
+// here than a pass's reading and writing of each vertex, and a stage view's colours
+// are made here.
 // STRAND_VERTICES, LINES, VERTEX_SHADING, TEXTURED, SHADOWS, SHADOW_CASTER, MARSCHNER,
 // COUNT_HAIRS and COMPUTE_RASTER are defined by the renderer.
 #include "shading.glsl"
@@ -221,10 +222,7 @@ void write_outputs(uint k, vec3 t) {
 #if COMPUTE_RASTER
 float TW[STRAND_VERTICES];            // the hair's true width at each
 vec4 kept_position[STRAND_VERTICES];  // x, y (pixels), depth (NDC z), width (pixels)
-vec4 kept_color[STRAND_VERTICES];     // its colour; deferred: world position, place along
-#if DEFERRED_SHADING
-uvec4 kept_shading[STRAND_VERTICES];
-#endif
+uvec4 kept_color[STRAND_VERTICES];    // its colour (its floats' bits); deferred: pack_shading
 uint kept_count = 0u;
 bool behind_eye = false;
 
@@ -240,12 +238,11 @@ void keep_vertex(uint k, vec3 t) {
     bool thin_hair_aa = (frame.drawing.flags & FLAG_THIN_HAIR_AA) != 0u;
     float width = (thin_hair_aa ? TW[k] : W[k]) / S[k];
 #if DEFERRED_SHADING
-    vec4 color = vec4(P[k], along(k));
-    kept_shading[kept_count] = pack_shading(t, hair_base(along(k), root_texel()), vertex_coat);
+    uvec4 color = pack_shading(t, hair_base(along(k), root_texel()), vertex_coat);
 #elif STAGE_VIEW != 0 || MARSCHNER
-    vec4 color = vec4(lit_along.xyz, 1.0);
+    uvec4 color = floatBitsToUint(vec4(lit_along.xyz, 1.0));
 #else
-    vec4 color = vec4(hair_color(lit_along.xyz, along(k), root_texel()), 1.0);
+    uvec4 color = floatBitsToUint(vec4(hair_color(lit_along.xyz, along(k), root_texel()), 1.0));
 #endif
     kept_position[kept_count] = vec4(pixel, ndc.z, width);
     kept_color[kept_count] = color;
@@ -264,11 +261,7 @@ void write_strand() {
     uint segments = kept_count - 1u;
     uint first_segment = atomicAdd(raster_counts.segments, segments);
     uint room = segment_room();
-#if DEFERRED_SHADING
-    bool full = first + kept_count > min(vertex_room(), shading_room());
-#else
     bool full = first + kept_count > vertex_room();
-#endif
     if (full || first_segment + segments > room) {
         atomicAdd(raster_counts.hairs_lost, 1u);
         // Its segments that fit are marked as none, so that the bin passes skip them.
@@ -278,11 +271,8 @@ void write_strand() {
         return;
     }
     for (uint i = 0u; i < kept_count; ++i) {
-        imageStore(strand_vertices, int(2u * (first + i)), kept_position[i]);
+        imageStore(strand_vertices, int(2u * (first + i)), floatBitsToUint(kept_position[i]));
         imageStore(strand_vertices, int(2u * (first + i) + 1u), kept_color[i]);
-#if DEFERRED_SHADING
-        imageStore(strand_shading, int(first + i), kept_shading[i]);
-#endif
     }
     for (uint i = 0u; i < segments; ++i) {
         imageStore(strand_segments, int(first_segment + i), uvec4(first + i, first, 0u, 0u));

@@ -37,14 +37,13 @@ layout(set = SET_RASTER, binding = B_RASTER_COUNTS, std430) buffer RasterCounts 
 // The pools the passes read in their loops are texel buffers: on a CPU driver a texel
 // read is one gather across the invocations, where a storage-buffer read loops over
 // them one by one.
-// Per vertex, two texels: its position, then its colour.
-layout(set = SET_RASTER, binding = B_STRAND_VERTICES, rgba32f) uniform imageBuffer strand_vertices;
-
-// Per vertex of a lit frame, what the lighting pass (strand_shade.comp) lights it by:
-// its tangent (octahedral, two snorm16), its base colour and the coat's hair layers
-// towards the light and above it (half floats); the vertex's colour texel holds its
-// world position and its place along the hair until that pass writes its colour.
-layout(set = SET_RASTER, binding = B_STRAND_SHADING, rgba32ui) uniform uimageBuffer strand_shading;
+// Per vertex, two texels of words: its position (x, y in pixels, the depth as NDC z,
+// the width in pixels), then its colour (r, g, b, 1), as floats' bits. Under the
+// Marschner model the geometry stage leaves in the colour's place what the lighting
+// pass (strand_shade.comp) lights the vertex by (pack_shading), and that pass writes
+// the colour over it; its world position the pass finds from its position on the
+// screen (world_position).
+layout(set = SET_RASTER, binding = B_STRAND_VERTICES, rgba32ui) uniform uimageBuffer strand_vertices;
 
 // A unit vector as a point of the octahedron unfolded onto [-1, 1]² (and back).
 vec2 octahedral(vec3 n) {
@@ -64,6 +63,8 @@ vec3 from_octahedral(vec2 p) {
     return normalize(n);
 }
 
+// What lights a vertex: its tangent (octahedral, two snorm16), its base colour and the
+// coat's hair layers towards the light and above it (half floats).
 uvec4 pack_shading(vec3 tangent, vec3 base, vec2 coat) {
     return uvec4(packSnorm2x16(octahedral(tangent)), packHalf2x16(base.rg),
                  packHalf2x16(vec2(base.b, coat.x)), packHalf2x16(vec2(coat.y, 0.0)));
@@ -77,22 +78,24 @@ uint vertex_room() {
     return uint(imageSize(strand_vertices)) / 2u;
 }
 
-// The vertices the lighting pass's input holds (one texel when the frame has none).
-uint shading_room() {
-    return uint(imageSize(strand_shading));
-}
-
 uint segment_room() {
     return uint(imageSize(strand_segments));
 }
 
 vec4 vertex_position(uint v) {
-    return imageLoad(strand_vertices, int(2u * v));
+    return uintBitsToFloat(imageLoad(strand_vertices, int(2u * v)));
+}
+
+// The world point whose projection is `position` (vertex_position: pixels and NDC z).
+vec3 world_position(vec4 position) {
+    vec2 ndc = position.xy / frame.camera.viewport * 2.0 - 1.0;
+    vec4 world = frame.camera.inverse_view_proj * vec4(ndc, position.z, 1.0);
+    return world.xyz / world.w;
 }
 
 StrandVertex strand_vertex(uint v) {
-    return StrandVertex(imageLoad(strand_vertices, int(2u * v)),
-                        imageLoad(strand_vertices, int(2u * v + 1u)));
+    return StrandVertex(uintBitsToFloat(imageLoad(strand_vertices, int(2u * v))),
+                        uintBitsToFloat(imageLoad(strand_vertices, int(2u * v + 1u))));
 }
 
 uvec2 strand_segment(uint s) {

@@ -1,12 +1,13 @@
 #version 450
 // Strands in compute, the lighting under the Marschner model: each strand vertex of
-// the lit frame takes its colour from what the geometry stage left with it
-// (strand_raster.glsl: pack_shading): its world position, its tangent, its base colour
-// and the coat's hair layers. The same lighting as the fixed-function backend's
-// per-vertex shading (shading.glsl: marschner, through the shadow map with SHADOWS),
-// run here because a compute pass runs on every core of a CPU driver, where the
-// geometry stage runs on one (fur.geom says why Kajiya–Kay stays there). One
-// invocation per vertex (or every so-many-th), dispatched by the bin passes' count.
+// the lit frame takes its colour from what the geometry stage left in its colour's
+// place (strand_raster.glsl: pack_shading: its tangent, its base colour and the coat's
+// hair layers) and its world position, found from where it lies on the screen. The
+// same lighting as the fixed-function backend's per-vertex shading (shading.glsl:
+// marschner, through the shadow map with SHADOWS), run here because a compute pass
+// runs on every core of a CPU driver, where the geometry stage runs on one (fur.geom
+// says why Kajiya–Kay stays there). One invocation per vertex (or every so-many-th),
+// dispatched by the bin passes' count.
 // SHADOWS is defined by the renderer. Test only: with FUR_TEST_LIGHT_IN_GEOMETRY the
 // geometry stage lights the strands and this pass leaves them (tests/compute_raster).
 #undef MARSCHNER
@@ -23,12 +24,12 @@ void main() {
     uint count = min(raster_counts.vertices, vertex_room());
     uint stride = gl_NumWorkGroups.x * gl_WorkGroupSize.x;
     for (uint v = gl_GlobalInvocationID.x; v < count; v += stride) {
-        vec4 world = imageLoad(strand_vertices, int(2u * v + 1u));
-        uvec4 packed = imageLoad(strand_shading, int(v));
+        vec3 world = world_position(vertex_position(v));
+        uvec4 packed = imageLoad(strand_vertices, int(2u * v + 1u));
         vec3 t = from_octahedral(unpackSnorm2x16(packed.x));
         vec2 bz = unpackHalf2x16(packed.z);
         vec3 base = vec3(unpackHalf2x16(packed.y), bz.x);
-        vec3 color = marschner(t, world.xyz, base, vec2(bz.y, unpackHalf2x16(packed.w).x));
-        imageStore(strand_vertices, int(2u * v + 1u), vec4(color, 1.0));
+        vec3 color = marschner(t, world, base, vec2(bz.y, unpackHalf2x16(packed.w).x));
+        imageStore(strand_vertices, int(2u * v + 1u), floatBitsToUint(vec4(color, 1.0)));
     }
 }

@@ -45,10 +45,10 @@ pub fn stated() -> Vec<(&'static str, Vec<String>)> {
         })
         .to_string(),
     );
-    // What lights a vertex under the Marschner model, beside it.
+    // What lights a vertex under the Marschner model, in its colour's place.
     raster.push(format!(
-        "{} bytes beside it",
-        fur_core::render::strand_raster::pools::SHADING_BYTES
+        "the {} bytes of the vertex's colour",
+        fur_core::render::strand_raster::pools::VERTEX_TEXEL_BYTES
     ));
     // The depth bins and the opacity a pixel stops at.
     use fur_core::render::strand_raster::order::{DEPTH_BINS, OPAQUE_TRANSMIT, ROW_RUN};

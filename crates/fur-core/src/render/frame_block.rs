@@ -57,6 +57,9 @@ std140_struct! {
     pub struct CameraBlock("Camera") {
         /// World to clip space.
         pub view_proj: Mat4,
+        /// Clip to world space: where the compute lighting pass finds a strand
+        /// vertex's world point from its place on the screen.
+        pub inverse_view_proj: Mat4,
         /// The head transform H, model to world (the mesh pass's).
         pub model: Mat4,
         /// The camera's position, world space.
@@ -248,6 +251,7 @@ impl FrameUniforms {
         Self {
             camera: CameraBlock {
                 view_proj: settings.camera.view_projection(w / h),
+                inverse_view_proj: settings.camera.view_projection(w / h).inverse(),
                 model: settings.head,
                 eye: settings.camera.eye(),
                 pixel_at_unit_distance: settings.pixel_at_unit_distance(height),
@@ -378,6 +382,7 @@ impl LightView {
     pub fn caster_uniforms(&self, frame: &FrameUniforms) -> FrameUniforms {
         let mut u = *frame;
         u.camera.view_proj = self.view_proj;
+        u.camera.inverse_view_proj = self.view_proj.inverse();
         // The eye is the map's depth range from the centre: a texel there is `texel` wide.
         u.camera.eye = self.eye;
         u.camera.pixel_at_unit_distance = self.texel / self.depth_range;

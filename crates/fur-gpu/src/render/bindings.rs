@@ -85,10 +85,9 @@ bindings!(
     RasterBinding {
         /// What the passes counted, and the bin passes' indirect dispatch.
         Counts = ("B_RASTER_COUNTS", STORAGE_BUFFER, RASTER_STAGES),
-        /// The strands' vertices on the screen.
+        /// The strands' vertices: on the screen, and their colours (or, under the
+        /// Marschner model, what lights them, until the lighting pass does).
         Vertices = ("B_STRAND_VERTICES", STORAGE_TEXEL_BUFFER, RASTER_STAGES),
-        /// What lights each vertex of a lit frame (the lighting pass's input).
-        Shading = ("B_STRAND_SHADING", STORAGE_TEXEL_BUFFER, RASTER_STAGES),
         /// The segments: first vertex and strand.
         Segments = ("B_STRAND_SEGMENTS", STORAGE_TEXEL_BUFFER, RASTER_STAGES),
         /// Per tile: the body's depth and the tile's list in the entry pool.

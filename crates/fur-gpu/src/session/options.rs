@@ -4,7 +4,7 @@ use ash::vk;
 
 use crate::error::{Error, Result};
 use fur_core::render::strand_raster::pools::{Demand, PoolBudget, PoolSizes};
-use fur_core::render::{FrameSettings, LightingModel, Raster};
+use fur_core::render::{FrameSettings, Raster};
 use fur_core::scene::{GroomParams, Mesh};
 
 /// Strand vertices (master hairs × their vertices) a scene may have: 8 M take 512 MiB
@@ -81,7 +81,6 @@ pub fn check_work(
             extent.height,
             &Demand::default(),
         )
-        .lit(settings.lighting.model == LightingModel::Marschner)
         .total();
         if pools > MAX_TARGET_BYTES {
             return Err(Error::parameter(format!(

@@ -30,11 +30,18 @@ fn lit_segments(device: &std::sync::Arc<fur_gpu::gpu::Device>, shadows: bool) ->
 /// Every vertex the lighting pass lit has the colour the geometry stage gives it when
 /// it lights the vertex itself (the test-only `FUR_TEST_LIGHT_IN_GEOMETRY`), to the
 /// rounding of what the pass's input packs (half floats: base colour and coat, two
-/// 16-bit coordinates: the tangent), without and with the shadow map. The frames
-/// write the same segments in the same slots (the positions are compared too).
+/// 16-bit coordinates: the tangent), without and with the shadow map. With the map, at
+/// most one channel in 5,000 may be off, by at most 0.02: the pass finds a vertex's
+/// world point from its place on the screen, whose depth (NDC z, a float) holds it to
+/// about 10⁻⁵ of the camera's distance, and where the map's hair layers change
+/// abruptly between texels that moves the lookup (seen: 52 of 781,440, by up to
+/// 0.0085). The frames write the same segments in the same slots (the positions are
+/// compared too).
 /// Seen failing against a pass that ignored the shadow map (with shadows: 416,180 of
-/// the 781,440 channels of the segments' ends off, by up to 0.26) and one that read the
-/// coat's two counts swapped (465,389 off, by up to 0.29).
+/// the 781,440 channels of the segments' ends off, by up to 0.26), one that read the
+/// coat's two counts swapped (465,389 off, by up to 0.29) and one that lit each vertex
+/// at the world point of the pixel to its right (without shadows: 62,366 of 781,440
+/// off).
 #[test]
 fn the_lighting_pass_lights_each_vertex_as_the_geometry_stage_would() {
     let device = device();
@@ -65,16 +72,25 @@ fn the_lighting_pass_lights_each_vertex_as_the_geometry_stage_would() {
             2 * in_pass.len()
         );
         assert!(lit > in_pass.len(), "{lit} lit ends");
-        assert_eq!(off, 0, "shadows {shadows}: worst {worst}");
+        let (most, largest) = if shadows {
+            (6 * in_pass.len() / 5_000, 0.02)
+        } else {
+            (0, f32::INFINITY)
+        };
+        assert!(
+            off <= most && worst <= largest,
+            "shadows {shadows}: {off} channels off, worst {worst}"
+        );
     }
     assert_clean(&device);
 }
 
 /// One renderer switching between the lighting models, as the viewer's panel does,
-/// draws each frame as a renderer made for it does: the pools make room for what
-/// lights each vertex when the Marschner model comes in, and the lighting pass comes
-/// and goes with it. Seen failing with the pools kept when the model changes: the
-/// Marschner frame after Kajiya–Kay's was not the fresh renderer's.
+/// draws each frame as a renderer made for it does: the lighting pass comes and goes
+/// with the Marschner model, and the geometry stage leaves what lights a vertex, or
+/// its colour, as the frame's model asks. Seen failing with the pipelines kept when
+/// the model changes (the Marschner frame after Kajiya–Kay's was not the fresh
+/// renderer's), and, when the lighting had a pool of its own, with that pool kept.
 #[test]
 fn switching_the_lighting_model_draws_each_frame_as_a_new_renderer_does() {
     let device = device();

@@ -37,17 +37,14 @@ impl Default for PoolBudget {
 /// sorted entry (its segment and a word of the block masks: a row, or its own mask), and of a
 /// pixel of the layer.
 pub const VERTEX_BYTES: u64 = 32;
-/// Bytes of what lights a strand vertex under the Marschner model (its tangent, base
-/// colour and coat, packed: one texel), beside the vertex; a frame under Kajiya–Kay
-/// or in a stage view has its vertices coloured and takes none.
-pub const SHADING_BYTES: u64 = 16;
 pub const SEGMENT_BYTES: u64 = 8;
 pub const TILE_BYTES: u64 = 32 + 4 * super::order::DEPTH_BINS as u64;
 pub const ENTRY_BYTES: u64 = 4;
 pub const SORTED_ENTRY_BYTES: u64 = 8;
 pub const LAYER_BYTES: u64 = 16;
 /// Bytes of a texel of the vertex pool (a texel buffer: a vertex is two, its position
-/// then its colour).
+/// then its colour, or under the Marschner model what lights it until the lighting
+/// pass writes its colour there).
 pub const VERTEX_TEXEL_BYTES: u64 = VERTEX_BYTES / 2;
 
 /// The fewest strand vertices, segments and entries the pools hold whatever the image
@@ -84,8 +81,6 @@ impl Demand {
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct PoolSizes {
     pub vertices: u64,
-    /// What lights each vertex (the lighting pass's input, under the Marschner model).
-    pub shading: u64,
     pub segments: u64,
     pub tiles: u64,
     /// The entries, binned; and again, each tile's list sorted by depth.
@@ -103,7 +98,6 @@ impl PoolSizes {
         let capacity = Self::capacity(budget, pixels, demand);
         Self {
             vertices: capacity.vertices * VERTEX_BYTES,
-            shading: capacity.vertices * SHADING_BYTES,
             segments: capacity.segments * SEGMENT_BYTES,
             tiles: tiles * TILE_BYTES,
             entries: capacity.entries * ENTRY_BYTES,
@@ -123,23 +117,8 @@ impl PoolSizes {
         .max(*demand)
     }
 
-    /// The sizes with what lights each vertex taken only when `lit` (a frame under the
-    /// Marschner model); one texel otherwise, the pool being bound either way.
-    pub fn lit(self, lit: bool) -> Self {
-        Self {
-            shading: if lit { self.shading } else { SHADING_BYTES },
-            ..self
-        }
-    }
-
     pub fn total(&self) -> u64 {
-        self.vertices
-            + self.shading
-            + self.segments
-            + self.tiles
-            + self.entries
-            + self.sorted
-            + self.layer
+        self.vertices + self.segments + self.tiles + self.entries + self.sorted + self.layer
     }
 
     /// The largest of the pools that are storage buffers (the tiles, the layer), bytes.
@@ -148,11 +127,10 @@ impl PoolSizes {
     }
 
     /// The most texels any of the pools that are texel buffers holds (the vertices,
-    /// what lights them, the segments, both entry pools).
+    /// the segments, both entry pools).
     pub fn most_texels(&self) -> u64 {
         [
             self.vertices / VERTEX_TEXEL_BYTES,
-            self.shading / SHADING_BYTES,
             self.segments / SEGMENT_BYTES,
             self.entries / ENTRY_BYTES,
             self.sorted / SORTED_ENTRY_BYTES,
@@ -175,15 +153,14 @@ pub const TABLED_SIZES: [(&str, u32, u32); 3] = [
 pub fn table(budget: &PoolBudget) -> String {
     use crate::error::size_text;
     let mut out = String::from(
-        "| image | strand vertices | their lighting (Marschner) | segments | tiles | entries | sorted entries | hair layer | all |\n\
-         | --- | --- | --- | --- | --- | --- | --- | --- | --- |\n",
+        "| image | strand vertices | segments | tiles | entries | sorted entries | hair layer | all |\n\
+         | --- | --- | --- | --- | --- | --- | --- | --- |\n",
     );
     for (name, width, height) in TABLED_SIZES {
         let s = PoolSizes::of(budget, width, height, &Demand::default());
         out += &format!(
-            "| {name} ({width}×{height}) | {} | {} | {} | {} | {} | {} | {} | {} |\n",
+            "| {name} ({width}×{height}) | {} | {} | {} | {} | {} | {} | {} |\n",
             size_text(s.vertices),
-            size_text(s.shading),
             size_text(s.segments),
             size_text(s.tiles),
             size_text(s.entries),
@@ -194,8 +171,7 @@ pub fn table(budget: &PoolBudget) -> String {
     }
     let b = budget;
     out += &format!(
-        "\nPer pixel: {} strand vertices of {VERTEX_BYTES} bytes (and {SHADING_BYTES} of what \
-         lights each under the Marschner model), {} segments of \
+        "\nPer pixel: {} strand vertices of {VERTEX_BYTES} bytes, {} segments of \
          {SEGMENT_BYTES} bytes, {} entries of {ENTRY_BYTES} bytes binned and \
          {SORTED_ENTRY_BYTES} sorted, a layer pixel of {LAYER_BYTES} bytes; per {}×{} tile {TILE_BYTES} bytes; at least {} vertices, {} \
          segments and {} entries.\n",
@@ -238,10 +214,5 @@ mod tests {
         assert_eq!(asked.segments, MIN_SEGMENTS * SEGMENT_BYTES);
         assert_eq!(asked.most_texels(), 2 << 26);
         assert!(table(&budget).contains("| 4K (3840×2160) |"));
-        // Unlit (Kajiya–Kay, a stage view): the lighting pool is one texel.
-        let unlit = big.lit(false);
-        assert_eq!(unlit.shading, SHADING_BYTES);
-        assert_eq!(big.total() - unlit.total(), big.shading - SHADING_BYTES);
-        assert_eq!(big.lit(true), big);
     }
 }

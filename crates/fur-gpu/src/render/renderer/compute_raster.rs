@@ -220,8 +220,7 @@ impl ComputeRaster {
         }
         // The steps hold the pools' and pipelines' handles: remade when those are.
         let mut remade = self.steps.is_empty();
-        let lit = lighting.is_some();
-        let fits = |p: &Pools| p.extent == extent && p.lit == lit;
+        let fits = |p: &Pools| p.extent == extent;
         if outgrown || retiled || !self.pools.as_ref().is_some_and(fits) {
             // Other slots' frames may still read the old pools.
             self.device.wait_idle()?;
@@ -229,7 +228,6 @@ impl ComputeRaster {
                 &self.device,
                 (&self.budget, &self.demand),
                 extent,
-                lit,
             )?);
             self.written.fill(vk::Image::null());
             remade = true;
@@ -283,9 +281,8 @@ impl ComputeRaster {
                 .range(vk::WHOLE_SIZE)]
         };
         let (tiles, layer) = (info(&pools.tiles), info(&pools.layer));
-        let (vertices, shading, segments, entries, sorted) = (
+        let (vertices, segments, entries, sorted) = (
             [pools.vertices.view()],
-            [pools.shading.view()],
             [pools.segments.view()],
             [pools.entries.view()],
             [pools.sorted.view()],
@@ -308,9 +305,6 @@ impl ComputeRaster {
                 RasterBinding::Vertices
                     .write(*set)
                     .texel_buffer_view(&vertices),
-                RasterBinding::Shading
-                    .write(*set)
-                    .texel_buffer_view(&shading),
                 RasterBinding::Segments
                     .write(*set)
                     .texel_buffer_view(&segments),

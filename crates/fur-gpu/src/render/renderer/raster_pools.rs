@@ -9,7 +9,7 @@ use gpu_allocator::MemoryLocation;
 use crate::error::{Error, Result};
 use crate::gpu::{Buffer, Device, Image, ImageDesc, TexelBuffer};
 use fur_core::render::strand_raster::pools::{
-    Demand, PoolBudget, PoolSizes, ENTRY_BYTES, SEGMENT_BYTES, SHADING_BYTES, SORTED_ENTRY_BYTES,
+    Demand, PoolBudget, PoolSizes, ENTRY_BYTES, SEGMENT_BYTES, SORTED_ENTRY_BYTES,
     VERTEX_TEXEL_BYTES,
 };
 
@@ -20,13 +20,9 @@ pub(super) struct Pools {
     pub(super) columns: u32,
     pub(super) rows: u32,
     /// The vertices, the segments and the entries are texel buffers
-    /// (`shaders/strand_raster.glsl` says why).
+    /// (`shaders/strand_raster.glsl` says why); a vertex's texels are words, its
+    /// position's floats or its colour's, or what lights it under the Marschner model.
     pub(super) vertices: TexelBuffer,
-    /// What lights each vertex, for the lighting pass (one texel when the frame has
-    /// none).
-    pub(super) shading: TexelBuffer,
-    /// Whether `shading` holds a texel for every vertex.
-    pub(super) lit: bool,
     pub(super) segments: TexelBuffer,
     pub(super) tiles: Buffer,
     pub(super) entries: TexelBuffer,
@@ -38,17 +34,14 @@ pub(super) struct Pools {
 }
 
 impl Pools {
-    /// The pools for a target of `extent` under `budget`, holding at least `demand`,
-    /// with room for what lights each vertex when `lit` (a frame under the Marschner
-    /// model: the lighting pass's input; one texel otherwise); refused, with the size
-    /// named, where they would not fit the device's limits.
+    /// The pools for a target of `extent` under `budget`, holding at least `demand`;
+    /// refused, with the size named, where they would not fit the device's limits.
     pub(super) fn new(
         device: &Arc<Device>,
         (budget, demand): (&PoolBudget, &Demand),
         extent: vk::Extent2D,
-        lit: bool,
     ) -> Result<Self> {
-        let sizes = PoolSizes::of(budget, extent.width, extent.height, demand).lit(lit);
+        let sizes = PoolSizes::of(budget, extent.width, extent.height, demand);
         let pixels = u64::from(extent.width) * u64::from(extent.height);
         let capacity = PoolSizes::capacity(budget, pixels, demand);
         let limits = &device.info.limits;
@@ -106,20 +99,13 @@ impl Pools {
         Ok(Self {
             extent,
             capacity,
-            lit,
             columns: extent.width.div_ceil(budget.tile),
             rows: extent.height.div_ceil(budget.tile),
             vertices: texels(
                 "raster.vertices",
                 sizes.vertices,
-                vk::Format::R32G32B32A32_SFLOAT,
-                VERTEX_TEXEL_BYTES,
-            )?,
-            shading: texels(
-                "raster.shading",
-                sizes.shading,
                 vk::Format::R32G32B32A32_UINT,
-                SHADING_BYTES,
+                VERTEX_TEXEL_BYTES,
             )?,
             segments: texels(
                 "raster.segments",

@@ -15,7 +15,7 @@
 struct StrandVertex {
     vec4 position;      // x, y (pixels), depth, width (pixels)
     vec4 color;         // rgb, alpha (before the lighting pass under the Marschner
-                        // model: world position, place along the hair)
+                        // model: pack_shading's words, as floats' bits)
 };
 
 // What the passes counted, and the bin pass's indirect dispatch. The host reads it

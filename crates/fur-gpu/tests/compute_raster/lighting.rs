@@ -33,7 +33,8 @@ fn lit_segments(device: &std::sync::Arc<fur_gpu::gpu::Device>, shadows: bool) ->
 /// 16-bit coordinates: the tangent), without and with the shadow map. With the map, at
 /// most one channel in 5,000 may be off, by at most 0.02: the pass finds a vertex's
 /// world point from its place on the screen, whose depth (NDC z, a float) holds it to
-/// about 10⁻⁵ of the camera's distance, and where the map's hair layers change
+/// about 10⁻⁵ of the camera's distance (frame_block's
+/// `the_inverse_projection_finds_each_strand_vertex_again`), and where the map's hair layers change
 /// abruptly between texels that moves the lookup (seen: 52 of 781,440, by up to
 /// 0.0085). The frames write the same segments in the same slots (the positions are
 /// compared too).

@@ -6,8 +6,9 @@
 // same lighting as the fixed-function backend's per-vertex shading (shading.glsl:
 // marschner, through the shadow map with SHADOWS), run here because a compute pass
 // runs on every core of a CPU driver, where the geometry stage runs on one (fur.geom
-// says why Kajiya–Kay stays there). One invocation per vertex (or every so-many-th),
-// dispatched by the bin passes' count.
+// says why Kajiya–Kay stays there). Each invocation lights every so-many-th vertex:
+// dispatched by the bin passes' count (one invocation a segment), or on a CPU driver
+// as a few workgroups (raster_steps.rs: lighting_groups).
 // SHADOWS is defined by the renderer. Test only: with FUR_TEST_LIGHT_IN_GEOMETRY the
 // geometry stage lights the strands and this pass leaves them (tests/compute_raster).
 #undef MARSCHNER

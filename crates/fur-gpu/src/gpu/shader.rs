@@ -123,12 +123,12 @@ pub fn with_test_defines<R>(defines: &[(&str, &str)], f: impl FnOnce() -> R) -> 
     f()
 }
 
-/// Compiles GLSL `text` (reported as file `name`) to SPIR-V words.
 /// Invocations per workgroup of every compute shader: `GROUP_SIZE` in GLSL, defined
 /// for every shader from here (a compile-time size, not a specialization constant, so
 /// the SPIR-V carries no `WorkgroupSize` built-in, which SPIR-V 1.6 deprecates).
 pub const GROUP_SIZE: u32 = 64;
 
+/// Compiles GLSL `text` (reported as file `name`) to SPIR-V words.
 pub fn compile_source(name: &str, text: &str, defines: &[(&str, String)]) -> Result<Vec<u32>> {
     let kind = kind_of(name)?;
     let compiler = shaderc::Compiler::new()

@@ -18,7 +18,7 @@ use gpu_allocator::MemoryLocation;
 use super::super::bindings::{render_defines, RasterBinding};
 use super::super::target::RenderTarget;
 use super::raster_pools::Pools;
-use super::raster_steps::{Step, StepPass, StrandLighting};
+use super::raster_steps::{lighting_groups, Step, StepPass, StrandLighting};
 use crate::error::Result;
 use crate::gpu::{
     Buffer, DescriptorPool, DescriptorSetLayout, Device, Pipeline, PipelineLayout, Sampler,
@@ -268,6 +268,10 @@ impl ComputeRaster {
                 composited: pools.composited.raw(),
                 extent,
                 left_out: step.timed().is_some_and(|i| i >= self.kept),
+                lighting_groups: lighting_groups(
+                    self.device.info.is_cpu(),
+                    pools.capacity.vertices,
+                ),
             })
             .collect();
         Ok(())

@@ -45,6 +45,27 @@ impl StrandLighting {
     }
 }
 
+/// The workgroups a CPU driver lights the strands in (`strand_shade.comp`, whose
+/// invocations each take every so-many-th vertex): lavapipe pays for each workgroup it
+/// starts, and the lighting pass's large program started thousands (one per 64
+/// segments) for about 6 % of the blob's Marschner frame at 320×180. Enough for 64
+/// cores.
+const CPU_LIGHTING_GROUPS: u32 = 64;
+
+/// The most vertices one invocation of the lighting pass lights on a CPU driver: its
+/// loop stays under lavapipe's limit on a loop's turns (65,535).
+const CPU_LIGHTING_TURNS: u64 = 32_768;
+
+/// The workgroups the lighting pass runs as, for pools of `vertices` vertices: on a CPU
+/// driver (`cpu`) a few, [`CPU_LIGHTING_GROUPS`] or as many more as keep each
+/// invocation's loop within [`CPU_LIGHTING_TURNS`]; elsewhere as many as the segments
+/// ask (None: the indirect dispatch the geometry stage leaves).
+pub(super) fn lighting_groups(cpu: bool, vertices: u64) -> Option<u32> {
+    let per_group = u64::from(crate::gpu::shader::GROUP_SIZE) * CPU_LIGHTING_TURNS;
+    let needed = u32::try_from(vertices.div_ceil(per_group)).unwrap_or(u32::MAX);
+    cpu.then_some(needed.clamp(CPU_LIGHTING_GROUPS, 65_535))
+}
+
 /// One step of the compute passes, as the frame's pass list holds it.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub(super) enum Step {
@@ -74,6 +95,9 @@ pub(in super::super) struct StepPass {
     /// Recorded without its work (its barriers stay): for measuring what a step costs
     /// by leaving it out (`Renderer::leave_out_raster_steps`).
     pub(super) left_out: bool,
+    /// The lighting pass's workgroups where they are not the indirect count
+    /// ([`lighting_groups`]).
+    pub(super) lighting_groups: Option<u32>,
 }
 
 impl Step {
@@ -224,12 +248,14 @@ impl Pass for StepPass {
         // the counts buffer (the indirect arguments at `bin_groups`) outlive the frame.
         unsafe {
             raw.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, self.pipeline);
-            match (self.step, scatter_bands(&frame.device.info)) {
-                (Step::Tiles | Step::Sort | Step::Fine | Step::Composite, _) => {
+            let bands = scatter_bands(&frame.device.info);
+            match (self.step, bands, self.lighting_groups) {
+                (Step::Tiles | Step::Sort | Step::Fine | Step::Composite, _, _) => {
                     raw.cmd_dispatch(cmd, self.grid.0, self.grid.1, 1)
                 }
-                (Step::Scan, _) => raw.cmd_dispatch(cmd, 1, 1, 1),
-                (Step::Scatter, Some(bands)) => raw.cmd_dispatch(cmd, bands, 1, 1),
+                (Step::Scan, _, _) => raw.cmd_dispatch(cmd, 1, 1, 1),
+                (Step::Shade, _, Some(groups)) => raw.cmd_dispatch(cmd, groups, 1, 1),
+                (Step::Scatter, Some(bands), _) => raw.cmd_dispatch(cmd, bands, 1, 1),
                 _ => raw.cmd_dispatch_indirect(
                     cmd,
                     frame.raster_counts,
@@ -246,6 +272,21 @@ mod tests {
 
     /// The steps that do work are timed in order, one query each, and named by
     /// [`STEP_NAMES`] in that order. Seen failing with a step left out of `timed`.
+    /// A CPU driver lights the strands in a few workgroups, more only where an
+    /// invocation's loop would otherwise pass lavapipe's limit; another device as the
+    /// segments ask. Seen failing with the groups left at the floor for any pool.
+    #[test]
+    fn a_cpu_driver_lights_in_few_workgroups_each_within_the_loop_limit() {
+        assert_eq!(lighting_groups(false, 1 << 20), None);
+        assert_eq!(lighting_groups(true, 1 << 20), Some(CPU_LIGHTING_GROUPS));
+        let group = u64::from(crate::gpu::shader::GROUP_SIZE);
+        for vertices in [0, 1 << 20, 33 << 20, 1 << 30, 1 << 34] {
+            let groups = u64::from(lighting_groups(true, vertices).unwrap());
+            let turns = vertices.div_ceil(groups * group);
+            assert!(turns <= CPU_LIGHTING_TURNS, "{vertices}: {turns} turns");
+        }
+    }
+
     #[test]
     fn every_timed_step_has_its_own_name_and_query() {
         let timed: Vec<usize> = Step::ALL.iter().filter_map(|s| s.timed()).collect();

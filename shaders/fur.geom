@@ -261,8 +261,7 @@ void write_strand() {
     uint segments = kept_count - 1u;
     uint first_segment = atomicAdd(raster_counts.segments, segments);
     uint room = segment_room();
-    bool full = first + kept_count > vertex_room();
-    if (full || first_segment + segments > room) {
+    if (first + kept_count > vertex_room() || first_segment + segments > room) {
         atomicAdd(raster_counts.hairs_lost, 1u);
         // Its segments that fit are marked as none, so that the bin passes skip them.
         for (uint i = 0u; i < segments && first_segment + i < room; ++i) {

@@ -29,25 +29,14 @@ fn scratch(name: &str) -> PathBuf {
 
 /// A tiny validated render on the device `choice` names, into `out`.
 fn render_on(choice: &str, out: &Path, env: Option<&str>) -> Output {
-    fur(
-        &[
-            "render",
-            "--validate",
-            "--device",
-            choice,
-            "--width",
-            "96",
-            "--height",
-            "64",
-            "--density-scale",
-            "0.2",
-            "--segments",
-            "6",
-            "--out",
-            out.to_str().unwrap(),
-        ],
-        env,
-    )
+    let on = ["render", "--validate", "--device", choice];
+    let args = [
+        on.as_slice(),
+        &common::SMALL,
+        &["--out", out.to_str().unwrap()],
+    ]
+    .concat();
+    fur(&args, env)
 }
 
 /// The devices as the library lists them (the same list `fur devices` prints).

@@ -14,17 +14,9 @@ fn fur(args: &[&str]) -> Output {
         .expect("the fur binary runs")
 }
 
-/// A small, quick drawing of the blob: the sequences' size, density and segments.
-const SMALL: [&str; 8] = [
-    "--width",
-    "96",
-    "--height",
-    "64",
-    "--density-scale",
-    "0.2",
-    "--segments",
-    "6",
-];
+#[path = "../common/mod.rs"]
+mod common;
+use common::SMALL;
 
 fn scratch(name: &str) -> PathBuf {
     let dir = Path::new(env!("CARGO_TARGET_TMPDIR"))
@@ -178,20 +170,13 @@ fn the_shipped_model_is_the_built_in_one() {
     }
     // Rendering it through the CLI works like the default scene.
     let out = Path::new(env!("CARGO_TARGET_TMPDIR")).join("blob_from_obj.png");
-    let run = fur(&[
-        "render",
-        "--validate",
+    let model = [
         "--model",
         path.to_str().unwrap(),
         "--out",
         out.to_str().unwrap(),
-        "--width",
-        "96",
-        "--height",
-        "64",
-        "--density-scale",
-        "0.2",
-    ]);
+    ];
+    let run = fur(&[["render", "--validate"].as_slice(), &model, &SMALL].concat());
     assert!(
         run.status.success(),
         "{}",

@@ -11,6 +11,19 @@ mod core_common;
 #[allow(unused_imports)]
 pub use core_common::{field_error, rounding, seed};
 
+/// A small, quick drawing of the blob for the `fur` command line: its size, density
+/// and segments.
+pub const SMALL: [&str; 8] = [
+    "--width",
+    "96",
+    "--height",
+    "64",
+    "--density-scale",
+    "0.2",
+    "--segments",
+    "6",
+];
+
 /// A lavapipe-friendly headless device with the Khronos validation layer on, and a debug
 /// messenger that hears it: without `VK_EXT_debug_utils` no messenger exists, every
 /// [`assert_clean`] would pass on zero messages whatever the layer found, so the test

@@ -248,10 +248,11 @@ impl FrameUniforms {
             None => (Mat4::IDENTITY, 0.0, 0.0),
         };
         let terms = super::marschner::shader_terms(&l.fibre);
+        let view_proj = settings.camera.view_projection(w / h);
         Self {
             camera: CameraBlock {
-                view_proj: settings.camera.view_projection(w / h),
-                inverse_view_proj: settings.camera.view_projection(w / h).inverse(),
+                view_proj,
+                inverse_view_proj: view_proj.inverse(),
                 model: settings.head,
                 eye: settings.camera.eye(),
                 pixel_at_unit_distance: settings.pixel_at_unit_distance(height),

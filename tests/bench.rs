@@ -107,6 +107,27 @@ fn quick_bench_writes_every_expected_measurement() {
             for term in ["all terms", "without R", "without multiple scattering"] {
                 expect("truth", &format!("blob-{variant}: {term}"), "flip");
             }
+            // Each lit by the sun alone and by the sky alone: light adds, so the two
+            // images over the full one are the background counted twice where no hair
+            // covers it (between none and all of it, the path tracer's noise aside);
+            // a light left on in its image, or lost from the export, breaks this.
+            for light in ["sun", "sky"] {
+                let case = format!("blob-{variant}: {light} alone");
+                for metric in ["kajiya_kay_flip", "marschner_flip", "brightness"] {
+                    expect("truth", &case, metric);
+                }
+            }
+            let case = format!("blob-{variant}: lights summed");
+            let drawing = value("truth", &case, "drawing");
+            assert!(
+                (-0.05..=1.05).contains(&drawing),
+                "{case}: the drawings' sum over the full one, {drawing} of the background"
+            );
+            let reference = value("truth", &case, "reference");
+            assert!(
+                (-0.5..=1.5).contains(&reference),
+                "{case}: the references' sum over the full one, {reference} of the background"
+            );
         }
     }
     for scene in ["blob", "sphere"] {

@@ -1,6 +1,7 @@
 //! The truth section's light and dark fur, and texture: the first scene in three fur
 //! presets and with the built-in tabby texture, each lighting model with and without
-//! shadows, against each variant's own reference.
+//! shadows, against each variant's own reference; then each lit by one light alone
+//! ([`lights`](super::lights)).
 
 use std::fmt::Write as _;
 use std::path::Path;
@@ -44,6 +45,7 @@ impl Bench<'_> {
         let mut noises = Vec::new();
         let mut sentences = Vec::new();
         let mut term_columns = Vec::new();
+        let mut light_rows = Vec::new();
         let presets = [FurPreset::White, FurPreset::Blond, FurPreset::Black]
             .map(|p| (p.name(), Some(p)))
             .into_iter()
@@ -94,6 +96,8 @@ impl Bench<'_> {
             let kajiya_kay = drawings[0].2;
             let terms = self.term_errors(&name, &shot, &own, &truth)?;
             term_columns.push((variant, kajiya_kay, terms));
+            let lit = (reference, dir, spp);
+            light_rows.extend(self.light_by_light(variant, &name, &shot, &own, &truth, lit)?);
             let pairs: Vec<(f64, f64)> = drawings.iter().map(|d| (d.2, d.4)).collect();
             let (spread, _) = seed_spread(&pairs);
             let deltas = differences(&pairs);
@@ -127,6 +131,7 @@ impl Bench<'_> {
             sentences.join("\n\n")
         );
         self.colour_terms(&term_columns);
+        self.light_table(&light_rows);
         Ok(())
     }
 

@@ -40,6 +40,7 @@ use fur_gpu::error::Result;
 mod cache;
 mod colours;
 mod groom;
+mod lights;
 mod noise;
 mod terms;
 
@@ -60,7 +61,8 @@ const WALK_FRAMES_QUICK: u32 = 4;
 /// critter, or one scene file's) its references, rungs, looks, attribution and terms.
 pub(super) fn tasks(scenes: usize) -> u64 {
     let terms = Lobes::each_dropped().len() as u64;
-    scenes as u64 * (3 + MOST_RUNGS as u64 + LOOKS as u64 + 1 + terms) + COLOURS * (2 + terms)
+    scenes as u64 * (3 + MOST_RUNGS as u64 + LOOKS as u64 + 1 + terms)
+        + COLOURS * (2 + terms + lights::Light::BOTH.len() as u64)
 }
 
 /// Where a run's references come from and go.

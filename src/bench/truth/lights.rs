@@ -89,6 +89,9 @@ impl Bench<'_> {
             let file = dir.join(format!("{name}-{}.usda", light.name()));
             let (_, usda, text) = export(shot, &look, &file)?;
             let alone = cached_trace(reference, &usda, &text, spp, 0, None)?.image;
+            // The export is the full frame's but for a light, and is written again on
+            // each run before its reference is looked up: not worth its tens of MB kept.
+            let _ = std::fs::remove_file(&usda);
             let mut flips = [0.0; 2];
             let mut marschner = None;
             for (i, model) in [LightingModel::KajiyaKay, LightingModel::Marschner]

@@ -65,7 +65,6 @@ impl Bench<'_> {
     /// `own` (the variant's look, drawn by `shot`) lit by each light alone, exported
     /// and path-traced (the full `truth`'s fur pixels pick where brightness is
     /// compared), and drawn under each lighting model.
-    #[allow(clippy::too_many_arguments)]
     pub(super) fn light_by_light(
         &mut self,
         variant: &'static str,

@@ -14,6 +14,11 @@ use fur_gpu::render::BACKGROUND;
 /// channels) to count as covered.
 const COVERED: f32 = 0.01;
 
+/// Whether a pixel of linear colour `p` shows something other than the background.
+pub fn covered(p: Vec3) -> bool {
+    (p - BACKGROUND).abs().element_sum() > COVERED
+}
+
 /// What the calibration measures between fur's image and the reference.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Calibration {
@@ -40,11 +45,7 @@ impl Calibration {
         let fur = linear(fur);
         check_size(&fur, reference)?;
         let (w, h) = (reference.width as usize, reference.height as usize);
-        let mask = |img: &[Vec3]| -> Vec<bool> {
-            img.iter()
-                .map(|p| (*p - BACKGROUND).abs().element_sum() > COVERED)
-                .collect()
-        };
+        let mask = |img: &[Vec3]| -> Vec<bool> { img.iter().map(|p| covered(*p)).collect() };
         let (a, b) = (mask(&fur), mask(&reference.pixels));
         let mismatched = a.iter().zip(&b).filter(|(x, y)| x != y).count();
         let edge = (0..w * h)

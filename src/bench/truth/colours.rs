@@ -66,6 +66,7 @@ impl Bench<'_> {
             (self.progress)(&format!("{name}: references"));
             to_srgb8(&truth).write_png(&dir.join(format!("{name}-reference.png")))?;
             let mut drawings = Vec::new();
+            let mut marschner = None;
             let cases = [
                 (LightingModel::KajiyaKay, false),
                 (LightingModel::KajiyaKay, true),
@@ -90,14 +91,20 @@ impl Bench<'_> {
                     );
                     let f_second = errors(&drawn.image, &second)?.0;
                     drawings.push((what, drawn.frame_ms, f, e, f_second));
+                    if model == LightingModel::Marschner && !shadows {
+                        marschner = Some(drawn.image);
+                    }
                 }
             }
             (self.progress)(&format!("{name}: drawings"));
             let kajiya_kay = drawings[0].2;
             let terms = self.term_errors(&name, &shot, &own, &truth)?;
             term_columns.push((variant, kajiya_kay, terms));
-            let lit = (reference, dir, spp);
-            light_rows.extend(self.light_by_light(variant, &name, &shot, &own, &truth, lit)?);
+            if let Some(image) = &marschner {
+                let lit = (reference, dir, spp);
+                let full = (&truth, image);
+                light_rows.extend(self.light_by_light(variant, &name, &shot, &own, full, lit)?);
+            }
             let pairs: Vec<(f64, f64)> = drawings.iter().map(|d| (d.2, d.4)).collect();
             let (spread, _) = seed_spread(&pairs);
             let deltas = differences(&pairs);

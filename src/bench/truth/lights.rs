@@ -13,10 +13,11 @@ use super::{cached_trace, export};
 use crate::bench::metrics::Frames;
 use crate::bench::quality::{Look, Shot};
 use crate::bench::Bench;
-use crate::export::compare::{errors, linear};
+use crate::export::compare::{covered, errors, linear};
 use crate::export::reference::{LinearImage, Reference};
-use fur_core::render::LightingModel;
+use fur_core::render::{LightingModel, RgbaImage};
 use fur_gpu::error::Result;
+use fur_gpu::render::BACKGROUND;
 
 /// The two lights, each alone: the sun (the distant light) and the sky.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -36,7 +37,7 @@ impl Light {
     }
 
     /// `look` lit by this light alone: the other one off.
-    pub(super) fn alone(self, look: &Look) -> Look {
+    fn alone(self, look: &Look) -> Look {
         let mut look = look.clone();
         match self {
             Light::Sun => look.lighting.ambient = 0.0,
@@ -64,21 +65,20 @@ const BLUR: i64 = 4;
 impl Bench<'_> {
     /// `own` (the variant's look, drawn by `shot`) lit by each light alone, exported
     /// and path-traced (the full `truth`'s fur pixels pick where brightness is
-    /// compared), and drawn under each lighting model.
+    /// compared), and drawn under each lighting model without a shadow map, as the
+    /// term table draws; `marschner` is the full frame drawn so.
     pub(super) fn light_by_light(
         &mut self,
         variant: &'static str,
         name: &str,
         shot: &Shot,
         own: &Look,
-        truth: &LinearImage,
+        (truth, marschner): (&LinearImage, &RgbaImage),
         (reference, dir, spp): (&Reference, &Path, u32),
     ) -> Result<Vec<LightRow>> {
         let fur = fur_pixels(truth);
         let darkest = darkest_fifth(truth, &fur);
-        let mut full = own.clone();
-        full.lighting.model = LightingModel::Marschner;
-        let full_drawn = linear(&shot.draw_look(&full, Frames::STILL)?.image);
+        let full_drawn = linear(marschner);
         // The two lights' drawings and references, summed as they come.
         let mut drawn_sum = vec![Vec3::ZERO; full_drawn.len()];
         let mut traced_sum = vec![Vec3::ZERO; truth.pixels.len()];
@@ -99,6 +99,7 @@ impl Bench<'_> {
             {
                 let mut drawn_look = look.clone();
                 drawn_look.lighting.model = model;
+                drawn_look.lighting.shadows.enabled = false;
                 let drawn = shot.draw_look(&drawn_look, Frames::STILL)?;
                 flips[i] = errors(&drawn.image, &alone)?.0;
                 if model == LightingModel::Marschner {
@@ -145,12 +146,11 @@ impl Bench<'_> {
         }
         // Light adds: what the two lights' images have over the full one is the
         // background counted twice where no hair covers it, between none and all of it.
-        let background = truth.pixels.first().copied().unwrap_or_default();
         for (what, sum, whole) in [
             ("drawing", &drawn_sum, &full_drawn),
             ("reference", &traced_sum, &truth.pixels),
         ] {
-            let residual = sum_residual(sum, whole, background, &fur);
+            let residual = sum_residual(sum, whole, BACKGROUND, &fur);
             self.row(
                 "truth",
                 format!("{name}: lights summed"),
@@ -194,12 +194,10 @@ impl Bench<'_> {
     }
 }
 
-/// The pixels the fur (or the body) covers in `truth`: those not of the background's
-/// colour (the first pixel's, a corner the subject never reaches).
-pub(super) fn fur_pixels(truth: &LinearImage) -> Vec<usize> {
-    let background = truth.pixels.first().copied().unwrap_or_default();
+/// The pixels the fur (or the body) covers in `truth`.
+fn fur_pixels(truth: &LinearImage) -> Vec<usize> {
     (0..truth.pixels.len())
-        .filter(|&i| (truth.pixels[i] - background).abs().element_sum() > 0.01)
+        .filter(|&i| covered(truth.pixels[i]))
         .collect()
 }
 
@@ -229,7 +227,7 @@ fn darkest_fifth(truth: &LinearImage, pixels: &[usize]) -> Vec<usize> {
 
 /// The mean of `drawn` over `pixels` against the mean of `reference`, channel by
 /// channel (0 where the reference is black there).
-pub(super) fn brightness(drawn: &[Vec3], reference: &[Vec3], pixels: &[usize]) -> Vec3 {
+fn brightness(drawn: &[Vec3], reference: &[Vec3], pixels: &[usize]) -> Vec3 {
     let sum = |image: &[Vec3]| {
         pixels
             .iter()
@@ -253,12 +251,7 @@ fn add(sum: &mut [Vec3], image: &[Vec3]) {
 /// The mean over `pixels` of what `sum` (two lights' images) has over `whole` (both
 /// lights at once), in units of the background's light: 0 where hair covers every
 /// pixel, 1 where none does; outside that, the lights do not add.
-pub(super) fn sum_residual(
-    sum: &[Vec3],
-    whole: &[Vec3],
-    background: Vec3,
-    pixels: &[usize],
-) -> f64 {
+fn sum_residual(sum: &[Vec3], whole: &[Vec3], background: Vec3, pixels: &[usize]) -> f64 {
     let n = pixels.len().max(1) as f64;
     let over: f64 = pixels
         .iter()

@@ -117,6 +117,21 @@ fn quick_bench_writes_every_expected_measurement() {
                     expect("truth", &case, metric);
                 }
             }
+            // Each drawing's distance by scale: matching its light to the reference's
+            // over ever smaller neighbourhoods leaves ever less of it (a match that
+            // added its error, or kept the coarse light, would not fall so).
+            for model in ["Kajiya–Kay", "Marschner"] {
+                let case = format!("blob-{variant}: {model} by scale");
+                let raw = value("truth", &case, "flip");
+                let coarse = value("truth", &case, "matched_tenth_flip");
+                let fine = value("truth", &case, "matched_thirty_sixth_flip");
+                expect("truth", &case, "matched_twentieth_flip");
+                assert!(
+                    0.0 < fine && fine < coarse && coarse < raw,
+                    "{case}: ꟻLIP {raw}, matched over a tenth of the width {coarse}, \
+                     over a thirty-sixth {fine}"
+                );
+            }
             let case = format!("blob-{variant}: lights summed");
             let drawing = value("truth", &case, "drawing");
             assert!(

@@ -1,7 +1,8 @@
 //! The truth section's light and dark fur, and texture: the first scene in three fur
 //! presets and with the built-in tabby texture, each lighting model with and without
 //! shadows, against each variant's own reference; then each lit by one light alone
-//! ([`lights`](super::lights)).
+//! ([`lights`](super::lights)), and each drawing's distance by scale
+//! ([`scales`](super::scales)).
 
 use std::fmt::Write as _;
 use std::path::Path;
@@ -46,6 +47,7 @@ impl Bench<'_> {
         let mut sentences = Vec::new();
         let mut term_columns = Vec::new();
         let mut light_rows = Vec::new();
+        let mut scale_rows = Vec::new();
         let presets = [FurPreset::White, FurPreset::Blond, FurPreset::Black]
             .map(|p| (p.name(), Some(p)))
             .into_iter()
@@ -66,6 +68,7 @@ impl Bench<'_> {
             (self.progress)(&format!("{name}: references"));
             to_srgb8(&truth).write_png(&dir.join(format!("{name}-reference.png")))?;
             let mut drawings = Vec::new();
+            let mut kajiya_kay_image = None;
             let mut marschner = None;
             let cases = [
                 (LightingModel::KajiyaKay, false),
@@ -91,8 +94,10 @@ impl Bench<'_> {
                     );
                     let f_second = errors(&drawn.image, &second)?.0;
                     drawings.push((what, drawn.frame_ms, f, e, f_second));
-                    if model == LightingModel::Marschner && !shadows {
-                        marschner = Some(drawn.image);
+                    match (model, shadows) {
+                        (LightingModel::Marschner, false) => marschner = Some(drawn.image),
+                        (LightingModel::KajiyaKay, false) => kajiya_kay_image = Some(drawn.image),
+                        _ => {}
                     }
                 }
             }
@@ -100,6 +105,13 @@ impl Bench<'_> {
             let kajiya_kay = drawings[0].2;
             let terms = self.term_errors(&name, &shot, &own, &truth)?;
             term_columns.push((variant, kajiya_kay, terms));
+            if let (Some(kk), Some(m)) = (&kajiya_kay_image, &marschner) {
+                let both = [
+                    (LightingModel::KajiyaKay, kk),
+                    (LightingModel::Marschner, m),
+                ];
+                scale_rows.extend(self.scale_rows(&name, variant, &both, &truth)?);
+            }
             if let Some(image) = &marschner {
                 let lit = (reference, dir, spp);
                 let full = (&truth, image);
@@ -139,6 +151,7 @@ impl Bench<'_> {
         );
         self.colour_terms(&term_columns);
         self.light_table(&light_rows);
+        self.scale_table(&scale_rows);
         Ok(())
     }
 

@@ -42,6 +42,7 @@ mod colours;
 mod groom;
 mod lights;
 mod noise;
+mod scales;
 mod terms;
 
 use cache::cached_trace;

@@ -95,8 +95,10 @@ impl Bench<'_> {
                     let f_second = errors(&drawn.image, &second)?.0;
                     drawings.push((what, drawn.frame_ms, f, e, f_second));
                     match (model, shadows) {
-                        (LightingModel::Marschner, false) => marschner = Some(drawn.image),
-                        (LightingModel::KajiyaKay, false) => kajiya_kay_image = Some(drawn.image),
+                        (LightingModel::Marschner, false) => marschner = Some((drawn.image, f)),
+                        (LightingModel::KajiyaKay, false) => {
+                            kajiya_kay_image = Some((drawn.image, f))
+                        }
                         _ => {}
                     }
                 }
@@ -105,14 +107,14 @@ impl Bench<'_> {
             let kajiya_kay = drawings[0].2;
             let terms = self.term_errors(&name, &shot, &own, &truth)?;
             term_columns.push((variant, kajiya_kay, terms));
-            if let (Some(kk), Some(m)) = (&kajiya_kay_image, &marschner) {
+            if let (Some((kk, kk_flip)), Some((m, m_flip))) = (&kajiya_kay_image, &marschner) {
                 let both = [
-                    (LightingModel::KajiyaKay, kk),
-                    (LightingModel::Marschner, m),
+                    (LightingModel::KajiyaKay, kk, *kk_flip),
+                    (LightingModel::Marschner, m, *m_flip),
                 ];
                 scale_rows.extend(self.scale_rows(&name, variant, &both, &truth)?);
             }
-            if let Some(image) = &marschner {
+            if let Some((image, _)) = &marschner {
                 let lit = (reference, dir, spp);
                 let full = (&truth, image);
                 light_rows.extend(self.light_by_light(variant, &name, &shot, &own, full, lit)?);

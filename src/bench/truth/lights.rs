@@ -9,6 +9,7 @@ use std::path::Path;
 
 use glam::Vec3;
 
+use super::scales::box_means;
 use super::{cached_trace, export};
 use crate::bench::metrics::Frames;
 use crate::bench::quality::{Look, Shot};
@@ -60,7 +61,7 @@ pub(super) struct LightRow {
 }
 
 /// Pixels whose mean over a box of this many on each side picks the darkest fifth.
-const BLUR: i64 = 4;
+const BLUR: usize = 4;
 
 impl Bench<'_> {
     /// `own` (the variant's look, drawn by `shot`) lit by each light alone, exported
@@ -204,21 +205,11 @@ fn fur_pixels(truth: &LinearImage) -> Vec<usize> {
 /// Of `pixels`, the fifth darkest by the mean light of `truth` over each one's
 /// neighbourhood (the path tracer's noise averaged out).
 fn darkest_fifth(truth: &LinearImage, pixels: &[usize]) -> Vec<usize> {
-    let (w, h) = (truth.width as i64, truth.height as i64);
+    let (w, h) = (truth.width as usize, truth.height as usize);
+    let means = box_means(&truth.pixels, w, h, BLUR);
     let mut lit: Vec<(f32, usize)> = pixels
         .iter()
-        .map(|&i| {
-            let (x, y) = (i as i64 % w, i as i64 / w);
-            let mut sum = 0.0;
-            let mut n = 0.0;
-            for yy in (y - BLUR).max(0)..=(y + BLUR).min(h - 1) {
-                for xx in (x - BLUR).max(0)..=(x + BLUR).min(w - 1) {
-                    sum += truth.pixels[(yy * w + xx) as usize].element_sum();
-                    n += 1.0;
-                }
-            }
-            (sum / n, i)
-        })
+        .filter_map(|&i| Some((means.get(i)?.element_sum(), i)))
         .collect();
     lit.sort_by(|a, b| a.0.total_cmp(&b.0));
     lit.truncate(lit.len().div_ceil(5));

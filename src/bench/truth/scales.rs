@@ -44,17 +44,17 @@ pub(super) struct ScaleRow {
 
 impl Bench<'_> {
     /// The distance by scale of each of `drawings` (a lighting model's drawing of fur
-    /// variant `variant`, case `name`) against `truth`; the rows also go to the CSV.
+    /// variant `variant`, case `name`, and its ꟻLIP against `truth`, as measured); the
+    /// rows also go to the CSV.
     pub(super) fn scale_rows(
         &mut self,
         name: &str,
         variant: &'static str,
-        drawings: &[(LightingModel, &RgbaImage)],
+        drawings: &[(LightingModel, &RgbaImage, f64)],
         truth: &LinearImage,
     ) -> Result<Vec<ScaleRow>> {
         let mut rows = Vec::new();
-        for &(model, image) in drawings {
-            let flip = errors(image, truth)?.0;
+        for &(model, image, flip) in drawings {
             let drawn = linear(image);
             let mut matched = [0.0; FRACTIONS.len()];
             let sides = FRACTIONS.map(|(f, _)| side(truth.width, f));
@@ -164,7 +164,7 @@ pub(super) fn light_matched(drawn: &[Vec3], truth: &LinearImage, side: usize) ->
 
 /// The mean of `pixels` (`w`×`h`, row by row) over each pixel's square of `radius`,
 /// cut at the image's edges: by a summed-area table, in f64.
-fn box_means(pixels: &[Vec3], w: usize, h: usize, radius: usize) -> Vec<Vec3> {
+pub(super) fn box_means(pixels: &[Vec3], w: usize, h: usize, radius: usize) -> Vec<Vec3> {
     let stride = w + 1;
     let mut sums = vec![[0.0f64; 3]; stride * (h + 1)];
     for y in 0..h {

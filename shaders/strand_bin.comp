@@ -6,19 +6,26 @@
 // written into the tile's list (SCATTER 1). One
 // invocation per segment (or every so-many-th), dispatched indirectly by the count the
 // geometry stage left.
-// On a CPU driver (SERIAL_SCATTER) the scatter is SCATTER_BANDS workgroups, one for each
-// band of tile rows, each walking every segment and appending only to its band's tiles:
-// a workgroup's invocations run in one fixed order on one thread, and no two workgroups
-// append to one tile, so each tile lists its segments in the same order every frame and
-// every run, and the image is the same bytes (workgroups that share a tile append to
-// its list in whatever order their threads reach it, and the order within a depth bin
-// decides how a pixel's tail blends). Each band reads every segment again, so more
-// bands cost more reads. Its invocations each take every 1024th segment and count
-// their loops' turns: one that would pass lavapipe's limit (MAX_TURNS) stops, and the
-// sort pass counts the entries it left unwritten as lost (they never took a slot).
-// TILE, SCATTER, SERIAL_SCATTER, SCATTER_BANDS are defined by the renderer.
+// On a CPU driver (SERIAL_SCATTER) the scatter is two workgroups, one for each half of
+// the segments, and each tile's list is in two parts: the first half's entries from
+// its start, the second half's after them (the count pass counts the first half's
+// entries into the tile's `lead`). A workgroup's invocations run in one fixed order on
+// one thread, and no two workgroups append to one part, so each tile lists its segments
+// in the same order every frame and every run, and the image is the same bytes
+// (workgroups that share a list append to it in whatever order their threads reach
+// it, and the order within a depth bin decides how a pixel's tail blends). Each
+// segment is read once. (Cut into bands of tile rows instead, each workgroup read
+// every segment, and the scatter cost half as much again: docs/compute-raster.md.)
+// Its invocations each take every 1024th segment of their half and count their
+// loops' turns: one that would pass lavapipe's limit (MAX_TURNS) stops, and the sort
+// pass counts the entries it left unwritten as lost (they never took a slot).
+// TILE, SCATTER, SERIAL_SCATTER and SCATTER_BANDS are defined by the renderer.
 #include "common.glsl"
 #include "strand_raster.glsl"
+
+#if SERIAL_SCATTER && SCATTER_BANDS != 2
+#error "a CPU driver's scatter is two workgroups, one for each half of the segments"
+#endif
 
 #if SCATTER && SERIAL_SCATTER
 layout(local_size_x = 1024) in;
@@ -34,6 +41,8 @@ const uint MAX_TURNS = FUR_TEST_BIN_TURNS;
 const uint MAX_TURNS = 60000u;
 #endif
 uint turns = 0u;
+// The first of the second half's segments (SERIAL_SCATTER).
+uint second_half = 0u;
 
 void bin_segment(uint s) {
     uvec2 segment = strand_segment(s);
@@ -59,12 +68,6 @@ void bin_segment(uint s) {
     }
     float first_row = max(floor(y_lo / size), 0.0);
     float last_row = min(floor(y_hi / size), float(rows) - 1.0);
-#if SCATTER && SERIAL_SCATTER
-    // This workgroup's band of tile rows: it alone appends to their tiles.
-    uint band_rows = (rows + SCATTER_BANDS - 1u) / SCATTER_BANDS;
-    first_row = max(first_row, float(gl_WorkGroupID.x * band_rows));
-    last_row = min(last_row, float((gl_WorkGroupID.x + 1u) * band_rows) - 1.0);
-#endif
     if (first_row > last_row) {
         return;
     }
@@ -102,13 +105,25 @@ void bin_segment(uint s) {
             if (near >= tile_bins[tile].body_far) {
                 continue;
             }
-#if SCATTER
+#if SCATTER && SERIAL_SCATTER
+            // This half's part of the tile's list.
+            uint slot = s < second_half
+                ? atomicAdd(tile_bins[tile].cursor, 1u)
+                : tile_bins[tile].lead + atomicAdd(tile_bins[tile].second_cursor, 1u);
+#elif SCATTER
             uint slot = atomicAdd(tile_bins[tile].cursor, 1u);
+#endif
+#if SCATTER
             if (slot < tile_bins[tile].kept) {
                 imageStore(tile_entries, int(tile_bins[tile].offset + slot), uvec4(s));
             }
 #else
             atomicAdd(tile_bins[tile].count, 1u);
+#if SERIAL_SCATTER
+            if (s < second_half) {
+                atomicAdd(tile_bins[tile].lead, 1u);
+            }
+#endif
             atomicMin(tile_bins[tile].near_lo, key);
             atomicMax(tile_bins[tile].near_hi, key);
 #endif
@@ -118,15 +133,18 @@ void bin_segment(uint s) {
 
 void main() {
     uint segments = min(raster_counts.segments, segment_room());
+    second_half = (segments + 1u) / 2u;
 #if SCATTER && SERIAL_SCATTER
-    // Every segment, in each band's workgroup.
-    uint first = gl_LocalInvocationID.x;
+    // This workgroup's half of the segments.
+    uint first = gl_WorkGroupID.x * second_half + gl_LocalInvocationID.x;
+    uint end = min((gl_WorkGroupID.x + 1u) * second_half, segments);
     uint stride = gl_WorkGroupSize.x;
 #else
     uint first = gl_GlobalInvocationID.x;
+    uint end = segments;
     uint stride = gl_NumWorkGroups.x * gl_WorkGroupSize.x;
 #endif
-    for (uint s = first; s < segments && (SCATTER == 0 || turns <= MAX_TURNS); s += stride) {
+    for (uint s = first; s < end && (SCATTER == 0 || turns <= MAX_TURNS); s += stride) {
         turns += 1u;
         bin_segment(s);
     }

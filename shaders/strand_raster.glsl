@@ -104,8 +104,11 @@ uvec2 strand_segment(uint s) {
 
 // Per tile: the body's farthest depth in it, its entries counted, where its list
 // starts in the entry pool, how many it keeps, and the cursor the scatter fills by;
-// the range of its segments' sort keys (their bits: render::strand_raster::order), and
-// where each depth bin that holds an entry ends in the sorted list.
+// the range of its segments' sort keys (their bits: render::strand_raster::order),
+// where each depth bin that holds an entry ends in the sorted list; and on a CPU
+// driver, whose scatter runs as two workgroups, one for each half of the segments
+// (strand_bin.comp, SERIAL_SCATTER), the entries of the first half's segments, after
+// which the second half's are listed, and the second half's cursor.
 // DEPTH_BINS is defined by the renderer (render::strand_raster::order::DEPTH_BINS).
 struct TileBin {
     float body_far;
@@ -117,6 +120,8 @@ struct TileBin {
     uint near_hi;
     uint stop_count;
     uint stops[DEPTH_BINS];
+    uint lead;
+    uint second_cursor;
 };
 
 layout(set = SET_RASTER, binding = B_TILE_BINS, std430) buffer TileBins {

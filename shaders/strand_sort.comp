@@ -15,7 +15,9 @@
 #include "common.glsl"
 #include "strand_raster.glsl"
 
-const uint GROUP = TILE * TILE;
+// The workgroup: an invocation a pixel of the tile, or on a CPU driver one SIMD
+// vector (compute_raster.rs, tile_group), each invocation taking every GROUP-th entry.
+const uint GROUP = SORT_GROUP;
 
 layout(local_size_x = GROUP) in;
 
@@ -63,6 +65,12 @@ uint block_mask(vec2 corner, vec2 a, vec2 b, float half_w) {
     return mask;
 }
 
+// The place in its tile's list of the i-th entry the scatter wrote, whose first part
+// (`first_part` written) starts the list and whose second starts at `lead`.
+uint written(uint i, uint first_part, uint lead) {
+    return i < first_part ? i : lead + (i - first_part);
+}
+
 // The bin of the segment entry `at` of the pool lists.
 uint bin_of(uint at, float lo, float scale) {
     uvec2 segment = strand_segment(listed_entry(at));
@@ -76,9 +84,19 @@ void main() {
     uint lane = gl_LocalInvocationIndex;
     // The entries the scatter wrote: the first `kept` slots, unless one of its
     // invocations stopped at lavapipe's loop limit (strand_bin.comp) before taking
-    // some; those are counted lost and the list ends where the written ones do.
+    // some; those are counted lost and the sorted list ends where the written ones do.
+    // On a CPU driver the list is in two parts, the first half of the segments' from
+    // its start and the second half's from `lead`, and each part may end early.
     uint kept = tile_bins[tile].kept;
-    uint count = min(kept, tile_bins[tile].cursor);
+#if SERIAL_SCATTER
+    uint lead = min(tile_bins[tile].lead, kept);
+    uint first_part = min(tile_bins[tile].cursor, lead);
+    uint count = first_part + min(tile_bins[tile].second_cursor, kept - lead);
+#else
+    uint lead = kept;
+    uint first_part = min(tile_bins[tile].cursor, kept);
+    uint count = first_part;
+#endif
     uint offset = tile_bins[tile].offset;
     barrier();
     if (lane == 0u && count < kept) {
@@ -97,7 +115,7 @@ void main() {
     }
     barrier();
     for (uint i = lane; i < count; i += GROUP) {
-        atomicAdd(cursor[bin_of(offset + i, lo, scale)], 1u);
+        atomicAdd(cursor[bin_of(offset + written(i, first_part, lead), lo, scale)], 1u);
     }
     barrier();
     if (lane == 0u) {
@@ -117,7 +135,7 @@ void main() {
     barrier();
     vec2 corner = vec2(gl_WorkGroupID.xy * TILE);
     for (uint i = lane; i < count; i += GROUP) {
-        uint s = listed_entry(offset + i);
+        uint s = listed_entry(offset + written(i, first_part, lead));
         uvec2 segment = strand_segment(s);
         vec4 a = vertex_position(segment.x);
         vec4 b = vertex_position(segment.x + 1u);
@@ -134,18 +152,24 @@ void main() {
     barrier();
     uint whole = count / ROW_RUN * ROW_RUN;
     for (uint base = 0u; base < whole; base += BATCH) {
+        // An invocation's places in the batch all lie in one run (a batch is one run
+        // when the workgroup is at most a run, and an invocation has one place when it
+        // is more), whose masks it reads once.
+        uint run = (base + lane) / ROW_RUN * ROW_RUN;
+        uint masks[ROW_RUN];
+        [[unroll]] for (uint j = 0u; j < ROW_RUN; ++j) {
+            masks[j] = run < whole ? imageLoad(tile_order, int(offset + run + j)).y : 0u;
+        }
         uint segments[PER_LANE];
         uint rows[PER_LANE];
         [[unroll]] for (uint k = 0u; k < PER_LANE; ++k) {
             uint place = base + lane + k * GROUP;
-            uint run = place / ROW_RUN * ROW_RUN;
             uint block = place - run;
             uint row = 0u;
             if (place < whole) {
                 segments[k] = imageLoad(tile_order, int(offset + place)).x;
                 [[unroll]] for (uint j = 0u; j < ROW_RUN; ++j) {
-                    uint mask = imageLoad(tile_order, int(offset + run + j)).y;
-                    row |= ((mask >> block) & 1u) << j;
+                    row |= ((masks[j] >> block) & 1u) << j;
                 }
             }
             rows[k] = row;

@@ -5,7 +5,10 @@
 #include "common.glsl"
 #include "strand_raster.glsl"
 
-layout(local_size_x = TILE, local_size_y = TILE) in;
+// The workgroup: an invocation a pixel of the tile, or on a CPU driver one SIMD vector
+// (compute_raster.rs, tile_group), each invocation taking every GROUP-th pixel.
+const uint GROUP = TILES_GROUP;
+layout(local_size_x = GROUP) in;
 
 #if DEPTH_SAMPLES > 1
 layout(set = SET_RASTER, binding = B_BODY_DEPTH) uniform sampler2DMS body_depth;
@@ -31,14 +34,18 @@ float pixel_depth(ivec2 p) {
 }
 
 void main() {
-    ivec2 p = ivec2(gl_GlobalInvocationID.xy);
+    ivec2 corner = ivec2(gl_WorkGroupID.xy) * TILE;
     ivec2 size = ivec2(frame.camera.viewport);
     uint me = gl_LocalInvocationIndex;
     if (me == 0u) {
         farthest = 0u;
     }
     barrier();
-    float depth = all(lessThan(p, size)) ? pixel_depth(p) : 0.0;
+    float depth = 0.0;
+    for (uint k = me; k < TILE * TILE; k += GROUP) {
+        ivec2 p = corner + ivec2(k % TILE, k / TILE);
+        depth = max(depth, all(lessThan(p, size)) ? pixel_depth(p) : 0.0);
+    }
     atomicMax(farthest, floatBitsToUint(max(depth, 0.0)));
     barrier();
     if (me == 0u) {
@@ -51,5 +58,7 @@ void main() {
         tile_bins[tile].near_lo = 0x7f800000u; // +infinity: no key yet
         tile_bins[tile].near_hi = 0u;
         tile_bins[tile].stop_count = 0u;
+        tile_bins[tile].lead = 0u;
+        tile_bins[tile].second_cursor = 0u;
     }
 }

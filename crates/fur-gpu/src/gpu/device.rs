@@ -30,6 +30,9 @@ pub struct DeviceInfo {
     /// Stores and atomics in vertex, tessellation and geometry shaders (the fur pass
     /// counts what it draws with them).
     pub vertex_pipeline_stores: bool,
+    /// The invocations a subgroup runs together (a GPU's warp, a CPU driver's SIMD
+    /// vector: 8 on lavapipe with 256-bit vectors); 1 where the device does not say.
+    pub subgroup_size: u32,
 }
 
 impl DeviceInfo {

@@ -115,6 +115,17 @@ fn probe(
     } else {
         "unknown (Vulkan 1.1 or older)".into()
     };
+    let subgroup_size = if at_least(1) {
+        let mut subgroup = vk::PhysicalDeviceSubgroupProperties::default();
+        let mut props2 = vk::PhysicalDeviceProperties2::default().push_next(&mut subgroup);
+        // SAFETY: `physical` comes from this instance and reports Vulkan 1.1 or later,
+        // so the subgroup-properties struct is a valid link of the chain; `props2` and
+        // `subgroup` live through the call.
+        unsafe { raw.get_physical_device_properties2(physical, &mut props2) };
+        subgroup.subgroup_size.max(1)
+    } else {
+        1
+    };
     // SAFETY: `physical` was enumerated from this instance.
     let features = unsafe { raw.get_physical_device_features(physical) };
     let mut f13 = vk::PhysicalDeviceVulkan13Features::default();
@@ -177,6 +188,7 @@ fn probe(
                 timestamps: timestamp_bits > 0,
                 pipeline_statistics: features.pipeline_statistics_query == vk::TRUE,
                 vertex_pipeline_stores: features.vertex_pipeline_stores_and_atomics == vk::TRUE,
+                subgroup_size,
             };
             (family, info)
         });

@@ -38,7 +38,7 @@ impl Default for PoolBudget {
 /// pixel of the layer.
 pub const VERTEX_BYTES: u64 = 32;
 pub const SEGMENT_BYTES: u64 = 8;
-pub const TILE_BYTES: u64 = 32 + 4 * super::order::DEPTH_BINS as u64;
+pub const TILE_BYTES: u64 = 32 + 4 * super::order::DEPTH_BINS as u64 + 8;
 pub const ENTRY_BYTES: u64 = 4;
 pub const SORTED_ENTRY_BYTES: u64 = 8;
 pub const LAYER_BYTES: u64 = 16;

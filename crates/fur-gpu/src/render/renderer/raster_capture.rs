@@ -123,8 +123,8 @@ fn capture(
             [p[0], p[1], p[2], p[3]]
         })
         .collect();
-    // A tile: body depth, count, offset, kept, cursor, key range, stop count, stops
-    // (`TileBin`).
+    // A tile: body depth, count, offset, kept, cursor, key range, stop count, stops,
+    // and the scatter's halves (`TileBin`).
     let tile_bytes = pools.tiles.read_back()?;
     let tile_words: &[u32] = bytemuck::cast_slice(&tile_bytes);
     let entry_bytes = pools.sorted.buffer.read_back()?;

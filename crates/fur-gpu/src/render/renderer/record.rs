@@ -174,6 +174,7 @@ mod tests {
             timestamps: true,
             pipeline_statistics: false,
             vertex_pipeline_stores: stores,
+            subgroup_size: 8,
         }
     }
 
@@ -223,5 +224,26 @@ mod tests {
         }
         assert_eq!(info(gpu, true).ladder(Raster::Hardware), Ladder::COMPUTE);
         assert_eq!(info(gpu, true).ladder(Raster::Compute), Ladder::IN_COMPUTE);
+    }
+
+    /// On a CPU driver the passes that meet at barriers take a tile a subgroup (one
+    /// SIMD vector), held to the tile's pixels; on a GPU an invocation a pixel. Seen
+    /// failing with the GPU's workgroup on a CPU driver, and with the subgroup taken on
+    /// a GPU.
+    #[test]
+    fn a_cpu_driver_works_a_tile_with_one_subgroup() {
+        use super::super::compute_raster::tile_group;
+        let cpu = info(vk::PhysicalDeviceType::CPU, true);
+        let gpu = info(vk::PhysicalDeviceType::DISCRETE_GPU, true);
+        assert_eq!(tile_group(&cpu, 8), 8);
+        assert_eq!(tile_group(&cpu, 16), 8);
+        assert_eq!(tile_group(&cpu, 2), 4);
+        let wide = DeviceInfo {
+            subgroup_size: 32,
+            ..cpu.clone()
+        };
+        assert_eq!(tile_group(&wide, 4), 16);
+        assert_eq!(tile_group(&gpu, 8), 64);
+        assert_eq!(tile_group(&gpu, 16), 256);
     }
 }

@@ -104,8 +104,25 @@ void take_segment(uint s, vec2 centre, float body) {
     }
 }
 
+// The pixel of the tile that invocation `i` draws: each run of eight invocations (a
+// CPU driver's SIMD vector: lavapipe's eight lanes) a block of 4×2 pixels, whose lanes
+// share blocks of the masks and so walk nearly the same entries, where a row of eight
+// would each walk their own (a vector walks until its last lane is done). A GPU's
+// warp of 32 takes the same pixels either way: four rows of an 8×8 tile.
+uvec2 pixel_in_tile(uint i) {
+#if TILE >= 4
+    uint vector = i / 8u;
+    uint lane = i % 8u;
+    uint across = TILE / 4u;
+    return uvec2(vector % across * 4u + lane % 4u, vector / across * 2u + lane / 4u);
+#else
+    return uvec2(i % TILE, i / TILE);
+#endif
+}
+
 void main() {
-    ivec2 p = ivec2(gl_GlobalInvocationID.xy);
+    uvec2 local = pixel_in_tile(gl_LocalInvocationIndex);
+    ivec2 p = ivec2(gl_WorkGroupID.xy * TILE + local);
     ivec2 size = ivec2(frame.camera.viewport);
     if (any(greaterThanEqual(p, size))) {
         return;
@@ -115,7 +132,7 @@ void main() {
     uint tile = gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x;
     uint count = tile_bins[tile].kept;
     uint offset = tile_bins[tile].offset;
-    uint bit = mask_bit(gl_LocalInvocationID.xy);
+    uint bit = mask_bit(local);
     uint stop_count = tile_bins[tile].stop_count;
     Walk walk = start_walk(tile, count);
     uint i = 0u;

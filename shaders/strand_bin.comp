@@ -15,7 +15,7 @@
 // (workgroups that share a list append to it in whatever order their threads reach
 // it, and the order within a depth bin decides how a pixel's tail blends). Each
 // segment is read once. (Cut into bands of tile rows instead, each workgroup read
-// every segment, and the scatter cost half as much again: docs/compute-raster.md.)
+// every segment, and the scatter cost about a quarter more: docs/compute-raster.md.)
 // Its invocations each take every 1024th segment of their half and count their
 // loops' turns: one that would pass lavapipe's limit (MAX_TURNS) stops, and the sort
 // pass counts the entries it left unwritten as lost (they never took a slot).

@@ -19,11 +19,11 @@
 // Its invocations each take every 1024th segment of their half and count their
 // loops' turns: one that would pass lavapipe's limit (MAX_TURNS) stops, and the sort
 // pass counts the entries it left unwritten as lost (they never took a slot).
-// TILE, SCATTER, SERIAL_SCATTER and SCATTER_BANDS are defined by the renderer.
+// TILE, SCATTER, SERIAL_SCATTER and SCATTER_GROUPS are defined by the renderer.
 #include "common.glsl"
 #include "strand_raster.glsl"
 
-#if SERIAL_SCATTER && SCATTER_BANDS != 2
+#if SERIAL_SCATTER && SCATTER_GROUPS != 2
 #error "a CPU driver's scatter is two workgroups, one for each half of the segments"
 #endif
 

@@ -7,7 +7,7 @@
 
 // The workgroup: an invocation a pixel of the tile, or on a CPU driver one SIMD vector
 // (compute_raster.rs, tile_group), each invocation taking every GROUP-th pixel.
-const uint GROUP = TILES_GROUP;
+const uint GROUP = TILE_GROUP;
 layout(local_size_x = GROUP) in;
 
 #if DEPTH_SAMPLES > 1

@@ -19,8 +19,7 @@ fn every_embedded_shader_compiles() {
         ("DEPTH_SAMPLES", "1"),
         ("SCATTER", "0"),
         // A CPU driver's per-tile workgroups (the GPU's are in the bindings' test).
-        ("TILES_GROUP", "8u"),
-        ("SORT_GROUP", "8u"),
+        ("TILE_GROUP", "8u"),
     ]
     .map(|(k, v)| (k, v.to_string()));
     let layers = [

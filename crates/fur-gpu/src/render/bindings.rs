@@ -291,8 +291,7 @@ mod tests {
                 ("NEAREST", "4"),
                 ("SCATTER", "1"),
                 ("DEPTH_SAMPLES", "4"),
-                ("TILES_GROUP", "64u"),
-                ("SORT_GROUP", "64u"),
+                ("TILE_GROUP", "64u"),
             ]
             .into_iter()
             .map(|(k, v)| (k, v.to_string()))

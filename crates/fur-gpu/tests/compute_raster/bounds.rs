@@ -44,8 +44,8 @@ fn a_pixel_past_the_loop_bound_stops_and_is_counted() {
 
 /// On a CPU driver the scatter is a workgroup for each half of the segments (the same
 /// list order every run), whose invocations each walk many segments, so each counts its
-/// turns under lavapipe's loop limit. With the bound lowered to a few turns (`FUR_TEST_BIN_TURNS`), the frame
-/// finishes validation-clean, the entries the stopped invocations never wrote are
+/// turns under lavapipe's loop limit. With the bound lowered to a few turns
+/// (`FUR_TEST_BIN_TURNS`), the frame finishes validation-clean, the entries the stopped invocations never wrote are
 /// counted lost, and the lists end where the written entries do: the entries kept and
 /// lost add up to the whole frame's entries, and the image loses hair. Seen failing
 /// with the sort taking each tile's whole count (nothing counted lost, and stale

@@ -33,7 +33,8 @@ impl Default for PoolBudget {
     }
 }
 
-/// Bytes of one strand vertex, segment, tile (its bin and its stops), binned entry and
+/// Bytes of one strand vertex, segment, tile (its bin, its stops and the two words of a
+/// CPU driver's scatter halves: `TileBin` in strand_raster.glsl), binned entry and
 /// sorted entry (its segment and a word of the block masks: a row, or its own mask), and of a
 /// pixel of the layer.
 pub const VERTEX_BYTES: u64 = 32;

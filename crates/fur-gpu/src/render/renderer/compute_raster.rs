@@ -31,22 +31,21 @@ pub use super::strand_counts_reset::ComputeCounts;
 
 /// The workgroups a CPU driver scatters in, one for each half of the segments
 /// (strand_bin.comp, SERIAL_SCATTER).
-const SCATTER_BANDS: u32 = 2;
+const SCATTER_GROUPS: u32 = 2;
 
 /// The workgroups the scatter runs as on a device of `info`: on a CPU driver one for
 /// each half of the segments, each filling a part of every tile's list of its own, so
 /// every frame lists each tile's segments in the same order (strand_bin.comp,
 /// SERIAL_SCATTER); elsewhere as many as the segments ask (None: the indirect dispatch
 /// the geometry stage leaves).
-pub(super) fn scatter_bands(info: &crate::gpu::DeviceInfo) -> Option<u32> {
-    info.is_cpu().then_some(SCATTER_BANDS)
+pub(super) fn scatter_groups(info: &crate::gpu::DeviceInfo) -> Option<u32> {
+    info.is_cpu().then_some(SCATTER_GROUPS)
 }
 
 /// The invocations of the workgroup of a pass that works a tile of `tile` pixels a
-/// side at a time and meets at barriers (the tiles and sort passes: TILES_GROUP,
-/// SORT_GROUP) on a device of `info`: on a CPU driver one subgroup (a SIMD vector),
-/// since a workgroup of several vectors makes lavapipe switch between them at each
-/// barrier (a workgroup of 64 made the sort pass 2.7× as dear on the original's
+/// side at a time and meets at barriers (the tiles and sort passes: TILE_GROUP) on a
+/// device of `info`: on a CPU driver one subgroup (a SIMD vector), since a workgroup of
+/// several vectors makes lavapipe switch between them at each barrier (a workgroup of 64 made the sort pass 2.7× as dear on the original's
 /// sphere: `fur render`, its steps left out); elsewhere an invocation a pixel.
 pub(super) fn tile_group(info: &crate::gpu::DeviceInfo, tile: u32) -> u32 {
     let pixels = tile * tile;
@@ -357,15 +356,16 @@ impl ComputeRaster {
             ("DEPTH_SAMPLES", key.samples.to_string()),
             ("TILES_VIEW", u32::from(key.tiles_view).to_string()),
         ]);
-        let bands = scatter_bands(&self.device.info);
+        let groups = scatter_groups(&self.device.info);
         let kernel = |shader: &str, scatter: bool| {
             let mut d = defines.clone();
             d.push(("SCATTER", u32::from(scatter).to_string()));
-            d.push(("SERIAL_SCATTER", u32::from(bands.is_some()).to_string()));
-            d.push(("SCATTER_BANDS", bands.unwrap_or(1).to_string()));
-            let group = format!("{}u", tile_group(&self.device.info, key.tile));
-            d.push(("TILES_GROUP", group.clone()));
-            d.push(("SORT_GROUP", group));
+            d.push(("SERIAL_SCATTER", u32::from(groups.is_some()).to_string()));
+            d.push(("SCATTER_GROUPS", groups.unwrap_or(1).to_string()));
+            d.push((
+                "TILE_GROUP",
+                format!("{}u", tile_group(&self.device.info, key.tile)),
+            ));
             Pipeline::compute(&self.device, shader, &d, layout, &Specialization::new(&[]))
         };
         let mut kernels = Vec::new();

@@ -4,7 +4,7 @@
 use ash::vk;
 
 use super::super::graph::{Attachments, FrameContext, Pass};
-use super::compute_raster::{scatter_bands, ComputeCounts};
+use super::compute_raster::{scatter_groups, ComputeCounts};
 use crate::frame::{uses, Resource, Use};
 use crate::gpu::{whole_image_copy, Access};
 
@@ -249,14 +249,14 @@ impl Pass for StepPass {
         // the counts buffer (the indirect arguments at `bin_groups`) outlive the frame.
         unsafe {
             raw.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, self.pipeline);
-            let bands = scatter_bands(&frame.device.info);
-            match (self.step, bands, self.lighting_groups) {
+            let scatter = scatter_groups(&frame.device.info);
+            match (self.step, scatter, self.lighting_groups) {
                 (Step::Tiles | Step::Sort | Step::Fine | Step::Composite, _, _) => {
                     raw.cmd_dispatch(cmd, self.grid.0, self.grid.1, 1)
                 }
                 (Step::Scan, _, _) => raw.cmd_dispatch(cmd, 1, 1, 1),
                 (Step::Shade, _, Some(groups)) => raw.cmd_dispatch(cmd, groups, 1, 1),
-                (Step::Scatter, Some(bands), _) => raw.cmd_dispatch(cmd, bands, 1, 1),
+                (Step::Scatter, Some(groups), _) => raw.cmd_dispatch(cmd, groups, 1, 1),
                 _ => raw.cmd_dispatch_indirect(
                     cmd,
                     frame.raster_counts,

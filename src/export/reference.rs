@@ -21,11 +21,34 @@ pub const DEFAULT_PYTHON: &str = "tools/reference/.venv/bin/python";
 /// The largest reference image read, in bytes (a 16384² float RGB image is 3 GiB).
 pub const MAX_PFM_BYTES: u64 = 4 << 30;
 
+/// Which of Mitsuba's builds of the renderer path-traces: the same model and
+/// integrator, a different engine (and so another sequence of random samples).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Variant {
+    /// `scalar_rgb`: one sample at a time, nothing but the Python wheel needed.
+    Scalar,
+    /// `llvm_ad_rgb`: the whole image's samples JIT-compiled into vector code by LLVM
+    /// (Debian's `libllvm19`): a few seconds to compile, then several times the samples
+    /// a second on a CPU.
+    Llvm,
+}
+
+impl Variant {
+    /// Mitsuba's name for it.
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Scalar => "scalar_rgb",
+            Self::Llvm => "llvm_ad_rgb",
+        }
+    }
+}
+
 /// How to path-trace a frame.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct TraceOptions {
     pub spp: u32,
     pub seed: u32,
+    pub variant: Variant,
     /// Leave the environment light out (the calibration's direct light only).
     pub direct_only: bool,
     pub no_hair: bool,
@@ -36,6 +59,7 @@ impl Default for TraceOptions {
         Self {
             spp: 64,
             seed: 0,
+            variant: Variant::Scalar,
             direct_only: false,
             no_hair: false,
         }
@@ -93,6 +117,24 @@ impl Reference {
         &self.python
     }
 
+    /// The fastest variant this set-up runs: the LLVM one where Mitsuba finds the LLVM
+    /// library (Debian: `libllvm19`), else the scalar one.
+    pub fn fastest_variant(&self) -> Variant {
+        let probe = format!(
+            "import mitsuba as mi; mi.set_variant('{}')",
+            Variant::Llvm.name()
+        );
+        let runs = Command::new(&self.python)
+            .args(["-c", &probe])
+            .output()
+            .is_ok_and(|o| o.status.success());
+        if runs {
+            Variant::Llvm
+        } else {
+            Variant::Scalar
+        }
+    }
+
     /// Path-traces the exported frame `usda` into `out` (PFM, linear), with the script
     /// written beside it; `extra` arguments go to the script as they are (tests use
     /// them to break a convention on purpose).
@@ -115,6 +157,7 @@ impl Reference {
             .arg(out)
             .args(["--spp", &options.spp.to_string()])
             .args(["--seed", &options.seed.to_string()])
+            .args(["--variant", options.variant.name()])
             .args(extra);
         if options.direct_only {
             command.arg("--direct-only");

@@ -5,17 +5,33 @@
 use std::path::Path;
 
 use fur::export::compare::Calibration;
-use fur::export::reference::{read_pfm, Reference, TraceOptions};
+use fur::export::reference::{read_pfm, Reference, TraceOptions, Variant};
 use fur_core::render::RgbaImage;
 
 use super::{common, export, number_before, scratch};
 
-/// Path-traces `usda` into `dir` (16 samples a pixel) and measures fur's image against it.
+/// Path-traces `usda` into `dir` (16 samples a pixel, Mitsuba's scalar variant) and
+/// measures fur's image against it.
 fn calibrate(reference: &Reference, dir: &Path, usda: &Path, broken: Option<&str>) -> Calibration {
-    let pfm = dir.join(format!("reference-{}.pfm", broken.unwrap_or("right")));
+    calibrate_with(reference, dir, usda, broken, Variant::Scalar)
+}
+
+fn calibrate_with(
+    reference: &Reference,
+    dir: &Path,
+    usda: &Path,
+    broken: Option<&str>,
+    variant: Variant,
+) -> Calibration {
+    let pfm = dir.join(format!(
+        "reference-{}-{}.pfm",
+        broken.unwrap_or("right"),
+        variant.name()
+    ));
     let options = TraceOptions {
         spp: 16,
         direct_only: true,
+        variant,
         ..Default::default()
     };
     let extra: Vec<&str> = broken.map(|b| vec!["--break", b]).unwrap_or_default();
@@ -59,6 +75,58 @@ fn calibration_the_body_alone_matches_the_path_tracer_and_wrong_conventions_fail
              {wrong:?}"
         );
     }
+}
+
+/// The LLVM variant the benchmark's references take where the LLVM library is there
+/// (CI installs it: with FUR_REFERENCE_REQUIRED its absence fails) renders the same
+/// scene by the same conventions: the body alone calibrates, a mirrored image fails,
+/// and its samples are its own (not the scalar variant's image again). Seen failing
+/// against a variant argument the script ignored (the images were the same bytes).
+#[test]
+fn calibration_the_llvm_variant_agrees_with_the_scalar_one() {
+    let Some(reference) = common::reference() else {
+        return;
+    };
+    if reference.fastest_variant() != Variant::Llvm {
+        assert!(
+            std::env::var_os("FUR_REFERENCE_REQUIRED").is_none(),
+            "FUR_REFERENCE_REQUIRED is set, but Mitsuba's {} variant does not run: install \
+             the LLVM library (Debian: libllvm19)",
+            Variant::Llvm.name()
+        );
+        eprintln!("NOT RUN: no LLVM library for Mitsuba's LLVM variant");
+        return;
+    }
+    let dir = scratch("calibration-llvm");
+    let scene = dir.join("direct.toml");
+    std::fs::write(&scene, "[light]\nambient = 0.0\n").unwrap();
+    let args = [
+        scene.to_str().unwrap(),
+        "--body-only",
+        "--width",
+        "96",
+        "--height",
+        "54",
+    ];
+    let (usda, _) = export(&dir, &args);
+    let right = calibrate_with(&reference, &dir, &usda, None, Variant::Llvm);
+    if let Err(e) = right.check() {
+        panic!("the LLVM variant's body disagrees with fur: {e} ({right:?})");
+    }
+    let mirrored = calibrate_with(&reference, &dir, &usda, Some("mirror"), Variant::Llvm);
+    assert!(
+        mirrored.check().is_err(),
+        "the LLVM variant calibrates with its image mirrored: {mirrored:?}"
+    );
+    calibrate(&reference, &dir, &usda, None);
+    let image = |variant: Variant| {
+        std::fs::read(dir.join(format!("reference-right-{}.pfm", variant.name()))).unwrap()
+    };
+    assert_ne!(
+        image(Variant::Llvm),
+        image(Variant::Scalar),
+        "the LLVM variant's image is the scalar one's, byte for byte: was it run?"
+    );
 }
 
 #[test]

@@ -1,16 +1,23 @@
 //! The truth section's references, path-traced once: each is kept in the output folder
-//! under a hash of the export, the renderer script, the sample count, the seed and the
-//! bounce limit, beside the seconds it took to path-trace (what a reference costs), so
-//! a rerun path-traces nothing it has.
+//! under a hash of the export, the renderer script, the sample count, Mitsuba's
+//! variant, the seed and the bounce limit, beside the seconds it took to path-trace
+//! (what a reference costs), so a rerun path-traces nothing it has.
 
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
-use crate::export::reference::{read_pfm, LinearImage, Reference, TraceOptions, SCRIPT};
+use crate::export::reference::{read_pfm, LinearImage, Reference, TraceOptions, Variant, SCRIPT};
 use fur_gpu::error::Result;
 
 /// The longest cost file read back (a number and a newline).
 const COST_FILE_LIMIT: u64 = 64;
+
+/// How the section's references are path-traced: samples a pixel and the variant.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct Sampling {
+    pub spp: u32,
+    pub variant: Variant,
+}
 
 /// A reference and what it cost.
 pub(super) struct Traced {
@@ -20,22 +27,23 @@ pub(super) struct Traced {
     pub seconds: Option<f64>,
 }
 
-/// The reference of `usda` (whose text is `text`) at `spp` samples, seed `seed` and at
-/// most `depth` bounces, path-traced unless a file of the same hash is there.
+/// The reference of `usda` (whose text is `text`) sampled as `sampling` says, seed
+/// `seed`, at most `depth` bounces, path-traced unless a file of the same hash is there.
 pub(super) fn cached_trace(
     reference: &Reference,
     usda: &Path,
     text: &str,
-    spp: u32,
+    sampling: Sampling,
     seed: u32,
     depth: Option<u32>,
 ) -> Result<Traced> {
-    let stem = stem(usda, text, spp, seed, depth);
+    let stem = stem(usda, text, sampling, seed, depth);
     let pfm = stem.with_extension("pfm");
     let cost = stem.with_extension("seconds");
     if !pfm.is_file() {
         let options = TraceOptions {
-            spp,
+            spp: sampling.spp,
+            variant: sampling.variant,
             seed,
             ..Default::default()
         };
@@ -65,11 +73,18 @@ fn kept_seconds(path: &Path) -> Option<f64> {
 }
 
 /// The path of the reference's files without their extension.
-fn stem(usda: &Path, text: &str, spp: u32, seed: u32, depth: Option<u32>) -> PathBuf {
+fn stem(usda: &Path, text: &str, sampling: Sampling, seed: u32, depth: Option<u32>) -> PathBuf {
+    let Sampling { spp, variant } = sampling;
+    // The scalar variant's key is as it was before the variant was one, so references
+    // kept from then are found.
+    let variant = match variant {
+        Variant::Scalar => String::new(),
+        v => format!(" {}", v.name()),
+    };
     let key = fnv64(&[
         text.as_bytes(),
         SCRIPT.as_bytes(),
-        format!("{spp} {seed} {depth:?}").as_bytes(),
+        format!("{spp} {seed} {depth:?}{variant}").as_bytes(),
     ]);
     let dir = usda.parent().map_or(PathBuf::from("."), Path::to_path_buf);
     dir.join(format!("reference-{key:016x}"))
@@ -92,7 +107,8 @@ mod tests {
     use super::*;
 
     /// A reference's cost is read back from its file; a missing, empty, negative or
-    /// non-numeric one reads as unknown, and another seed is another reference's file.
+    /// non-numeric one reads as unknown, and another seed or variant is another
+    /// reference's file.
     /// Seen failing against parsing the file whole (its newline made every kept cost
     /// unknown).
     #[test]
@@ -100,7 +116,9 @@ mod tests {
         let dir = std::env::temp_dir().join(format!("fur-trace-cost-{}", std::process::id()));
         std::fs::create_dir_all(&dir).unwrap();
         let usda = dir.join("frame.usda");
-        let cost = stem(&usda, "frame", 16, 0, None).with_extension("seconds");
+        let sampling = |variant| Sampling { spp: 16, variant };
+        let cost =
+            stem(&usda, "frame", sampling(Variant::Scalar), 0, None).with_extension("seconds");
         assert_eq!(kept_seconds(&cost), None);
         for (written, read) in [
             ("83.2\n", Some(83.2)),
@@ -114,7 +132,11 @@ mod tests {
         }
         assert_ne!(
             cost,
-            stem(&usda, "frame", 16, 1, None).with_extension("seconds")
+            stem(&usda, "frame", sampling(Variant::Scalar), 1, None).with_extension("seconds")
+        );
+        assert_ne!(
+            cost,
+            stem(&usda, "frame", sampling(Variant::Llvm), 0, None).with_extension("seconds")
         );
         std::fs::remove_dir_all(&dir).unwrap();
     }

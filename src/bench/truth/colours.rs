@@ -8,7 +8,9 @@ use std::fmt::Write as _;
 use std::path::Path;
 
 use super::noise::capitalised;
-use super::{cached_trace, delta_cell, differences, export, noise_sentence, percent, seed_spread};
+use super::{
+    cached_trace, delta_cell, differences, export, noise_sentence, percent, seed_spread, Sampling,
+};
 use crate::bench::Bench;
 use crate::export::compare::{errors, to_srgb8};
 use crate::export::reference::Reference;
@@ -27,7 +29,7 @@ impl Bench<'_> {
         reference: &Reference,
         dir: &Path,
         extent: ash::vk::Extent2D,
-        spp: u32,
+        sampling: Sampling,
     ) -> Result<()> {
         let Some(base) = self.scenes.first().cloned() else {
             return Ok(());
@@ -62,8 +64,8 @@ impl Bench<'_> {
             let own = shot.look(&shot.settings.style);
             let name = format!("{}-{variant}", base.name);
             let (_, usda, text) = export(&shot, &own, &dir.join(format!("{name}.usda")))?;
-            let truth = cached_trace(reference, &usda, &text, spp, 0, None)?.image;
-            let second = cached_trace(reference, &usda, &text, spp, 1, None)?.image;
+            let truth = cached_trace(reference, &usda, &text, sampling, 0, None)?.image;
+            let second = cached_trace(reference, &usda, &text, sampling, 1, None)?.image;
             let noise = flip(&to_srgb8(&truth), &to_srgb8(&second));
             (self.progress)(&format!("{name}: references"));
             to_srgb8(&truth).write_png(&dir.join(format!("{name}-reference.png")))?;
@@ -115,7 +117,7 @@ impl Bench<'_> {
                 scale_rows.extend(self.scale_rows(&name, variant, &both, &truth)?);
             }
             if let Some((image, _)) = &marschner {
-                let lit = (reference, dir, spp);
+                let lit = (reference, dir, sampling);
                 let full = (&truth, image);
                 light_rows.extend(self.light_by_light(variant, &name, &shot, &own, full, lit)?);
             }

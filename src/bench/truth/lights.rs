@@ -10,7 +10,7 @@ use std::path::Path;
 use glam::Vec3;
 
 use super::scales::box_means;
-use super::{cached_trace, export};
+use super::{cached_trace, export, Sampling};
 use crate::bench::metrics::Frames;
 use crate::bench::quality::{Look, Shot};
 use crate::bench::Bench;
@@ -75,7 +75,7 @@ impl Bench<'_> {
         shot: &Shot,
         own: &Look,
         (truth, marschner): (&LinearImage, &RgbaImage),
-        (reference, dir, spp): (&Reference, &Path, u32),
+        (reference, dir, sampling): (&Reference, &Path, Sampling),
     ) -> Result<Vec<LightRow>> {
         let fur = fur_pixels(truth);
         let darkest = darkest_fifth(truth, &fur);
@@ -88,7 +88,7 @@ impl Bench<'_> {
             let look = light.alone(own);
             let file = dir.join(format!("{name}-{}.usda", light.name()));
             let (_, usda, text) = export(shot, &look, &file)?;
-            let alone = cached_trace(reference, &usda, &text, spp, 0, None)?.image;
+            let alone = cached_trace(reference, &usda, &text, sampling, 0, None)?.image;
             // The export is the full frame's but for a light, and is written again on
             // each run before its reference is looked up: not worth its tens of MB kept.
             let _ = std::fs::remove_file(&usda);

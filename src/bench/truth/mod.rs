@@ -28,7 +28,7 @@ use super::plot::{Plot, Series, PALETTE};
 use super::quality::{Look, Shot};
 use super::Bench;
 use crate::export::compare::{errors, rmse_linear, to_srgb8};
-use crate::export::reference::{LinearImage, Reference};
+use crate::export::reference::{LinearImage, Reference, Variant};
 use crate::export::{write_usda, FrameExport};
 use fur_core::render::budget::MOST_RUNGS;
 use fur_core::render::marschner::Lobes;
@@ -45,7 +45,7 @@ mod noise;
 mod scales;
 mod terms;
 
-use cache::cached_trace;
+use cache::{cached_trace, Sampling};
 use noise::{delta_cell, differences, noise_sentence, resolved, seed_spread, unresolved_pairs};
 
 /// The looks switched one at a time, each against the scene's own drawing.
@@ -57,6 +57,8 @@ const COLOURS: u64 = 4;
 /// Frames of the critter's walk before its shot (in the quick suite: a few).
 const WALK_FRAMES: u32 = 45;
 const WALK_FRAMES_QUICK: u32 = 4;
+/// Samples a pixel of the full run's references.
+const FULL_SPP: u32 = 1024;
 
 /// The progress ticks of the section: per scene (the default scenes and the walking
 /// critter, or one scene file's) its references, rungs, looks, attribution and terms.
@@ -70,7 +72,7 @@ pub(super) fn tasks(scenes: usize) -> u64 {
 struct Truth<'a> {
     reference: &'a Reference,
     dir: &'a Path,
-    spp: u32,
+    sampling: Sampling,
 }
 
 /// One drawing measured against the truth.
@@ -98,13 +100,18 @@ impl Bench<'_> {
                 return Ok(());
             }
         };
-        let (extent, spp, walk) = if self.quick {
+        // The quick run's few samples take the scalar variant: the LLVM one spends
+        // longer compiling than they take.
+        let (extent, sampling, walk) = if self.quick {
             (
                 vk::Extent2D {
                     width: 96,
                     height: 54,
                 },
-                16,
+                Sampling {
+                    spp: 16,
+                    variant: Variant::Scalar,
+                },
                 WALK_FRAMES_QUICK,
             )
         } else {
@@ -113,10 +120,15 @@ impl Bench<'_> {
                     width: 320,
                     height: 180,
                 },
-                256,
+                Sampling {
+                    spp: FULL_SPP,
+                    variant: reference.fastest_variant(),
+                },
                 WALK_FRAMES,
             )
         };
+        let spp = sampling.spp;
+        let variant = sampling.variant.name();
         let dir = out_dir.join("truth");
         std::fs::create_dir_all(&dir)
             .map_err(|e| fur_gpu::error::Error::io("create the folder", &dir, e))?;
@@ -124,7 +136,8 @@ impl Bench<'_> {
             self.md,
             "Each scene's settled frame at {}×{}, drawn by fur and path-traced by \
              `tools/reference` (Mitsuba 3, Chiang et al.'s hair model, the same camera, \
-             lights and hairs; {spp} samples a pixel, up to 64 bounces). *Noise*: the \
+             lights and hairs; {spp} samples a pixel, up to 64 bounces, Mitsuba's \
+             `{variant}`). *Noise*: the \
              reference against a second one with another seed, its own uncertainty. ꟻLIP \
              on sRGB, RMSE in linear light; frame time as in the ladder.\n",
             extent.width, extent.height
@@ -132,7 +145,7 @@ impl Bench<'_> {
         let truth = Truth {
             reference: &reference,
             dir: &dir,
-            spp,
+            sampling,
         };
         let mut series = Vec::new();
         // One line of the chart per scene, each its own colour.
@@ -174,7 +187,7 @@ impl Bench<'_> {
             let points = self.truth_scene(name, &shot, &truth)?;
             add(&mut series, name, points);
         }
-        self.truth_colours(&reference, &dir, extent, spp)?;
+        self.truth_colours(&reference, &dir, extent, sampling)?;
         self.plots.push((
             "truth.svg",
             Plot {
@@ -198,9 +211,9 @@ impl Bench<'_> {
         let (own_image, usda, text) = export(shot, &own, &t.dir.join(format!("{scene}.usda")))?;
         (self.progress)(&format!("{scene}: exported"));
         let trace = |seed: u32, depth: Option<u32>| -> Result<LinearImage> {
-            Ok(cached_trace(t.reference, &usda, &text, t.spp, seed, depth)?.image)
+            Ok(cached_trace(t.reference, &usda, &text, t.sampling, seed, depth)?.image)
         };
-        let first = cached_trace(t.reference, &usda, &text, t.spp, 0, None)?;
+        let first = cached_trace(t.reference, &usda, &text, t.sampling, 0, None)?;
         let truth = first.image;
         (self.progress)(&format!("{scene}: reference"));
         let second = trace(1, None)?;
@@ -220,7 +233,7 @@ impl Bench<'_> {
         let cost = cost.map_or(String::new(), |s| {
             format!(
                 " One reference ({} samples a pixel) took {s:.0} s to path-trace here.",
-                t.spp
+                t.sampling.spp
             )
         });
         let single = trace(0, Some(2))?;

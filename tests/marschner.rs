@@ -227,6 +227,7 @@ fn the_highlight_shifts_the_way_the_path_tracers_does() {
         azimuthal_roughness: 0.3,
         cuticle_tilt_deg: 8.0,
         ior: 1.55,
+        direction_spread: fur_core::render::DIRECTION_SPREAD,
     };
     let dark = Vec3::splat(0.02);
     let v = Vec3::Z;

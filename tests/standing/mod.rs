@@ -15,6 +15,7 @@ pub const FIBRE: Fibre = Fibre {
     azimuthal_roughness: 0.3,
     cuticle_tilt_deg: 6.0,
     ior: 1.55,
+    direction_spread: fur_core::render::DIRECTION_SPREAD,
 };
 
 /// Every term but the coat's light: the tests of the lobes light the hairs from below

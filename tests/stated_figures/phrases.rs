@@ -229,6 +229,10 @@ fn design() -> Vec<(&'static str, Vec<String>)> {
             "docs/lighting.md",
             vec![
                 format!(
+                    "(`[fibre] direction_spread`, the default {} rad²)",
+                    fur_core::render::DIRECTION_SPREAD
+                ),
+                format!(
                     "defaults {}, {}, {}°, {})",
                     fibre.longitudinal_roughness,
                     fibre.azimuthal_roughness,

@@ -157,6 +157,53 @@ fn the_back_scattering_is_zinkes() {
     assert!(backscatter(&black).0 < 1e-3);
 }
 
+/// The coat's direction spread widens the lobes and nothing else: with none, a node is
+/// the fibre's averages as they are; with a spread s, the one-scattering spread β² and
+/// the forward spread a layer β_f² each grow by s / 2, the local back-scattering's σ_b²
+/// by more (its paths scatter three or five times), and the fractions and shifts stay.
+/// Seen failing against a spread that widened σ_b² alone (β², β_f² as they were).
+#[test]
+fn the_direction_spread_widens_each_scattering_and_nothing_else() {
+    let a = averages(&oracle([0.3, 0.3, 0.3]), 0.4)[0];
+    let plain = ds::node(&a, 0.0);
+    let (a_back, shift, spread2) = backscatter(&a);
+    let want = [
+        a.a_f, a.beta_f2, a_back, shift, spread2, a.a_b, a.alpha, a.beta2,
+    ];
+    let flat = |n: [glam::Vec4; 2]| {
+        [
+            n[0].x, n[0].y, n[0].z, n[0].w, n[1].x, n[1].y, n[1].z, n[1].w,
+        ]
+        .map(f64::from)
+    };
+    for (g, w) in flat(plain).iter().zip(want) {
+        assert!((g - w).abs() < 1e-6 * w.abs().max(1.0), "{g} vs {w}");
+    }
+    let s = 0.2;
+    let wide = flat(ds::node(&a, s));
+    let plain = flat(plain);
+    for k in [0, 2, 3, 5, 6] {
+        assert!(
+            (wide[k] - plain[k]).abs() < 1e-6,
+            "entry {k}: {wide:?} vs {plain:?}"
+        );
+    }
+    for k in [1, 7] {
+        assert!(
+            (wide[k] - plain[k] - 0.5 * s).abs() < 1e-6,
+            "entry {k}: {} vs {} + s / 2",
+            wide[k],
+            plain[k]
+        );
+    }
+    assert!(
+        wide[4] > plain[4] + 1.5 * s * 0.9,
+        "σ_b²: {} vs {}",
+        wide[4],
+        plain[4]
+    );
+}
+
 /// The table read at its nodes gives the averages at those nodes, and between nodes
 /// the bilinear mix; the colour coordinate places each node's colour on its node.
 #[test]
@@ -179,6 +226,14 @@ fn the_table_reads_back_its_nodes() {
         assert!((colour_coordinate(c) * (COLOUR_NODES - 1) as f32 - j as f32).abs() < 1e-4);
         let [first, second] = lookup(&table, u, colour_coordinate(c));
         let a = averages(&o(c), f64::from(u).min(0.999))[0];
+        // Each scattering's lobes widened by half the coat's direction spread.
+        let turn = 0.5 * f64::from(fibre.direction_spread);
+        let a = Averages {
+            beta_f2: a.beta_f2 + turn,
+            beta_b2: a.beta_b2 + turn,
+            beta2: a.beta2 + turn,
+            ..a
+        };
         let (a_back, shift, spread2) = backscatter(&a);
         let want = [
             a.a_f, a.beta_f2, a_back, shift, spread2, a.a_b, a.alpha, a.beta2,
@@ -231,9 +286,16 @@ fn the_cache_keeps_a_table_per_fibre() {
         longitudinal_roughness: 0.45,
         ..a
     };
+    let c = Fibre {
+        direction_spread: 0.3,
+        ..a
+    };
     let (first, again, other) = (cached_table(&a), cached_table(&a), cached_table(&b));
     assert!(std::sync::Arc::ptr_eq(&first, &again));
     assert!(!std::sync::Arc::ptr_eq(&first, &other));
+    let spread = cached_table(&c);
+    assert!(!std::sync::Arc::ptr_eq(&first, &spread));
+    assert_ne!(first[1], spread[1], "the spread's table is another");
     assert!(first.iter().zip(other.iter()).any(|(x, y)| x != y));
     assert_eq!(*cached_table(&b), *other);
 }

@@ -19,6 +19,7 @@ fn rough_fibre(tilt_deg: f32, beta_m: f32) -> Fibre {
         azimuthal_roughness: 0.3,
         cuticle_tilt_deg: tilt_deg,
         ior: 1.55,
+        direction_spread: fur_core::render::DIRECTION_SPREAD,
     }
 }
 

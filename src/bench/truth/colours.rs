@@ -63,7 +63,7 @@ impl Bench<'_> {
             let shot = Shot::new(self.device, &scene, extent)?;
             let own = shot.look(&shot.settings.style);
             let name = format!("{}-{variant}", base.name);
-            let (_, usda, text) = export(&shot, &own, &dir.join(format!("{name}.usda")))?;
+            let (_, usda, text, _) = export(&shot, &own, &dir.join(format!("{name}.usda")))?;
             let truth = cached_trace(reference, &usda, &text, sampling, 0, None)?.image;
             let second = cached_trace(reference, &usda, &text, sampling, 1, None)?.image;
             let noise = flip(&to_srgb8(&truth), &to_srgb8(&second));

@@ -87,7 +87,7 @@ impl Bench<'_> {
         for light in Light::BOTH {
             let look = light.alone(own);
             let file = dir.join(format!("{name}-{}.usda", light.name()));
-            let (_, usda, text) = export(shot, &look, &file)?;
+            let (_, usda, text, _) = export(shot, &look, &file)?;
             let alone = cached_trace(reference, &usda, &text, sampling, 0, None)?.image;
             // The export is the full frame's but for a light, and is written again on
             // each run before its reference is looked up: not worth its tens of MB kept.

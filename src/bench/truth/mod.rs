@@ -31,6 +31,7 @@ use crate::export::compare::{errors, rmse_linear, to_srgb8};
 use crate::export::reference::{LinearImage, Reference, Variant};
 use crate::export::{write_usda, FrameExport};
 use fur_core::render::budget::MOST_RUNGS;
+use fur_core::render::direction_spread::direction_spread;
 use fur_core::render::marschner::Lobes;
 use fur_core::render::{flip, LightingModel, Raster, RgbaImage};
 use fur_core::scene::ModelSpec;
@@ -208,7 +209,8 @@ impl Bench<'_> {
     fn truth_scene(&mut self, scene: &str, shot: &Shot, t: &Truth) -> Result<Vec<(f64, f64)>> {
         let own = shot.look(&shot.settings.style);
         // The capture draws the scene's own look: that image is its drawing here.
-        let (own_image, usda, text) = export(shot, &own, &t.dir.join(format!("{scene}.usda")))?;
+        let (own_image, usda, text, spread) =
+            export(shot, &own, &t.dir.join(format!("{scene}.usda")))?;
         (self.progress)(&format!("{scene}: exported"));
         let trace = |seed: u32, depth: Option<u32>| -> Result<LinearImage> {
             Ok(cached_trace(t.reference, &usda, &text, t.sampling, seed, depth)?.image)
@@ -230,12 +232,27 @@ impl Bench<'_> {
                 "s",
             );
         }
-        let cost = cost.map_or(String::new(), |s| {
+        let mut cost = cost.map_or(String::new(), |s| {
             format!(
                 " One reference ({} samples a pixel) took {s:.0} s to path-trace here.",
                 t.sampling.spp
             )
         });
+        if let Some(spread) = spread {
+            self.row(
+                "truth",
+                scene.to_string(),
+                "direction_spread",
+                spread,
+                "rad²",
+            );
+            let _ = write!(
+                cost,
+                " Its drawn hairs' directions spread by {spread:.3} rad² (neighbours' mean \
+                 squared angle; the Marschner model takes {}).",
+                shot.settings.lighting.fibre.direction_spread
+            );
+        }
         let single = trace(0, Some(2))?;
         (self.progress)(&format!("{scene}: single scattering"));
         let ladder = self.device.info.ladder(shot.settings.style.raster);
@@ -435,8 +452,15 @@ fn looks(own: &Look) -> Vec<(String, Look)> {
 
 /// The shot drawn in `look` with every hair captured, exported to `usda`: the drawing,
 /// the file and its text.
-fn export(shot: &Shot, look: &Look, usda: &Path) -> Result<(RgbaImage, PathBuf, String)> {
+/// Writes the frame `shot` draws with `look` to `usda`: its image, the file, the file's
+/// text, and its drawn hairs' direction spread (render::direction_spread).
+fn export(
+    shot: &Shot,
+    look: &Look,
+    usda: &Path,
+) -> Result<(RgbaImage, PathBuf, String, Option<f64>)> {
     let (image, hairs, settings) = shot.capture(look)?;
+    let spread = direction_spread(&hairs.points, hairs.vertices_per_strand);
     let frame = FrameExport::new(
         hairs,
         &shot.mesh,
@@ -448,7 +472,7 @@ fn export(shot: &Shot, look: &Look, usda: &Path) -> Result<(RgbaImage, PathBuf, 
     frame.check_size()?;
     let text = write_usda(&frame, "fur bench")?;
     fur_core::files::write_output(usda, text.as_bytes(), "write the frame to")?;
-    Ok((image, usda.to_path_buf(), text))
+    Ok((image, usda.to_path_buf(), text, spread))
 }
 
 /// A signed percentage to the nearest whole one ("+3 %", "−12 %", "0 %").

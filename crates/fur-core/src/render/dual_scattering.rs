@@ -171,8 +171,21 @@ pub fn backscatter(a: &Averages) -> (f64, f64, f64) {
     (a_back, shift, spread * spread)
 }
 
-/// One node of the table: `[a_f, β_f², Ā_b, Δ_b]`, `[σ_b², a_b, α, β²]`.
-pub fn node(a: &Averages) -> [Vec4; 2] {
+/// One node of the table: `[a_f, β_f², Ā_b, Δ_b]`, `[σ_b², a_b, α, β²]`, among
+/// fibres whose directions differ by a mean squared angle `direction_spread`. Light
+/// scattered from one fibre to a neighbour turned by δ about a random axis across it
+/// leaves at a longitudinal angle turned by δ cos ψ (ψ uniform), variance δ²/2: each
+/// scattering's lobes widen by half the spread, so one scattering's spread β² by it
+/// once, the forward spread β_f² a layer by it once a layer, and the local
+/// back-scattering's σ_b² by it once for each scattering of its paths (three or five).
+pub fn node(a: &Averages, direction_spread: f64) -> [Vec4; 2] {
+    let turn = 0.5 * direction_spread;
+    let a = &Averages {
+        beta_f2: a.beta_f2 + turn,
+        beta_b2: a.beta_b2 + turn,
+        beta2: a.beta2 + turn,
+        ..*a
+    };
     let (a_back, shift, spread2) = backscatter(a);
     [
         Vec4::new(a.a_f as f32, a.beta_f2 as f32, a_back as f32, shift as f32),
@@ -199,7 +212,7 @@ pub fn node_angle(i: usize) -> f32 {
 /// kept: the viewer's panel changes them).
 pub fn cached_table(fibre: &Fibre) -> std::sync::Arc<[Vec4; TABLE_VEC4S]> {
     use std::sync::{Arc, Mutex};
-    type Cache = Vec<([u32; 4], Arc<[Vec4; TABLE_VEC4S]>)>;
+    type Cache = Vec<([u32; 5], Arc<[Vec4; TABLE_VEC4S]>)>;
     static CACHE: Mutex<Cache> = Mutex::new(Vec::new());
     const KEPT: usize = 8;
     let key = [
@@ -207,6 +220,7 @@ pub fn cached_table(fibre: &Fibre) -> std::sync::Arc<[Vec4; TABLE_VEC4S]> {
         fibre.azimuthal_roughness,
         fibre.cuticle_tilt_deg,
         fibre.ior,
+        fibre.direction_spread,
     ]
     .map(f32::to_bits);
     let found = CACHE
@@ -251,7 +265,7 @@ pub fn table(fibre: &Fibre) -> Vec<Vec4> {
             };
             let a = averages(&oracle, f64::from(node_angle(i)).min(0.999));
             for (k, &j) in colours.iter().enumerate() {
-                let [v0, v1] = node(&a[k]);
+                let [v0, v1] = node(&a[k], f64::from(fibre.direction_spread));
                 let at = NODE_VEC4S * (i * COLOUR_NODES + j);
                 out[at] = v0;
                 out[at + 1] = v1;

@@ -83,7 +83,8 @@ impl Shadows {
 
 /// A hair fibre's physical parameters as Chiang et al. 2016 define them: what the path
 /// tracer's hair model (and a physically based real-time model) takes besides the
-/// colour.
+/// colour; and how the fibres of a coat lie to each other, which the real-time model's
+/// multiple scattering takes (the path tracer has the hairs themselves).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Fibre {
     /// Longitudinal roughness β_m, 0..1 (the width of the highlights along the hair).
@@ -94,16 +95,27 @@ pub struct Fibre {
     pub cuticle_tilt_deg: f32,
     /// Index of refraction η of the fibre.
     pub ior: f32,
+    /// The mean squared angle between neighbouring hairs' directions, rad²: the coat's
+    /// hairs are not parallel, so light scattered from one fibre to the next is turned
+    /// along the hair by a random share of it. Dual scattering's lobes widen by half of
+    /// it at each scattering (`render::dual_scattering::node`).
+    pub direction_spread: f32,
 }
 
+/// The default [`Fibre::direction_spread`]: the default blob's drawn hairs, measured
+/// (docs/lighting.md).
+pub const DIRECTION_SPREAD: f32 = 0.09;
+
 impl Default for Fibre {
-    /// Chiang et al.'s defaults, which pbrt and Mitsuba share.
+    /// Chiang et al.'s defaults, which pbrt and Mitsuba share, and the default blob's
+    /// direction spread.
     fn default() -> Self {
         Self {
             longitudinal_roughness: 0.3,
             azimuthal_roughness: 0.3,
             cuticle_tilt_deg: 2.0,
             ior: 1.55,
+            direction_spread: DIRECTION_SPREAD,
         }
     }
 }
@@ -128,6 +140,11 @@ impl Fibre {
                 spans::CUTICLE_TILT_DEG,
             ),
             ("the index of refraction", self.ior, spans::IOR),
+            (
+                "the direction spread (rad²)",
+                self.direction_spread,
+                spans::DIRECTION_SPREAD,
+            ),
         ] {
             span.require(name, v)?;
         }
@@ -252,6 +269,8 @@ pub mod spans {
     pub const ROUGHNESS: Span = Span::within(0.01, 1.0);
     pub const CUTICLE_TILT_DEG: Span = Span::within(-10.0, 10.0);
     pub const IOR: Span = Span::within(1.0, 3.0);
+    /// The coat's direction spread, rad² (a radian, squared: hairs at random angles).
+    pub const DIRECTION_SPREAD: Span = Span::within(0.0, 1.0);
     /// The shadow map's hair spacing (0: the hair spacing).
     pub const SPACING: Span = Span::non_negative();
     /// The largest channel of a colour (root, tip, skin).

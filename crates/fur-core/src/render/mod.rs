@@ -4,6 +4,7 @@
 //! `render` module).
 
 pub mod budget;
+pub mod direction_spread;
 mod drawing;
 pub mod dual_scattering;
 pub mod frame_block;
@@ -21,7 +22,9 @@ pub mod uniforms;
 pub use frame_block::{FrameInputs, FrameUniforms, LightView, CASTER_DENSITY};
 pub use image::{flip, RgbaImage};
 pub use lighting::spans as lighting_spans;
-pub use lighting::{kajiya_kay, Fibre, Highlights, Lighting, LightingModel, Shade, Shadows};
+pub use lighting::{
+    kajiya_kay, Fibre, Highlights, Lighting, LightingModel, Shade, Shadows, DIRECTION_SPREAD,
+};
 pub use presets::FurPreset;
 pub use uniforms::{
     FrameSettings, FurStyle, Primitive, Raster, Shading, Stage, StrandShape, DEFAULT_TILE,

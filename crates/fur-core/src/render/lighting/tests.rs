@@ -281,10 +281,11 @@ fn a_fibre_out_of_range_is_refused_by_name() {
         azimuthal_roughness: 1.0,
         cuticle_tilt_deg: -10.0,
         ior: 3.0,
+        direction_spread: 1.0,
     };
     assert!(edges.validate().is_ok());
     type Set = fn(&mut Fibre, f32);
-    let cases: [(&str, Set, [f32; 3]); 4] = [
+    let cases: [(&str, Set, [f32; 3]); 5] = [
         (
             "longitudinal roughness",
             |f, v| f.longitudinal_roughness = v,
@@ -304,6 +305,11 @@ fn a_fibre_out_of_range_is_refused_by_name() {
             "index of refraction",
             |f, v| f.ior = v,
             [0.99, 3.01, f32::NAN],
+        ),
+        (
+            "direction spread",
+            |f, v| f.direction_spread = v,
+            [-0.01, 1.01, f32::NAN],
         ),
     ];
     for (name, set, values) in cases {

@@ -267,6 +267,20 @@ pub const FIBRE: Group = Group {
             },
             ..field!(options.lighting.fibre.ior)
         },
+        Setting {
+            key: "direction_spread",
+            flag: Flag::Long("direction-spread"),
+            label: "the direction spread",
+            help: "Mean squared angle between neighbouring hairs' directions; widens the Marschner model's multiple scattering",
+            units: "rad²",
+            kind: Kind::span(spans::DIRECTION_SPREAD),
+            panel: Panel::Slider {
+                min: 0.0,
+                max: 0.5,
+                log: false,
+            },
+            ..field!(options.lighting.fibre.direction_spread)
+        },
     ],
 };
 

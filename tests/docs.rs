@@ -325,27 +325,30 @@ fn the_ratios_the_readme_draws_from_the_truth_are_the_runs() {
     let readme = flat(&read("README.md"));
     let near = format!(
         "It is at {:.2} of Kajiya–Kay's distance on the blob, {:.2} on the sphere, {:.2} on \
-         the walking critter, {:.2} on a groom drawn as it is, {:.2} on white fur and {:.2} \
-         on black fur, at {fastest:.1}–{slowest:.1}× its frame time here",
-        ratios[0], ratios[1], ratios[2], ratios[3], colours[0], colours[2]
+         the walking critter, {:.2} on a groom drawn as it is, {:.2} on white fur, {:.2} on \
+         blond fur, {:.2} on black fur and {:.2} on tabby fur, at \
+         {fastest:.1}–{slowest:.1}× its frame time here",
+        ratios[0], ratios[1], ratios[2], ratios[3], colours[0], colours[1], colours[2], colours[3]
     );
-    let short = format!(
-        "on blond fur ({:.2}) it is short of half, so Kajiya–Kay stays the default",
-        colours[1]
-    );
-    for sentence in [&near, &short] {
+    // The verdict the README draws: within half everywhere, or which is not.
+    let all_within = ratios.iter().chain(&colours).all(|r| *r <= 0.5);
+    let verdict = if all_within {
+        "within half of Kajiya–Kay's distance on every scene and fur".to_string()
+    } else {
+        "short of half".to_string()
+    };
+    for sentence in [&near, &verdict] {
         assert!(
             readme.contains(sentence.as_str()),
             "the README does not say, from the run: \"{sentence}\""
         );
     }
-    // The verdict: all within half but blond.
-    let within: Vec<bool> = ratios.iter().chain(&colours).map(|r| *r <= 0.5).collect();
-    assert_eq!(
-        within,
-        [true, true, true, true, true, false, true],
-        "{ratios:?} {colours:?}"
-    );
+    if all_within {
+        assert!(
+            !readme.contains("short of half"),
+            "the README says a fur is short of half, but the run has every one within it"
+        );
+    }
 }
 
 /// Every figure in the prose of the README's "What to expect" (outside its tables, code

@@ -6,7 +6,7 @@ use super::{read, region, tables};
 /// The ratios the README works out from the truth tables (docs/ground-truth.md's run):
 /// Marschner's ꟻLIP over Kajiya–Kay's on the blob, sphere, walking critter and drawn
 /// groom, then on
-/// white, blond and black fur, and the range of their frame times' ratio.
+/// white, blond, black and tabby fur, and the range of their frame times' ratio.
 pub struct TruthRatios {
     pub scenes: Vec<f64>,
     pub colours: Vec<f64>,
@@ -67,7 +67,7 @@ pub fn truth_ratios() -> TruthRatios {
             .unwrap_or_else(|| panic!("no {fur} {drawing} row"))
     };
     let mut colours = Vec::new();
-    for fur in ["white", "blond", "black"] {
+    for fur in ["white", "blond", "black", "tabby"] {
         let (kk, m) = (colour(fur, "Kajiya–Kay"), colour(fur, "Marschner"));
         colours.push(figure(m, header, "ꟻLIP") / figure(kk, header, "ꟻLIP"));
         times.push(figure(m, header, "frame ms") / figure(kk, header, "frame ms"));

@@ -330,7 +330,7 @@ fn the_ratios_the_readme_draws_from_the_truth_are_the_runs() {
          {fastest:.1}–{slowest:.1}× its frame time here",
         ratios[0], ratios[1], ratios[2], ratios[3], colours[0], colours[1], colours[2], colours[3]
     );
-    // The verdict the README draws: within half everywhere, or which is not.
+    // The verdict the README draws: within half everywhere, or "short of half".
     let all_within = ratios.iter().chain(&colours).all(|r| *r <= 0.5);
     let verdict = if all_within {
         "within half of Kajiya–Kay's distance on every scene and fur".to_string()

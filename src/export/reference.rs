@@ -28,7 +28,7 @@ pub enum Variant {
     /// `scalar_rgb`: one sample at a time, nothing but the Python wheel needed.
     Scalar,
     /// `llvm_ad_rgb`: the whole image's samples JIT-compiled into vector code by LLVM
-    /// (Debian's `libllvm19`): a few seconds to compile, then several times the samples
+    /// (Debian's `libllvm19`): a few seconds to compile, then about twice the samples
     /// a second on a CPU.
     Llvm,
 }

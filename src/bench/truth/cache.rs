@@ -108,7 +108,8 @@ mod tests {
 
     /// A reference's cost is read back from its file; a missing, empty, negative or
     /// non-numeric one reads as unknown, and another seed or variant is another
-    /// reference's file.
+    /// reference's file; the scalar variant's file is the one kept before the variant was
+    /// part of the key.
     /// Seen failing against parsing the file whole (its newline made every kept cost
     /// unknown).
     #[test]
@@ -137,6 +138,13 @@ mod tests {
         assert_ne!(
             cost,
             stem(&usda, "frame", sampling(Variant::Llvm), 0, None).with_extension("seconds")
+        );
+        // The scalar variant's key is the one kept before the variant was part of it.
+        let before = fnv64(&["frame".as_bytes(), SCRIPT.as_bytes(), b"16 0 None"]);
+        assert_eq!(
+            cost,
+            dir.join(format!("reference-{before:016x}.seconds")),
+            "a scalar reference kept from before is not found"
         );
         std::fs::remove_dir_all(&dir).unwrap();
     }

@@ -232,7 +232,7 @@ impl Bench<'_> {
                 "s",
             );
         }
-        let mut cost = cost.map_or(String::new(), |s| {
+        let mut notes = cost.map_or(String::new(), |s| {
             format!(
                 " One reference ({} samples a pixel) took {s:.0} s to path-trace here.",
                 t.sampling.spp
@@ -247,7 +247,7 @@ impl Bench<'_> {
                 "rad²",
             );
             let _ = write!(
-                cost,
+                notes,
                 " Its drawn hairs' directions spread by {spread:.3} rad² (neighbours' mean \
                  squared angle; the Marschner model takes {}).",
                 shot.settings.lighting.fibre.direction_spread
@@ -295,7 +295,7 @@ impl Bench<'_> {
         let (own_flip, own_rmse) = errors(&own_image, &truth)?;
         let (own_single, _) = errors(&own_image, &single)?;
         (self.progress)(&format!("{scene}: attribution"));
-        self.truth_table(scene, &measured, noise_flip, noise_rmse, &cost);
+        self.truth_table(scene, &measured, noise_flip, noise_rmse, &notes);
         let share = |changed: f64| percent(100.0 * (own_flip - changed) / own_flip);
         let _ = writeln!(
             self.md,
@@ -326,15 +326,16 @@ impl Bench<'_> {
             .collect())
     }
 
-    /// The scene's table: the references' noise and `cost` (a sentence, or nothing),
-    /// then every drawing against the first reference.
+    /// The scene's table: the references' noise and `notes` (what a reference cost and
+    /// the hairs' direction spread: sentences, or nothing), then every drawing against
+    /// the first reference.
     fn truth_table(
         &mut self,
         scene: &str,
         measured: &[Measured],
         noise_flip: f64,
         noise_rmse: f64,
-        cost: &str,
+        notes: &str,
     ) {
         let pairs: Vec<(f64, f64)> = measured.iter().map(|m| (m.flip, m.flip_second)).collect();
         let names: Vec<String> = measured.iter().map(|m| m.name.clone()).collect();
@@ -342,7 +343,7 @@ impl Bench<'_> {
         let deltas = differences(&pairs);
         let _ = writeln!(
             self.md,
-            "### {scene}\n\nReference noise: ꟻLIP {:.4}, RMSE {:.4}.{cost} {}\n\n| drawing | \
+            "### {scene}\n\nReference noise: ꟻLIP {:.4}, RMSE {:.4}.{notes} {}\n\n| drawing | \
              frame ms | ꟻLIP | Δ ꟻLIP (noise) | RMSE |\n| --- | --- | --- | --- | --- |",
             noise_flip,
             noise_rmse,
@@ -450,8 +451,6 @@ fn looks(own: &Look) -> Vec<(String, Look)> {
     looks
 }
 
-/// The shot drawn in `look` with every hair captured, exported to `usda`: the drawing,
-/// the file and its text.
 /// Writes the frame `shot` draws with `look` to `usda`: its image, the file, the file's
 /// text, and its drawn hairs' direction spread (render::direction_spread).
 fn export(

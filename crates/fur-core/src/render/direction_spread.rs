@@ -17,8 +17,8 @@ const SAMPLED: usize = 4096;
 /// different hairs, each hair `per_strand` consecutive points of `points`: two
 /// segments are neighbours when their midpoints lie within the coat's median segment
 /// length of each other. Directions are unsigned (a hair and its reverse are
-/// parallel), so an angle is at most π/2. `None` when no segment has a neighbour (one
-/// hair, or none).
+/// parallel), so an angle is at most π/2 and the spread at most π²/4. `None` when no
+/// segment has a neighbour (one hair, or none) or a hair has fewer than two points.
 pub fn direction_spread(points: &[Vec3], per_strand: usize) -> Option<f64> {
     if per_strand < 2 {
         return None;
@@ -39,12 +39,23 @@ pub fn direction_spread(points: &[Vec3], per_strand: usize) -> Option<f64> {
     }
     let middle = lengths.len() / 2;
     let (_, &mut radius, _) = lengths.select_nth_unstable_by(middle, f32::total_cmp);
-    let cell = |p: Vec3| (p / radius).floor().as_ivec3();
+    // Clamped far inside i32, so that a neighbouring cell's index cannot overflow.
+    let cell = |p: Vec3| {
+        (p / radius)
+            .floor()
+            .clamp(Vec3::splat(-1e9), Vec3::splat(1e9))
+            .as_ivec3()
+    };
     let mut grid: HashMap<IVec3, Vec<usize>> = HashMap::new();
     for (i, s) in segments.iter().enumerate() {
         grid.entry(cell(s.1)).or_default().push(i);
     }
-    let step = segments.len().div_ceil(SAMPLED).max(1);
+    // A step that shares no factor with the segments a hair has, so that the samples
+    // fall at every place along the hairs, not at the same few.
+    let mut step = segments.len().div_ceil(SAMPLED).max(1);
+    while step > 1 && gcd(step, per_strand - 1) != 1 {
+        step += 1;
+    }
     let (mut sum, mut pairs) = (0.0f64, 0u64);
     for &(hair, mid, dir, _) in segments.iter().step_by(step) {
         let at = cell(mid);
@@ -67,6 +78,14 @@ pub fn direction_spread(points: &[Vec3], per_strand: usize) -> Option<f64> {
         }
     }
     (pairs > 0).then(|| sum / pairs as f64)
+}
+
+fn gcd(a: usize, b: usize) -> usize {
+    if b == 0 {
+        a
+    } else {
+        gcd(b, a % b)
+    }
 }
 
 #[cfg(test)]
@@ -108,5 +127,31 @@ mod tests {
         assert_eq!(direction_spread(&coat(1, |_| 0.3), 8), None);
         assert_eq!(direction_spread(&[], 8), None);
         assert_eq!(direction_spread(&parallel, 1), None);
+    }
+
+    /// A coat too large to measure whole is sampled all along its hairs: hairs whose
+    /// tips alone lean measure the spread of their tips' share of the segments. Seen
+    /// failing with a sampling step that was a multiple of the segments a hair has
+    /// (every sample a root segment: no spread).
+    #[test]
+    fn a_sampled_coat_is_measured_all_along_its_hairs() {
+        // 4,800 hairs of 8 segments (9 points): 38,400 segments, a step of 10 → 11.
+        let mut points = Vec::new();
+        for i in 0..4800 {
+            let root = Vec3::new(0.07 * (i % 80) as f32, 0.0, 0.07 * (i / 80) as f32);
+            let lean = if i % 2 == 0 { 0.1f32 } else { -0.1 };
+            for k in 0..9 {
+                // The last segment leans; the rest stand straight.
+                let up = Vec3::new(0.0, 0.1 * k.min(8) as f32, 0.0);
+                let tip = if k == 8 {
+                    Vec3::new(0.1 * lean.sin(), 0.1 * lean.cos() - 0.1, 0.0)
+                } else {
+                    Vec3::ZERO
+                };
+                points.push(root + up + tip);
+            }
+        }
+        let s = direction_spread(&points, 9).unwrap();
+        assert!(s > 0.001, "the tips' lean is not measured: {s}");
     }
 }

@@ -17,7 +17,9 @@
 //! scattering); the fibres around a point send back Ā_b of it, shifted by Δ_b and
 //! spread by σ_b² (local multiple scattering), summed over the paths of one and three
 //! backward scatterings (Zinke et al.'s equations, as Sadeghi et al. 2010 and Unity's
-//! HDRP also use them). d_f = d_b = 0.7 are the paper's density factors.
+//! HDRP also use them). d_f = d_b = 0.7 are the paper's density factors. The fibres
+//! around a point are not parallel in a coat: each scattering's lobes widen by half
+//! the coat's direction spread ([`node`]).
 
 use glam::{Vec3, Vec4};
 
@@ -175,9 +177,9 @@ pub fn backscatter(a: &Averages) -> (f64, f64, f64) {
 /// fibres whose directions differ by a mean squared angle `direction_spread`. Light
 /// scattered from one fibre to a neighbour turned by δ about a random axis across it
 /// leaves at a longitudinal angle turned by δ cos ψ (ψ uniform), variance δ²/2: each
-/// scattering's lobes widen by half the spread, so one scattering's spread β² by it
-/// once, the forward spread β_f² a layer by it once a layer, and the local
-/// back-scattering's σ_b² by it once for each scattering of its paths (three or five).
+/// scattering's lobes widen by half the spread, so the one scattering's spread β² and
+/// the forward spread a layer β_f² each grow by it, and the local back-scattering's σ_b²
+/// is Zinke et al.'s formula ([`backscatter`]) on the widened β_f² and β_b².
 pub fn node(a: &Averages, direction_spread: f64) -> [Vec4; 2] {
     let turn = 0.5 * direction_spread;
     let a = &Averages {

@@ -102,8 +102,8 @@ pub struct Fibre {
     pub direction_spread: f32,
 }
 
-/// The default [`Fibre::direction_spread`]: the default blob's drawn hairs, measured
-/// (docs/lighting.md).
+/// The default [`Fibre::direction_spread`]: the default blob's drawn hairs at rest,
+/// measured (docs/lighting.md).
 pub const DIRECTION_SPREAD: f32 = 0.09;
 
 impl Default for Fibre {
@@ -269,8 +269,9 @@ pub mod spans {
     pub const ROUGHNESS: Span = Span::within(0.01, 1.0);
     pub const CUTICLE_TILT_DEG: Span = Span::within(-10.0, 10.0);
     pub const IOR: Span = Span::within(1.0, 3.0);
-    /// The coat's direction spread, rad² (a radian, squared: hairs at random angles).
-    pub const DIRECTION_SPREAD: Span = Span::within(0.0, 1.0);
+    /// The coat's direction spread, rad²: unsigned angles are at most π/2, so a measured
+    /// spread is at most π²/4 (hairs in random directions measure π − 2).
+    pub const DIRECTION_SPREAD: Span = Span::within(0.0, 2.5);
     /// The shadow map's hair spacing (0: the hair spacing).
     pub const SPACING: Span = Span::non_negative();
     /// The largest channel of a colour (root, tip, skin).

@@ -281,7 +281,7 @@ fn a_fibre_out_of_range_is_refused_by_name() {
         azimuthal_roughness: 1.0,
         cuticle_tilt_deg: -10.0,
         ior: 3.0,
-        direction_spread: 1.0,
+        direction_spread: 2.5,
     };
     assert!(edges.validate().is_ok());
     type Set = fn(&mut Fibre, f32);
@@ -309,7 +309,7 @@ fn a_fibre_out_of_range_is_refused_by_name() {
         (
             "direction spread",
             |f, v| f.direction_spread = v,
-            [-0.01, 1.01, f32::NAN],
+            [-0.01, 2.51, f32::NAN],
         ),
     ];
     for (name, set, values) in cases {

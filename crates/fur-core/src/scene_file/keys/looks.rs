@@ -276,7 +276,7 @@ pub const FIBRE: Group = Group {
             kind: Kind::span(spans::DIRECTION_SPREAD),
             panel: Panel::Slider {
                 min: 0.0,
-                max: 0.5,
+                max: 1.0,
                 log: false,
             },
             ..field!(options.lighting.fibre.direction_spread)

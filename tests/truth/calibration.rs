@@ -46,12 +46,9 @@ fn calibrate_with(
     Calibration::measure(&drawn, &truth).unwrap()
 }
 
-#[test]
-fn calibration_the_body_alone_matches_the_path_tracer_and_wrong_conventions_fail() {
-    let Some(reference) = common::reference() else {
-        return;
-    };
-    let dir = scratch("calibration");
+/// The default scene's body alone under direct light only (no ambient), 96×54, exported
+/// into `dir` (fur's own drawing of it beside, `fur.png`).
+fn export_body_alone(dir: &Path) -> std::path::PathBuf {
     let scene = dir.join("direct.toml");
     std::fs::write(&scene, "[light]\nambient = 0.0\n").unwrap();
     let args = [
@@ -62,7 +59,16 @@ fn calibration_the_body_alone_matches_the_path_tracer_and_wrong_conventions_fail
         "--height",
         "54",
     ];
-    let (usda, _) = export(&dir, &args);
+    export(dir, &args).0
+}
+
+#[test]
+fn calibration_the_body_alone_matches_the_path_tracer_and_wrong_conventions_fail() {
+    let Some(reference) = common::reference() else {
+        return;
+    };
+    let dir = scratch("calibration");
+    let usda = export_body_alone(&dir);
     let right = calibrate(&reference, &dir, &usda, None);
     if let Err(e) = right.check() {
         panic!("the body alone disagrees with the path tracer: {e} ({right:?})");
@@ -98,17 +104,7 @@ fn calibration_the_llvm_variant_agrees_with_the_scalar_one() {
         return;
     }
     let dir = scratch("calibration-llvm");
-    let scene = dir.join("direct.toml");
-    std::fs::write(&scene, "[light]\nambient = 0.0\n").unwrap();
-    let args = [
-        scene.to_str().unwrap(),
-        "--body-only",
-        "--width",
-        "96",
-        "--height",
-        "54",
-    ];
-    let (usda, _) = export(&dir, &args);
+    let usda = export_body_alone(&dir);
     let right = calibrate_with(&reference, &dir, &usda, None, Variant::Llvm);
     if let Err(e) = right.check() {
         panic!("the LLVM variant's body disagrees with fur: {e} ({right:?})");

@@ -37,6 +37,7 @@ use fur_core::render::{flip, LightingModel, Raster, RgbaImage};
 use fur_core::scene::ModelSpec;
 use fur_core::scene_file::Scene;
 use fur_gpu::error::Result;
+use fur_gpu::render::CapturedHairs;
 
 mod cache;
 mod colours;
@@ -209,8 +210,9 @@ impl Bench<'_> {
     fn truth_scene(&mut self, scene: &str, shot: &Shot, t: &Truth) -> Result<Vec<(f64, f64)>> {
         let own = shot.look(&shot.settings.style);
         // The capture draws the scene's own look: that image is its drawing here.
-        let (own_image, usda, text, spread) =
+        let (own_image, usda, text, hairs) =
             export(shot, &own, &t.dir.join(format!("{scene}.usda")))?;
+        let spread = direction_spread(&hairs.points, hairs.vertices_per_strand);
         (self.progress)(&format!("{scene}: exported"));
         let trace = |seed: u32, depth: Option<u32>| -> Result<LinearImage> {
             Ok(cached_trace(t.reference, &usda, &text, t.sampling, seed, depth)?.image)
@@ -452,14 +454,13 @@ fn looks(own: &Look) -> Vec<(String, Look)> {
 }
 
 /// Writes the frame `shot` draws with `look` to `usda`: its image, the file, the file's
-/// text, and its drawn hairs' direction spread (render::direction_spread).
+/// text, and the hairs it drew.
 fn export(
     shot: &Shot,
     look: &Look,
     usda: &Path,
-) -> Result<(RgbaImage, PathBuf, String, Option<f64>)> {
+) -> Result<(RgbaImage, PathBuf, String, CapturedHairs)> {
     let (image, hairs, settings) = shot.capture(look)?;
-    let spread = direction_spread(&hairs.points, hairs.vertices_per_strand);
     let frame = FrameExport::new(
         hairs,
         &shot.mesh,
@@ -471,7 +472,7 @@ fn export(
     frame.check_size()?;
     let text = write_usda(&frame, "fur bench")?;
     fur_core::files::write_output(usda, text.as_bytes(), "write the frame to")?;
-    Ok((image, usda.to_path_buf(), text, spread))
+    Ok((image, usda.to_path_buf(), text, frame.hairs))
 }
 
 /// A signed percentage to the nearest whole one ("+3 %", "−12 %", "0 %").

@@ -366,7 +366,7 @@ mod tests {
             azimuthal_roughness: 0.4,
             cuticle_tilt_deg: 2.0,
             ior: 1.55,
-            direction_spread: 0.09,
+            direction_spread: crate::render::DIRECTION_SPREAD,
         }
     }
 

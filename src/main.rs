@@ -20,7 +20,8 @@ use fur_gpu::session::{FurSession, SessionSetup};
 
 /// Real-time fur rendering and simulation on Vulkan: master hairs grown from a mesh,
 /// simulated in compute shaders (Han & Harada 2012), interpolated by tessellation,
-/// drawn by a geometry shader and lit with Kajiya–Kay.
+/// drawn by a geometry shader (strands rasterised in compute or by the fixed-function
+/// rasteriser) and lit with the Marschner model (Kajiya–Kay, the seed's, one flag away).
 ///
 /// With no subcommand, `fur` runs `fur render` with the given options.
 #[derive(Parser)]

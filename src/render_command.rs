@@ -77,10 +77,16 @@ pub(super) fn render(args: &RenderArgs) -> anyhow::Result<()> {
                 )
             })
             .unwrap_or_default();
+        // The model that lights the view, where its colours come from one.
+        let lighting = if session.settings.show.shows_lighting() {
+            format!(", {} lighting", session.settings.lighting.model.label())
+        } else {
+            String::new()
+        };
         // With the image on standard output (`--out -`), the summary goes to stderr.
         let summary = format!(
-            "wrote {} ({}×{}): {masters} master hairs{points}{hairs}; one cold frame {:.1} ms \
-             (use --frames N for warm timings)",
+            "wrote {} ({}×{}{lighting}): {masters} master hairs{points}{hairs}; one cold \
+             frame {:.1} ms (use --frames N for warm timings)",
             args.out.display(),
             width,
             height,

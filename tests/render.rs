@@ -371,6 +371,7 @@ fn kajiya_kay_lighting(light: Vec3, kd: f32, ambient: f32) -> Lighting {
             secondary: false,
             ..Default::default()
         },
+        model: fur_core::render::LightingModel::KajiyaKay,
         ..Default::default()
     }
 }

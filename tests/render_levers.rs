@@ -27,6 +27,8 @@ fn sparse_settings(root: Vec3, tip: Vec3) -> FrameSettings {
             root_occlusion: 0.0,
             root_color: root,
             tip_color: tip,
+            // Kajiya–Kay's ambient: the colour ramp itself (the Marschner model has none).
+            model: fur_core::render::LightingModel::KajiyaKay,
             ..Default::default()
         },
         style: FurStyle {

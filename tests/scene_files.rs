@@ -5,6 +5,7 @@
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
+use fur_core::render::LightingModel;
 use fur_core::scene::ModelSpec;
 use fur_core::scene_file::{Scene, SceneFile};
 use proptest::prelude::*;
@@ -48,6 +49,58 @@ fn the_default_scene_file_is_the_built_in_default() {
     assert_eq!((original.width, original.height), (1280, 720));
     assert_eq!(original.options.segments, sphere.options.segments);
     assert_eq!(original.options.draw.density, sphere.options.draw.density);
+    // It keeps the original's lighting model, as the sphere does, where the other
+    // models' default is the Marschner model.
+    assert_eq!(original.options.lighting.model, LightingModel::KajiyaKay);
+    assert_eq!(sphere.options.lighting.model, LightingModel::KajiyaKay);
+}
+
+/// The PNG bytes `fur render ARGS` writes (a small, validated frame).
+fn rendered(name: &str, args: &[&str]) -> Vec<u8> {
+    let out = scratch(name);
+    let run = fur(&[
+        &["render", "--validate", "--width", "96", "--height", "54"][..],
+        &["--density-scale", "0.3", "--out", out.to_str().unwrap()],
+        args,
+    ]
+    .concat());
+    assert!(
+        run.status.success(),
+        "{args:?}: {}",
+        String::from_utf8_lossy(&run.stderr)
+    );
+    std::fs::read(out).unwrap()
+}
+
+/// A scene file that names `kajiya-kay` renders with it, now that the default is the
+/// Marschner model: its frame is the one `--lighting-model kajiya-kay` draws and not the
+/// default's, and a file naming `marschner` draws the default's. Seen failing with
+/// Kajiya–Kay left the default (the file's frame was the default's).
+#[test]
+fn a_scene_file_naming_kajiya_kay_renders_with_it() {
+    let scene = |model: &str| {
+        let path = scratch(&format!("{model}.toml"));
+        let text = format!("model = \"blob\"\n\n[light]\nlighting_model = \"{model}\"\n");
+        std::fs::write(&path, text).unwrap();
+        path
+    };
+    let (kk_file, m_file) = (scene("kajiya-kay"), scene("marschner"));
+    let from_file = rendered("kk-file.png", &[kk_file.to_str().unwrap()]);
+    let by_flag = rendered("kk-flag.png", &["--lighting-model", "kajiya-kay"]);
+    let default = rendered("default.png", &[]);
+    let marschner = rendered("m-file.png", &[m_file.to_str().unwrap()]);
+    assert!(
+        from_file == by_flag,
+        "the file's Kajiya–Kay frame is not the flag's"
+    );
+    assert!(
+        from_file != default,
+        "the file naming Kajiya–Kay drew the default's frame"
+    );
+    assert!(
+        marschner == default,
+        "the file naming Marschner is not the default's frame"
+    );
 }
 
 #[test]

@@ -380,8 +380,11 @@ fn the_lod_view_colours_hairs_by_segments_kept_and_density_thinned() {
 #[test]
 fn the_shadow_view_shows_the_light_falling_into_the_fur() {
     let lighting = |opacity: f32| {
+        // Kajiya–Kay's shadow view is grey (the Marschner model's is in the fibres'
+        // colour: tests/looks/shadows.rs).
         let mut l = Lighting {
             light_direction: Vec3::Y,
+            model: fur_core::render::LightingModel::KajiyaKay,
             ..Default::default()
         };
         l.shadows.enabled = false;

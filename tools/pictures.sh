@@ -21,12 +21,13 @@ for scene in default original combed_wind velvet curly; do
     "$fur" render "assets/scenes/$scene.toml" --frames 40 "${small[@]}" --out-dir "$tmp/$scene" >/dev/null
     cp "$tmp/$scene/frame_0039.png" "$out/$scene.png"
 done
-# Each look alone over none, then all four (docs/design.md, "Looks").
+# Each look alone over none, then all four, lit by Kajiya–Kay, whose look the
+# secondary highlight is (docs/design.md, "Looks").
 look() {
     local name=$1
     shift
-    echo "looks_$name: fur render $*"
-    "$fur" render "${small[@]}" "$@" --out "$out/looks_$name.png" >/dev/null
+    echo "looks_$name: fur render --lighting-model kajiya-kay $*"
+    "$fur" render "${small[@]}" --lighting-model kajiya-kay "$@" --out "$out/looks_$name.png" >/dev/null
 }
 look plain --secondary-highlight off --thin-hair-aa off --shadows off
 look texture --secondary-highlight off --thin-hair-aa off --shadows off --texture tabby

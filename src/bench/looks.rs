@@ -1,5 +1,6 @@
 //! What each look costs and what it changes in the image: the default blob with the
-//! built-in tabby texture, drawn with every look off, each alone, and all four on.
+//! built-in tabby texture, lit by Kajiya–Kay (the secondary highlight is its look, as
+//! the seed has it), drawn with every look off, each alone, and all four on.
 //! Cost is the frame's wall-clock time against the plain frame; the change is ꟻLIP
 //! and RMSE against the plain frame; the error is ꟻLIP against a supersampled
 //! reference of the same look (see `quality.rs`).
@@ -9,6 +10,7 @@ use std::fmt::Write as _;
 use super::metrics::{flip, rmse};
 use super::quality::{Look, Shot};
 use super::Bench;
+use fur_core::render::LightingModel;
 use fur_core::scene::{ModelSpec, TextureSpec};
 use fur_core::scene_file::Scene;
 use fur_gpu::error::Result;
@@ -62,12 +64,14 @@ impl Bench<'_> {
     pub(super) fn looks(&mut self) -> Result<()> {
         let mut scene = Scene::defaults(ModelSpec::Blob);
         scene.options.texture = Some(TextureSpec::Tabby);
+        scene.options.lighting.model = LightingModel::KajiyaKay;
         let shot = Shot::new(self.device, &scene, self.frame_extent())?;
         let frames = self.frames();
         let factor = if self.quick { 2 } else { 4 };
         let _ = writeln!(
             self.md,
-            "## Looks\n\nThe default blob ({}×{}) with the built-in tabby texture; each look \
+            "## Looks\n\nThe default blob ({}×{}) with the built-in tabby texture, lit by \
+             Kajiya–Kay (the seed's model, whose look the secondary highlight is); each look \
              alone over the plain frame, then all four. Change: ꟻLIP / RMSE against the plain \
              frame. Error: ꟻLIP against a {factor}×{factor}-supersampled reference of the same \
              look.\n\n\

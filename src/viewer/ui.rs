@@ -96,6 +96,16 @@ impl PanelState {
                     ));
                 }
                 super::quality_ui::show(ui, hud, controls.quality_pin);
+                let show = session.settings.show;
+                if show.shows_lighting() {
+                    ui.label(format!(
+                        "view: {}, {} lighting",
+                        show.name(),
+                        session.settings.lighting.model.label()
+                    ));
+                } else {
+                    ui.label(format!("view: {} (unlit)", show.name()));
+                }
                 ui.label(format!(
                     "{} master hairs, {} tessellated points, {} hairs drawn in {} segments, \
                      {} triangles culled",

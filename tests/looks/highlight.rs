@@ -32,6 +32,8 @@ fn the_secondary_highlight_follows_the_cpu_model_and_takes_the_hair_colour() {
         root_occlusion: 0.0,
         root_color: red,
         tip_color: red,
+        // The highlights are Kajiya–Kay's (Scheuermann's shifted lobes).
+        model: fur_core::render::LightingModel::KajiyaKay,
         ..Default::default()
     };
     let render = |lighting: &Lighting| {

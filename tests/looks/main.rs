@@ -62,6 +62,8 @@ fn unlit_white() -> Lighting {
             secondary: false,
             ..Default::default()
         },
+        // Kajiya–Kay's ambient term: the colour itself (the Marschner model has none).
+        model: fur_core::render::LightingModel::KajiyaKay,
         ..Default::default()
     }
 }

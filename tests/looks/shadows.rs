@@ -25,6 +25,9 @@ fn tuft(light: Vec3, shadows: bool, draw_fur: bool) -> (Mesh, GroomParams, Frame
                 enabled: shadows,
                 ..Default::default()
             },
+            // The seed's model, whose shadow is the grey (1 − α)^layers; the Marschner
+            // model's light through the coat is checked below, named.
+            model: fur_core::render::LightingModel::KajiyaKay,
             ..Default::default()
         },
         draw_fur,

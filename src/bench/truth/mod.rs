@@ -398,7 +398,9 @@ impl Bench<'_> {
 }
 
 /// The scene's look with one thing switched: the lighting model (alone, and with
-/// shadows), shadows, the secondary highlight, thin-hair AA, the strand rasteriser. Sample counts and lines
+/// shadows), shadows, the secondary highlight (Kajiya–Kay's look: under the Marschner
+/// model, switched on Kajiya–Kay's drawing), thin-hair AA, the strand rasteriser.
+/// Sample counts and lines
 /// against ribbons are the rungs of a CPU driver's ladder (rung 1: 4× lines, rung 2: 1×
 /// ribbons, rung 3: 1× lines), not drawn again here; a GPU's ladder has 4× lines and
 /// the compute strands.
@@ -430,10 +432,23 @@ fn looks(own: &Look) -> Vec<(String, Look)> {
             switched(l.shadows.enabled, "shadows"),
             with(&|k| k.lighting.shadows.enabled = !l.shadows.enabled),
         ),
-        (
-            switched(l.highlights.secondary, "secondary highlight"),
-            with(&|k| k.lighting.highlights.secondary = !l.highlights.secondary),
-        ),
+        match l.model {
+            LightingModel::KajiyaKay => (
+                switched(l.highlights.secondary, "secondary highlight"),
+                with(&|k| k.lighting.highlights.secondary = !l.highlights.secondary),
+            ),
+            LightingModel::Marschner => (
+                format!(
+                    "{} lighting, {}",
+                    other.label(),
+                    switched(l.highlights.secondary, "secondary highlight")
+                ),
+                with(&|k| {
+                    k.lighting.model = other;
+                    k.lighting.highlights.secondary = !l.highlights.secondary;
+                }),
+            ),
+        },
         (
             switched(own.style.thin_hair_aa, "thin-hair AA"),
             with(&|k| k.style.thin_hair_aa = !own.style.thin_hair_aa),

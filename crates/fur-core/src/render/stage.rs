@@ -30,9 +30,11 @@ pub enum Stage {
     /// its rest shape carried by the body ([`displacement_colour`]), the vertices the
     /// collision pushed this frame in white.
     Simulation,
-    /// Every interpolated hair in grey by the self-shadowing term alone: the fraction
-    /// of the light the deep-shadow map lets through to each point (white: lit, black:
-    /// deep in the fur). The shadow pass runs whatever the scene's shadow setting.
+    /// Every interpolated hair by the self-shadowing term alone: under Kajiya–Kay in
+    /// grey, the fraction of the light the deep-shadow map lets through to each point
+    /// (white: lit, black: deep in the fur); under the Marschner model the light the
+    /// coat's layers let through, in the fibres' colour. The shadow pass runs whatever
+    /// the scene's shadow setting.
     Shadow,
     /// Every interpolated hair in the colour of the triangle that draws it, by where
     /// its point lies: dim inside the triangle, bright on an edge (a shared edge's
@@ -107,6 +109,13 @@ impl Stage {
     /// Whether the fur pass draws the interpolated hairs in this view.
     pub fn draws_fur(self) -> bool {
         !matches!(self, Self::Masters | Self::Density | Self::Simulation)
+    }
+
+    /// Whether the view's colours come from the lighting model, so its caption names the
+    /// model: the lit frame, and the shadow view (the Marschner model colours the light
+    /// that crosses the coat's layers; Kajiya–Kay's is grey).
+    pub fn shows_lighting(self) -> bool {
+        matches!(self, Self::Lit | Self::Shadow)
     }
 
     /// Whether the view draws the master hairs alone, as lines.

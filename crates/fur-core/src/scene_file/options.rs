@@ -2,7 +2,7 @@
 
 use crate::error::Error;
 use crate::error::Result;
-use crate::render::{FrameSettings, FurStyle};
+use crate::render::{FrameSettings, FurStyle, Lighting, LightingModel};
 use crate::scene::{Camera, GroomParams, Mesh, Rig, TextureSpec};
 use crate::skinning::Playback;
 
@@ -89,7 +89,8 @@ impl SceneOptions {
     /// field of view; at its 1280×720 the same pixels). The density gives the whole
     /// sphere as many interpolated hairs as the original's tessellation levels
     /// (⌊350 · area⌋ per triangle) give it distinct points, within 1 %
-    /// (`tests/render_levers.rs` counts both).
+    /// (`tests/render_levers.rs` counts both). It is lit by the original's model,
+    /// Kajiya–Kay, where every other model's default is the Marschner model.
     pub fn original() -> Self {
         Self {
             hair_length: 0.55 / SPHERE_BOUNDS,
@@ -106,6 +107,11 @@ impl SceneOptions {
             pitch_deg: 15.0,
             distance: Some(10.0 / SPHERE_BOUNDS),
             fov_deg: 45.0,
+            // The original's model: its frame rate is measured against this scene's.
+            lighting: Lighting {
+                model: LightingModel::KajiyaKay,
+                ..Lighting::default()
+            },
             ..Self::default()
         }
     }

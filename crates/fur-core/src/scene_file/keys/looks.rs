@@ -29,9 +29,9 @@ pub const LIGHT: Group = Group {
             key: "lighting_model",
             flag: Flag::Long("lighting-model"),
             label: "lighting model",
-            help: "How the hair is lit: `kajiya-kay` (the seed's model, with shifted \
-                   highlights) or `marschner` (a physically based fibre model on the \
-                   `[fibre]` parameters)",
+            help: "How the hair is lit: `marschner` (a physically based fibre model on \
+                   the `[fibre]` parameters with dual scattering; the default) or \
+                   `kajiya-kay` (the seed's model, with shifted highlights)",
             kind: Kind::Choice(&["kajiya-kay", "marschner"]),
             panel: Panel::Plain,
             ..field!(options.lighting.model)

@@ -33,7 +33,8 @@ pub const IMAGE: Group = Group {
             key: "show",
             flag: Flag::Long("show"),
             label: "show",
-            help: "Which stage of the pipeline the image shows: `lit` (the final image), \
+            help: "Which stage of the pipeline the image shows: `lit` (the final image, lit \
+                   by `lighting_model`), \
                    `masters` (only the master hairs, as lines coloured by master index, with \
                    the body), `interpolated` (every hair unlit, a flat colour per source \
                    triangle), `density` (the body as the tessellator divides it, each \
@@ -43,7 +44,9 @@ pub const IMAGE: Group = Group {
                    where the density LOD thins the hairs), `simulation` (the master hairs \
                    coloured by how far the simulation moved them from rest, blue none to \
                    red a quarter of their length; white where collision pushed them), \
-                   `shadow` (every hair in grey by the self-shadowing term alone), \
+                   `shadow` (every hair by the self-shadowing term alone: grey under \
+                   Kajiya–Kay, the light the coat's layers let through in its colour under \
+                   the Marschner model), \
                    `ownership` (each hair in its drawing triangle's colour: dim inside, \
                    bright on an edge, white at a corner) or `tiles` (the compute \
                    rasteriser's screen tiles, each coloured by the segments it lists, blue \

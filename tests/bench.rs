@@ -226,17 +226,22 @@ fn quick_bench_writes_every_expected_measurement() {
         assert!(hairs("compute") > 0.0, "{scene}: no hair drawn");
         expect("raster", &format!("{scene}, between"), "flip");
         // The tiny frames put far more fragments in a pixel than it keeps in order:
-        // every compute drawing errs less than the fixed-function one against the
-        // supersampled reference, and keeping 4 or 16 in order moves its error by
-        // under a fifth (the tail blended in the order it comes). Seen failing against
-        // the tail as the mean of its fragments (the blob's compute frames 1.6–3.0× the
-        // fixed-function frame's ꟻLIP, 4 in order 1.8× 16).
+        // under Kajiya–Kay (the sphere's default), every compute drawing errs less than
+        // the fixed-function one against the supersampled reference, and keeping 4 or
+        // 16 in order moves its error by under a fifth (the tail blended in the order
+        // it comes). Seen failing against the tail as the mean of its fragments (the
+        // blob's compute frames, then under Kajiya–Kay, 1.6–3.0× the fixed-function
+        // frame's ꟻLIP, 4 in order 1.8× 16). Under the Marschner model (the blob's
+        // default) the two drawings of the blob err alike here (ꟻLIP 0.0216 and
+        // 0.0215, measured when it became the default): each compute drawing within a
+        // tenth of the fixed-function one.
         let error = |case: &str| value("raster", &format!("{scene}, {case}"), "flip");
         // (On a CPU driver: a GPU's fixed-function frame has not been measured so.)
         let fixed = error("hardware");
+        let allowed = if scene == "sphere" { 1.0 } else { 1.1 };
         for case in ["compute", "compute, 4 in order", "compute, 16 in order"] {
             assert!(
-                !on_cpu || error(case) < fixed,
+                !on_cpu || error(case) < allowed * fixed,
                 "{scene}: {case} ꟻLIP {} against the fixed-function {fixed}",
                 error(case)
             );

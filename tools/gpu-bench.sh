@@ -127,13 +127,15 @@ part_bounds() {
 
 # The blob under each lighting model, with and without shadows.
 part_lighting() {
+    # Each model named (the default is the Marschner model); "shadows" is Kajiya–Kay's.
+    kajiya_kay=$'[light]\nlighting_model = "kajiya-kay"'
     marschner=$'[light]\nlighting_model = "marschner"'
     shadows=$'[shadows]\nenabled = true'
     for v in kajiya-kay marschner shadows marschner-shadows; do
         case $v in
-            kajiya-kay) text="" ;;
+            kajiya-kay) text="$kajiya_kay" ;;
             marschner) text="$marschner" ;;
-            shadows) text="$shadows" ;;
+            shadows) text="$kajiya_kay"$'\n'"$shadows" ;;
             marschner-shadows) text="$marschner"$'\n'"$shadows" ;;
         esac
         printf 'model = "blob"\n%s\n' "$text" >"$out/scenes/blob-$v.toml"

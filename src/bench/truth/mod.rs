@@ -33,7 +33,7 @@ use crate::export::{write_usda, FrameExport};
 use fur_core::render::budget::MOST_RUNGS;
 use fur_core::render::direction_spread::direction_spread;
 use fur_core::render::marschner::Lobes;
-use fur_core::render::{flip, LightingModel, Raster, RgbaImage};
+use fur_core::render::{flip, RgbaImage};
 use fur_core::scene::ModelSpec;
 use fur_core::scene_file::Scene;
 use fur_gpu::error::Result;
@@ -43,15 +43,14 @@ mod cache;
 mod colours;
 mod groom;
 mod lights;
+mod looks;
 mod noise;
 mod scales;
 mod terms;
 
 use cache::{cached_trace, Sampling};
+use looks::{looks, LOOKS};
 use noise::{delta_cell, differences, noise_sentence, resolved, seed_spread, unresolved_pairs};
-
-/// The looks switched one at a time, each against the scene's own drawing.
-const LOOKS: usize = 6;
 
 /// The variants the section draws the first scene in: three fur presets and the texture.
 const COLOURS: u64 = 4;
@@ -395,77 +394,6 @@ impl Bench<'_> {
             self.row("truth", case.to_string(), metric, value, unit);
         }
     }
-}
-
-/// The scene's look with one thing switched: the lighting model (alone, and with
-/// shadows), shadows, the secondary highlight (Kajiya–Kay's look: under the Marschner
-/// model, switched on Kajiya–Kay's drawing), thin-hair AA, the strand rasteriser.
-/// Sample counts and lines
-/// against ribbons are the rungs of a CPU driver's ladder (rung 1: 4× lines, rung 2: 1×
-/// ribbons, rung 3: 1× lines), not drawn again here; a GPU's ladder has 4× lines and
-/// the compute strands.
-fn looks(own: &Look) -> Vec<(String, Look)> {
-    let with = |edit: &dyn Fn(&mut Look)| {
-        let mut look = own.clone();
-        edit(&mut look);
-        look
-    };
-    let l = &own.lighting;
-    let other = match l.model {
-        LightingModel::KajiyaKay => LightingModel::Marschner,
-        LightingModel::Marschner => LightingModel::KajiyaKay,
-    };
-    let switched = |on: bool, what: &str| format!("{what} {}", if on { "off" } else { "on" });
-    let looks = vec![
-        (
-            format!("{} lighting", other.label()),
-            with(&|k| k.lighting.model = other),
-        ),
-        (
-            format!("{} lighting, shadows on", other.label()),
-            with(&|k| {
-                k.lighting.model = other;
-                k.lighting.shadows.enabled = true;
-            }),
-        ),
-        (
-            switched(l.shadows.enabled, "shadows"),
-            with(&|k| k.lighting.shadows.enabled = !l.shadows.enabled),
-        ),
-        match l.model {
-            LightingModel::KajiyaKay => (
-                switched(l.highlights.secondary, "secondary highlight"),
-                with(&|k| k.lighting.highlights.secondary = !l.highlights.secondary),
-            ),
-            LightingModel::Marschner => (
-                format!(
-                    "{} lighting, {}",
-                    other.label(),
-                    switched(l.highlights.secondary, "secondary highlight")
-                ),
-                with(&|k| {
-                    k.lighting.model = other;
-                    k.lighting.highlights.secondary = !l.highlights.secondary;
-                }),
-            ),
-        },
-        (
-            switched(own.style.thin_hair_aa, "thin-hair AA"),
-            with(&|k| k.style.thin_hair_aa = !own.style.thin_hair_aa),
-        ),
-        match own.style.raster {
-            Raster::Hardware => (
-                "strands drawn in compute".to_string(),
-                with(&|k| k.style.raster = Raster::Compute),
-            ),
-            Raster::Compute => (
-                "strands drawn by the fixed-function rasteriser".to_string(),
-                with(&|k| k.style.raster = Raster::Hardware),
-            ),
-        },
-    ];
-    debug_assert_eq!(looks.len(), LOOKS);
-    looks
 }
 
 /// Writes the frame `shot` draws with `look` to `usda`: its image, the file, the file's

@@ -70,6 +70,9 @@ void finish(ivec2 p, ivec2 size) {
     if (tail_count > 0u) {
         atomicAdd(raster_counts.tail_fragments, tail_count);
     }
+    if (fragment_count > 0u) {
+        atomicAdd(raster_counts.fragments, fragment_count);
+    }
 }
 
 float pixel_depth(ivec2 p) {

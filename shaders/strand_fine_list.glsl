@@ -14,6 +14,8 @@ uint k_count = 0u;
 vec3 tail_color = vec3(0.0);
 float tail_transparency = 1.0;
 uint tail_count = 0u;
+// Every fragment the pixel took (the pass counts them once the walk is over).
+uint fragment_count = 0u;
 // The light every fragment met lets through, each as a layer of its own
 // (blend::PixelList::transmitted): the pixel is opaque below OPAQUE_TRANSMIT.
 float seen_transmit = 1.0;
@@ -43,6 +45,7 @@ void into_tail(float alpha, vec3 color, bool in_front) {
 // joins the tail.
 void add_fragment(float depth, uint strand, float alpha, vec3 color) {
     seen_transmit *= 1.0 - alpha;
+    fragment_count += 1u;
     // The slot holding the same strand (NEAREST if none), and its share.
     uint same = NEAREST;
     float same_depth = depth;

@@ -32,6 +32,7 @@ layout(set = SET_RASTER, binding = B_RASTER_COUNTS, std430) buffer RasterCounts 
     uint entries_lost;      // entries that found the entry pool full
     uint tail_fragments;    // fragments blended in a pixel's tail, not in order
     uint pixels_stopped;    // pixels that stopped, opaque, before their tile's list ended
+    uint fragments;         // fragments the pixels took: in order, merged or in a tail
 } raster_counts;
 
 // The pools the passes read in their loops are texel buffers: on a CPU driver a texel

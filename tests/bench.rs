@@ -277,6 +277,14 @@ fn quick_bench_writes_every_expected_measurement() {
             count("entries") >= count("segments"),
             "{scene}: fewer entries than segments"
         );
+        // Each pixel a hair covers takes at least one fragment, and a tail's fragments
+        // are some of them.
+        assert!(
+            count("fragments") >= count("tail_fragments") && count("fragments") > 0.0,
+            "{scene}: {} fragments, {} in tails",
+            count("fragments"),
+            count("tail_fragments")
+        );
         assert_eq!(
             count("hairs_lost") + count("entries_lost"),
             0.0,

@@ -256,12 +256,14 @@ impl Bench<'_> {
             self.md,
             "\nWhat the compute passes counted on the last frame: strand vertices and \
              segments written, (segment, tile) entries binned and their mean over the \
-             scene's tiles (side in pixels), fragments blended past a pixel's nearest (its tail), pixels \
-             that stopped walking their tile's list once opaque (of the image's {pixels}), and what \
+             scene's tiles (side in pixels), the fragments the pixels took (every segment's \
+             share of a pixel in front of the body) and their mean over the image's {pixels} \
+             pixels, fragments blended past a pixel's nearest (its tail), pixels \
+             that stopped walking their tile's list once opaque, and what \
              found a pool full (hairs not drawn, entries missing).\n\n\
-             | scene | vertices | segments | entries | tile | per tile | tail fragments | \
-             pixels stopped | hairs lost | entries lost |\n\
-             | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |"
+             | scene | vertices | segments | entries | tile | per tile | fragments | per pixel | \
+             tail fragments | pixels stopped | hairs lost | entries lost |\n\
+             | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |"
         );
         for (name, tile, m) in all {
             let tile = *tile;
@@ -269,10 +271,12 @@ impl Bench<'_> {
             let extent = self.frame_extent();
             let tiles = extent.width.div_ceil(tile) * extent.height.div_ceil(tile);
             let per_tile = f64::from(c.entries) / f64::from(tiles.max(1));
+            let per_pixel = f64::from(c.fragments) / f64::from(pixels.max(1));
             for (metric, value) in [
                 ("vertices", c.vertices),
                 ("segments", c.segments),
                 ("entries", c.entries),
+                ("fragments", c.fragments),
                 ("tail_fragments", c.tail_fragments),
                 ("pixels_stopped", c.pixels_stopped),
                 ("hairs_lost", c.hairs_lost),
@@ -288,10 +292,12 @@ impl Bench<'_> {
             }
             let _ = writeln!(
                 self.md,
-                "| {name} | {} | {} | {} | {tile}×{tile} | {per_tile:.0} | {} | {} | {} | {} |",
+                "| {name} | {} | {} | {} | {tile}×{tile} | {per_tile:.0} | {} | {per_pixel:.1} | {} \
+                 | {} | {} | {} |",
                 c.vertices,
                 c.segments,
                 c.entries,
+                c.fragments,
                 c.tail_fragments,
                 c.pixels_stopped,
                 c.hairs_lost,

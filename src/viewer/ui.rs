@@ -176,9 +176,9 @@ impl PanelState {
 /// is a warning).
 fn raster_line(c: &fur_gpu::render::ComputeCounts) -> (String, bool) {
     let mut line = format!(
-        "drawn in compute: {} tile entries, {} fragments blended past the nearest, {} \
+        "drawn in compute: {} tile entries, {} fragments ({} blended past the nearest), {} \
          pixels opaque before their tile's list ended",
-        c.entries, c.tail_fragments, c.pixels_stopped
+        c.entries, c.fragments, c.tail_fragments, c.pixels_stopped
     );
     let overflowed = c.hairs_lost > 0 || c.entries_lost > 0;
     if overflowed {
@@ -202,8 +202,10 @@ mod tests {
         counts.entries = 1200;
         counts.tail_fragments = 34;
         counts.pixels_stopped = 56;
+        counts.fragments = 789;
         let (line, warned) = raster_line(&counts);
-        assert!(!warned && line.contains("1200 tile entries") && line.contains("34 fragments"));
+        assert!(!warned && line.contains("1200 tile entries") && line.contains("789 fragments"));
+        assert!(line.contains("(34 blended past the nearest)"), "{line}");
         assert!(line.contains("56 pixels opaque"), "{line}");
         assert!(!line.contains("pools full"), "{line}");
         for (hairs, entries) in [(2, 0), (0, 5)] {

@@ -173,7 +173,8 @@ fn draws_what_its_twin_draws(nearest: u32, tile: u32) {
         height: size.1,
     };
     let mut renderer = Renderer::new(&device, &mesh, &textures, extent, 1, 1).unwrap();
-    renderer.render(&textures, &settings).unwrap();
+    let (_, report) = renderer.render(&textures, &settings).unwrap();
+    let gpu_counts = report.raster.expect("the compute passes' counts");
     let capture = renderer.capture_raster(0).unwrap();
     assert!(
         capture.segments.len() > 1000,
@@ -242,9 +243,18 @@ fn draws_what_its_twin_draws(nearest: u32, tile: u32) {
             &budget,
             counts.clone(),
         )
-        .color
     };
-    let (black, white) = (drawn([0.0; 3]), drawn([1.0; 3]));
+    let on_black = drawn([0.0; 3]);
+    let (black, white) = (on_black.color, drawn([1.0; 3]).color);
+    // The pixels took the twin's fragments: a pass that counted every entry it
+    // searched, or each pixel's kept fragments only, is far off (fragments nearer to the
+    // body or to the least coverage than the two's rounding may go either way).
+    let (gpu, twin) = (u64::from(gpu_counts.fragments), on_black.counts.fragments);
+    eprintln!("{nearest} in order, tile {tile}: fragments {gpu} on the GPU, {twin} in the twin");
+    assert!(
+        twin > 10_000 && gpu.abs_diff(twin) * 1000 <= twin,
+        "the GPU's pixels took {gpu} fragments, the twin's {twin}"
+    );
     let mut worst = (0.0f32, 0usize);
     let mut off = 0;
     for (i, gpu) in capture.layer.iter().enumerate() {

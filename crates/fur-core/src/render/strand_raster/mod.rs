@@ -128,6 +128,9 @@ pub struct RasterCounts {
     pub tail_fragments: u64,
     /// Pixels that stopped walking their tile's list, opaque, before its end.
     pub pixels_stopped: u64,
+    /// Fragments the pixels took: every segment's share of a pixel in front of the
+    /// body (kept in order, merged with its strand's or blended in a tail).
+    pub fragments: u64,
     /// Entries per tile, row by row.
     pub per_tile: Vec<u32>,
 }
@@ -266,6 +269,7 @@ pub fn draw(
                         if let Some(f) = segments[index as usize].fragment(centre) {
                             if f.depth < backdrop.depth[at] {
                                 pixel.add(f, budget.nearest);
+                                counts.fragments += 1;
                             }
                         }
                     }

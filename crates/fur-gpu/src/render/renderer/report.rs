@@ -31,7 +31,7 @@ pub struct FrameReport {
     /// GPU milliseconds of the whole frame, simulation included.
     pub frame_ms: f64,
     /// What the compute rasteriser counted (`--raster compute`): pools overflowed,
-    /// fragments blended past each pixel's nearest.
+    /// the fragments the pixels took and those blended past each pixel's nearest.
     pub raster: Option<super::compute_raster::ComputeCounts>,
     /// When the strands are drawn in compute: GPU milliseconds of the geometry stage
     /// that writes them (`strand geometry`), then of each compute step

@@ -31,6 +31,9 @@ pub struct ComputeCounts {
     pub tail_fragments: u32,
     /// Pixels that stopped, opaque, before their tile's list ended.
     pub pixels_stopped: u32,
+    /// Fragments the pixels took (every segment's share of a pixel in front of the
+    /// body: kept in order, merged with its strand's or blended in a tail).
+    pub fragments: u32,
 }
 
 impl ComputeCounts {

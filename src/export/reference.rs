@@ -145,20 +145,50 @@ impl Reference {
         options: &TraceOptions,
         extra: &[&str],
     ) -> Result<()> {
-        let dir = out.parent().filter(|d| !d.as_os_str().is_empty());
+        let job = Job {
+            seed: options.seed,
+            max_depth: None,
+            out,
+        };
+        self.trace_jobs(usda, &[job], options, extra).map(|_| ())
+    }
+
+    /// Path-traces the exported frame `usda` once loaded into each job's image (its seed
+    /// and longest path; `options.seed` is not used). Returns each image's cost in
+    /// seconds: the scene's loading and its own samples, what it would have cost alone.
+    pub fn trace_jobs(
+        &self,
+        usda: &Path,
+        jobs: &[Job],
+        options: &TraceOptions,
+        extra: &[&str],
+    ) -> Result<Vec<f64>> {
+        let Some(first) = jobs.first() else {
+            return Ok(Vec::new());
+        };
+        let dir = first.out.parent().filter(|d| !d.as_os_str().is_empty());
         let script = dir.unwrap_or(Path::new(".")).join(".fur-reference.py");
         std::fs::write(&script, SCRIPT)
             .map_err(|e| Error::io("write the reference renderer to", &script, e))?;
+        let depth = |job: &Job| job.max_depth.unwrap_or(DEFAULT_MAX_DEPTH).to_string();
         let mut command = Command::new(&self.python);
         command
             .arg(&script)
             .arg(usda)
             .arg("--out")
-            .arg(out)
+            .arg(first.out)
+            .args(["--seed", &first.seed.to_string()])
+            .args(["--max-depth", &depth(first)])
             .args(["--spp", &options.spp.to_string()])
-            .args(["--seed", &options.seed.to_string()])
             .args(["--variant", options.variant.name()])
             .args(extra);
+        for job in &jobs[1..] {
+            command
+                .arg("--also")
+                .arg(job.seed.to_string())
+                .arg(depth(job))
+                .arg(job.out);
+        }
         if options.direct_only {
             command.arg("--direct-only");
         }
@@ -176,8 +206,44 @@ impl Reference {
                 last_line(&output.stderr)
             )));
         }
-        Ok(())
+        let costs = costs(&output.stdout);
+        if costs.len() != jobs.len() {
+            return Err(Error::parameter(format!(
+                "the reference renderer wrote {} of {} images of {}",
+                costs.len(),
+                jobs.len(),
+                usda.display()
+            )));
+        }
+        Ok(costs)
     }
+}
+
+/// One image of a loaded frame: its seed, its longest path (the script's default of
+/// [`DEFAULT_MAX_DEPTH`] bounces if none) and its file.
+#[derive(Clone, Copy, Debug)]
+pub struct Job<'a> {
+    pub seed: u32,
+    pub max_depth: Option<u32>,
+    pub out: &'a Path,
+}
+
+/// The script's longest path, in bounces, when none is asked for.
+pub const DEFAULT_MAX_DEPTH: u32 = 64;
+
+/// The seconds each image cost, from the script's last `seconds:` line.
+fn costs(stdout: &[u8]) -> Vec<f64> {
+    let text = String::from_utf8_lossy(stdout);
+    text.lines()
+        .rev()
+        .find_map(|l| l.strip_prefix("seconds:"))
+        .map(|rest| {
+            rest.split_whitespace()
+                .filter_map(|s| s.parse::<f64>().ok())
+                .filter(|s| s.is_finite() && *s >= 0.0)
+                .collect()
+        })
+        .unwrap_or_default()
 }
 
 fn last_line(bytes: &[u8]) -> String {
@@ -255,4 +321,21 @@ pub fn read_pfm(path: &Path) -> Result<LinearImage> {
         height,
         pixels,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::costs;
+
+    /// The costs come from the script's last `seconds:` line, one a job; a line
+    /// without them, or a figure that is no cost, gives none (and the run is refused
+    /// as having written fewer images than asked). Seen failing against reading the
+    /// first `seconds:` line (an earlier run's, in a log).
+    #[test]
+    fn each_images_cost_is_read_from_the_last_seconds_line() {
+        let out = b"seconds: 9\nwrote a.pfm in 5.4 s\nwrote b.pfm in 5.1 s\nseconds: 5.38 5.07\n";
+        assert_eq!(costs(out), vec![5.38, 5.07]);
+        assert!(costs(b"wrote a.pfm in 5.4 s\n").is_empty());
+        assert_eq!(costs(b"seconds: 1.5 NaN -2 fast 3\n"), vec![1.5, 3.0]);
+    }
 }

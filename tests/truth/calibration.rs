@@ -5,7 +5,7 @@
 use std::path::Path;
 
 use fur::export::compare::Calibration;
-use fur::export::reference::{read_pfm, Reference, TraceOptions, Variant};
+use fur::export::reference::{read_pfm, Job, Reference, TraceOptions, Variant};
 use fur_core::render::RgbaImage;
 
 use super::{common, export, number_before, scratch};
@@ -208,6 +208,72 @@ fn calibration_thick_straight_strands_cover_the_same_pixels() {
     assert!(
         2 * calibration.mismatched <= calibration.edge && calibration.shift_px <= 0.5,
         "thick strands cover different pixels: {calibration:?}"
+    );
+}
+
+/// Several images of one frame path-traced in one run (the frame loaded once, as the
+/// benchmark traces a scene's references) are each the image a run of its own makes:
+/// the same seed the same bits, another seed or a shorter path another image, and each
+/// with its cost. Seen failing against a batch that rendered every image with the first
+/// one's seed (the second seed's image equalled the first).
+#[test]
+fn a_frames_images_traced_together_are_each_as_traced_alone() {
+    let Some(reference) = common::reference() else {
+        return;
+    };
+    let dir = scratch("together");
+    let scene = dir.join("strands.toml");
+    std::fs::write(
+        &scene,
+        "[groom]\ndensity_scale = 0.02\n[render]\nhair_width = 0.03\n",
+    )
+    .unwrap();
+    let (usda, _) = export(
+        &dir,
+        &[scene.to_str().unwrap(), "--width", "48", "--height", "27"],
+    );
+    let options = TraceOptions {
+        spp: 4,
+        ..Default::default()
+    };
+    let outs: Vec<_> = ["seed0", "seed1", "single"]
+        .iter()
+        .map(|n| dir.join(format!("{n}.pfm")))
+        .collect();
+    let jobs = [(0, None), (1, None), (0, Some(2))];
+    let batch: Vec<Job> = jobs
+        .iter()
+        .zip(&outs)
+        .map(|(&(seed, max_depth), out)| Job {
+            seed,
+            max_depth,
+            out,
+        })
+        .collect();
+    let costs = reference.trace_jobs(&usda, &batch, &options, &[]).unwrap();
+    assert_eq!(costs.len(), 3);
+    assert!(costs.iter().all(|&c| c > 0.0), "costs {costs:?}");
+    let together: Vec<_> = outs.iter().map(|o| read_pfm(o).unwrap()).collect();
+    for (i, &(seed, max_depth)) in jobs.iter().enumerate() {
+        let alone = dir.join(format!("alone{i}.pfm"));
+        let job = Job {
+            seed,
+            max_depth,
+            out: &alone,
+        };
+        reference.trace_jobs(&usda, &[job], &options, &[]).unwrap();
+        assert!(
+            read_pfm(&alone).unwrap() == together[i],
+            "image {i} (seed {seed}, longest path {max_depth:?}) differs traced alone"
+        );
+    }
+    assert!(
+        together[0] != together[1],
+        "the second seed drew the first's samples"
+    );
+    assert!(
+        together[0] != together[2],
+        "the shorter path drew the full one"
     );
 }
 

@@ -1,12 +1,14 @@
 //! The truth section's references, path-traced once: each is kept in the output folder
 //! under a hash of the export, the renderer script, the sample count, Mitsuba's
 //! variant, the seed and the bounce limit, beside the seconds it took to path-trace
-//! (what a reference costs), so a rerun path-traces nothing it has.
+//! (what a reference costs: the frame's loading and its own samples), so a rerun
+//! path-traces nothing it has; a frame's references are path-traced together, loaded once.
 
 use std::path::{Path, PathBuf};
-use std::time::Instant;
 
-use crate::export::reference::{read_pfm, LinearImage, Reference, TraceOptions, Variant, SCRIPT};
+use crate::export::reference::{
+    read_pfm, Job, LinearImage, Reference, TraceOptions, Variant, SCRIPT,
+};
 use fur_gpu::error::Result;
 
 /// The longest cost file read back (a number and a newline).
@@ -37,30 +39,61 @@ pub(super) fn cached_trace(
     seed: u32,
     depth: Option<u32>,
 ) -> Result<Traced> {
-    let stem = stem(usda, text, sampling, seed, depth);
-    let pfm = stem.with_extension("pfm");
-    let cost = stem.with_extension("seconds");
-    if !pfm.is_file() {
+    let mut traced = cached_traces(reference, usda, text, sampling, &[(seed, depth)])?;
+    Ok(traced.remove(0))
+}
+
+/// The references of `usda` for each (seed, longest path) of `wanted`, in order: those
+/// not kept are path-traced together, the frame loaded once (each one's cost is what it
+/// would have cost alone: the loading and its own samples).
+pub(super) fn cached_traces(
+    reference: &Reference,
+    usda: &Path,
+    text: &str,
+    sampling: Sampling,
+    wanted: &[(u32, Option<u32>)],
+) -> Result<Vec<Traced>> {
+    let stems: Vec<PathBuf> = wanted
+        .iter()
+        .map(|&(seed, depth)| stem(usda, text, sampling, seed, depth))
+        .collect();
+    let pfms: Vec<PathBuf> = stems.iter().map(|s| s.with_extension("pfm")).collect();
+    let missing: Vec<usize> = (0..wanted.len()).filter(|&i| !pfms[i].is_file()).collect();
+    if !missing.is_empty() {
+        let jobs: Vec<Job> = missing
+            .iter()
+            .map(|&i| Job {
+                seed: wanted[i].0,
+                max_depth: wanted[i].1,
+                out: &pfms[i],
+            })
+            .collect();
         let options = TraceOptions {
             spp: sampling.spp,
             variant: sampling.variant,
-            seed,
             ..Default::default()
         };
-        let depth_arg = depth.map(|d| d.to_string());
-        let extra: Vec<&str> = depth_arg
-            .as_deref()
-            .map(|d| vec!["--max-depth", d])
-            .unwrap_or_default();
-        let start = Instant::now();
-        reference.trace(usda, &pfm, &options, &extra)?;
-        let seconds = format!("{:.1}\n", start.elapsed().as_secs_f64());
-        fur_core::files::write_output(&cost, seconds.as_bytes(), "write the reference's cost to")?;
+        let costs = reference.trace_jobs(usda, &jobs, &options, &[])?;
+        for (&i, seconds) in missing.iter().zip(costs) {
+            let cost = stems[i].with_extension("seconds");
+            let seconds = format!("{seconds:.1}\n");
+            fur_core::files::write_output(
+                &cost,
+                seconds.as_bytes(),
+                "write the reference's cost to",
+            )?;
+        }
     }
-    Ok(Traced {
-        image: read_pfm(&pfm)?,
-        seconds: kept_seconds(&cost),
-    })
+    stems
+        .iter()
+        .zip(&pfms)
+        .map(|(stem, pfm)| {
+            Ok(Traced {
+                image: read_pfm(pfm)?,
+                seconds: kept_seconds(&stem.with_extension("seconds")),
+            })
+        })
+        .collect()
 }
 
 /// The seconds a reference's cost file `path` holds, if it holds a sound figure.

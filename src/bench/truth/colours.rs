@@ -9,7 +9,7 @@ use std::path::Path;
 
 use super::noise::capitalised;
 use super::{
-    cached_trace, delta_cell, differences, export, noise_sentence, percent, seed_spread, Sampling,
+    cached_traces, delta_cell, differences, export, noise_sentence, percent, seed_spread, Sampling,
 };
 use crate::bench::Bench;
 use crate::export::compare::{errors, to_srgb8};
@@ -64,8 +64,9 @@ impl Bench<'_> {
             let own = shot.look(&shot.settings.style);
             let name = format!("{}-{variant}", base.name);
             let (_, usda, text, _) = export(&shot, &own, &dir.join(format!("{name}.usda")))?;
-            let truth = cached_trace(reference, &usda, &text, sampling, 0, None)?.image;
-            let second = cached_trace(reference, &usda, &text, sampling, 1, None)?.image;
+            let mut traced =
+                cached_traces(reference, &usda, &text, sampling, &[(0, None), (1, None)])?;
+            let (truth, second) = (traced.remove(0).image, traced.remove(0).image);
             let noise = flip(&to_srgb8(&truth), &to_srgb8(&second));
             (self.progress)(&format!("{name}: references"));
             to_srgb8(&truth).write_png(&dir.join(format!("{name}-reference.png")))?;

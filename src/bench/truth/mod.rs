@@ -28,7 +28,7 @@ use super::plot::{Plot, Series, PALETTE};
 use super::quality::{Look, Shot};
 use super::Bench;
 use crate::export::compare::{errors, rmse_linear, to_srgb8};
-use crate::export::reference::{LinearImage, Reference, Variant};
+use crate::export::reference::{Reference, Variant};
 use crate::export::{write_usda, FrameExport};
 use fur_core::render::budget::MOST_RUNGS;
 use fur_core::render::direction_spread::direction_spread;
@@ -48,7 +48,7 @@ mod noise;
 mod scales;
 mod terms;
 
-use cache::{cached_trace, Sampling};
+use cache::{cached_trace, cached_traces, Sampling};
 use looks::{looks, LOOKS};
 use noise::{delta_cell, differences, noise_sentence, resolved, seed_spread, unresolved_pairs};
 
@@ -213,13 +213,18 @@ impl Bench<'_> {
             export(shot, &own, &t.dir.join(format!("{scene}.usda")))?;
         let spread = direction_spread(&hairs.points, hairs.vertices_per_strand);
         (self.progress)(&format!("{scene}: exported"));
-        let trace = |seed: u32, depth: Option<u32>| -> Result<LinearImage> {
-            Ok(cached_trace(t.reference, &usda, &text, t.sampling, seed, depth)?.image)
-        };
-        let first = cached_trace(t.reference, &usda, &text, t.sampling, 0, None)?;
-        let truth = first.image;
+        // The reference, another seed's (its noise) and a single-scattering one,
+        // path-traced together (the frame loaded once).
+        let mut traced = cached_traces(
+            t.reference,
+            &usda,
+            &text,
+            t.sampling,
+            &[(0, None), (1, None), (0, Some(2))],
+        )?;
+        let (first, second, single) = (traced.remove(0), traced.remove(0), traced.remove(0));
+        let (truth, second, single) = (first.image, second.image, single.image);
         (self.progress)(&format!("{scene}: reference"));
-        let second = trace(1, None)?;
         (self.progress)(&format!("{scene}: noise"));
         let noise_flip = flip(&to_srgb8(&truth), &to_srgb8(&second));
         let noise_rmse = rmse_linear(&truth, &second)?;
@@ -254,7 +259,6 @@ impl Bench<'_> {
                 shot.settings.lighting.fibre.direction_spread
             );
         }
-        let single = trace(0, Some(2))?;
         (self.progress)(&format!("{scene}: single scattering"));
         let ladder = self.device.info.ladder(shot.settings.style.raster);
         let mut measured = Vec::new();

@@ -102,8 +102,9 @@ fn quick_bench_writes_every_expected_measurement() {
                 "{scene}: dropping multiple scattering left ꟻLIP at {without} (all terms {all})"
             );
         }
-        // Each fur variant of the first scene has its terms taken apart too.
-        for variant in ["white", "blond", "black", "tabby"] {
+        // Each fur variant of the first scene has its terms taken apart too (the quick
+        // suite's two: a preset and the texture).
+        for variant in ["white", "tabby"] {
             for term in ["all terms", "without R", "without multiple scattering"] {
                 expect("truth", &format!("blob-{variant}: {term}"), "flip");
             }

@@ -273,9 +273,10 @@ pub fn task_count(options: &BenchOptions) -> u64 {
             Section::Looks => looks::tasks(options.quick),
             Section::Ladder => ladder::tasks(options.scenes().len()) + 2,
             Section::Animation => animation::tasks(),
-            Section::Truth => {
-                truth::tasks(options.scenes().len() + 2 * usize::from(options.scene.is_none()))
-            }
+            Section::Truth => truth::tasks(
+                options.quick,
+                options.scenes().len() + 2 * usize::from(options.scene.is_none()),
+            ),
             Section::Stages => stages::tasks(),
             Section::Grooms => grooms::TASKS,
             Section::Flow => flow::tasks(options.quick),

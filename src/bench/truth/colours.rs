@@ -22,8 +22,8 @@ use crate::bench::quality::Shot;
 
 impl Bench<'_> {
     /// Light and dark fur and texture (the first scene in the fur presets `white`,
-    /// `blond` and `black`, and with `--texture tabby`): each lighting model, alone and
-    /// with shadows, against its reference.
+    /// `blond` and `black`, and with `--texture tabby`; the quick suite's `white` and
+    /// `tabby`): each lighting model, alone and with shadows, against its reference.
     pub(super) fn truth_colours(
         &mut self,
         reference: &Reference,
@@ -34,9 +34,21 @@ impl Bench<'_> {
         let Some(base) = self.scenes.first().cloned() else {
             return Ok(());
         };
+        // The quick suite draws the lightest preset and the texture: every path of the
+        // code, half the work.
+        let furs: &[FurPreset] = if self.quick {
+            &[FurPreset::White]
+        } else {
+            &[FurPreset::White, FurPreset::Blond, FurPreset::Black]
+        };
+        let which = if self.quick {
+            "the lightest fur preset (the quick suite's one)"
+        } else {
+            "three fur presets"
+        };
         let _ = writeln!(
             self.md,
-            "### Light and dark fur, and texture ({})\n\nThe {} scene in three fur presets \
+            "### Light and dark fur, and texture ({})\n\nThe {} scene in {which} \
              (colours as melanin, docs/design.md) and with the built-in texture \
              (`--texture tabby`: the fur and skin coloured through the model's UVs), each \
              against its own reference; Δ: the drawing's \
@@ -50,9 +62,9 @@ impl Bench<'_> {
         let mut term_columns = Vec::new();
         let mut light_rows = Vec::new();
         let mut scale_rows = Vec::new();
-        let presets = [FurPreset::White, FurPreset::Blond, FurPreset::Black]
-            .map(|p| (p.name(), Some(p)))
-            .into_iter()
+        let presets = furs
+            .iter()
+            .map(|&p| (p.name(), Some(p)))
             .chain([("tabby", None)]);
         for (variant, preset) in presets {
             let mut scene = base.scene.clone();

@@ -52,8 +52,10 @@ use cache::{cached_trace, cached_traces, Sampling};
 use looks::{looks, LOOKS};
 use noise::{delta_cell, differences, noise_sentence, resolved, seed_spread, unresolved_pairs};
 
-/// The variants the section draws the first scene in: three fur presets and the texture.
+/// The variants the section draws the first scene in: three fur presets and the texture
+/// (the quick suite's two: the lightest preset and the texture, each path of the code).
 const COLOURS: u64 = 4;
+const COLOURS_QUICK: u64 = 2;
 
 /// Frames of the critter's walk before its shot (in the quick suite: a few).
 const WALK_FRAMES: u32 = 45;
@@ -63,10 +65,11 @@ const FULL_SPP: u32 = 1024;
 
 /// The progress ticks of the section: per scene (the default scenes and the walking
 /// critter, or one scene file's) its references, rungs, looks, attribution and terms.
-pub(super) fn tasks(scenes: usize) -> u64 {
+pub(super) fn tasks(quick: bool, scenes: usize) -> u64 {
     let terms = Lobes::each_dropped().len() as u64;
+    let colours = if quick { COLOURS_QUICK } else { COLOURS };
     scenes as u64 * (3 + MOST_RUNGS as u64 + LOOKS as u64 + 1 + terms)
-        + COLOURS * (2 + terms + lights::Light::BOTH.len() as u64)
+        + colours * (2 + terms + lights::Light::BOTH.len() as u64)
 }
 
 /// Where a run's references come from and go.

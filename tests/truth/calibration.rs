@@ -2,7 +2,7 @@
 //! straight strands), the path tracer agrees with fur's drawing on every convention, and
 //! a deliberately wrong convention fails.
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use fur::export::compare::Calibration;
 use fur::export::reference::{read_pfm, Job, Reference, TraceOptions, Variant};
@@ -53,7 +53,7 @@ const BODY_ALONE: &str = "[light]\nambient = 0.0\nlighting_model = \"kajiya-kay\
 
 /// The default scene's body alone under direct light only (no ambient), 96×54, exported
 /// into `dir` (fur's own drawing of it beside, `fur.png`).
-fn export_body_alone(dir: &Path) -> std::path::PathBuf {
+fn export_body_alone(dir: &Path) -> PathBuf {
     let scene = dir.join("direct.toml");
     std::fs::write(&scene, BODY_ALONE).unwrap();
     let args = [
@@ -179,6 +179,24 @@ fn calibration_a_walking_body_is_exported_as_drawn() {
     );
 }
 
+/// The scene file `toml`, written into a scratch folder `name`, exported at `size`:
+/// the folder, the export and what `fur export-frame` printed.
+fn export_scene(name: &str, toml: &str, (width, height): (u32, u32)) -> (PathBuf, PathBuf, String) {
+    let dir = scratch(name);
+    let scene = dir.join(format!("{name}.toml"));
+    std::fs::write(&scene, toml).unwrap();
+    let (width, height) = (width.to_string(), height.to_string());
+    let args = [
+        scene.to_str().unwrap(),
+        "--width",
+        &width,
+        "--height",
+        &height,
+    ];
+    let (usda, stdout) = export(&dir, &args);
+    (dir, usda, stdout)
+}
+
 #[test]
 fn calibration_thick_straight_strands_cover_the_same_pixels() {
     let Some(reference) = common::reference() else {
@@ -189,18 +207,12 @@ fn calibration_thick_straight_strands_cover_the_same_pixels() {
     // passes' drawing covers a few more edge pixels (65 mismatched against 121 on the
     // edge, over the half this allows), and is measured against the path tracer by
     // `fur bench --only truth`.
-    let dir = scratch("strands");
-    let scene = dir.join("strands.toml");
-    std::fs::write(
-        &scene,
+    let (dir, usda, stdout) = export_scene(
+        "strands",
         "[groom]\ndensity_scale = 0.02\ncomb = 0.0\ncurl = 0.0\n\
          [render]\nhair_width = 0.03\nthin_hair_aa = false\njitter = 0.0\nlength_jitter = 0.0\n\
          samples = 4\nraster = \"hardware\"\n[light]\nambient = 0.0\n",
-    )
-    .unwrap();
-    let (usda, stdout) = export(
-        &dir,
-        &[scene.to_str().unwrap(), "--width", "96", "--height", "54"],
+        (96, 54),
     );
     assert!(number_before(&stdout, " hairs of") > 0);
     let calibration = calibrate(&reference, &dir, &usda, None);
@@ -215,22 +227,16 @@ fn calibration_thick_straight_strands_cover_the_same_pixels() {
 /// benchmark traces a scene's references) are each the image a run of its own makes:
 /// the same seed the same bits, another seed or a shorter path another image, and each
 /// with its cost. Seen failing against a batch that rendered every image with the first
-/// one's seed (the second seed's image equalled the first).
+/// one's seed (its second image differed from seed 1 traced alone).
 #[test]
 fn a_frames_images_traced_together_are_each_as_traced_alone() {
     let Some(reference) = common::reference() else {
         return;
     };
-    let dir = scratch("together");
-    let scene = dir.join("strands.toml");
-    std::fs::write(
-        &scene,
+    let (dir, usda, _) = export_scene(
+        "together",
         "[groom]\ndensity_scale = 0.02\n[render]\nhair_width = 0.03\n",
-    )
-    .unwrap();
-    let (usda, _) = export(
-        &dir,
-        &[scene.to_str().unwrap(), "--width", "48", "--height", "27"],
+        (48, 27),
     );
     let options = TraceOptions {
         spp: 4,

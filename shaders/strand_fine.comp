@@ -64,14 +64,31 @@ Walk start_walk(uint tile, uint count) {
     return walk;
 }
 
-// The pixel's list blended into the hair layer, and its tail counted.
+// Each pixel's counts are added this many times over (a test raises it to carry the
+// frame's counts past 2^32).
+#ifdef FUR_TEST_FRAGMENT_SCALE
+const uint FRAGMENT_SCALE = FUR_TEST_FRAGMENT_SCALE;
+#else
+const uint FRAGMENT_SCALE = 1u;
+#endif
+
+// The pixel's list blended into the hair layer, and its fragments counted: an add that
+// wraps a count's low word past 2^32 carries one into its high word.
 void finish(ivec2 p, ivec2 size) {
     hair_layer[p.y * size.x + p.x] = resolve_list();
     if (tail_count > 0u) {
-        atomicAdd(raster_counts.tail_fragments, tail_count);
+        uint n = tail_count * FRAGMENT_SCALE;
+        uint before = atomicAdd(raster_counts.tail_fragments, n);
+        if (before + n < before) {
+            atomicAdd(raster_counts.tail_fragments_high, 1u);
+        }
     }
     if (fragment_count > 0u) {
-        atomicAdd(raster_counts.fragments, fragment_count);
+        uint n = fragment_count * FRAGMENT_SCALE;
+        uint before = atomicAdd(raster_counts.fragments, n);
+        if (before + n < before) {
+            atomicAdd(raster_counts.fragments_high, 1u);
+        }
     }
 }
 

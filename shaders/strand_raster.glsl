@@ -19,7 +19,7 @@ struct StrandVertex {
 };
 
 // What the passes counted, and the bin pass's indirect dispatch. The host reads it
-// after the frame (`ComputeCounts` in crates/fur-gpu/src/render/renderer/compute_raster.rs).
+// after the frame (`CountWords` in crates/fur-gpu/src/render/renderer/strand_counts_reset.rs).
 layout(set = SET_RASTER, binding = B_RASTER_COUNTS, std430) buffer RasterCounts {
     uint vertices;          // strand vertices written
     uint segments;          // segments written
@@ -33,6 +33,8 @@ layout(set = SET_RASTER, binding = B_RASTER_COUNTS, std430) buffer RasterCounts 
     uint tail_fragments;    // fragments blended in a pixel's tail, not in order
     uint pixels_stopped;    // pixels that stopped, opaque, before their tile's list ended
     uint fragments;         // fragments the pixels took: in order, merged or in a tail
+    uint tail_fragments_high; // each add that wrapped tail_fragments past 2^32 adds one
+    uint fragments_high;    // each add that wrapped fragments past 2^32 adds one
 } raster_counts;
 
 // The pools the passes read in their loops are texel buffers: on a CPU driver a texel

@@ -271,24 +271,18 @@ impl Bench<'_> {
             let extent = self.frame_extent();
             let tiles = extent.width.div_ceil(tile) * extent.height.div_ceil(tile);
             let per_tile = f64::from(c.entries) / f64::from(tiles.max(1));
-            let per_pixel = f64::from(c.fragments) / f64::from(pixels.max(1));
+            let per_pixel = c.fragments as f64 / f64::from(pixels.max(1));
             for (metric, value) in [
-                ("vertices", c.vertices),
-                ("segments", c.segments),
-                ("entries", c.entries),
+                ("vertices", u64::from(c.vertices)),
+                ("segments", u64::from(c.segments)),
+                ("entries", u64::from(c.entries)),
                 ("fragments", c.fragments),
                 ("tail_fragments", c.tail_fragments),
-                ("pixels_stopped", c.pixels_stopped),
-                ("hairs_lost", c.hairs_lost),
-                ("entries_lost", c.entries_lost),
+                ("pixels_stopped", u64::from(c.pixels_stopped)),
+                ("hairs_lost", u64::from(c.hairs_lost)),
+                ("entries_lost", u64::from(c.entries_lost)),
             ] {
-                self.row(
-                    "raster_counts",
-                    name.clone(),
-                    metric,
-                    f64::from(value),
-                    "count",
-                );
+                self.row("raster_counts", name.clone(), metric, value as f64, "count");
             }
             let _ = writeln!(
                 self.md,

@@ -198,11 +198,13 @@ mod tests {
 
     #[test]
     fn the_raster_line_warns_only_when_a_pool_was_full() {
-        let mut counts = ComputeCounts::default();
-        counts.entries = 1200;
-        counts.tail_fragments = 34;
-        counts.pixels_stopped = 56;
-        counts.fragments = 789;
+        let mut counts = ComputeCounts {
+            entries: 1200,
+            tail_fragments: 34,
+            pixels_stopped: 56,
+            fragments: 789,
+            ..ComputeCounts::default()
+        };
         let (line, warned) = raster_line(&counts);
         assert!(!warned && line.contains("1200 tile entries") && line.contains("789 fragments"));
         assert!(line.contains("(34 blended past the nearest)"), "{line}");

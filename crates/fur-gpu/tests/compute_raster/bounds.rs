@@ -95,7 +95,7 @@ fn a_slots_first_frame_asks_the_pools_for_nothing() {
     use ash::vk;
     use gpu_allocator::MemoryLocation;
     let device = device();
-    let size = std::mem::size_of::<ComputeCounts>() as u64;
+    let size = ComputeCounts::BUFFER_BYTES;
     let stale: Vec<fur_gpu::gpu::Buffer> = (0..256)
         .map(|i| {
             let mut b = fur_gpu::gpu::Buffer::new(
@@ -126,5 +126,32 @@ fn a_slots_first_frame_asks_the_pools_for_nothing() {
     if let Err(e) = renderer.update(1, &settings) {
         panic!("the second slot's first frame: {e}");
     }
+    assert_clean(&device);
+}
+
+/// The fragment counts are 64-bit: a frame of 16384×16384 pixels takes more than 2³²
+/// fragments, and an add that wraps a count's low word carries into its high word.
+/// With each pixel's counts added 2²⁰ times over (`FUR_TEST_FRAGMENT_SCALE`) the small
+/// frame's counts pass 2³² several times: they come back exactly 2²⁰ times the plain
+/// frame's, and the image is the same. Seen failing with the fragments' high word never
+/// carried into: 1,035,993,088 fragments (wrapped) against 258,734,030,848.
+#[test]
+fn fragment_counts_carry_past_two_to_the_thirty_second() {
+    const SCALE: u64 = 1 << 20;
+    let device = device();
+    let draw = |defines: &[(&str, &str)]| blob_in_compute(&device, defines);
+    let (plain, plain_counts) = draw(&[]);
+    let (scaled, scaled_counts) = draw(&[("FUR_TEST_FRAGMENT_SCALE", "1048576u")]);
+    eprintln!("{plain_counts:?}\n{scaled_counts:?}");
+    assert!(
+        plain_counts.fragments * SCALE > 4 << 32 && plain_counts.tail_fragments * SCALE > 1 << 32,
+        "the frame is too small to carry: {plain_counts:?}"
+    );
+    assert_eq!(scaled_counts.fragments, plain_counts.fragments * SCALE);
+    assert_eq!(
+        scaled_counts.tail_fragments,
+        plain_counts.tail_fragments * SCALE
+    );
+    assert_eq!(plain.data, scaled.data, "counting changed the image");
     assert_clean(&device);
 }

@@ -249,7 +249,7 @@ fn draws_what_its_twin_draws(nearest: u32, tile: u32) {
     // The pixels took the twin's fragments: a pass that counted every entry it
     // searched, or each pixel's kept fragments only, is far off (fragments nearer to the
     // body or to the least coverage than the two's rounding may go either way).
-    let (gpu, twin) = (u64::from(gpu_counts.fragments), on_black.counts.fragments);
+    let (gpu, twin) = (gpu_counts.fragments, on_black.counts.fragments);
     eprintln!("{nearest} in order, tile {tile}: fragments {gpu} on the GPU, {twin} in the twin");
     assert!(
         twin > 10_000 && gpu.abs_diff(twin) * 1000 <= twin,

@@ -28,6 +28,7 @@ use fur_core::render::strand_raster::pools::{Demand, PoolBudget};
 use fur_core::render::FurStyle;
 
 pub use super::strand_counts_reset::ComputeCounts;
+use super::strand_counts_reset::CountWords;
 
 /// The workgroups a CPU driver scatters in, one for each half of the segments
 /// (strand_bin.comp, SERIAL_SCATTER).
@@ -116,7 +117,7 @@ impl ComputeRaster {
                 let mut counts = Buffer::new(
                     device,
                     &format!("raster.counts[{slot}]"),
-                    std::mem::size_of::<ComputeCounts>() as u64,
+                    std::mem::size_of::<CountWords>() as u64,
                     vk::BufferUsageFlags::STORAGE_BUFFER
                         | vk::BufferUsageFlags::INDIRECT_BUFFER
                         | vk::BufferUsageFlags::TRANSFER_DST,
@@ -125,7 +126,7 @@ impl ComputeRaster {
                 // `prepare` reads what the slot's last frame asked the pools for before
                 // its first frame: nothing, not what the memory held before (another
                 // buffer's words, which once asked for four billion vertices).
-                counts.write(0, bytemuck::bytes_of(&ComputeCounts::default()));
+                counts.write(0, bytemuck::bytes_of(&CountWords::default()));
                 Ok(counts)
             })
             .collect::<Result<Vec<_>>>()?;
@@ -182,7 +183,9 @@ impl ComputeRaster {
     /// What frame slot `slot`'s last frame counted (read once it has finished).
     pub fn counts(&self, slot: usize) -> ComputeCounts {
         let bytes = self.counts[slot].mapped();
-        bytemuck::pod_read_unaligned(&bytes[..std::mem::size_of::<ComputeCounts>()])
+        let words: CountWords =
+            bytemuck::pod_read_unaligned(&bytes[..std::mem::size_of::<CountWords>()]);
+        words.into()
     }
 
     /// The tile side `style` asks for on this device, pixels.

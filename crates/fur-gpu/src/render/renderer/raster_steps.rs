@@ -4,7 +4,8 @@
 use ash::vk;
 
 use super::super::graph::{Attachments, FrameContext, Pass};
-use super::compute_raster::{scatter_groups, ComputeCounts};
+use super::compute_raster::scatter_groups;
+use super::strand_counts_reset::CountWords;
 use crate::frame::{uses, Resource, Use};
 use crate::gpu::{whole_image_copy, Access};
 
@@ -260,7 +261,7 @@ impl Pass for StepPass {
                 _ => raw.cmd_dispatch_indirect(
                     cmd,
                     frame.raster_counts,
-                    std::mem::offset_of!(ComputeCounts, bin_groups) as u64,
+                    std::mem::offset_of!(CountWords, bin_groups) as u64,
                 ),
             }
         }

@@ -13,7 +13,8 @@ use crate::gpu::Access;
 
 /// What the compute passes counted in a frame. The fragment counts are 64-bit: a
 /// frame of 16384×16384 pixels with a few dozen fragments each takes more than 2³²,
-/// which the passes carry into a high word ([`CountWords`]).
+/// which the passes carry into a high word (`RasterCounts` in
+/// `shaders/strand_raster.glsl`).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct ComputeCounts {
     pub vertices: u32,

@@ -72,23 +72,27 @@ const uint FRAGMENT_SCALE = FUR_TEST_FRAGMENT_SCALE;
 const uint FRAGMENT_SCALE = 1u;
 #endif
 
-// The pixel's list blended into the hair layer, and its fragments counted: an add that
-// wraps a count's low word past 2^32 carries one into its high word.
+// Adds n to the 64-bit count of words LOW and HIGH: an add that wraps the low word past
+// 2^32 carries one into the high word. (A macro: a function cannot take a buffer's
+// member for an atomic.)
+#define ADD_WIDE(LOW, HIGH, n)                              \
+    {                                                       \
+        uint before = atomicAdd(LOW, n);                    \
+        if (before + (n) < before) {                        \
+            atomicAdd(HIGH, 1u);                            \
+        }                                                   \
+    }
+
+// The pixel's list blended into the hair layer, and its fragments counted.
 void finish(ivec2 p, ivec2 size) {
     hair_layer[p.y * size.x + p.x] = resolve_list();
     if (tail_count > 0u) {
-        uint n = tail_count * FRAGMENT_SCALE;
-        uint before = atomicAdd(raster_counts.tail_fragments, n);
-        if (before + n < before) {
-            atomicAdd(raster_counts.tail_fragments_high, 1u);
-        }
+        ADD_WIDE(raster_counts.tail_fragments, raster_counts.tail_fragments_high,
+                 tail_count * FRAGMENT_SCALE)
     }
     if (fragment_count > 0u) {
-        uint n = fragment_count * FRAGMENT_SCALE;
-        uint before = atomicAdd(raster_counts.fragments, n);
-        if (before + n < before) {
-            atomicAdd(raster_counts.fragments_high, 1u);
-        }
+        ADD_WIDE(raster_counts.fragments, raster_counts.fragments_high,
+                 fragment_count * FRAGMENT_SCALE)
     }
 }
 

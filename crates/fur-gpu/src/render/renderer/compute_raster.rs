@@ -117,7 +117,7 @@ impl ComputeRaster {
                 let mut counts = Buffer::new(
                     device,
                     &format!("raster.counts[{slot}]"),
-                    std::mem::size_of::<CountWords>() as u64,
+                    ComputeCounts::BUFFER_BYTES,
                     vk::BufferUsageFlags::STORAGE_BUFFER
                         | vk::BufferUsageFlags::INDIRECT_BUFFER
                         | vk::BufferUsageFlags::TRANSFER_DST,
@@ -184,7 +184,7 @@ impl ComputeRaster {
     pub fn counts(&self, slot: usize) -> ComputeCounts {
         let bytes = self.counts[slot].mapped();
         let words: CountWords =
-            bytemuck::pod_read_unaligned(&bytes[..std::mem::size_of::<CountWords>()]);
+            bytemuck::pod_read_unaligned(&bytes[..ComputeCounts::BUFFER_BYTES as usize]);
         words.into()
     }
 

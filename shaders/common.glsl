@@ -51,7 +51,11 @@
 #error "render shaders are compiled with shader_defines() (crates/fur-core/src/render/uniforms.rs)"
 #endif
 
-layout(set = SET_FRAME, binding = B_STRAND_POSITIONS, rgba32f) uniform readonly image2D strand_positions;
+// Read with texelFetch, as a texture, never as a storage image: Mesa 22.3's lavapipe
+// (Debian 12) keys each tessellation and geometry program with bytes it never writes for
+// every storage image the stage binds, so such a stage may be compiled again at any
+// draw (crates/fur-gpu/src/render/bindings.rs).
+layout(set = SET_FRAME, binding = B_STRAND_POSITIONS) uniform sampler2D strand_positions;
 
 layout(set = SET_BODY, binding = B_OWNERSHIP, std430) readonly buffer Ownership {
     uint owner_mask[];
@@ -74,7 +78,7 @@ layout(set = SET_FRAME, binding = B_HAIR_COUNTERS, std430) buffer Counters {
 #endif
 
 vec3 strand_vertex(uint strand, uint vertex) {
-    return imageLoad(strand_positions, strand_texel(strand, vertex, frame.strands.vertices_per_strand, frame.strands.strands_per_row)).xyz;
+    return texelFetch(strand_positions, strand_texel(strand, vertex, frame.strands.vertices_per_strand, frame.strands.strands_per_row), 0).xyz;
 }
 
 // Density level of detail at point p: 1 up to the full-density distance D, then

@@ -39,6 +39,7 @@
 // COUNT_HAIRS and COMPUTE_RASTER are defined by the renderer.
 #include "shading.glsl"
 #if COMPUTE_RASTER
+#define WRITES_STRANDS 1
 #include "strand_raster.glsl"
 #endif
 #if COMPUTE_RASTER && STAGE_VIEW == 0 && MARSCHNER && !defined(FUR_TEST_LIGHT_IN_GEOMETRY)
@@ -265,16 +266,16 @@ void write_strand() {
         atomicAdd(raster_counts.hairs_lost, 1u);
         // Its segments that fit are marked as none, so that the bin passes skip them.
         for (uint i = 0u; i < segments && first_segment + i < room; ++i) {
-            imageStore(strand_segments, int(first_segment + i), uvec4(NO_SEGMENT));
+            written_segments[first_segment + i] = uvec2(NO_SEGMENT);
         }
         return;
     }
     for (uint i = 0u; i < kept_count; ++i) {
-        imageStore(strand_vertices, int(2u * (first + i)), floatBitsToUint(kept_position[i]));
-        imageStore(strand_vertices, int(2u * (first + i) + 1u), kept_color[i]);
+        written_vertices[2u * (first + i)] = floatBitsToUint(kept_position[i]);
+        written_vertices[2u * (first + i) + 1u] = kept_color[i];
     }
     for (uint i = 0u; i < segments; ++i) {
-        imageStore(strand_segments, int(first_segment + i), uvec4(first + i, first, 0u, 0u));
+        written_segments[first_segment + i] = uvec2(first + i, first);
     }
     // The bin passes' workgroups, at most the dispatch limit every device has (each
     // invocation then takes every so-many-th segment).

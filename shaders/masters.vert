@@ -11,7 +11,7 @@ layout(location = 0) out vec3 v_colour;
 
 void main() {
     uint strand = uint(gl_InstanceIndex);
-    vec4 p = imageLoad(strand_positions, strand_texel(strand, uint(gl_VertexIndex), frame.strands.vertices_per_strand, frame.strands.strands_per_row));
+    vec4 p = texelFetch(strand_positions, strand_texel(strand, uint(gl_VertexIndex), frame.strands.vertices_per_strand, frame.strands.strands_per_row), 0);
     gl_Position = frame.camera.view_proj * vec4(p.xyz, 1.0);
 #if STAGE_VIEW == STAGE_SIMULATION
     // Blue at rest through green to red at DISPLACEMENT_FULL_SCALE of the length

@@ -46,7 +46,17 @@ layout(set = SET_RASTER, binding = B_RASTER_COUNTS, std430) buffer RasterCounts 
 // pass (strand_shade.comp) lights the vertex by (pack_shading), and that pass writes
 // the colour over it; its world position the pass finds from its position on the
 // screen (world_position).
+#ifdef WRITES_STRANDS
+// The geometry stage writes both pools as storage buffers over the same memory, never
+// as texel buffers: Mesa 22.3's lavapipe (Debian 12) may compile a geometry stage that
+// binds storage images (texel buffers among them) again at any draw
+// (crates/fur-gpu/src/render/bindings.rs, `FrameBinding::Positions`).
+layout(set = SET_RASTER, binding = B_STRAND_VERTICES_WRITTEN, std430) writeonly buffer StrandVerticesWritten {
+    uvec4 written_vertices[];
+};
+#else
 layout(set = SET_RASTER, binding = B_STRAND_VERTICES, rgba32ui) uniform uimageBuffer strand_vertices;
+#endif
 
 // A unit vector as a point of the octahedron unfolded onto [-1, 1]² (and back).
 vec2 octahedral(vec3 n) {
@@ -74,6 +84,20 @@ uvec4 pack_shading(vec3 tangent, vec3 base, vec2 coat) {
 }
 
 // Per segment: its first vertex (the second follows it) and its strand.
+#ifdef WRITES_STRANDS
+layout(set = SET_RASTER, binding = B_STRAND_SEGMENTS_WRITTEN, std430) writeonly buffer StrandSegmentsWritten {
+    uvec2 written_segments[];
+};
+
+// The vertices the pool holds.
+uint vertex_room() {
+    return uint(written_vertices.length()) / 2u;
+}
+
+uint segment_room() {
+    return uint(written_segments.length());
+}
+#else
 layout(set = SET_RASTER, binding = B_STRAND_SEGMENTS, rg32ui) uniform uimageBuffer strand_segments;
 
 // The vertices the pool holds.
@@ -104,6 +128,7 @@ StrandVertex strand_vertex(uint v) {
 uvec2 strand_segment(uint s) {
     return imageLoad(strand_segments, int(s)).xy;
 }
+#endif
 
 // Per tile: the body's farthest depth in it, its entries counted, where its list
 // starts in the entry pool, how many it keeps, and the cursor the scatter fills by;

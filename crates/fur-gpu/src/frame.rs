@@ -65,7 +65,7 @@ impl Resource {
         let (image, initial) = match self {
             Resource::Positions => (
                 false,
-                State::after(&[ComputeWrite, ComputeRead, HairStagesRead, TransferRead]),
+                State::after(&[ComputeWrite, ComputeRead, HairStagesSampled, TransferRead]),
             ),
             Resource::Posed => (
                 false,
@@ -232,15 +232,16 @@ mod tests {
         assert_eq!(second.src.access, A::SHADER_STORAGE_WRITE);
         // The fur pass reads the last positions written, and the posed body; a second
         // pass reading them the same way needs nothing more.
-        let draw = next(&mut t, Resource::Positions, Access::HairStagesRead).expect("a barrier");
+        let draw = next(&mut t, Resource::Positions, Access::HairStagesSampled).expect("a barrier");
         assert_eq!(draw.src.access, A::SHADER_STORAGE_WRITE);
+        assert_eq!(draw.dst.access, A::SHADER_SAMPLED_READ);
         assert!(draw
             .dst
             .stages
             .contains(S::VERTEX_SHADER | S::GEOMETRY_SHADER));
         assert!(next(&mut t, Resource::Posed, Access::HairStagesRead).is_some());
         assert_eq!(
-            next(&mut t, Resource::Positions, Access::HairStagesRead),
+            next(&mut t, Resource::Positions, Access::HairStagesSampled),
             None
         );
     }

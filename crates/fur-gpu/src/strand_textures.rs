@@ -15,7 +15,7 @@ use gpu_allocator::MemoryLocation;
 
 use crate::error::{Error, Result};
 use crate::gpu::{
-    image_barriers, whole_image_copy, Access, Buffer, Device, Image, ImageDesc, State,
+    image_barriers, whole_image_copy, Access, Buffer, Device, Image, ImageDesc, Sampler, State,
 };
 use fur_core::scene::Strands;
 
@@ -90,8 +90,12 @@ pub struct StrandTextures {
     /// Each segment's rest vector in its parent's frame (see [`fur_core::sim::RestPose`]);
     /// computed on the GPU by the simulation's rest pass.
     pub rest_local: Image,
-    /// World-space positions, ping-ponged by the simulation.
+    /// World-space positions, ping-ponged by the simulation, which writes them as storage
+    /// images; the hair stages read them as textures (`texelFetch`) through `sampler`.
     pub positions: [Image; 2],
+    /// How the hair stages read `positions`: nearest, clamped (`texelFetch` filters
+    /// nothing, but a sampled image is bound with a sampler).
+    pub sampler: Sampler,
     /// Which of `positions` holds the current state.
     pub current: usize,
     /// Per strand, the root frame's three columns (3 × vec4); from the rest pass.
@@ -124,6 +128,7 @@ impl StrandTextures {
             },
             format: STRAND_FORMAT,
             usage: vk::ImageUsageFlags::STORAGE
+                | vk::ImageUsageFlags::SAMPLED
                 | vk::ImageUsageFlags::TRANSFER_DST
                 | vk::ImageUsageFlags::TRANSFER_SRC,
             samples: vk::SampleCountFlags::TYPE_1,
@@ -142,12 +147,24 @@ impl StrandTextures {
             vk::BufferUsageFlags::STORAGE_BUFFER,
             MemoryLocation::GpuOnly,
         )?;
+        let sampler = Sampler::new(
+            device,
+            "strands.positions.sampler",
+            &vk::SamplerCreateInfo::default()
+                .mag_filter(vk::Filter::NEAREST)
+                .min_filter(vk::Filter::NEAREST)
+                .mipmap_mode(vk::SamplerMipmapMode::NEAREST)
+                .address_mode_u(vk::SamplerAddressMode::CLAMP_TO_EDGE)
+                .address_mode_v(vk::SamplerAddressMode::CLAMP_TO_EDGE)
+                .address_mode_w(vk::SamplerAddressMode::CLAMP_TO_EDGE),
+        )?;
         let textures = Self {
             device: device.clone(),
             layout,
             rest,
             rest_local,
             positions,
+            sampler,
             current: 0,
             root_frames,
             hair_length: strands.hair_length(),
@@ -258,8 +275,8 @@ impl StrandTextures {
         let extent = self.extent();
         let dst = vk::ImageLayout::TRANSFER_DST_OPTIMAL;
         // Once filled, the images are read and written as storage by the kernels and
-        // read by the hair stages.
-        let storage = [Access::ComputeWrite, Access::HairStagesRead];
+        // sampled by the hair stages.
+        let storage = [Access::ComputeWrite, Access::HairStagesSampled];
         let fresh = State::discarded_after(&[]);
         d.submit_once(|cmd| {
             let mut to_dst: Vec<_> = images
@@ -329,8 +346,8 @@ impl StrandTextures {
         let d = &self.device;
         let extent = self.extent();
         d.submit_once(|cmd| {
-            // Last read and written as storage; copied from; storage again.
-            let storage = [Access::ComputeWrite, Access::HairStagesRead];
+            // Last read and written as storage (and sampled); copied from; storage again.
+            let storage = [Access::ComputeWrite, Access::HairStagesSampled];
             let src = vk::ImageLayout::TRANSFER_SRC_OPTIMAL;
             let to_copy = image.barrier_after(&State::after(&storage), &[Access::TransferRead]);
             image_barriers(d, cmd, &Vec::from_iter(to_copy));

@@ -17,8 +17,11 @@ pub enum Access {
     /// Written (and read) as storage by a compute shader: the simulation, the skinning.
     ComputeWrite,
     /// Read as storage by the hair stages (vertex, tessellation control and evaluation,
-    /// geometry): the strand positions, the posed body.
+    /// geometry): the posed body.
     HairStagesRead,
+    /// Sampled by the hair stages, in the `GENERAL` layout the simulation writes it in:
+    /// the strand positions.
+    HairStagesSampled,
     /// Read and written as storage by the tessellation control and geometry stages:
     /// the hair counters.
     CounterStagesReadWrite,
@@ -47,7 +50,7 @@ impl Access {
         use vk::PipelineStageFlags2 as S;
         match self {
             Access::ComputeWrite => S::COMPUTE_SHADER,
-            Access::HairStagesRead => {
+            Access::HairStagesRead | Access::HairStagesSampled => {
                 S::VERTEX_SHADER
                     | S::TESSELLATION_CONTROL_SHADER
                     | S::TESSELLATION_EVALUATION_SHADER
@@ -77,7 +80,9 @@ impl Access {
                 A::DEPTH_STENCIL_ATTACHMENT_READ | A::DEPTH_STENCIL_ATTACHMENT_WRITE
             }
             Access::ColorAttachment => A::COLOR_ATTACHMENT_READ | A::COLOR_ATTACHMENT_WRITE,
-            Access::ShadingSampled | Access::ComputeSampled => A::SHADER_SAMPLED_READ,
+            Access::ShadingSampled | Access::ComputeSampled | Access::HairStagesSampled => {
+                A::SHADER_SAMPLED_READ
+            }
             Access::ComputeRead => A::SHADER_STORAGE_READ,
             Access::IndirectRead => A::INDIRECT_COMMAND_READ,
         }
@@ -99,6 +104,7 @@ impl Access {
         match self {
             Access::ComputeWrite
             | Access::HairStagesRead
+            | Access::HairStagesSampled
             | Access::CounterStagesReadWrite
             | Access::ComputeRead
             | Access::IndirectRead => L::GENERAL,

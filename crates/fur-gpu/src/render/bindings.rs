@@ -8,7 +8,7 @@
 use ash::vk;
 
 use super::texture::{GpuTexture, ShadowMap};
-use crate::gpu::{bindings, Buffer, Device, Image};
+use crate::gpu::{bindings, Buffer, Device, Image, Sampler};
 
 /// The set numbers.
 pub(super) const SET_FRAME: u32 = 0;
@@ -40,8 +40,13 @@ bindings!(
         /// The `Frame` uniform block (`FrameUniforms`).
         Uniforms = ("B_FRAME_UNIFORMS", UNIFORM_BUFFER, vk::ShaderStageFlags::from_raw(
             vk::ShaderStageFlags::ALL_GRAPHICS.as_raw() | vk::ShaderStageFlags::COMPUTE.as_raw())),
-        /// The strand positions the simulation last wrote.
-        Positions = ("B_STRAND_POSITIONS", STORAGE_IMAGE, HAIR_STAGES),
+        /// The strand positions the simulation last wrote, sampled (`texelFetch`), never
+        /// bound as a storage image: Mesa 22.3's lavapipe (Debian 12) keys a tessellation
+        /// or geometry program with four bytes it never writes for each storage image
+        /// the stage binds, so a stage with one may be compiled again at any draw (seen:
+        /// the compute rasteriser's geometry stage, every frame, with the body at one
+        /// sample).
+        Positions = ("B_STRAND_POSITIONS", COMBINED_IMAGE_SAMPLER, HAIR_STAGES),
         /// Hairs, segments and culled triangles counted (and the capture behind them).
         Counters = ("B_HAIR_COUNTERS", STORAGE_BUFFER, vk::ShaderStageFlags::from_raw(
             vk::ShaderStageFlags::TESSELLATION_CONTROL.as_raw() | vk::ShaderStageFlags::GEOMETRY.as_raw())),
@@ -87,9 +92,14 @@ bindings!(
         Counts = ("B_RASTER_COUNTS", STORAGE_BUFFER, RASTER_STAGES),
         /// The strands' vertices: on the screen, and their colours (or, under the
         /// Marschner model, what lights them, until the lighting pass does).
-        Vertices = ("B_STRAND_VERTICES", STORAGE_TEXEL_BUFFER, RASTER_STAGES),
+        Vertices = ("B_STRAND_VERTICES", STORAGE_TEXEL_BUFFER, vk::ShaderStageFlags::COMPUTE),
         /// The segments: first vertex and strand.
-        Segments = ("B_STRAND_SEGMENTS", STORAGE_TEXEL_BUFFER, RASTER_STAGES),
+        Segments = ("B_STRAND_SEGMENTS", STORAGE_TEXEL_BUFFER, vk::ShaderStageFlags::COMPUTE),
+        /// The vertices' memory again, as the geometry stage writes it: a storage buffer,
+        /// not a texel buffer (`FrameBinding::Positions` says why).
+        VerticesWritten = ("B_STRAND_VERTICES_WRITTEN", STORAGE_BUFFER, vk::ShaderStageFlags::GEOMETRY),
+        /// The segments' memory again, as the geometry stage writes it.
+        SegmentsWritten = ("B_STRAND_SEGMENTS_WRITTEN", STORAGE_BUFFER, vk::ShaderStageFlags::GEOMETRY),
         /// Per tile: the body's depth and the tile's list in the entry pool.
         TileBins = ("B_TILE_BINS", STORAGE_BUFFER, vk::ShaderStageFlags::COMPUTE),
         /// The entry pool: segments listed per tile.
@@ -181,14 +191,16 @@ pub(super) fn write_frame_set(
     device: &Device,
     set: vk::DescriptorSet,
     uniforms: &Buffer,
-    positions: &Image,
+    positions: (&Image, &Sampler),
     probe: &Buffer,
     counters: &Buffer,
     shadow: &ShadowMap,
 ) {
     let ubo = buffer_info(uniforms.raw());
+    // In the simulation's GENERAL layout (`Access::HairStagesSampled`).
     let image = [vk::DescriptorImageInfo::default()
-        .image_view(positions.view())
+        .sampler(positions.1.raw())
+        .image_view(positions.0.view())
         .image_layout(vk::ImageLayout::GENERAL)];
     let counts = buffer_info(counters.raw());
     let map = sampled(shadow.sampler.raw(), shadow.image.view());
@@ -234,7 +246,7 @@ mod tests {
     use super::{
         binding_defines, BodyBinding, FrameBinding, RasterBinding, SET_BODY, SET_FRAME, SET_RASTER,
     };
-    use crate::gpu::reflect::{check_bindings, check_struct, reflect};
+    use crate::gpu::reflect::{check_bindings, check_struct, reflect, Reflection};
     use crate::gpu::shader::compile;
     use fur_core::render::uniforms::shader_defines;
     use fur_core::render::FrameUniforms;
@@ -251,6 +263,56 @@ mod tests {
             .into_iter()
             .map(|s| (s.name, unpadded(s.members)))
             .collect()
+    }
+
+    /// Every render shader embedded (all but the simulation's kernels and the includes,
+    /// the compute rasteriser's passes included), compiled with every option that adds
+    /// a binding, in each of its forms (the two hardware ones, then the geometry stage
+    /// writing for the compute passes): (form, shader, what it declares).
+    fn every_render_shader() -> Vec<(&'static str, &'static str, Reflection)> {
+        let mut all = Vec::new();
+        for (form, lines, compute) in [
+            ("ribbons", "0", "0"),
+            ("lines", "1", "0"),
+            ("compute", "1", "1"),
+        ] {
+            let mut defines: Vec<(&str, String)> = [
+                ("STRAND_VERTICES", "17"),
+                ("TEXTURED", "1"),
+                ("SHADOWS", "1"),
+                ("BODY_SKINNED", "1"),
+                ("COUNT_HAIRS", "1"),
+                ("MARSCHNER", "1"),
+                ("COVERAGE_SAMPLES", "4"),
+                ("LINES", lines),
+                ("COMPUTE_RASTER", compute),
+                ("VERTEX_SHADING", compute),
+                ("TILE", "8"),
+                ("NEAREST", "4"),
+                ("SCATTER", "1"),
+                ("DEPTH_SAMPLES", "4"),
+                ("TILE_GROUP", "64u"),
+            ]
+            .into_iter()
+            .map(|(k, v)| (k, v.to_string()))
+            .collect();
+            defines.extend(shader_defines());
+            defines.extend(binding_defines());
+            let render_shaders = crate::gpu::shader::SOURCES
+                .iter()
+                .map(|(name, _)| *name)
+                .filter(|name| {
+                    [".vert", ".tesc", ".tese", ".geom", ".frag"]
+                        .iter()
+                        .any(|e| name.ends_with(e))
+                        || (name.starts_with("strand_") && name.ends_with(".comp"))
+                });
+            for shader in render_shaders {
+                let words = compile(shader, &defines).unwrap_or_else(|e| panic!("{shader}: {e}"));
+                all.push((form, shader, reflect(&words)));
+            }
+        }
+        all
     }
 
     /// Every render shader, compiled with every option that adds a binding, uses the
@@ -274,52 +336,14 @@ mod tests {
         sets[SET_RASTER as usize] = types(RasterBinding::set_layout());
         let layout: Vec<&[ash::vk::DescriptorType]> = sets.iter().map(Vec::as_slice).collect();
         let mut used = std::collections::BTreeSet::new();
-        // The two hardware forms, then the geometry stage writing for the compute passes.
-        for (lines, compute) in [("0", "0"), ("1", "0"), ("1", "1")] {
-            let mut defines: Vec<(&str, String)> = [
-                ("STRAND_VERTICES", "17"),
-                ("TEXTURED", "1"),
-                ("SHADOWS", "1"),
-                ("BODY_SKINNED", "1"),
-                ("COUNT_HAIRS", "1"),
-                ("MARSCHNER", "1"),
-                ("COVERAGE_SAMPLES", "4"),
-                ("LINES", lines),
-                ("COMPUTE_RASTER", compute),
-                ("VERTEX_SHADING", compute),
-                ("TILE", "8"),
-                ("NEAREST", "4"),
-                ("SCATTER", "1"),
-                ("DEPTH_SAMPLES", "4"),
-                ("TILE_GROUP", "64u"),
-            ]
-            .into_iter()
-            .map(|(k, v)| (k, v.to_string()))
-            .collect();
-            defines.extend(shader_defines());
-            defines.extend(binding_defines());
-            // Every render shader embedded (all but the simulation's kernels and the
-            // includes), the compute rasteriser's passes included.
-            let render_shaders = crate::gpu::shader::SOURCES
-                .iter()
-                .map(|(name, _)| *name)
-                .filter(|name| {
-                    [".vert", ".tesc", ".tese", ".geom", ".frag"]
-                        .iter()
-                        .any(|e| name.ends_with(e))
-                        || (name.starts_with("strand_") && name.ends_with(".comp"))
-                });
-            for shader in render_shaders {
-                let words = compile(shader, &defines).unwrap_or_else(|e| panic!("{shader}: {e}"));
-                let found = reflect(&words);
-                check_bindings(shader, &found, &layout).unwrap();
-                if found.structs.contains_key("Frame") {
-                    for (name, fields) in frame_structs() {
-                        check_struct(shader, &found, name, &fields).unwrap();
-                    }
+        for (_, shader, found) in every_render_shader() {
+            check_bindings(shader, &found, &layout).unwrap();
+            if found.structs.contains_key("Frame") {
+                for (name, fields) in frame_structs() {
+                    check_struct(shader, &found, name, &fields).unwrap();
                 }
-                used.extend(found.bindings.keys().copied());
             }
+            used.extend(found.bindings.keys().copied());
         }
         let declared: usize = layout.iter().map(|s| s.len()).sum();
         assert_eq!(used.len(), declared, "bindings used: {used:?}");
@@ -333,6 +357,35 @@ mod tests {
             fibre + table + 16 * fur_core::render::dual_scattering::TABLE_VEC4S,
             "FrameUniforms ends with the fibre's table"
         );
+    }
+
+    /// No tessellation or geometry stage, in any form, binds a storage image or a storage
+    /// texel buffer: Mesa 22.3's lavapipe keys such a stage's program with bytes it never
+    /// writes for each one, and compiled the compute rasteriser's geometry stage again
+    /// every frame with the body at one sample (`FrameBinding::Positions`). Seen failing
+    /// with the strand positions declared as a storage image in `common.glsl`.
+    #[test]
+    fn no_tessellation_or_geometry_stage_binds_a_storage_image() {
+        use ash::vk::DescriptorType as T;
+        let mut checked = 0;
+        for (form, shader, found) in every_render_shader() {
+            if ![".tesc", ".tese", ".geom"]
+                .iter()
+                .any(|e| shader.ends_with(e))
+            {
+                continue;
+            }
+            checked += 1;
+            for (binding, (name, kind)) in &found.bindings {
+                assert!(
+                    ![T::STORAGE_IMAGE, T::STORAGE_TEXEL_BUFFER].contains(kind),
+                    "{shader} ({form}) binds {name} {binding:?} as {kind:?}"
+                );
+            }
+        }
+        // fur.tesc, fur.tese, fur.geom, density.tese and density.geom (and any added
+        // since) in each of the three forms.
+        assert!(checked >= 15, "{checked} stages checked");
     }
 
     /// Without the shared defines a render shader does not compile.

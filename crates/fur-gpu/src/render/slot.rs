@@ -96,7 +96,7 @@ impl RenderSlot {
                 device,
                 *set,
                 ubo,
-                &strands.positions[i % 2],
+                (&strands.positions[i % 2], &strands.sampler),
                 &strands.probe,
                 &counters,
                 &shadow,

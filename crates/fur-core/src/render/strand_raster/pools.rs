@@ -122,9 +122,14 @@ impl PoolSizes {
         self.vertices + self.segments + self.tiles + self.entries + self.sorted + self.layer
     }
 
-    /// The largest of the pools that are storage buffers (the tiles, the layer), bytes.
+    /// The largest of the pools bound as storage buffers, bytes: the tiles and the
+    /// layer, and the vertices and the segments, which the geometry stage writes as
+    /// storage buffers (the passes read them as texel buffers).
     pub fn largest_storage(&self) -> u64 {
-        self.tiles.max(self.layer)
+        [self.tiles, self.layer, self.vertices, self.segments]
+            .into_iter()
+            .max()
+            .unwrap_or(0)
     }
 
     /// The most texels any of the pools that are texel buffers holds (the vertices,

@@ -303,6 +303,8 @@ impl ComputeRaster {
                 .range(vk::WHOLE_SIZE)]
         };
         let (tiles, layer) = (info(&pools.tiles), info(&pools.layer));
+        let (vertices_written, segments_written) =
+            (info(&pools.vertices.buffer), info(&pools.segments.buffer));
         let (vertices, segments, entries, sorted) = (
             [pools.vertices.view()],
             [pools.segments.view()],
@@ -337,6 +339,12 @@ impl ComputeRaster {
                 RasterBinding::TileOrder
                     .write(*set)
                     .texel_buffer_view(&sorted),
+                RasterBinding::VerticesWritten
+                    .write(*set)
+                    .buffer_info(&vertices_written),
+                RasterBinding::SegmentsWritten
+                    .write(*set)
+                    .buffer_info(&segments_written),
                 RasterBinding::HairLayer.write(*set).buffer_info(&layer),
                 RasterBinding::BodyDepth.write(*set).image_info(&depth),
                 RasterBinding::TargetColor.write(*set).image_info(&under),

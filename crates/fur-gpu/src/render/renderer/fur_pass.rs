@@ -332,7 +332,7 @@ impl FurPass {
 /// The hair stages read the strands and the posed body; with `counts`, the control and
 /// geometry stages count what they cull and draw into the counters.
 pub(super) fn hair_uses(skinned: bool, counts: bool) -> Vec<Use> {
-    let mut list = vec![uses(Resource::Positions, Access::HairStagesRead)];
+    let mut list = vec![uses(Resource::Positions, Access::HairStagesSampled)];
     if skinned {
         list.push(uses(Resource::Posed, Access::HairStagesRead));
     }

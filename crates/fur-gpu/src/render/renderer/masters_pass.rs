@@ -181,7 +181,7 @@ impl Pass for MastersPass {
     }
 
     fn uses(&self, frame: &FrameContext<'_>) -> Vec<Use> {
-        let mut list = vec![uses(Resource::Positions, Access::HairStagesRead)];
+        let mut list = vec![uses(Resource::Positions, Access::HairStagesSampled)];
         if Self::draws_arrows(frame) {
             list.push(uses(Resource::Probe, Access::HairStagesRead));
         }

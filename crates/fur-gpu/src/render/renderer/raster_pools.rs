@@ -96,18 +96,31 @@ impl Pools {
                 MemoryLocation::GpuOnly,
             )
         };
+        // Written by the geometry stage as storage buffers too
+        // (`RasterBinding::VerticesWritten`; `largest_storage` counts them).
+        let written = |name: &str, size: u64, format: vk::Format, bytes: u64| {
+            TexelBuffer::with_usage(
+                device,
+                name,
+                size / bytes,
+                format,
+                bytes,
+                vk::BufferUsageFlags::TRANSFER_SRC | vk::BufferUsageFlags::STORAGE_BUFFER,
+                MemoryLocation::GpuOnly,
+            )
+        };
         Ok(Self {
             extent,
             capacity,
             columns: extent.width.div_ceil(budget.tile),
             rows: extent.height.div_ceil(budget.tile),
-            vertices: texels(
+            vertices: written(
                 "raster.vertices",
                 sizes.vertices,
                 vk::Format::R32G32B32A32_UINT,
                 VERTEX_TEXEL_BYTES,
             )?,
-            segments: texels(
+            segments: written(
                 "raster.segments",
                 sizes.segments,
                 vk::Format::R32G32_UINT,

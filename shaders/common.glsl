@@ -51,10 +51,8 @@
 #error "render shaders are compiled with shader_defines() (crates/fur-core/src/render/uniforms.rs)"
 #endif
 
-// Read with texelFetch, as a texture, never as a storage image: Mesa 22.3's lavapipe
-// (Debian 12) keys each tessellation and geometry program with bytes it never writes for
-// every storage image the stage binds, so such a stage may be compiled again at any
-// draw (crates/fur-gpu/src/render/bindings.rs).
+// Read with texelFetch, as a texture, never as a storage image (why:
+// `FrameBinding::Positions` in crates/fur-gpu/src/render/bindings.rs).
 layout(set = SET_FRAME, binding = B_STRAND_POSITIONS) uniform sampler2D strand_positions;
 
 layout(set = SET_BODY, binding = B_OWNERSHIP, std430) readonly buffer Ownership {

@@ -77,8 +77,9 @@ const uint FRAGMENT_SCALE = 1u;
 // member for an atomic.)
 #define ADD_WIDE(LOW, HIGH, n)                              \
     {                                                       \
-        uint before = atomicAdd(LOW, n);                    \
-        if (before + (n) < before) {                        \
+        uint added = (n);                                   \
+        uint before = atomicAdd(LOW, added);                \
+        if (before + added < before) {                      \
             atomicAdd(HIGH, 1u);                            \
         }                                                   \
     }

@@ -147,17 +147,7 @@ impl StrandTextures {
             vk::BufferUsageFlags::STORAGE_BUFFER,
             MemoryLocation::GpuOnly,
         )?;
-        let sampler = Sampler::new(
-            device,
-            "strands.positions.sampler",
-            &vk::SamplerCreateInfo::default()
-                .mag_filter(vk::Filter::NEAREST)
-                .min_filter(vk::Filter::NEAREST)
-                .mipmap_mode(vk::SamplerMipmapMode::NEAREST)
-                .address_mode_u(vk::SamplerAddressMode::CLAMP_TO_EDGE)
-                .address_mode_v(vk::SamplerAddressMode::CLAMP_TO_EDGE)
-                .address_mode_w(vk::SamplerAddressMode::CLAMP_TO_EDGE),
-        )?;
+        let sampler = Sampler::nearest(device, "strands.positions.sampler")?;
         let textures = Self {
             device: device.clone(),
             layout,

@@ -26,6 +26,22 @@ impl Sampler {
         })
     }
 
+    /// A sampler that filters nothing and clamps: for images read texel by texel
+    /// (`texelFetch`, or a depth read at a pixel's centre).
+    pub fn nearest(device: &Arc<Device>, name: &str) -> Result<Self> {
+        Self::new(
+            device,
+            name,
+            &vk::SamplerCreateInfo::default()
+                .mag_filter(vk::Filter::NEAREST)
+                .min_filter(vk::Filter::NEAREST)
+                .mipmap_mode(vk::SamplerMipmapMode::NEAREST)
+                .address_mode_u(vk::SamplerAddressMode::CLAMP_TO_EDGE)
+                .address_mode_v(vk::SamplerAddressMode::CLAMP_TO_EDGE)
+                .address_mode_w(vk::SamplerAddressMode::CLAMP_TO_EDGE),
+        )
+    }
+
     pub fn raw(&self) -> vk::Sampler {
         self.raw
     }

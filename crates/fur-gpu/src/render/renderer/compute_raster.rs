@@ -130,17 +130,7 @@ impl ComputeRaster {
                 Ok(counts)
             })
             .collect::<Result<Vec<_>>>()?;
-        let sampler = Sampler::new(
-            device,
-            "raster.depth_sampler",
-            &vk::SamplerCreateInfo::default()
-                .mag_filter(vk::Filter::NEAREST)
-                .min_filter(vk::Filter::NEAREST)
-                .mipmap_mode(vk::SamplerMipmapMode::NEAREST)
-                .address_mode_u(vk::SamplerAddressMode::CLAMP_TO_EDGE)
-                .address_mode_v(vk::SamplerAddressMode::CLAMP_TO_EDGE)
-                .address_mode_w(vk::SamplerAddressMode::CLAMP_TO_EDGE),
-        )?;
+        let sampler = Sampler::nearest(device, "raster.depth_sampler")?;
         Ok(Self {
             device: device.clone(),
             budget: PoolBudget::default(),

@@ -84,47 +84,42 @@ impl Pools {
                 MemoryLocation::GpuOnly,
             )
         };
-        // Read in the passes' loops through texel views (`strand_raster.glsl`).
-        let texels = |name: &str, size: u64, format: vk::Format, bytes: u64| {
+        // Read in the passes' loops through texel views (`strand_raster.glsl`); the
+        // vertices and segments are also written by the geometry stage as storage
+        // buffers (`RasterBinding::VerticesWritten`; `largest_storage` counts them).
+        let texels = |name: &str, size: u64, format: vk::Format, bytes: u64, usage| {
             TexelBuffer::with_usage(
                 device,
                 name,
                 size / bytes,
                 format,
                 bytes,
-                vk::BufferUsageFlags::TRANSFER_SRC,
+                vk::BufferUsageFlags::TRANSFER_SRC | usage,
                 MemoryLocation::GpuOnly,
             )
         };
-        // Written by the geometry stage as storage buffers too
-        // (`RasterBinding::VerticesWritten`; `largest_storage` counts them).
-        let written = |name: &str, size: u64, format: vk::Format, bytes: u64| {
-            TexelBuffer::with_usage(
-                device,
-                name,
-                size / bytes,
-                format,
-                bytes,
-                vk::BufferUsageFlags::TRANSFER_SRC | vk::BufferUsageFlags::STORAGE_BUFFER,
-                MemoryLocation::GpuOnly,
-            )
-        };
+        let (written, read) = (
+            vk::BufferUsageFlags::STORAGE_BUFFER,
+            vk::BufferUsageFlags::empty(),
+        );
         Ok(Self {
             extent,
             capacity,
             columns: extent.width.div_ceil(budget.tile),
             rows: extent.height.div_ceil(budget.tile),
-            vertices: written(
+            vertices: texels(
                 "raster.vertices",
                 sizes.vertices,
                 vk::Format::R32G32B32A32_UINT,
                 VERTEX_TEXEL_BYTES,
+                written,
             )?,
-            segments: written(
+            segments: texels(
                 "raster.segments",
                 sizes.segments,
                 vk::Format::R32G32_UINT,
                 SEGMENT_BYTES,
+                written,
             )?,
             tiles: storage("raster.tiles", sizes.tiles)?,
             entries: texels(
@@ -132,12 +127,14 @@ impl Pools {
                 sizes.entries,
                 vk::Format::R32_UINT,
                 ENTRY_BYTES,
+                read,
             )?,
             sorted: texels(
                 "raster.sorted",
                 sizes.sorted,
                 vk::Format::R32G32_UINT,
                 SORTED_ENTRY_BYTES,
+                read,
             )?,
             layer: storage("raster.layer", sizes.layer)?,
             composited: Image::new(

@@ -47,7 +47,12 @@ void main() {
     imageStore(composited, p, vec4(encode_srgb(c), 1.0));
     return;
 #endif
-    vec4 hair = hair_layer[p.y * size.x + p.x];
     vec3 under = texelFetch(target_color, p, 0).rgb;
+    // A tile that lists nothing has no hair: the fine pass left its layer unwritten.
+    if (tile_bins[gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x].kept == 0u) {
+        imageStore(composited, p, vec4(encode_srgb(under), 1.0));
+        return;
+    }
+    vec4 hair = hair_layer[p.y * size.x + p.x];
     imageStore(composited, p, vec4(encode_srgb(hair.rgb + hair.a * under), 1.0));
 }

@@ -6,7 +6,9 @@
 // tile's stops (where a depth bin ends) a pixel whose fragments let through less than
 // OPAQUE_TRANSMIT stops. The fragments are blended front to back into the hair layer:
 // the colour premultiplied by coverage, and the light let through. One workgroup per
-// tile, one invocation per pixel. The twin: render::strand_raster (draw,
+// tile that lists something (listed_tile: the layer of a tile that lists nothing is left
+// as it is, and the composite pass takes the target alone there), one invocation per
+// pixel. The twin: render::strand_raster (draw,
 // blend::PixelList), which takes the entries in the same order.
 //
 // Each pixel walks the list itself, with no barriers and no shared memory: where the
@@ -146,16 +148,24 @@ uvec2 pixel_in_tile(uint i) {
 }
 
 void main() {
+    uint tile;
+    uvec2 at;
+    if (!listed_tile(tile, at)) {
+        return;
+    }
     uvec2 local = pixel_in_tile(gl_LocalInvocationIndex);
-    ivec2 p = ivec2(gl_WorkGroupID.xy * TILE + local);
+    ivec2 p = ivec2(at * TILE + local);
     ivec2 size = ivec2(frame.camera.viewport);
     if (any(greaterThanEqual(p, size))) {
         return;
     }
+    uint count = tile_bins[tile].kept;
+    // The sort cut the list to nothing (the scatter stopped early): left as it is too.
+    if (count == 0u) {
+        return;
+    }
     float body = pixel_depth(p);
     vec2 centre = vec2(p) + 0.5;
-    uint tile = gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x;
-    uint count = tile_bins[tile].kept;
     uint offset = tile_bins[tile].offset;
     uint bit = mask_bit(local);
     uint stop_count = tile_bins[tile].stop_count;

@@ -35,6 +35,10 @@ layout(set = SET_RASTER, binding = B_RASTER_COUNTS, std430) buffer RasterCounts 
     uint fragments;         // fragments the pixels took: in order, merged or in a tail
     uint tail_fragments_high; // each add that wrapped tail_fragments past 2^32 adds one
     uint fragments_high;    // each add that wrapped fragments past 2^32 adds one
+    uint listed_groups;     // the sort and fine passes' workgroups: x, y of the indirect
+    uint listed_groups_y;   //   dispatch over the tiles that list something (listed_tile)
+    uint listed_groups_z;   // 1
+    uint listed_tiles;      // the tiles that list something
 } raster_counts;
 
 // The pools the passes read in their loops are texel buffers: on a CPU driver a texel
@@ -150,6 +154,9 @@ struct TileBin {
     uint stops[DEPTH_BINS];
     uint lead;
     uint second_cursor;
+    // Not this tile's: the index of the scan's i-th tile that lists something, in the
+    // i-th tile's place (listed_tile).
+    uint listed;
 };
 
 layout(set = SET_RASTER, binding = B_TILE_BINS, std430) buffer TileBins {
@@ -157,6 +164,27 @@ layout(set = SET_RASTER, binding = B_TILE_BINS, std430) buffer TileBins {
 };
 
 layout(set = SET_RASTER, binding = B_TILE_ENTRIES, r32ui) uniform uimageBuffer tile_entries;
+
+// The widest row of the indirect dispatch over the tiles that list something (every
+// device's least maxComputeWorkGroupCount): the scan passes that many a row.
+const uint LISTED_ROW = 65535u;
+
+#if defined(TILE) && !defined(WRITES_STRANDS)
+// In the passes dispatched over the tiles that list something (the sort and the fine
+// raster: a tile that lists nothing has nothing to sort or draw, and lavapipe pays a
+// start for every workgroup), the tile the workgroup takes: its index in tile_bins and
+// its column and row of the screen's tiles; false for a workgroup past the list's end.
+bool listed_tile(out uint tile, out uvec2 at) {
+    uint i = gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x;
+    if (i >= raster_counts.listed_tiles) {
+        return false;
+    }
+    tile = tile_bins[i].listed;
+    uint columns = (uint(frame.camera.viewport.x) + TILE - 1u) / TILE;
+    at = uvec2(tile % columns, tile / columns);
+    return true;
+}
+#endif
 
 uint listed_entry(uint at) {
     return imageLoad(tile_entries, int(at)).x;

@@ -3,7 +3,8 @@
 // bins over the range of its segments' sort keys (a counting sort in shared memory;
 // within a bin, in any order), written into the second entry pool at the same place,
 // with the end of each bin that holds an entry: the stops where the fine pass's
-// pixels may end their walk once opaque. One workgroup per tile. The twin:
+// pixels may end their walk once opaque. One workgroup per tile that lists something
+// (listed_tile). The twin:
 // render::strand_raster::order (sort_by_depth).
 // Each entry is written with the mask of the tile's blocks its segment can reach; then
 // each whole run of ROW_RUN entries has its masks turned into the blocks' rows (a bit an
@@ -80,7 +81,11 @@ uint bin_of(uint at, float lo, float scale) {
 }
 
 void main() {
-    uint tile = gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x;
+    uint tile;
+    uvec2 at;
+    if (!listed_tile(tile, at)) {
+        return;
+    }
     uint lane = gl_LocalInvocationIndex;
     // The entries the scatter wrote: the first `kept` slots, unless one of its
     // invocations stopped at lavapipe's loop limit (strand_bin.comp) before taking
@@ -133,7 +138,7 @@ void main() {
         tile_bins[tile].stop_count = stops;
     }
     barrier();
-    vec2 corner = vec2(gl_WorkGroupID.xy * TILE);
+    vec2 corner = vec2(at * TILE);
     for (uint i = lane; i < count; i += GROUP) {
         uint s = listed_entry(offset + written(i, first_part, lead));
         uvec2 segment = strand_segment(s);

@@ -11,6 +11,7 @@ use fur_gpu::render::{FrameReport, Renderer};
 use fur_gpu::strand_textures::StrandTextures;
 
 mod bounds;
+mod empty_tiles;
 mod lighting;
 
 fn device() -> Arc<Device> {

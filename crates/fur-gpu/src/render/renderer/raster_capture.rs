@@ -115,18 +115,29 @@ fn capture(
             },
         })
         .collect();
-    let layer_floats = words(&pools.layer)?;
-    let pixels = (target.extent.width * target.extent.height) as usize;
-    let layer = (0..pixels)
-        .map(|i| {
-            let p = &layer_floats[i * (LAYER_BYTES / 4) as usize..][..4];
-            [p[0], p[1], p[2], p[3]]
-        })
-        .collect();
     // A tile: body depth, count, offset, kept, cursor, key range, stop count, stops,
     // and the scatter's halves (`TileBin`).
     let tile_bytes = pools.tiles.read_back()?;
     let tile_words: &[u32] = bytemuck::cast_slice(&tile_bytes);
+    // The layer as the composite takes it: the fine pass leaves a tile that lists
+    // nothing unwritten, and the composite takes it clear (strand_composite.comp).
+    let layer_floats = words(&pools.layer)?;
+    let (width, side) = (target.extent.width, raster.tile());
+    let listed = |i: usize| {
+        let (x, y) = (i as u32 % width, i as u32 / width);
+        let tile = (y / side * pools.columns + x / side) as usize;
+        tile_words[tile * (TILE_BYTES / 4) as usize + 3] > 0
+    };
+    let pixels = (width * target.extent.height) as usize;
+    let layer = (0..pixels)
+        .map(|i| match listed(i) {
+            true => {
+                let p = &layer_floats[i * (LAYER_BYTES / 4) as usize..][..4];
+                [p[0], p[1], p[2], p[3]]
+            }
+            false => [0.0, 0.0, 0.0, 1.0],
+        })
+        .collect();
     let entry_bytes = pools.sorted.buffer.read_back()?;
     let entries: &[u32] = bytemuck::cast_slice(&entry_bytes);
     let tiles = tile_words.chunks_exact((TILE_BYTES / 4) as usize);

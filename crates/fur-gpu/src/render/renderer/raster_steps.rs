@@ -186,18 +186,22 @@ impl Pass for StepPass {
                 uses(R::Strands, A::ComputeWrite),
                 uses(R::TileBins, A::ComputeWrite),
             ],
+            // Dispatched over the tiles that list something, as the scan counted them.
             Step::Sort => vec![
                 uses(R::Strands, A::ComputeWrite),
+                uses(R::Strands, A::IndirectRead),
                 uses(R::TileBins, A::ComputeWrite),
             ],
             Step::Fine => vec![
                 uses(R::Strands, A::ComputeWrite),
+                uses(R::Strands, A::IndirectRead),
                 uses(R::TileBins, A::ComputeRead),
                 uses(R::Depth, A::ComputeSampled),
                 uses(R::HairLayer, A::ComputeWrite),
             ],
             Step::Composite => vec![
                 uses(R::HairLayer, A::ComputeRead),
+                uses(R::TileBins, A::ComputeRead),
                 uses(R::Resolve, A::ComputeSampled),
                 uses(R::Composited, A::ComputeWrite),
             ],
@@ -247,14 +251,20 @@ impl Pass for StepPass {
         }
         frame.bind_compute_sets(cmd);
         // SAFETY: recording outside a rendering scope, the sets bound; the pipeline and
-        // the counts buffer (the indirect arguments at `bin_groups`) outlive the frame.
+        // the counts buffer (the indirect arguments at `bin_groups` and `listed_groups`)
+        // outlive the frame.
         unsafe {
             raw.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, self.pipeline);
             let scatter = scatter_groups(&frame.device.info);
             match (self.step, scatter, self.lighting_groups) {
-                (Step::Tiles | Step::Sort | Step::Fine | Step::Composite, _, _) => {
+                (Step::Tiles | Step::Composite, _, _) => {
                     raw.cmd_dispatch(cmd, self.grid.0, self.grid.1, 1)
                 }
+                (Step::Sort | Step::Fine, _, _) => raw.cmd_dispatch_indirect(
+                    cmd,
+                    frame.raster_counts,
+                    std::mem::offset_of!(CountWords, listed_groups) as u64,
+                ),
                 (Step::Scan, _, _) => raw.cmd_dispatch(cmd, 1, 1, 1),
                 (Step::Shade, _, Some(groups)) => raw.cmd_dispatch(cmd, groups, 1, 1),
                 (Step::Scatter, Some(groups), _) => raw.cmd_dispatch(cmd, groups, 1, 1),

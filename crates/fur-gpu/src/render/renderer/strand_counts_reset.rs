@@ -54,6 +54,9 @@ pub(super) struct CountWords {
     fragments: u32,
     tail_fragments_high: u32,
     fragments_high: u32,
+    /// The sort and fine passes' indirect dispatch over the tiles that list something.
+    pub(super) listed_groups: [u32; 3],
+    listed_tiles: u32,
 }
 
 impl ComputeCounts {
@@ -62,10 +65,11 @@ impl ComputeCounts {
 }
 
 impl CountWords {
-    /// The counts a frame starts from: nothing, and an indirect dispatch of no groups.
+    /// The counts a frame starts from: nothing, and indirect dispatches of no groups.
     pub(super) fn start() -> Self {
         Self {
             bin_groups: [0, 1, 1],
+            listed_groups: [0, 1, 1],
             ..Self::default()
         }
     }

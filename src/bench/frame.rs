@@ -156,9 +156,11 @@ impl Bench<'_> {
         }
         let _ = writeln!(
             self.md,
-            "\nEach pass of a default frame alone (still frames; the simulation alone is one \
+            "\nEach pass of a default frame alone (still frames, each drawing that pass only, \
+             so each holds the work of the last column too; the simulation alone is one \
              dispatch per submission):\n\n\
-             | scene | simulation | mesh pass | fur pass | neither (clear, resolve, copy) |\n\
+             | scene | simulation | mesh pass | fur pass | neither (clear, resolve, copy; with \
+             strands in compute, their passes over the screen's tiles) |\n\
              | --- | --- | --- | --- | --- |"
         );
         for scene in self.scenes.clone() {

@@ -50,22 +50,6 @@ const uint MAX_TURNS = FUR_TEST_MAX_TURNS;
 const uint MAX_TURNS = 60000u;
 #endif
 
-// Where a pixel is in its walk of the tile's list: the next stop (the index where a
-// depth bin ends), which of the tile's stops it is, and whether the pixel has stopped.
-struct Walk {
-    uint stop_at;
-    uint next;
-    bool done;
-};
-
-Walk start_walk(uint tile, uint count) {
-    Walk walk;
-    walk.next = 0u;
-    walk.stop_at = tile_bins[tile].stop_count > 0u ? tile_bins[tile].stops[0] : count;
-    walk.done = false;
-    return walk;
-}
-
 // Each pixel's counts are added this many times over (a test raises it to carry the
 // frame's counts past 2^32).
 #ifdef FUR_TEST_FRAGMENT_SCALE
@@ -111,14 +95,11 @@ float pixel_depth(ivec2 p) {
 #endif
 }
 
-// The fragment segment `s` leaves in the pixel centred at `centre`, if it is in front
-// of the body there. Its colour is held to [0, 1] first, as the fixed-function
-// rasteriser's 8-bit target holds each sample's: a highlight brighter than white covers
-// its share of the pixel with white.
-void take_segment(uint s, vec2 centre, float body) {
-    uvec2 segment = strand_segment(s);
-    StrandVertex va = strand_vertex(segment.x);
-    StrandVertex vb = strand_vertex(segment.x + 1u);
+// The fragment the segment of strand `strand` from `va` to `vb` leaves in the pixel
+// centred at `centre`, if it is in front of the body there. Its colour is held to
+// [0, 1] first, as the fixed-function rasteriser's 8-bit target holds each sample's: a
+// highlight brighter than white covers its share of the pixel with white.
+void take_segment(uint strand, StrandVertex va, StrandVertex vb, vec2 centre, float body) {
     vec2 foot = strand_footprint(centre, va.position.xy, vb.position.xy, va.position.w,
                                  vb.position.w);
     vec4 c = mix(va.color, vb.color, foot.y);
@@ -126,7 +107,7 @@ void take_segment(uint s, vec2 centre, float body) {
     if (alpha > MIN_ALPHA) {
         float depth = mix(va.position.z, vb.position.z, foot.y);
         if (depth < body) {
-            add_fragment(depth, segment.y, min(alpha, 1.0), clamp(c.rgb, 0.0, 1.0));
+            add_fragment(depth, strand, min(alpha, 1.0), clamp(c.rgb, 0.0, 1.0));
         }
     }
 }
@@ -168,12 +149,19 @@ void main() {
     vec2 centre = vec2(p) + 0.5;
     uint offset = tile_bins[tile].offset;
     uint bit = mask_bit(local);
-    uint stop_count = tile_bins[tile].stop_count;
-    Walk walk = start_walk(tile, count);
+    // The tile's depth bins, as the sort cut them (bin_of in strand_sort.comp). The list
+    // holds them in order, so where the entry a pixel finds next lies in a later bin than
+    // the last it took, a bin has ended between them: an opaque pixel stops there (the
+    // tile's stops, found from its entries, with no read of the stops in the loop: on a
+    // CPU driver a storage-buffer read there is made invocation by invocation).
+    float lo = uintBitsToFloat(tile_bins[tile].near_lo);
+    float scale = bin_scale(lo, uintBitsToFloat(tile_bins[tile].near_hi));
+    uint bin = 0u;
+    bool done = false;
     uint i = 0u;
     // The loops' turns, held under lavapipe's limit (MAX_TURNS).
     uint turns = 0u;
-    while (i < count && !walk.done) {
+    while (i < count && !done) {
         // The next entry that can reach the pixel: the rest leave nothing in it.
         bool found = false;
         while (!found && i < count) {
@@ -196,27 +184,23 @@ void main() {
         }
         turns += 1u;
         if (turns > MAX_TURNS) {
-            walk.done = true;
+            done = true;
             break;
         }
-        // The stops passed since the last entry taken: the pixel has met nothing since.
-        while (walk.stop_at <= i && !walk.done) {
-            turns += 1u;
-            if (seen_transmit < OPAQUE_TRANSMIT) {
-                walk.done = true;
-            } else {
-                walk.next += 1u;
-                walk.stop_at = walk.next < stop_count ? tile_bins[tile].stops[walk.next]
-                                                      : 0xffffffffu;
-            }
-        }
-        if (!walk.done) {
-            take_segment(imageLoad(tile_order, int(offset + i)).x, centre, body);
+        uvec2 segment = strand_segment(imageLoad(tile_order, int(offset + i)).x);
+        StrandVertex va = strand_vertex(segment.x);
+        StrandVertex vb = strand_vertex(segment.x + 1u);
+        uint entry_bin = depth_bin(depth_key(va.position.z, vb.position.z), lo, scale);
+        if (entry_bin > bin && seen_transmit < OPAQUE_TRANSMIT) {
+            done = true;
+        } else {
+            bin = entry_bin;
+            take_segment(segment.y, va, vb, centre, body);
             i += 1u;
         }
     }
     // Counted once the walk is over (an atomic in the loop is paid on every turn).
-    if (walk.done) {
+    if (done) {
         atomicAdd(raster_counts.pixels_stopped, 1u);
     }
     finish(p, size);

@@ -3,7 +3,9 @@
 // bins over the range of its segments' sort keys (a counting sort in shared memory;
 // within a bin, in any order), written into the second entry pool at the same place,
 // with the end of each bin that holds an entry: the stops where the fine pass's
-// pixels may end their walk once opaque. One workgroup per tile that lists something
+// pixels may end their walk once opaque (the fine pass finds them from its entries'
+// bins; these are the record the capture holds to the twin's). One workgroup per tile
+// that lists something
 // (listed_tile). The twin:
 // render::strand_raster::order (sort_by_depth).
 // Each entry is written with the mask of the tile's blocks its segment can reach; then

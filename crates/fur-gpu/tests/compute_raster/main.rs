@@ -141,7 +141,9 @@ fn the_compute_backend_draws_the_hardware_backends_hairs() {
 /// Seen failing against the fine pass walking a dense tile's list in one loop (lavapipe
 /// ends an invocation's loops after 65,535 turns: whole tiles drawn empty), and against
 /// the fine pass blending the lit colour unclamped where the twin holds it to white
-/// (the lit blob's highlights are brighter than white).
+/// (the lit blob's highlights are brighter than white), and against an opaque pixel
+/// stopping at the start of the bin it is in rather than where that bin ends (its
+/// fragments fell short of the twin's).
 #[test]
 fn the_gpu_draws_what_its_cpu_twin_draws() {
     let default = FurStyle::default().nearest;

@@ -5,9 +5,8 @@
 // with the end of each bin that holds an entry: the stops where the fine pass's
 // pixels may end their walk once opaque (the fine pass finds them from its entries'
 // bins; these are the record the capture holds to the twin's). One workgroup per tile
-// that lists something
-// (listed_tile). The twin:
-// render::strand_raster::order (sort_by_depth).
+// that lists something (listed_tile). The twin: render::strand_raster::order
+// (sort_by_depth).
 // Each entry is written with the mask of the tile's blocks its segment can reach; then
 // each whole run of ROW_RUN entries has its masks turned into the blocks' rows (a bit an
 // entry: strand_raster.glsl), which the fine pass's pixels search by, ROW_RUN entries a

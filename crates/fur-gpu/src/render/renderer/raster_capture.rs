@@ -116,7 +116,8 @@ fn capture(
         })
         .collect();
     // A tile: body depth, count, offset, kept, cursor, key range, stop count, stops,
-    // and the scatter's halves (`TileBin`).
+    // the scatter's halves and a place of the list of tiles that list something
+    // (`TileBin`).
     let tile_bytes = pools.tiles.read_back()?;
     let tile_words: &[u32] = bytemuck::cast_slice(&tile_bytes);
     // The layer as the composite takes it: the fine pass leaves a tile that lists

@@ -152,8 +152,8 @@ void main() {
     // The tile's depth bins, as the sort cut them (bin_of in strand_sort.comp). The list
     // holds them in order, so where the entry a pixel finds next lies in a later bin than
     // the last it took, a bin has ended between them: an opaque pixel stops there (the
-    // tile's stops, found from its entries, with no read of the stops in the loop: on a
-    // CPU driver a storage-buffer read there is made invocation by invocation).
+    // tile's stops, found from its entries: no table of them is kept, whose read in
+    // the loop a CPU driver would make invocation by invocation).
     float lo = uintBitsToFloat(tile_bins[tile].near_lo);
     float scale = bin_scale(lo, uintBitsToFloat(tile_bins[tile].near_hi));
     uint bin = 0u;

@@ -137,11 +137,11 @@ uvec2 strand_segment(uint s) {
 // Per tile: the body's farthest depth in it, its entries counted, where its list
 // starts in the entry pool, how many it keeps, and the cursor the scatter fills by;
 // the range of its segments' sort keys (their bits: render::strand_raster::order),
-// where each depth bin that holds an entry ends in the sorted list; and on a CPU
-// driver, whose scatter runs as two workgroups, one for each half of the segments
-// (strand_bin.comp, SERIAL_SCATTER), the entries of the first half's segments, after
-// which the second half's are listed, and the second half's cursor.
-// DEPTH_BINS is defined by the renderer (render::strand_raster::order::DEPTH_BINS).
+// which its depth bins cut (where each bin ends in the sorted list is found from the
+// entries: strand_fine.comp); and on a CPU driver, whose scatter runs as two
+// workgroups, one for each half of the segments (strand_bin.comp, SERIAL_SCATTER), the
+// entries of the first half's segments, after which the second half's are listed, and
+// the second half's cursor.
 struct TileBin {
     float body_far;
     uint count;
@@ -150,8 +150,6 @@ struct TileBin {
     uint cursor;
     uint near_lo;
     uint near_hi;
-    uint stop_count;
-    uint stops[DEPTH_BINS];
     uint lead;
     uint second_cursor;
     // Not this tile's: the index of the scan's i-th tile that lists something, in the
@@ -223,7 +221,8 @@ float depth_key(float a, float b) {
 }
 
 // The bin of `key` in a tile whose keys start at `lo`, `scale` bins a unit of depth
-// (order::bin_scale, order::depth_bin).
+// (order::bin_scale, order::depth_bin). DEPTH_BINS is defined by the renderer
+// (render::strand_raster::order::DEPTH_BINS).
 float bin_scale(float lo, float hi) {
     return hi > lo ? float(DEPTH_BINS) / (hi - lo) : 0.0;
 }

@@ -1,12 +1,11 @@
 #version 450
 // Strands in compute, pass 5: each tile's list sorted front to back into DEPTH_BINS
 // bins over the range of its segments' sort keys (a counting sort in shared memory;
-// within a bin, in any order), written into the second entry pool at the same place,
-// with the end of each bin that holds an entry: the stops where the fine pass's
-// pixels may end their walk once opaque (the fine pass finds them from its entries'
-// bins; these are the record the capture holds to the twin's). One workgroup per tile
-// that lists something (listed_tile). The twin: render::strand_raster::order
-// (sort_by_depth).
+// within a bin, in any order), written into the second entry pool at the same place.
+// Where a bin ends, the fine pass's pixels may end their walk once opaque; they find
+// those ends from their entries' bins (strand_fine.comp), and so does the capture the
+// tests hold to the twin's (raster_capture.rs). One workgroup per tile that lists
+// something (listed_tile). The twin: render::strand_raster::order (sort_by_depth).
 // Each entry is written with the mask of the tile's blocks its segment can reach; then
 // each whole run of ROW_RUN entries has its masks turned into the blocks' rows (a bit an
 // entry: strand_raster.glsl), which the fine pass's pixels search by, ROW_RUN entries a
@@ -110,7 +109,7 @@ void main() {
         atomicAdd(raster_counts.entries_lost, kept - count);
         atomicAdd(raster_counts.entries, 0u - (kept - count));
     }
-    // An empty tile has nothing to sort (the tiles pass left it no stops).
+    // An empty tile has nothing to sort.
     if (count == 0u) {
         return;
     }
@@ -124,19 +123,14 @@ void main() {
         atomicAdd(cursor[bin_of(offset + written(i, first_part, lead), lo, scale)], 1u);
     }
     barrier();
+    // Each bin's count becomes where its entries start.
     if (lane == 0u) {
         uint end = 0u;
-        uint stops = 0u;
         for (uint b = 0u; b < DEPTH_BINS; ++b) {
             uint n = cursor[b];
             cursor[b] = end;
             end += n;
-            if (n > 0u) {
-                tile_bins[tile].stops[stops] = end;
-                stops += 1u;
-            }
         }
-        tile_bins[tile].stop_count = stops;
     }
     barrier();
     vec2 corner = vec2(at * TILE);

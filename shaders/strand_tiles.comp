@@ -57,7 +57,6 @@ void main() {
         tile_bins[tile].cursor = 0u;
         tile_bins[tile].near_lo = 0x7f800000u; // +infinity: no key yet
         tile_bins[tile].near_hi = 0u;
-        tile_bins[tile].stop_count = 0u;
         tile_bins[tile].lead = 0u;
         tile_bins[tile].second_cursor = 0u;
     }

@@ -143,7 +143,8 @@ fn the_compute_backend_draws_the_hardware_backends_hairs() {
 /// the fine pass blending the lit colour unclamped where the twin holds it to white
 /// (the lit blob's highlights are brighter than white), and against an opaque pixel
 /// stopping at the start of the bin it is in rather than where that bin ends (its
-/// fragments fell short of the twin's).
+/// fragments fell short of the twin's), and against a sort that leaves each list in
+/// the order the scatter wrote it (the stops found from its entries' bins differ).
 #[test]
 fn the_gpu_draws_what_its_cpu_twin_draws() {
     let default = FurStyle::default().nearest;

@@ -33,14 +33,14 @@ impl Default for PoolBudget {
     }
 }
 
-/// Bytes of one strand vertex, segment, tile (its bin, its stops, the two words of a
-/// CPU driver's scatter halves and a place in the list of the tiles that list something:
-/// `TileBin` in strand_raster.glsl), binned entry and
+/// Bytes of one strand vertex, segment, tile (its bin's ten words: its counts, its
+/// list's place, its key range, the two words of a CPU driver's scatter halves and a
+/// place in the list of the tiles that list something: `TileBin` in strand_raster.glsl), binned entry and
 /// sorted entry (its segment and a word of the block masks: a row, or its own mask), and of a
 /// pixel of the layer.
 pub const VERTEX_BYTES: u64 = 32;
 pub const SEGMENT_BYTES: u64 = 8;
-pub const TILE_BYTES: u64 = 32 + 4 * super::order::DEPTH_BINS as u64 + 12;
+pub const TILE_BYTES: u64 = 40;
 pub const ENTRY_BYTES: u64 = 4;
 pub const SORTED_ENTRY_BYTES: u64 = 8;
 pub const LAYER_BYTES: u64 = 16;

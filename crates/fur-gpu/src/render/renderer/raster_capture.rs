@@ -11,7 +11,7 @@ use super::Renderer;
 use crate::error::{Error, Result};
 use crate::gpu::Buffer;
 use crate::gpu::{Access, State};
-use fur_core::render::strand_raster::order::DEPTH_BINS;
+use fur_core::render::strand_raster::order;
 use fur_core::render::strand_raster::pools::{
     PoolBudget, LAYER_BYTES, SEGMENT_BYTES, TILE_BYTES, VERTEX_BYTES,
 };
@@ -31,7 +31,9 @@ pub struct RasterCapture {
     /// Per pixel: the hair premultiplied by its coverage, and the light let through.
     pub layer: Vec<[f32; 4]>,
     /// Each tile's list of segments (indices into `segments`' slots), sorted by depth
-    /// bin in the order the GPU wrote it, and its stops, as the twin takes them.
+    /// bin in the order the GPU wrote it, and its stops, as the twin takes them: where
+    /// the bin of an entry differs from the next one's, and the list's end (where the
+    /// fine pass's pixels find them).
     pub bins: Bins,
 }
 
@@ -100,7 +102,7 @@ fn capture(
     let stored = (segment_words.len() / (SEGMENT_BYTES / 4) as usize).min(counts.segments as usize);
     // Slot for slot, so that the lists' indices hold (an empty slot, NO_SEGMENT, is
     // never listed).
-    let segments = (0..stored)
+    let segments: Vec<Segment> = (0..stored)
         .map(|i| (segment_words[2 * i], segment_words[2 * i + 1]))
         .map(|(first, strand)| match first {
             u32::MAX => Segment {
@@ -115,9 +117,8 @@ fn capture(
             },
         })
         .collect();
-    // A tile: body depth, count, offset, kept, cursor, key range, stop count, stops,
-    // the scatter's halves and a place of the list of tiles that list something
-    // (`TileBin`).
+    // A tile: body depth, count, offset, kept, cursor, key range, the scatter's halves
+    // and a place of the list of tiles that list something (`TileBin`).
     let tile_bytes = pools.tiles.read_back()?;
     let tile_words: &[u32] = bytemuck::cast_slice(&tile_bytes);
     // The layer as the composite takes it: the fine pass leaves a tile that lists
@@ -142,7 +143,7 @@ fn capture(
     let entry_bytes = pools.sorted.buffer.read_back()?;
     let entries: &[u32] = bytemuck::cast_slice(&entry_bytes);
     let tiles = tile_words.chunks_exact((TILE_BYTES / 4) as usize);
-    let lists = tiles
+    let lists: Vec<Vec<u32>> = tiles
         .clone()
         // A sorted entry: its segment, then a word of the block masks.
         .map(|t| {
@@ -154,7 +155,22 @@ fn capture(
         })
         .collect();
     let stops = tiles
-        .map(|t| t[8..][..(t[7] as usize).min(DEPTH_BINS as usize)].to_vec())
+        .zip(&lists)
+        .map(|(t, list)| {
+            let lo = f32::from_bits(t[5]);
+            let scale = order::bin_scale(lo, f32::from_bits(t[6]));
+            // (A slot past the segments read back, which no list should hold, takes a
+            // bin of its own.)
+            let bin = |&s: &u32| match segments.get(s as usize) {
+                Some(g) => order::depth_bin(order::depth_key(g.a.depth, g.b.depth), lo, scale),
+                None => u32::MAX,
+            };
+            let bins: Vec<u32> = list.iter().map(bin).collect();
+            (1..=bins.len())
+                .filter(|&i| i == bins.len() || bins[i] != bins[i - 1])
+                .map(|i| i as u32)
+                .collect()
+        })
         .collect();
     let bins = Bins {
         columns: pools.columns,

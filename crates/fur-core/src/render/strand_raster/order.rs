@@ -56,21 +56,20 @@ pub fn depth_bin(key: f32, lo: f32, scale: f32) -> u32 {
 pub fn sort_by_depth(list: &mut Vec<u32>, keys: &[f32], lo: f32, hi: f32) -> Vec<u32> {
     let scale = bin_scale(lo, hi);
     let bins: Vec<u32> = keys.iter().map(|&k| depth_bin(k, lo, scale)).collect();
-    let mut counts = [0u32; DEPTH_BINS as usize];
-    for &b in &bins {
-        counts[b as usize] += 1;
-    }
     let mut order: Vec<usize> = (0..list.len()).collect();
     order.sort_by_key(|&i| bins[i]);
     *list = order.iter().map(|&i| list[i]).collect();
-    let mut end = 0;
-    counts
-        .iter()
-        .filter(|&&n| n > 0)
-        .map(|&n| {
-            end += n;
-            end
-        })
+    bin_ends(&order.iter().map(|&i| bins[i]).collect::<Vec<_>>())
+}
+
+/// The stops of a list whose entries lie in `bins`, in the list's order: where an
+/// entry's bin differs from the next one's, and the list's end. For a list sorted by
+/// bin, where each bin that holds an entry ends; the fine pass finds them so, as it
+/// walks (strand_fine.comp).
+pub fn bin_ends(bins: &[u32]) -> Vec<u32> {
+    (1..=bins.len())
+        .filter(|&i| i == bins.len() || bins[i] != bins[i - 1])
+        .map(|i| i as u32)
         .collect()
 }
 
@@ -107,5 +106,17 @@ mod tests {
         assert_eq!(stops, vec![2, 3, 5]);
         assert_eq!(depth_key(0.4, -0.2), 0.0);
         assert_eq!(depth_key(0.4, 0.3), 0.3);
+    }
+
+    /// A list's stops are where its bin changes and its end: one a bin for a sorted
+    /// list, more for one that is not (which is how a test tells an unsorted GPU list
+    /// from the twin's), none for an empty one. Seen failing against a stop before the
+    /// change (an entry early) and without the list's end.
+    #[test]
+    fn stops_fall_where_the_bin_changes_and_at_the_end() {
+        assert_eq!(bin_ends(&[0, 0, 3, 7, 7]), vec![2, 3, 5]);
+        assert_eq!(bin_ends(&[7, 0, 7, 0, 0]), vec![1, 2, 3, 5]);
+        assert_eq!(bin_ends(&[4]), vec![1]);
+        assert!(bin_ends(&[]).is_empty());
     }
 }

@@ -35,9 +35,9 @@ impl Default for PoolBudget {
 
 /// Bytes of one strand vertex, segment, tile (its bin's ten words: its counts, its
 /// list's place, its key range, the two words of a CPU driver's scatter halves and a
-/// place in the list of the tiles that list something: `TileBin` in strand_raster.glsl), binned entry and
-/// sorted entry (its segment and a word of the block masks: a row, or its own mask), and of a
-/// pixel of the layer.
+/// place in the list of the tiles that list something: `TileBin` in
+/// strand_raster.glsl), binned entry and sorted entry (its segment and a word of the
+/// block masks: a row, or its own mask), and of a pixel of the layer.
 pub const VERTEX_BYTES: u64 = 32;
 pub const SEGMENT_BYTES: u64 = 8;
 pub const TILE_BYTES: u64 = 40;

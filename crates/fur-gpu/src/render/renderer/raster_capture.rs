@@ -31,9 +31,8 @@ pub struct RasterCapture {
     /// Per pixel: the hair premultiplied by its coverage, and the light let through.
     pub layer: Vec<[f32; 4]>,
     /// Each tile's list of segments (indices into `segments`' slots), sorted by depth
-    /// bin in the order the GPU wrote it, and its stops, as the twin takes them: where
-    /// the bin of an entry differs from the next one's, and the list's end (where the
-    /// fine pass's pixels find them).
+    /// bin in the order the GPU wrote it, and its stops, as the twin takes them: found
+    /// from its entries' bins as the fine pass's pixels find them (`order::bin_ends`).
     pub bins: Bins,
 }
 
@@ -165,11 +164,7 @@ fn capture(
                 Some(g) => order::depth_bin(order::depth_key(g.a.depth, g.b.depth), lo, scale),
                 None => u32::MAX,
             };
-            let bins: Vec<u32> = list.iter().map(bin).collect();
-            (1..=bins.len())
-                .filter(|&i| i == bins.len() || bins[i] != bins[i - 1])
-                .map(|i| i as u32)
-                .collect()
+            order::bin_ends(&list.iter().map(bin).collect::<Vec<_>>())
         })
         .collect();
     let bins = Bins {
